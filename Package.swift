@@ -1,0 +1,95 @@
+// swift-tools-version:6.0
+// Wayfinder: accessible indoor wayfinding. One package builds every Linux-testable module; the iOS app
+// (project.yml) compiles the same sources plus App/iOS.
+import PackageDescription
+
+/// Compiler flags for the C++ cores: optimised even in debug builds (the particle filter and detectors
+/// are too slow unoptimised for tests), system Eigen and OpenCV headers from Debian's packages.
+let cxxCoreFlags: [CXXSetting] = [
+    .unsafeFlags(["-O2", "-I/usr/include/eigen3", "-I/usr/include/opencv4"]),
+]
+let openCVLibraries: [LinkerSetting] = [
+    "opencv_core", "opencv_imgproc", "opencv_imgcodecs", "opencv_objdetect", "opencv_dnn", "opencv_calib3d",
+].map { .linkedLibrary($0) }
+
+let package = Package(
+    name: "Wayfinder",
+    products: [
+        .executable(name: "wayfinder", targets: ["WayfinderCLI"]),
+    ],
+    targets: [
+        // C++17 particle filter + range estimation behind the C ABI in LocalizerCore/include.
+        .target(
+            name: "LocalizerCore",
+            path: "LocalizerCore",
+            sources: ["src"],
+            publicHeadersPath: "include",
+            cxxSettings: cxxCoreFlags,
+            linkerSettings: openCVLibraries
+        ),
+        // Swift wrapper over LocalizerCore (no C type in its public API).
+        .target(name: "Localizer", dependencies: ["LocalizerCore", "Maps"], path: "LocalizerCore/Swift"),
+        // C++ sign detector (unrolling, cascade, U-Net, slice measurement) behind SignDetector/include.
+        .target(
+            name: "SignDetector",
+            path: "SignDetector",
+            sources: ["src"],
+            publicHeadersPath: "include",
+            cxxSettings: cxxCoreFlags,
+            linkerSettings: openCVLibraries
+        ),
+        // Swift wrapper over SignDetector.
+        .target(name: "SignDetection", dependencies: ["SignDetector"], path: "SignDetector/Swift"),
+        // Map model, format v1, validation, importers, bundled buildings.
+        .target(
+            name: "Maps",
+            path: "Maps",
+            sources: ["Sources"],
+            resources: [.copy("Buildings")]
+        ),
+        // Recorded-session bundle v1: one reader, one writer.
+        .target(name: "SessionFormat", path: "App/SessionFormat"),
+        // Routing, maneuvers, phrases and the announcement policy.
+        .target(
+            name: "Navigation",
+            dependencies: ["Maps"],
+            path: "Navigation",
+            sources: ["Sources"],
+            resources: [.copy("Locales")]
+        ),
+        // App logic shared by the iOS shell and the command line: frame -> detector -> localizer ->
+        // navigator -> announcer.
+        .target(
+            name: "WayfinderCore",
+            dependencies: ["Maps", "SessionFormat", "Localizer", "SignDetection", "Navigation"],
+            path: "App/Core"
+        ),
+        // Walk simulator with known truth.
+        .target(name: "Simulation", dependencies: ["Maps", "SessionFormat"], path: "App/Simulation"),
+        // Scoring replays against truth, and the trainer's HTML/PNG picture of a walk.
+        .target(
+            name: "Evaluation",
+            dependencies: ["WayfinderCore", "Simulation", "SessionFormat", "Maps", "Navigation"],
+            path: "App/Evaluation"
+        ),
+        // The `wayfinder` command.
+        .executableTarget(
+            name: "WayfinderCLI",
+            dependencies: ["WayfinderCore", "Simulation", "Evaluation", "Maps", "SessionFormat", "Localizer",
+                           "SignDetection", "Navigation"],
+            path: "App/CLI"
+        ),
+
+        .testTarget(name: "MapsTests", dependencies: ["Maps"], path: "Tests/MapsTests"),
+        .testTarget(name: "SessionFormatTests", dependencies: ["SessionFormat"], path: "Tests/SessionFormatTests"),
+        .testTarget(name: "LocalizerTests", dependencies: ["Localizer", "Maps"], path: "Tests/LocalizerTests"),
+        .testTarget(name: "SignDetectionTests", dependencies: ["SignDetection"], path: "Tests/SignDetectionTests"),
+        .testTarget(name: "NavigationTests", dependencies: ["Navigation", "Maps"], path: "Tests/NavigationTests"),
+        .testTarget(name: "WayfinderCoreTests", dependencies: ["WayfinderCore"], path: "Tests/WayfinderCoreTests"),
+        .testTarget(name: "SimulationTests", dependencies: ["Simulation", "Maps", "SessionFormat"],
+                    path: "Tests/SimulationTests"),
+        .testTarget(name: "EvaluationTests", dependencies: ["Evaluation", "Simulation", "Maps", "SessionFormat"],
+                    path: "Tests/EvaluationTests"),
+    ],
+    cxxLanguageStandard: .cxx17
+)
