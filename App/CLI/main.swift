@@ -1,0 +1,38 @@
+import Foundation
+
+/// Every subcommand of `wayfinder`, in the order `--help` lists them.
+enum Subcommands {
+    static let all: [Subcommand.Type] = [
+    ]
+}
+
+func printTopLevelHelp() {
+    var text = "wayfinder: accessible indoor wayfinding, replayed on the command line.\n\nUsage: wayfinder <command> [options]\n\nCommands:\n"
+    for c in Subcommands.all { text += "  \(c.name.padding(toLength: 18, withPad: " ", startingAt: 0))\(c.summary)\n" }
+    text += "\nRun 'wayfinder <command> --help' for a command's options.\n"
+    print(text, terminator: "")
+}
+
+let argv = Array(CommandLine.arguments.dropFirst())
+guard let name = argv.first, name != "--help", name != "-h" else {
+    printTopLevelHelp()
+    exit(argv.isEmpty ? 2 : 0)
+}
+guard let command = Subcommands.all.first(where: { $0.name == name }) else {
+    FileHandle.standardError.write(Data("wayfinder: unknown command '\(name)' (see 'wayfinder --help')\n".utf8))
+    exit(2)
+}
+var arguments = ArgumentList(Array(argv.dropFirst()))
+if arguments.wantsHelp {
+    print(command.usage)
+    exit(0)
+}
+do {
+    exit(try command.run(&arguments))
+} catch let error as CLIError {
+    FileHandle.standardError.write(Data("wayfinder \(name): \(error.description)\n".utf8))
+    exit(error.exitCode)
+} catch {
+    FileHandle.standardError.write(Data("wayfinder \(name): \(error)\n".utf8))
+    exit(1)
+}
