@@ -3,6 +3,7 @@ import Foundation
 /// Every subcommand of `wayfinder`, in the order `--help` lists them.
 enum Subcommands {
     static let all: [Subcommand.Type] = [
+        ReplayCommand.self,
     ]
 }
 

@@ -1,0 +1,44 @@
+import Foundation
+import Localizer
+import Navigation
+
+/// Where sign sightings come from during a run.
+public enum SightingSource: String, Sendable, CaseIterable {
+    /// Use the observations recorded in the bundle (`observations.jsonl`), e.g. simulated walks.
+    case recorded
+    /// Run the AdaBoost cascade on the frames' images.
+    case cascade
+    /// Run the U-Net segmenter (coarse then zoomed) on the frames' images.
+    case unet
+    /// Prefer images when the bundle has them (U-Net), else recorded observations.
+    case automatic
+}
+
+/// Everything the pipeline needs to know besides the map. A value; copied into the pipeline.
+public struct PipelineOptions: Sendable {
+    /// Floor the traveler starts on ("I only know the floor"); nil = the first floor of the building.
+    public var floorId: String?
+    /// Start point of interest if the traveler chose one (yaw still unknown).
+    public var startPointOfInterestId: String?
+    /// Radius of the start prior around the chosen start, meters.
+    public var startRadiusMeters: Double = 2.0
+    /// Destination point-of-interest id (or name); nil = localize only, no guidance.
+    public var destinationId: String?
+    /// Source of sign sightings.
+    public var sightingSource: SightingSource = .automatic
+    /// Folder holding the detector models (SignDetector/models); nil = found relative to the package.
+    public var modelsDirectory: String?
+    /// Physical height of the signs' face used by the range estimator, meters (paper: h0).
+    public var signHeightMeters: Double = 0.21
+    /// Minimum time between two detector runs, seconds (the phone runs the detector at about 10 Hz and
+    /// drops frames while it is busy). Also the cadence of "nothing seen" updates for negative information.
+    public var detectionIntervalSeconds: Double = 0.1
+    /// Particle filter settings.
+    public var localizer: LocalizerOptions = LocalizerOptions()
+    /// Guidance settings.
+    public var navigator: NavigatorOptions = NavigatorOptions()
+    /// Random seed of the particle filter (replays are deterministic for a seed).
+    public var seed: UInt64 = 1
+    /// Creates default options.
+    public init() {}
+}

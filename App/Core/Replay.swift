@@ -1,0 +1,169 @@
+import Foundation
+import Maps
+import Localizer
+import Navigation
+import SessionFormat
+
+/// One line of a replay trace (`wayfinder replay --trace`): the state after one frame.
+public struct TraceRecord: Codable, Sendable, Equatable {
+    /// Frame time, seconds.
+    public var t: Double
+    /// Estimated map x, meters.
+    public var x: Double
+    /// Estimated map y, meters.
+    public var y: Double
+    /// Estimated floor id.
+    public var floorId: String
+    /// Estimated heading of the camera, radians CCW from map +x.
+    public var headingRad: Double
+    /// Localizer confidence 0...1.
+    public var confidence: Double
+    /// The localizer's `localized` flag (guidance only runs while true).
+    public var localized: Bool
+    /// Number of surviving hypotheses (clusters).
+    public var hypotheses: Int
+    /// Sign sightings used on this frame.
+    public var sightings: Int
+    /// Texts spoken on this frame.
+    public var announcements: [String]
+    /// Haptic patterns played on this frame.
+    public var haptics: [String]
+}
+
+/// A sign sighting drawn as a ray from the estimated camera position, for the trainer's picture.
+public struct SightingRay: Sendable {
+    /// Time, seconds.
+    public var t: Double
+    /// Floor of the estimate.
+    public var floorId: String
+    /// Estimated camera position, meters.
+    public var from: Point2
+    /// Where the sighting puts the sign (range along bearing from the estimated heading), meters.
+    public var to: Point2
+}
+
+/// Particles at one moment, for drawing.
+public struct ParticleSnapshot: Sendable {
+    /// Time, seconds.
+    public var t: Double
+    /// Why this moment was chosen ("start", "first convergence", "middle", "end", or "t=...").
+    public var label: String
+    /// The particles (a subsample).
+    public var particles: [ParticleSample]
+}
+
+/// Everything a replay produced.
+public struct ReplayResult: Sendable {
+    /// One record per frame.
+    public var trace: [TraceRecord]
+    /// Spoken texts with their times, in order.
+    public var announcements: [(t: Double, text: String)]
+    /// Haptic patterns with their times.
+    public var haptics: [(t: Double, pattern: String)]
+    /// Sightings as rays from the estimate.
+    public var sightingRays: [SightingRay]
+    /// Particle clouds at chosen moments.
+    public var particleSnapshots: [ParticleSnapshot]
+    /// The last route, as a polyline of (floor, point).
+    public var routePolyline: [(floorId: String, point: Point2)]
+    /// Frames degraded gracefully, with the reason.
+    public var warnings: [String]
+}
+
+/// Replays a recorded-session bundle through exactly the phone's pipeline.
+public enum Replay {
+    /// Replay settings beyond the pipeline's.
+    public struct Options: Sendable {
+        /// Pipeline options (start, destination, detector, seeds). Defaults come from session.json.
+        public var pipeline: PipelineOptions
+        /// Extra moments (seconds) at which to keep particle clouds.
+        public var snapshotTimes: [Double] = []
+        /// Particles kept per snapshot.
+        public var snapshotParticleCount: Int = 1500
+        /// Creates options.
+        public init(pipeline: PipelineOptions = PipelineOptions()) { self.pipeline = pipeline }
+    }
+
+    /// Fills unset pipeline options from the bundle's session.json (floor, start, destination, sign height).
+    public static func options(for bundle: SessionBundle, overriding base: PipelineOptions) -> PipelineOptions {
+        var o = base
+        if o.floorId == nil { o.floorId = bundle.info.floorId }
+        if o.destinationId == nil { o.destinationId = bundle.info.destination }
+        if o.startPointOfInterestId == nil { o.startPointOfInterestId = bundle.info.start }
+        o.signHeightMeters = bundle.info.signHeightMeters
+        return o
+    }
+
+    /// Runs the bundle frame by frame. `progress` is called with the fraction done (for stderr output).
+    public static func run(bundle: SessionBundle, building: Building, options: Options,
+                           progress: ((Double) -> Void)? = nil) throws -> ReplayResult {
+        let imagesDirectory = bundle.url.appendingPathComponent("images")
+        let hasImages = bundle.frames.contains { $0.image != nil }
+        let pipeline = try WayfinderPipeline(building: building, options: options.pipeline, imagesAvailable: hasImages)
+
+        // Observations belong to the latest frame at or before their timestamp.
+        var observationsByFrame = [[ObservationRecord]](repeating: [], count: bundle.frames.count)
+        let frameTimes = bundle.frames.map(\.t)
+        for o in bundle.observations {
+            var lo = 0, hi = frameTimes.count - 1, idx = -1
+            while lo <= hi {
+                let mid = (lo + hi) / 2
+                if frameTimes[mid] <= o.t + 1e-6 { idx = mid; lo = mid + 1 } else { hi = mid - 1 }
+            }
+            if idx >= 0 { observationsByFrame[idx].append(o) }
+        }
+
+        var result = ReplayResult(trace: [], announcements: [], haptics: [], sightingRays: [], particleSnapshots: [],
+                                  routePolyline: [], warnings: [])
+        let n = bundle.frames.count
+        let middleIndex = n / 2
+        var wasLocalized = false
+        var pendingSnapshotTimes = options.snapshotTimes.sorted()
+        for (i, record) in bundle.frames.enumerated() {
+            let frame = PipelineFrame(record: record, imagesDirectory: imagesDirectory, observations: observationsByFrame[i])
+            let update = pipeline.process(frame)
+            result.warnings.append(contentsOf: update.warnings)
+            let e = update.estimate
+            var spoken: [String] = []
+            var haptics: [String] = []
+            for event in update.events {
+                switch event.event {
+                case .speak(let text, _, _):
+                    spoken.append(text)
+                    result.announcements.append((event.t, text))
+                case .haptic(let pattern):
+                    haptics.append("\(pattern)")
+                    result.haptics.append((event.t, "\(pattern)"))
+                }
+            }
+            for s in update.sightings {
+                let angle = e.headingRad + s.bearingRad
+                result.sightingRays.append(SightingRay(t: e.t, floorId: e.floorId, from: e.positionInMap,
+                                                       to: Point2(x: e.positionInMap.x + s.rangeMeters * cos(angle),
+                                                                  y: e.positionInMap.y + s.rangeMeters * sin(angle))))
+            }
+            result.trace.append(TraceRecord(t: record.t, x: e.positionInMap.x, y: e.positionInMap.y, floorId: e.floorId,
+                                            headingRad: e.headingRad, confidence: e.confidence, localized: e.isLocalized,
+                                            hypotheses: e.hypothesisCount, sightings: update.sightings.count,
+                                            announcements: spoken, haptics: haptics))
+            var label: String?
+            if i == 0 { label = "start" } else if i == middleIndex { label = "middle" } else if i == n - 1 { label = "end" }
+            if e.isLocalized && !wasLocalized { label = "first convergence" }
+            if let next = pendingSnapshotTimes.first, record.t >= next {
+                pendingSnapshotTimes.removeFirst()
+                label = label ?? String(format: "t=%.1f s", next)
+            }
+            if let label {
+                result.particleSnapshots.append(ParticleSnapshot(t: record.t, label: label,
+                                                                 particles: pipeline.particleSnapshot(maxCount: options.snapshotParticleCount)))
+            }
+            wasLocalized = wasLocalized || e.isLocalized
+            if i % 200 == 0 { progress?(Double(i) / Double(max(n, 1))) }
+        }
+        if let route = pipeline.currentRoute {
+            result.routePolyline = route.polyline.map { ($0.floorId, $0.point) }
+        }
+        progress?(1)
+        return result
+    }
+}

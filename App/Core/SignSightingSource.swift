@@ -1,0 +1,66 @@
+import Foundation
+import Localizer
+import SessionFormat
+import SignDetection
+
+/// Produces the sign sightings of a frame: either the recorded (already measured) observations, or the
+/// detector run on the frame's image followed by the apparent-height range estimator.
+final class SignSightingSource {
+    private let options: PipelineOptions
+    private let detector: SignDetector?
+
+    /// Loads the detector when images will be processed. Throws when its model is missing.
+    init(options: PipelineOptions, imagesAvailable: Bool) throws {
+        self.options = options
+        let kind: DetectorKind?
+        switch options.sightingSource {
+        case .recorded: kind = nil
+        case .cascade: kind = .cascade
+        case .unet: kind = .unet
+        case .automatic: kind = imagesAvailable ? .unet : nil
+        }
+        if let kind {
+            do {
+                detector = try SignDetector(configuration: DetectorConfiguration.bundled(kind: kind,
+                                                                                          modelsDirectory: options.modelsDirectory))
+            } catch {
+                throw PipelineError.invalidConfiguration("cannot load the \(kind.rawValue) sign detector: \(error)")
+            }
+        } else {
+            detector = nil
+        }
+    }
+
+    /// The sightings of `frame`; `.success(nil)` when there was nothing to consult on this frame (no image
+    /// and no recorded observations while recorded observations are in use).
+    func sightings(for frame: PipelineFrame, pose: CameraPose) -> Result<[SignSighting]?, PipelineError> {
+        guard let detector else {
+            let sightings = frame.measuredObservations.compactMap { o -> SignSighting? in
+                guard o.rangeMeters.isFinite, o.rangeMeters > 0, o.bearingRad.isFinite else { return nil }
+                return SignSighting(kind: o.kind, rangeMeters: o.rangeMeters, bearingRad: o.bearingRad, score: o.score)
+            }
+            return .success(sightings)
+        }
+        guard let path = frame.imagePath else { return .success(nil) }
+        do {
+            let image = try ImageBuffer.load(path: path)
+            let k = frame.intrinsics
+            let detections = try detector.detect(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
+                                                 pitchRad: pose.pitchRad, rollRad: pose.rollRad)
+            var sightings: [SignSighting] = []
+            for d in detections {
+                let measurement = SignImageMeasurement(medianBottomRowPx: d.medianBottomRowPx, medianHeightPx: d.medianHeightPx,
+                                                       centerColumnPx: d.centerColumnPx)
+                let camera = UnrolledCamera(fx: d.unrolledFx, fy: d.unrolledFy, cx: d.unrolledCx, cy: d.unrolledCy,
+                                            pitchRad: pose.pitchRad, rollRad: pose.rollRad)
+                if let r = try? RangeEstimator.apparentHeight(measurement, camera: camera,
+                                                              signHeightMeters: options.signHeightMeters) {
+                    sightings.append(SignSighting(kind: d.kind, rangeMeters: r.rangeMeters, bearingRad: r.bearingRad, score: d.score))
+                }
+            }
+            return .success(sightings)
+        } catch {
+            return .failure(.frame("image \(path): \(error)"))
+        }
+    }
+}

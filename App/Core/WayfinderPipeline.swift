@@ -1,0 +1,143 @@
+import Foundation
+import Maps
+import Localizer
+import Navigation
+import SessionFormat
+
+/// What one frame produced.
+public struct PipelineUpdate: Sendable {
+    /// Frame time, seconds.
+    public var t: Double
+    /// Localizer output after this frame.
+    public var estimate: LocalizationEstimate
+    /// Sign sightings fed to the localizer on this frame (empty when the detector did not run).
+    public var sightings: [SignSighting]
+    /// True when the detector (or the recorded observations) was consulted on this frame.
+    public var detectorRan: Bool
+    /// Speech and haptic events decided by the navigator's announcement policy.
+    public var events: [TimedGuidanceEvent]
+    /// Problems with this frame that were degraded gracefully (non-finite pose, unreadable image...).
+    public var warnings: [String]
+}
+
+/// The app's pipeline, shared by the iPhone and the command line:
+/// frame -> sign detector -> range estimator -> particle filter -> navigator -> announcement policy.
+///
+/// Owns its localizer, detector and navigator. Not thread-safe: feed frames from one queue.
+public final class WayfinderPipeline {
+    /// The building being navigated.
+    public let building: Building
+    /// Options it was created with.
+    public let options: PipelineOptions
+    private let localizer: ParticleLocalizer
+    private let sightingSource: SignSightingSource
+    private var navigator: Navigator?
+    private var lastDetectionT = -Double.infinity
+    private var lastAltitude: Double?
+
+    /// Creates the pipeline and initializes the localizer from the start prior (floor only, or a chosen
+    /// start place). Throws when the floor, start or destination is unknown, or a detector model is missing.
+    public init(building: Building, options: PipelineOptions, imagesAvailable: Bool = false) throws {
+        self.building = building
+        self.options = options
+        guard let firstFloor = building.floors.first else { throw PipelineError.invalidConfiguration("the map has no floors") }
+        localizer = try ParticleLocalizer(building: building, options: options.localizer, seed: options.seed)
+        if let start = options.startPointOfInterestId {
+            guard let poi = Self.pointOfInterest(start, in: building) else {
+                throw PipelineError.invalidConfiguration("unknown start '\(start)'")
+            }
+            try localizer.reset(prior: .startPoint(floorId: poi.floorId, position: poi.poi.position,
+                                                   radiusMeters: options.startRadiusMeters))
+        } else {
+            let floorId = options.floorId ?? firstFloor.id
+            guard building.floor(id: floorId) != nil else {
+                throw PipelineError.invalidConfiguration("unknown floor '\(floorId)'")
+            }
+            try localizer.reset(prior: .floorOnly(floorId: floorId))
+        }
+        if let destination = options.destinationId {
+            navigator = try Navigator(building: building, destinationId: destination, options: options.navigator)
+        }
+        sightingSource = try SignSightingSource(options: options, imagesAvailable: imagesAvailable)
+    }
+
+    /// Finds a point of interest by id or (case-insensitive) name, with its floor.
+    static func pointOfInterest(_ key: String, in building: Building) -> (poi: PointOfInterest, floorId: String)? {
+        for floor in building.floors {
+            if let p = floor.pointsOfInterest.first(where: { $0.id == key || $0.name.lowercased() == key.lowercased() }) {
+                return (p, floor.id)
+            }
+        }
+        return nil
+    }
+
+    /// Processes one frame: motion update, altitude, detection (at most every `detectionIntervalSeconds`),
+    /// sign update, guidance.
+    public func process(_ frame: PipelineFrame) -> PipelineUpdate {
+        var warnings: [String] = []
+        if let pose = frame.cameraPose {
+            localizer.predict(VIOConversion.sample(t: frame.t, pose: pose, tracking: frame.tracking))
+        } else {
+            warnings.append("t=\(frame.t): camera pose is not finite; motion update skipped")
+            localizer.predict(VIOSample(t: frame.t, east: .nan, north: .nan, yawRad: .nan, tracking: .notAvailable))
+        }
+        if let altitude = frame.relativeAltitudeMeters, altitude.isFinite {
+            localizer.updateAltitude(relativeAltitudeMeters: altitude, t: frame.t)
+        }
+
+        var sightings: [SignSighting] = []
+        var detectorRan = false
+        let due = frame.t - lastDetectionT >= options.detectionIntervalSeconds - 1e-9
+        if (due || !frame.measuredObservations.isEmpty), let pose = frame.cameraPose, frame.tracking != .notAvailable {
+            switch sightingSource.sightings(for: frame, pose: pose) {
+            case .success(let result):
+                if let found = result {
+                    sightings = found
+                    detectorRan = true
+                    lastDetectionT = frame.t
+                    localizer.update(sightings: sightings, t: frame.t)
+                }
+            case .failure(let error):
+                warnings.append("t=\(frame.t): \(error)")
+            }
+        }
+
+        let estimate = localizer.estimate
+        var events: [TimedGuidanceEvent] = []
+        if let navigator {
+            events = navigator.update(NavigationInput(t: frame.t, positionInMap: estimate.positionInMap,
+                                                      floorId: estimate.floorId, headingRad: estimate.headingRad,
+                                                      isLocalized: estimate.isLocalized,
+                                                      confidence: estimate.confidence))
+        }
+        return PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
+                              events: events, warnings: warnings)
+    }
+
+    /// "Where am I?" on request.
+    public func whereAmI(t: Double) -> [TimedGuidanceEvent] { navigator?.requestWhereAmI(t: t) ?? [] }
+    /// "Repeat" on request.
+    public func repeatLast(t: Double) -> [TimedGuidanceEvent] { navigator?.requestRepeat(t: t) ?? [] }
+    /// The current route, for drawing.
+    public var currentRoute: Route? { navigator?.currentRoute }
+    /// True once the navigator announced arrival.
+    public var hasArrived: Bool { navigator?.hasArrived ?? false }
+    /// A copy of up to `maxCount` particles, for the trainer's picture.
+    public func particleSnapshot(maxCount: Int) -> [ParticleSample] { localizer.particleSnapshot(maxCount: maxCount) }
+}
+
+/// A pipeline set-up error.
+public enum PipelineError: Error, CustomStringConvertible, Sendable {
+    /// The options do not fit the map (unknown floor, start, destination) or a model is missing.
+    case invalidConfiguration(String)
+    /// A frame could not be processed (reported as a warning, never thrown from `process`).
+    case frame(String)
+
+    /// Message for people.
+    public var description: String {
+        switch self {
+        case .invalidConfiguration(let m): return m
+        case .frame(let m): return m
+        }
+    }
+}
