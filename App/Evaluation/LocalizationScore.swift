@@ -1,0 +1,84 @@
+import Foundation
+import SessionFormat
+import WayfinderCore
+
+/// Localization figures of one walk, scored against truth.
+/// Errors are horizontal distances between the estimate and the interpolated truth at the same time;
+/// a wrong floor counts as an infinite error (reported as `wrongFloorSeconds`, excluded from percentiles).
+public struct LocalizationScore: Codable, Sendable, Equatable {
+    /// Seconds from the first frame to the first frame flagged `localized`; nil if never.
+    public var timeToConvergenceSeconds: Double?
+    /// Meters walked (truth) before the first `localized` frame; nil if never.
+    public var distanceToConvergenceMeters: Double?
+    /// Median position error over all frames after first convergence, meters.
+    public var medianErrorMeters: Double?
+    /// 90th percentile of the same, meters.
+    public var p90ErrorMeters: Double?
+    /// 95th percentile of the same, meters.
+    public var p95ErrorMeters: Double?
+    /// Median heading error after convergence, degrees.
+    public var medianHeadingErrorDeg: Double?
+    /// Share of frames flagged `localized`, 0...1.
+    public var fractionLocalized: Double
+    /// Separate episodes of "localized but more than `wrongThresholdMeters` off" (confidently wrong).
+    public var wrongConvergenceEpisodes: Int
+    /// Total duration of those episodes, seconds.
+    public var wrongConvergenceSeconds: Double
+    /// Largest distance walked during one such episode before it ended, meters (0 when none).
+    public var maxWrongConvergenceDistanceMeters: Double
+    /// Seconds the estimate's floor differed from the true floor after convergence.
+    public var wrongFloorSeconds: Double
+    /// Meters walked in the whole walk.
+    public var walkedMeters: Double
+
+    /// Error beyond which a localized estimate counts as confidently wrong, meters.
+    public static let wrongThresholdMeters = 3.0
+
+    /// Scores a trace against the truth track.
+    public init(trace: [TraceRecord], truth: TruthTrack) {
+        walkedMeters = truth.cumulativeDistanceMeters.last ?? 0
+        fractionLocalized = trace.isEmpty ? 0 : Double(trace.filter(\.localized).count) / Double(trace.count)
+        wrongConvergenceEpisodes = 0
+        wrongConvergenceSeconds = 0
+        maxWrongConvergenceDistanceMeters = 0
+        wrongFloorSeconds = 0
+        guard !truth.isEmpty, let first = trace.first else { return }
+        guard let convergedIndex = trace.firstIndex(where: \.localized) else { return }
+        let converged = trace[convergedIndex]
+        timeToConvergenceSeconds = converged.t - first.t
+        distanceToConvergenceMeters = truth.distanceWalked(at: converged.t) - truth.distanceWalked(at: first.t)
+
+        var errors: [Double] = []
+        var headingErrorsDeg: [Double] = []
+        var episodeStart: (t: Double, walked: Double)?
+        for (i, r) in trace.enumerated() where i >= convergedIndex {
+            let dt = i + 1 < trace.count ? trace[i + 1].t - r.t : 0
+            let s = truth.state(at: r.t)
+            let sameFloor = s.floorId == r.floorId
+            let error = sameFloor ? hypot(r.x - s.x, r.y - s.y) : Double.infinity
+            if sameFloor {
+                errors.append(error)
+                headingErrorsDeg.append(angularDistanceRad(r.headingRad, s.headingRad) * 180 / .pi)
+            } else {
+                wrongFloorSeconds += dt
+            }
+            let wrong = r.localized && error > Self.wrongThresholdMeters
+            if wrong {
+                wrongConvergenceSeconds += dt
+                if episodeStart == nil {
+                    episodeStart = (r.t, truth.distanceWalked(at: r.t))
+                    wrongConvergenceEpisodes += 1
+                }
+                if let e = episodeStart {
+                    maxWrongConvergenceDistanceMeters = max(maxWrongConvergenceDistanceMeters, truth.distanceWalked(at: r.t) - e.walked)
+                }
+            } else {
+                episodeStart = nil
+            }
+        }
+        medianErrorMeters = percentile(errors, 50)
+        p90ErrorMeters = percentile(errors, 90)
+        p95ErrorMeters = percentile(errors, 95)
+        medianHeadingErrorDeg = percentile(headingErrorsDeg, 50)
+    }
+}

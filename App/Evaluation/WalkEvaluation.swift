@@ -1,0 +1,99 @@
+import Foundation
+import Maps
+import SessionFormat
+import WayfinderCore
+
+/// The full score of one walk.
+public struct WalkScore: Codable, Sendable {
+    /// Name of the walk (bundle folder or scenario name).
+    public var name: String
+    /// Localization figures.
+    public var localization: LocalizationScore
+    /// Navigation figures.
+    public var navigation: NavigationScore
+    /// Frames in the walk.
+    public var frames: Int
+    /// Duration, seconds.
+    public var durationSeconds: Double
+}
+
+/// Figures over many walks, the ones the regression gate compares.
+public struct AggregateScore: Codable, Sendable, Equatable {
+    /// Walks scored.
+    public var walks: Int
+    /// Share of walks converged within 20 m of walking, 0...1.
+    public var convergedWithin20mShare: Double
+    /// Median over walks of the median position error after convergence, meters.
+    public var medianErrorMeters: Double?
+    /// Median over walks of the 95th-percentile error, meters.
+    public var p95ErrorMeters: Double?
+    /// Total confidently-wrong episodes (localized and > 3 m off).
+    public var wrongConvergenceEpisodes: Int
+    /// Largest distance walked while confidently wrong, meters.
+    public var maxWrongConvergenceDistanceMeters: Double
+    /// Expected turns that got no cue.
+    public var missingInstructions: Int
+    /// Cues in the wrong direction.
+    public var wrongInstructions: Int
+    /// Median distance of cues before their control point, meters.
+    public var medianCueDistanceBeforeMeters: Double?
+
+    /// Aggregates walk scores.
+    public init(_ scores: [WalkScore]) {
+        walks = scores.count
+        let converged = scores.filter { ($0.localization.distanceToConvergenceMeters ?? .infinity) <= 20 }
+        convergedWithin20mShare = scores.isEmpty ? 0 : Double(converged.count) / Double(scores.count)
+        medianErrorMeters = percentile(scores.compactMap { $0.localization.medianErrorMeters }, 50)
+        p95ErrorMeters = percentile(scores.compactMap { $0.localization.p95ErrorMeters }, 50)
+        wrongConvergenceEpisodes = scores.map(\.localization.wrongConvergenceEpisodes).reduce(0, +)
+        maxWrongConvergenceDistanceMeters = scores.map(\.localization.maxWrongConvergenceDistanceMeters).max() ?? 0
+        missingInstructions = scores.map(\.navigation.missingInstructions).reduce(0, +)
+        wrongInstructions = scores.map(\.navigation.wrongInstructions).reduce(0, +)
+        medianCueDistanceBeforeMeters = percentile(scores.flatMap(\.navigation.cueDistancesBeforeMeters), 50)
+    }
+}
+
+/// Replays and scores walks.
+public enum WalkEvaluator {
+    /// Replays `bundle` on `building` and scores it against its truth.jsonl. Throws when the bundle has
+    /// no truth or the replay cannot start.
+    public static func evaluate(name: String, bundle: SessionBundle, building: Building,
+                                options: PipelineOptions = PipelineOptions()) throws -> (WalkScore, ReplayResult) {
+        guard !bundle.truth.isEmpty else { throw EvaluationError.noTruth(name) }
+        let pipelineOptions = Replay.options(for: bundle, overriding: options)
+        var replayOptions = Replay.Options(pipeline: pipelineOptions)
+        replayOptions.snapshotParticleCount = 1200
+        let result = try Replay.run(bundle: bundle, building: building, options: replayOptions)
+        return (score(name: name, result: result, truth: bundle.truth, building: building,
+                      destination: pipelineOptions.destinationId), result)
+    }
+
+    /// Scores a finished replay.
+    public static func score(name: String, result: ReplayResult, truth: [TruthRecord], building: Building,
+                             destination: String?) -> WalkScore {
+        let track = TruthTrack(truth)
+        let localization = LocalizationScore(trace: result.trace, truth: track)
+        let convergenceT = result.trace.first(where: \.localized)?.t
+        let navigation = NavigationScore(announcements: result.announcements, truth: track, building: building,
+                                         destination: destination, convergenceT: convergenceT)
+        let duration = (result.trace.last?.t ?? 0) - (result.trace.first?.t ?? 0)
+        return WalkScore(name: name, localization: localization, navigation: navigation, frames: result.trace.count,
+                         durationSeconds: duration)
+    }
+}
+
+/// Evaluation failures.
+public enum EvaluationError: Error, CustomStringConvertible, Sendable {
+    /// The bundle has no truth.jsonl to score against.
+    case noTruth(String)
+    /// The baseline file is unreadable.
+    case badBaseline(String)
+
+    /// Message for people.
+    public var description: String {
+        switch self {
+        case .noTruth(let name): return "\(name): no truth.jsonl, nothing to score against"
+        case .badBaseline(let m): return m
+        }
+    }
+}
