@@ -4,6 +4,8 @@ import Foundation
 enum Subcommands {
     static let all: [Subcommand.Type] = [
         ReplayCommand.self,
+        EvalCommand.self,
+        RenderCommand.self,
     ]
 }
 

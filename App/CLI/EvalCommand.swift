@@ -1,0 +1,82 @@
+import Evaluation
+import Foundation
+import Maps
+import SessionFormat
+import WayfinderCore
+
+/// `wayfinder eval`: replays walks and scores them against truth, with a regression gate.
+enum EvalCommand: Subcommand {
+    static let name = "eval"
+    static let summary = "score replays against truth (localization and navigation), with a regression gate"
+    static let usage = """
+    Usage: wayfinder eval BUNDLE... --map MAP [--json] [--baseline FILE] [--write-baseline FILE] [--seed N]
+           wayfinder eval --scenarios DIR [--skeri DIR] [--json] [--baseline FILE] [--write-baseline FILE]
+
+    Replays each bundle (which must have truth.jsonl) through the real pipeline and prints, per walk:
+    time and distance to first convergence, median/90th/95th percentile position error after convergence,
+    heading error, share of time localized, confidently-wrong episodes (localized and > 3 m off), true turns,
+    cued turns, missing and wrong instructions, median cue distance before the control point and the true
+    distance at arrival; then the aggregate. --json prints JSON instead. --baseline fails (exit 1) when an
+    aggregate figure is worse than the baseline by more than its tolerance; --write-baseline writes one.
+    --scenarios simulates and scores every scenario definition (*.json) in DIR in memory.
+    """
+
+    static func run(_ arguments: inout ArgumentList) throws -> Int32 {
+        let json = arguments.flag("json")
+        let baselinePath = try arguments.option("baseline")
+        let writeBaselinePath = try arguments.option("write-baseline")
+        let scenariosDir = try arguments.option("scenarios")
+        let skeriDir = try arguments.option("skeri")
+        let mapPath = try arguments.option("map")
+        var pipeline = PipelineOptions()
+        if let seed = try arguments.intOption("seed") { pipeline.seed = UInt64(max(0, seed)) }
+        let bundles = try arguments.positionals()
+
+        var scores: [WalkScore] = []
+        if let scenariosDir {
+            scores = try ScenarioRunner.scoreAll(directory: URL(fileURLWithPath: scenariosDir),
+                                                 skeriDirectory: skeriDir.map { URL(fileURLWithPath: $0) },
+                                                 options: pipeline, progress: progress)
+        } else {
+            guard !bundles.isEmpty else { throw CLIError.usage("give BUNDLE directories or --scenarios DIR") }
+            guard let mapPath else { throw CLIError.usage("missing --map") }
+            let building = try loadMap(mapPath)
+            for path in bundles {
+                let bundle = try loadBundle(path)
+                progress("eval: \(path)")
+                do {
+                    scores.append(try WalkEvaluator.evaluate(name: bundle.url.lastPathComponent, bundle: bundle,
+                                                             building: building, options: pipeline).0)
+                } catch {
+                    throw CLIError.failure("\(path): \(error)")
+                }
+            }
+        }
+        let aggregate = AggregateScore(scores)
+        if json {
+            struct Output: Encodable { let walks: [WalkScore]; let aggregate: AggregateScore }
+            let e = JSONEncoder()
+            e.outputFormatting = [.prettyPrinted, .sortedKeys]
+            print(String(decoding: try e.encode(Output(walks: scores, aggregate: aggregate)), as: UTF8.self))
+        } else {
+            print(ScoreTable.render(scores, aggregate: aggregate), terminator: "")
+        }
+        if let writeBaselinePath {
+            try RegressionBaseline(aggregate: aggregate).write(to: URL(fileURLWithPath: writeBaselinePath))
+            progress("eval: baseline written to \(writeBaselinePath)")
+        }
+        if let baselinePath {
+            let baseline: RegressionBaseline
+            do { baseline = try RegressionBaseline.load(URL(fileURLWithPath: baselinePath)) } catch {
+                throw CLIError.failure("\(error)")
+            }
+            let regressions = baseline.regressions(of: aggregate)
+            if !regressions.isEmpty {
+                for r in regressions { FileHandle.standardError.write(Data("regression: \(r)\n".utf8)) }
+                return 1
+            }
+            progress("eval: no regression against \(baselinePath)")
+        }
+        return 0
+    }
+}
