@@ -1,0 +1,222 @@
+import Foundation
+
+/// How the timestamps of a JSON-lines file must progress from one line to the next.
+public enum BundleTimeOrder: Sendable {
+    /// Each line's time is greater than the previous line's (frames, truth).
+    case strictlyIncreasing
+    /// Each line's time is at least the previous line's (observations: several per frame).
+    case nonDecreasing
+    /// No order (expected announcements).
+    case unordered
+}
+
+/// A record stored one per line in a bundle's JSON-lines file. The reader and the writer apply the same
+/// checks, so the writer can never produce a bundle the reader rejects.
+public protocol BundleLineRecord: Codable, Sendable {
+    /// File name inside the bundle directory (`frames.jsonl`...).
+    static var fileName: String { get }
+    /// Order the file's timestamps must follow.
+    static var timeOrder: BundleTimeOrder { get }
+    /// The timestamp the order applies to, seconds; nil when the record has none.
+    var orderTime: Double? { get }
+    /// Nil when every field is in range, otherwise what is wrong, in words.
+    func validationProblem() -> String?
+}
+
+/// Largest tolerated deviation of the transform's bottom row from (0, 0, 0, 1) and of the rotation from
+/// orthonormality (max |RᵀR − I| element). ARKit stores Float32 matrices: about 1e-7 off.
+let transformTolerance = 1e-3
+
+extension CameraIntrinsics {
+    /// Nil when focal lengths and image size are positive and every number finite; otherwise the problem.
+    public func validationProblem() -> String? {
+        for (name, v) in [("fx", fx), ("fy", fy), ("cx", cx), ("cy", cy)] where !v.isFinite {
+            return "intrinsics.\(name) is not a finite number"
+        }
+        if fx <= 0 || fy <= 0 { return "intrinsics focal lengths must be positive pixels, got fx \(fx), fy \(fy)" }
+        if width <= 0 || height <= 0 { return "intrinsics image size must be positive, got \(width) x \(height)" }
+        return nil
+    }
+}
+
+/// True when `name` is a plain file name that stays inside images/ (no separators, not `.`/`..`).
+func isSafeImageName(_ name: String) -> Bool {
+    !name.isEmpty && name != "." && name != ".." && !name.contains("/") && !name.contains("\\") && !name.contains("\0")
+}
+
+extension FrameRecord: BundleLineRecord {
+    /// `frames.jsonl`.
+    public static let fileName = "frames.jsonl"
+    /// Frames come at strictly increasing times.
+    public static let timeOrder = BundleTimeOrder.strictlyIncreasing
+    /// `t`.
+    public var orderTime: Double? { t }
+
+    /// Checks: finite time; 16 finite numbers; bottom row (0, 0, 0, 1) (catches row-major matrices);
+    /// orthonormal rotation; valid intrinsics; compass heading in [0, 360]; safe image name.
+    public func validationProblem() -> String? {
+        guard t.isFinite else { return "timestamp t is not a finite number" }
+        guard cameraToWorld.count == 16 else {
+            return "cameraToWorld has \(cameraToWorld.count) numbers, expected 16 (a 4x4 matrix, column-major)"
+        }
+        if let i = cameraToWorld.firstIndex(where: { !$0.isFinite }) {
+            return "cameraToWorld[\(i)] is not a finite number (\(cameraToWorld[i]))"
+        }
+        let m = cameraToWorld
+        let bottom = [m[3], m[7], m[11], m[15]]
+        if zip(bottom, [0.0, 0, 0, 1]).contains(where: { abs($0 - $1) > transformTolerance }) {
+            return "cameraToWorld bottom row is (\(bottom.map { String($0) }.joined(separator: ", "))), expected (0, 0, 0, 1): "
+                + "the matrix must be column-major with the translation in elements 12, 13, 14 (row-major input?)"
+        }
+        var worst = 0.0
+        for a in 0..<3 {
+            for b in 0..<3 {
+                var dot = 0.0
+                for k in 0..<3 { dot += m[a * 4 + k] * m[b * 4 + k] }
+                worst = max(worst, abs(dot - (a == b ? 1 : 0)))
+            }
+        }
+        if worst > transformTolerance {
+            return "cameraToWorld rotation is not orthonormal (largest |RᵀR − I| element \(worst))"
+        }
+        if let p = intrinsics.validationProblem() { return p }
+        if let h = relativeAltitudeMeters, !h.isFinite { return "relativeAltitudeMeters is not a finite number" }
+        if let c = compassHeadingDeg, !(c.isFinite && c >= 0 && c <= 360) {
+            return "compassHeadingDeg \(c) is outside 0...360 (write nil when the heading is unknown)"
+        }
+        if let image, !isSafeImageName(image) {
+            return "image name '\(image)' is not a plain file name inside images/"
+        }
+        return nil
+    }
+}
+
+extension ObservationRecord: BundleLineRecord {
+    /// `observations.jsonl`.
+    public static let fileName = "observations.jsonl"
+    /// Several observations may share a frame's time.
+    public static let timeOrder = BundleTimeOrder.nonDecreasing
+    /// `t`.
+    public var orderTime: Double? { t }
+
+    /// Checks: finite time; non-empty kind; range finite and > 0 m; bearing in [-pi, pi]; score in [0, 1].
+    public func validationProblem() -> String? {
+        guard t.isFinite else { return "timestamp t is not a finite number" }
+        if kind.isEmpty { return "kind is empty" }
+        guard rangeMeters.isFinite else { return "rangeMeters is not a finite number" }
+        if rangeMeters <= 0 {
+            return "rangeMeters \(rangeMeters) is not positive (a horizontal distance camera -> sign, meters)"
+        }
+        guard bearingRad.isFinite, abs(bearingRad) <= Double.pi + 1e-9 else {
+            return "bearingRad \(bearingRad) is outside [-pi, pi]"
+        }
+        guard score.isFinite, score >= 0, score <= 1 else { return "score \(score) is outside 0...1" }
+        if let landmarkId, landmarkId.isEmpty { return "landmarkId is empty (omit it instead)" }
+        return nil
+    }
+}
+
+extension TruthRecord: BundleLineRecord {
+    /// `truth.jsonl`.
+    public static let fileName = "truth.jsonl"
+    /// One truth pose per time.
+    public static let timeOrder = BundleTimeOrder.strictlyIncreasing
+    /// `t`.
+    public var orderTime: Double? { t }
+
+    /// Checks: finite time, position and heading; non-empty floor id.
+    public func validationProblem() -> String? {
+        guard t.isFinite else { return "timestamp t is not a finite number" }
+        guard x.isFinite, y.isFinite else { return "position (\(x), \(y)) is not finite" }
+        guard headingRad.isFinite else { return "headingRad is not a finite number" }
+        if floorId.isEmpty { return "floorId is empty" }
+        return nil
+    }
+}
+
+extension ExpectedAnnouncement: BundleLineRecord {
+    /// `expected.jsonl`.
+    public static let fileName = "expected.jsonl"
+    /// Announcements are listed in any order.
+    public static let timeOrder = BundleTimeOrder.unordered
+    /// None.
+    public var orderTime: Double? { nil }
+
+    /// Checks: non-empty text; finite window bounds with notBefore <= notAfter.
+    public func validationProblem() -> String? {
+        if text.trimmingCharacters(in: .whitespacesAndNewlines).isEmpty { return "text is empty" }
+        if let a = notBefore, !a.isFinite { return "notBefore is not a finite number" }
+        if let b = notAfter, !b.isFinite { return "notAfter is not a finite number" }
+        if let a = notBefore, let b = notAfter, a > b { return "notBefore \(a) is after notAfter \(b)" }
+        return nil
+    }
+}
+
+extension SessionInfo {
+    /// Nil when session.json's content is usable; otherwise the problem. The version is checked separately.
+    public func validationProblem() -> String? {
+        guard signHeightMeters.isFinite, signHeightMeters > 0 else {
+            return "signHeightMeters \(signHeightMeters) must be a positive number of meters"
+        }
+        if let p = intrinsics?.validationProblem() { return p }
+        return nil
+    }
+}
+
+// Decoding of the tracking enums with messages that list the accepted values.
+extension TrackingState {
+    /// Decodes the raw string; an unknown value throws `DecodingError.dataCorrupted` listing the valid ones.
+    public init(from decoder: Decoder) throws {
+        let c = try decoder.singleValueContainer()
+        let s = try c.decode(String.self)
+        guard let v = TrackingState(rawValue: s) else {
+            throw DecodingError.dataCorruptedError(
+                in: c, debugDescription: "unknown tracking state '\(s)' (expected normal, limited or notAvailable)")
+        }
+        self = v
+    }
+}
+
+extension TrackingReason {
+    /// Decodes the raw string; an unknown value throws `DecodingError.dataCorrupted` listing the valid ones.
+    public init(from decoder: Decoder) throws {
+        let c = try decoder.singleValueContainer()
+        let s = try c.decode(String.self)
+        guard let v = TrackingReason(rawValue: s) else {
+            throw DecodingError.dataCorruptedError(
+                in: c, debugDescription: "unknown tracking reason '\(s)' (expected initializing, excessiveMotion, "
+                    + "insufficientFeatures or relocalizing)")
+        }
+        self = v
+    }
+}
+
+/// Words for a decoding failure: the field path and what was wrong.
+func describeDecodingError(_ error: Error) -> String {
+    func path(_ keys: [CodingKey]) -> String {
+        var s = ""
+        for k in keys {
+            if let i = k.intValue { s += "[\(i)]" } else { s += s.isEmpty ? k.stringValue : ".\(k.stringValue)" }
+        }
+        return s
+    }
+    guard let e = error as? DecodingError else { return "\(error)" }
+    switch e {
+    case .keyNotFound(let key, let ctx):
+        return "missing field '\(path(ctx.codingPath + [key]))'"
+    case .valueNotFound(let type, let ctx):
+        return "field '\(path(ctx.codingPath))' is null, expected \(type)"
+    case .typeMismatch(let type, let ctx):
+        if ctx.codingPath.isEmpty { return "expected a JSON object, got another kind of value" }
+        var s = "field '\(path(ctx.codingPath))': expected \(type == Double.self ? "a number" : "\(type)")"
+        if type == Double.self || type == Int.self {
+            s += " (\(ctx.debugDescription)); non-finite numbers such as NaN or Infinity are not allowed"
+        }
+        return s
+    case .dataCorrupted(let ctx):
+        if ctx.codingPath.isEmpty { return ctx.debugDescription }
+        return "field '\(path(ctx.codingPath))': \(ctx.debugDescription)"
+    @unknown default:
+        return "\(e)"
+    }
+}
