@@ -25,10 +25,13 @@ if [ ${#missing[@]} -gt 0 ]; then
   $SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}" >&2
 fi
 
-PY_PACKAGES=(numpy onnx onnxruntime)
+# Each entry is "import_name[:pip requirement]". OpenCV's Python wheel is pinned below 5: OpenCV 5
+# removed cv2.CascadeClassifier, which the sign-detector training tests use.
+PY_PACKAGES=(numpy onnx onnxruntime "cv2:opencv-python-headless<5")
 py_missing=()
-for p in "${PY_PACKAGES[@]}"; do
-  python3 -c "import $p" 2>/dev/null || py_missing+=("$p")
+for entry in "${PY_PACKAGES[@]}"; do
+  mod="${entry%%:*}"; req="${entry#*:}"
+  python3 -c "import $mod" 2>/dev/null || py_missing+=("$req")
 done
 if [ ${#py_missing[@]} -gt 0 ]; then
   echo "setup: installing Python packages: ${py_missing[*]}" >&2

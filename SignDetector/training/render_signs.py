@@ -1,0 +1,865 @@
+#!/usr/bin/env python3
+"""Synthetic Exit-sign renderer for training and testing the Wayfinder sign detectors.
+
+No licensed real Exit-sign photographs exist for this project, so every training and test image is
+rendered: a procedural indoor scene (corridor ray-cast per pixel: floor, walls, ceiling, doors,
+ceiling lights) seen by a pinhole camera with a known pose, with procedurally drawn sign faces
+(US "EXIT" in red or green on a white or dark plate, with or without chevrons, lit or unlit; ISO
+green running-man) placed in 3-D at their real sizes, plus distractors (red/green text that is not
+EXIT, door signs, fire alarms, lights) and image degradations (glow, motion blur, defocus, noise,
+JPEG, partial occlusion).
+
+Camera conventions follow ../shared/reference/arkit-frames.md exactly:
+  * world: gravity-aligned, y up; camera-to-world rotation R = Ry(yaw) * Rx(pitch) * Rz(roll)
+    (ARKit Euler order: roll applied first, then pitch, then yaw);
+  * camera looks along -z, x along the long sensor side (image u, right), y = -v;
+  * a pixel (u, v) is the world ray R * [(u - cx)/fx, -(v - cy)/fy, -1];
+  * roll 0 = landscape upright, roll -pi/2 = portrait (camera x points down in the world);
+  * pitch positive = looking up; bearing positive = to the LEFT; range = horizontal meters.
+
+Outputs (one directory per split): images (JPEG), masks (PNG, class index per pixel: 0 background,
+1 exit) and labels.jsonl, one JSON object per image (format in docs/training.md).
+
+Every frame is rendered from its own generator seeded by (seed, split, index), so a frame does not
+depend on how many frames were rendered before it.
+
+Public entry points besides the CLI:
+  * render_frame(...)   render one frame given a camera pose and signs in camera coordinates;
+  * sample_scene(...)   draw a random camera pose and sign placement;
+  * unroll_matrix(...)  the affine map from the raw image to the roll-corrected ("unrolled") image.
+"""
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import math
+import os
+import sys
+from typing import List, Optional, Sequence, Tuple
+
+import cv2
+import numpy as np
+
+#: Class indices written into the masks (also in models/classes.json).
+CLASSES = ("background", "exit")
+
+#: iPhone 8 raw intrinsics at 1920 x 1440 (arkit-frames.md).
+RAW_INTRINSICS = dict(fx=1602.0, fy=1602.0, cx=960.0, cy=720.0, width=1920, height=1440)
+
+
+# --------------------------------------------------------------------------------------------------
+# Geometry
+# --------------------------------------------------------------------------------------------------
+
+def rot_x(a: float) -> np.ndarray:
+    """Rotation about the x axis by `a` radians (right-handed)."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[1, 0, 0], [0, c, -s], [0, s, c]], dtype=np.float64)
+
+
+def rot_y(a: float) -> np.ndarray:
+    """Rotation about the y axis by `a` radians (right-handed)."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, 0, s], [0, 1, 0], [-s, 0, c]], dtype=np.float64)
+
+
+def rot_z(a: float) -> np.ndarray:
+    """Rotation about the z axis by `a` radians (right-handed)."""
+    c, s = math.cos(a), math.sin(a)
+    return np.array([[c, -s, 0], [s, c, 0], [0, 0, 1]], dtype=np.float64)
+
+
+def camera_rotation(yaw_rad: float, pitch_rad: float, roll_rad: float) -> np.ndarray:
+    """Camera-to-world rotation from ARKit Euler angles: R = Ry(yaw) Rx(pitch) Rz(roll)."""
+    return rot_y(yaw_rad) @ rot_x(pitch_rad) @ rot_z(roll_rad)
+
+
+def scaled_intrinsics(width: int, height: int) -> dict:
+    """Intrinsics of the iPhone 8 camera scaled to `width` x `height` (same 4:3 field of view)."""
+    s = width / RAW_INTRINSICS["width"]
+    return dict(fx=RAW_INTRINSICS["fx"] * s, fy=RAW_INTRINSICS["fy"] * s,
+                cx=RAW_INTRINSICS["cx"] * s, cy=RAW_INTRINSICS["cy"] * s,
+                width=int(width), height=int(height))
+
+
+def project_points(points_world: np.ndarray, R: np.ndarray, t: np.ndarray, intr: dict) -> Tuple[np.ndarray, np.ndarray]:
+    """Project world points (N,3) into pixels (N,2) with the arkit-frames.md pinhole model.
+
+    Returns (uv, depth) where depth = distance along the viewing direction (-z_camera), positive in
+    front of the camera.
+    """
+    pc = (np.asarray(points_world, np.float64) - t) @ R  # = R^T (p - t) per row
+    depth = -pc[:, 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        u = intr["cx"] + intr["fx"] * pc[:, 0] / depth
+        v = intr["cy"] - intr["fy"] * pc[:, 1] / depth
+    return np.stack([u, v], axis=1), depth
+
+
+def unroll_matrix(intr: dict, roll_rad: float) -> Tuple[np.ndarray, dict]:
+    """Affine 2x3 matrix mapping raw pixels to the roll-corrected image, and that image's intrinsics.
+
+    The unrolled image is the view of a virtual camera with the same centre, pitch and yaw but roll
+    0: a rotation of the raw image about the principal point (exact for fx == fy). The unrolled
+    image is sized so that a raw frame fits whole when the roll is near 0 or +-90 degrees.
+    """
+    c, s = math.cos(roll_rad), math.sin(roll_rad)
+    w, h = intr["width"], intr["height"]
+    portrait = abs(s) > abs(c)
+    wu, hu = (h, w) if portrait else (w, h)
+    cxu = intr["cx"] * (wu / w) if not portrait else intr["cy"] * (wu / h)
+    cyu = intr["cy"] * (hu / h) if not portrait else intr["cx"] * (hu / w)
+    f = intr["fx"]
+    # unrolled normalized (x', y') = Rz(roll) (x, y): x' = c x - s y, y' = s x + c y, with
+    # x = (u - cx)/f, y = -(v - cy)/f, u' = cxu + f x', v' = cyu - f y'.
+    # => u' = cxu + c (u-cx) + s (v-cy);  v' = cyu - s (u-cx) + c (v-cy)... derived below.
+    A = np.array([[c, s, 0.0], [-s, c, 0.0]], dtype=np.float64)
+    # check sign: y' = s x + c y -> -(v'-cyu)/f = s (u-cx)/f - c (v-cy)/f -> v' - cyu = -s (u-cx) + c (v-cy)
+    # x' = c x - s y -> (u'-cxu)/f = c (u-cx)/f + s (v-cy)/f
+    A[0, 2] = cxu - c * intr["cx"] - s * intr["cy"]
+    A[1, 2] = cyu + s * intr["cx"] - c * intr["cy"]
+    intr_u = dict(fx=f, fy=intr["fy"], cx=cxu, cy=cyu, width=int(wu), height=int(hu))
+    return A, intr_u
+
+
+def unroll_image(img: np.ndarray, intr: dict, roll_rad: float, interp=cv2.INTER_LINEAR) -> Tuple[np.ndarray, np.ndarray, dict]:
+    """Rotate a raw image into the roll-corrected frame; returns (image, 2x3 raw->unrolled, intrinsics)."""
+    A, intr_u = unroll_matrix(intr, roll_rad)
+    out = cv2.warpAffine(img, A, (intr_u["width"], intr_u["height"]), flags=interp,
+                         borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    return out, A, intr_u
+
+
+# --------------------------------------------------------------------------------------------------
+# Sign and distractor textures (procedural)
+# --------------------------------------------------------------------------------------------------
+
+#: Texture resolution of sign faces, pixels per meter.
+TEX_PPM = 1600.0
+
+
+@dataclasses.dataclass
+class Texture:
+    """A planar texture: `rgb` float32 (H,W,3) in [0,1] (may exceed 1 when emissive), `alpha` (H,W)
+    coverage in [0,1], `emissive` whether it glows (not shaded by scene light), `mask_class` the
+    class written into the mask where it is visible (0 for distractors)."""
+    rgb: np.ndarray
+    alpha: np.ndarray
+    emissive: float
+    mask_class: int
+
+
+def _text_block(text: str, color, canvas_wh: Tuple[int, int], bg, thickness_frac=0.16, font=cv2.FONT_HERSHEY_SIMPLEX) -> np.ndarray:
+    """Draw `text` stretched to fill a canvas (W,H) on background `bg` (uint8 RGB)."""
+    W, H = canvas_wh
+    (tw, th), base = cv2.getTextSize(text, font, 4.0, 1)
+    thick = max(1, int(round(thickness_frac * th)))
+    (tw, th), base = cv2.getTextSize(text, font, 4.0, thick)
+    tmp = np.zeros((th + 2 * thick + 4, tw + 2 * thick + 4, 3), np.uint8)
+    tmp[:] = bg
+    cv2.putText(tmp, text, (thick + 2, th + thick + 2), font, 4.0, color, thick, cv2.LINE_AA)
+    # tight crop on the glyphs
+    diff = np.abs(tmp.astype(int) - np.array(bg)).sum(axis=2) > 30
+    ys, xs = np.nonzero(diff)
+    if len(xs) > 0:
+        tmp = tmp[ys.min():ys.max() + 1, xs.min():xs.max() + 1]
+    return cv2.resize(tmp, (W, H), interpolation=cv2.INTER_AREA)
+
+
+def make_us_exit_texture(rng: np.random.Generator, width_m: float, height_m: float, style: Optional[dict] = None) -> Tuple[Texture, dict]:
+    """US Exit sign face: 6 in (0.152 m) letters "EXIT", red or green, white or dark plate, optional
+    chevrons, lit or unlit. Returns the texture and the style chosen."""
+    st = dict(letter=rng.choice(["red", "red", "red", "green"]),
+              plate=rng.choice(["white", "white", "dark", "aluminium"]),
+              chevron=rng.choice(["none", "none", "left", "right", "both"]),
+              lit=bool(rng.random() < 0.6), border=bool(rng.random() < 0.4))
+    if style:
+        st.update(style)
+    W, H = int(round(width_m * TEX_PPM)), int(round(height_m * TEX_PPM))
+    plate = {"white": (236, 236, 230), "dark": (30, 30, 32), "aluminium": (175, 178, 180)}[st["plate"]]
+    plate = tuple(int(np.clip(p + rng.normal(0, 6), 0, 255)) for p in plate)
+    if st["letter"] == "red":
+        col = (int(rng.uniform(190, 235)), int(rng.uniform(10, 45)), int(rng.uniform(15, 45)))
+    else:
+        col = (int(rng.uniform(0, 40)), int(rng.uniform(140, 200)), int(rng.uniform(60, 110)))
+    img = np.zeros((H, W, 3), np.uint8)
+    img[:] = plate
+    letter_h = int(round(0.152 * TEX_PPM * rng.uniform(0.9, 1.0) * min(1.0, height_m / 0.19)))
+    letter_h = min(letter_h, H - 8)
+    chev = st["chevron"]
+    n_chev = {"none": 0, "left": 1, "right": 1, "both": 2}[chev]
+    chev_w = int(0.06 * TEX_PPM)
+    text_w = int(min(W * 0.84 - n_chev * (chev_w + 0.015 * TEX_PPM), letter_h * rng.uniform(1.65, 1.95)))
+    x0 = (W - text_w - n_chev * (chev_w + int(0.015 * TEX_PPM))) // 2
+    if chev in ("left", "both"):
+        x0 += chev_w + int(0.015 * TEX_PPM)
+    y0 = (H - letter_h) // 2
+    block = _text_block("EXIT", col, (text_w, letter_h), plate, thickness_frac=rng.uniform(0.13, 0.2))
+    img[y0:y0 + letter_h, x0:x0 + text_w] = block
+    cy = H // 2
+
+    def chevron(xc, direction):
+        h2 = letter_h * 0.35
+        pts = np.array([[xc + direction * chev_w / 2, cy], [xc - direction * chev_w / 2, cy - h2],
+                        [xc - direction * chev_w / 6, cy], [xc - direction * chev_w / 2, cy + h2]], np.int32)
+        cv2.fillPoly(img, [pts], col, cv2.LINE_AA)
+
+    if chev in ("left", "both"):
+        chevron(x0 - int(0.015 * TEX_PPM) - chev_w / 2, -1)
+    if chev in ("right", "both"):
+        chevron(x0 + text_w + int(0.015 * TEX_PPM) + chev_w / 2, +1)
+    if st["border"]:
+        b = max(2, int(0.006 * TEX_PPM))
+        cv2.rectangle(img, (b, b), (W - 1 - b, H - 1 - b), col, b)
+    rgb = img.astype(np.float32) / 255.0
+    emissive = 0.0
+    if st["lit"]:
+        # letters (and a white plate) emit light: brighter than the shaded scene, may saturate.
+        gain = rng.uniform(1.1, 1.8)
+        letters = (np.abs(img.astype(int) - np.array(plate)).sum(axis=2) > 60).astype(np.float32)
+        rgb = rgb * (1.0 + (gain - 1.0) * letters[..., None])
+        emissive = 1.0
+    tex = Texture(rgb=rgb, alpha=np.ones((H, W), np.float32), emissive=emissive, mask_class=1)
+    return tex, st
+
+
+def make_iso_exit_texture(rng: np.random.Generator, width_m: float, height_m: float) -> Tuple[Texture, dict]:
+    """ISO 7010 E001-like green 'running man' emergency exit sign (approximated procedurally)."""
+    W, H = int(round(width_m * TEX_PPM)), int(round(height_m * TEX_PPM))
+    green = (int(rng.uniform(0, 30)), int(rng.uniform(120, 170)), int(rng.uniform(60, 100)))
+    white = (245, 245, 240)
+    img = np.zeros((H, W, 3), np.uint8)
+    img[:] = green
+    s = H / 100.0  # pictogram units
+    mirror = rng.random() < 0.5
+    lw = max(2, int(7 * s))
+    # door (white outline, right part of sign)
+    dx0 = int(W * 0.55)
+    cv2.rectangle(img, (dx0, int(12 * s)), (dx0 + int(30 * s), int(88 * s)), white, max(2, int(5 * s)))
+    # running man (left part)
+    hx, hy = int(W * 0.3), int(22 * s)
+    cv2.circle(img, (hx, hy), int(8 * s), white, -1, cv2.LINE_AA)
+    body = [(hx - int(3 * s), int(33 * s)), (hx - int(10 * s), int(60 * s))]
+    cv2.line(img, body[0], body[1], white, lw, cv2.LINE_AA)
+    cv2.line(img, body[0], (hx + int(14 * s), int(45 * s)), white, lw, cv2.LINE_AA)
+    cv2.line(img, body[0], (hx - int(20 * s), int(42 * s)), white, lw, cv2.LINE_AA)
+    cv2.line(img, body[1], (hx + int(6 * s), int(86 * s)), white, lw, cv2.LINE_AA)
+    cv2.line(img, body[1], (hx - int(28 * s), int(78 * s)), white, lw, cv2.LINE_AA)
+    # arrow
+    if rng.random() < 0.6:
+        ax = int(W * 0.1)
+        cv2.arrowedLine(img, (ax + int(14 * s), int(50 * s)), (ax - int(4 * s), int(50 * s)), white, lw, cv2.LINE_AA, tipLength=0.6)
+    if mirror:
+        img = img[:, ::-1].copy()
+    lit = bool(rng.random() < 0.5)
+    rgb = img.astype(np.float32) / 255.0
+    if lit:
+        rgb = rgb * rng.uniform(1.1, 1.5)
+    return Texture(rgb=rgb, alpha=np.ones((H, W), np.float32), emissive=1.0 if lit else 0.0, mask_class=1), dict(kind="iso", lit=lit)
+
+
+DISTRACTOR_WORDS_RED = ["FIRE", "EXTRA", "ENTER", "STAFF", "ALARM", "STOP", "PULL", "NO ENTRY", "EXAM", "DANGER", "OFFICE", "TEXT"]
+DISTRACTOR_WORDS_GREEN = ["OPEN", "ROOM", "WAY", "EXAM", "TAXI", "EAST", "LIFT", "INFO", "MEN", "WOMEN"]
+
+
+def make_distractor_texture(rng: np.random.Generator) -> Tuple[Texture, float, float]:
+    """A random non-Exit object: coloured text plate, door/room sign, fire alarm, light panel.
+    Returns (texture, width_m, height_m)."""
+    kind = rng.choice(["red_text", "green_text", "room_sign", "fire_alarm", "light", "poster", "red_box"])
+    if kind in ("red_text", "green_text"):
+        w, h = rng.uniform(0.2, 0.6), rng.uniform(0.1, 0.25)
+        W, H = int(w * 800), int(h * 800)
+        plate = (236, 236, 230) if rng.random() < 0.6 else (30, 30, 30)
+        col = (210, 30, 30) if kind == "red_text" else (20, 160, 80)
+        if rng.random() < 0.3:  # coloured plate, white text
+            plate, col = col, (240, 240, 240)
+        words = DISTRACTOR_WORDS_RED if kind == "red_text" else DISTRACTOR_WORDS_GREEN
+        img = np.zeros((H, W, 3), np.uint8)
+        img[:] = plate
+        tw, th = int(W * rng.uniform(0.6, 0.9)), int(H * rng.uniform(0.4, 0.75))
+        img[(H - th) // 2:(H - th) // 2 + th, (W - tw) // 2:(W - tw) // 2 + tw] = _text_block(str(rng.choice(words)), col, (tw, th), plate)
+        emissive = 1.0 if rng.random() < 0.3 else 0.0
+    elif kind == "room_sign":
+        w, h = rng.uniform(0.15, 0.3), rng.uniform(0.15, 0.3)
+        W, H = int(w * 800), int(h * 800)
+        plate = tuple(int(x) for x in rng.choice([[40, 60, 120], [90, 90, 95], [200, 200, 195], [30, 30, 30], [120, 40, 40]]))
+        img = np.zeros((H, W, 3), np.uint8)
+        img[:] = plate
+        tw, th = int(W * 0.7), int(H * 0.3)
+        img[int(H * 0.5):int(H * 0.5) + th, (W - tw) // 2:(W - tw) // 2 + tw] = _text_block(str(rng.integers(100, 480)), (240, 240, 240), (tw, th), plate)
+        cv2.circle(img, (W // 2, int(H * 0.28)), int(H * 0.12), (240, 240, 240), -1)
+        emissive = 0.0
+    elif kind == "fire_alarm":
+        w, h = rng.uniform(0.1, 0.16), rng.uniform(0.12, 0.2)
+        W, H = int(w * 800), int(h * 800)
+        img = np.zeros((H, W, 3), np.uint8)
+        img[:] = (200, 25, 25)
+        cv2.rectangle(img, (int(W * 0.2), int(H * 0.45)), (int(W * 0.8), int(H * 0.6)), (235, 235, 235), -1)
+        tw, th = int(W * 0.8), int(H * 0.18)
+        img[int(H * 0.12):int(H * 0.12) + th, int(W * 0.1):int(W * 0.1) + tw] = _text_block("FIRE", (240, 240, 240), (tw, th), (200, 25, 25))
+        emissive = 0.0
+    elif kind == "light":
+        w, h = rng.uniform(0.3, 1.2), rng.uniform(0.1, 0.3)
+        W, H = int(w * 400), int(h * 400)
+        img = np.full((H, W, 3), 255, np.uint8)
+        emissive = 1.0
+        rgb = np.ones((H, W, 3), np.float32) * rng.uniform(1.2, 2.0)
+        return Texture(rgb=rgb, alpha=np.ones((H, W), np.float32), emissive=1.0, mask_class=0), w, h
+    elif kind == "red_box":  # extinguisher cabinet / red equipment
+        w, h = rng.uniform(0.2, 0.5), rng.uniform(0.3, 0.7)
+        W, H = int(w * 400), int(h * 400)
+        img = np.zeros((H, W, 3), np.uint8)
+        img[:] = (int(rng.uniform(150, 220)), 20, 25)
+        cv2.rectangle(img, (int(W * 0.15), int(H * 0.15)), (int(W * 0.85), int(H * 0.85)), (220, 220, 220), max(1, W // 30))
+        emissive = 0.0
+    else:  # poster: random colour blocks and text-like stripes
+        w, h = rng.uniform(0.3, 0.8), rng.uniform(0.4, 1.0)
+        W, H = int(w * 300), int(h * 300)
+        img = np.zeros((H, W, 3), np.uint8)
+        img[:] = rng.integers(0, 255, 3)
+        for _ in range(int(rng.integers(3, 10))):
+            x0, y0 = int(rng.integers(0, W)), int(rng.integers(0, H))
+            cv2.rectangle(img, (x0, y0), (x0 + int(rng.integers(5, W // 2 + 6)), y0 + int(rng.integers(3, H // 4 + 4))),
+                          tuple(int(c) for c in rng.integers(0, 255, 3)), -1)
+        emissive = 0.0
+    return Texture(rgb=img.astype(np.float32) / 255.0, alpha=np.ones(img.shape[:2], np.float32), emissive=emissive, mask_class=0), w, h
+
+
+# --------------------------------------------------------------------------------------------------
+# Scene: procedural corridor ray-cast per pixel
+# --------------------------------------------------------------------------------------------------
+
+@dataclasses.dataclass
+class Corridor:
+    """Axis-aligned corridor in world coordinates: walls at x = x_left, x_right, floor y = 0,
+    ceiling y = ceiling_m, end wall at z = z_end (< 0), back wall at z = z_back (> 0)."""
+    x_left: float
+    x_right: float
+    ceiling_m: float
+    z_end: float
+    z_back: float
+    floor_rgb: np.ndarray
+    wall_rgb: np.ndarray
+    ceil_rgb: np.ndarray
+    end_rgb: np.ndarray
+    door_rgb: np.ndarray
+    tile_m: float
+    tile_contrast: float
+    door_spacing_m: float
+    door_phase_m: float
+    light_spacing_m: float
+    light_phase_m: float
+    light_gain: float
+    falloff_m: float
+
+
+def sample_corridor(rng: np.random.Generator, must_contain: Sequence[np.ndarray], cam_t: np.ndarray) -> Corridor:
+    """Random corridor (or hall) that contains the camera and every point of `must_contain`."""
+    xs = [cam_t[0]] + [p[0] for p in must_contain]
+    zs = [cam_t[2]] + [p[2] for p in must_contain]
+    ys = [p[1] for p in must_contain] + [2.4]
+    width = rng.uniform(1.8, 4.0)
+    lo, hi = min(xs) - 0.5, max(xs) + 0.5
+    if hi - lo > width:
+        width = hi - lo + rng.uniform(0.2, 2.0)
+    x_left = rng.uniform(hi - width, lo)
+    def col(base, jitter):
+        return np.clip(np.array(base, np.float32) + rng.normal(0, jitter, 3), 0, 1).astype(np.float32)
+    wall_base = [[0.85, 0.84, 0.80], [0.78, 0.76, 0.70], [0.70, 0.74, 0.78], [0.9, 0.9, 0.9], [0.6, 0.55, 0.5], [0.75, 0.8, 0.72]][int(rng.integers(0, 6))]
+    floor_base = [[0.45, 0.45, 0.45], [0.6, 0.55, 0.45], [0.35, 0.3, 0.28], [0.7, 0.7, 0.68], [0.3, 0.35, 0.45]][int(rng.integers(0, 5))]
+    door_base = [[0.55, 0.38, 0.22], [0.45, 0.3, 0.2], [0.6, 0.6, 0.62], [0.25, 0.3, 0.45], [0.7, 0.2, 0.15]][int(rng.integers(0, 5))]
+    return Corridor(
+        x_left=x_left, x_right=x_left + width,
+        ceiling_m=max(rng.uniform(2.6, 3.4), max(ys) + 0.15),
+        z_end=min(zs) - rng.uniform(1.0, 20.0), z_back=max(zs) + rng.uniform(0.5, 6.0),
+        floor_rgb=col(floor_base, 0.05), wall_rgb=col(wall_base, 0.04), ceil_rgb=col([0.88, 0.88, 0.86], 0.03),
+        end_rgb=col(wall_base, 0.08), door_rgb=col(door_base, 0.05),
+        tile_m=rng.uniform(0.3, 0.9), tile_contrast=rng.uniform(0.0, 0.15),
+        door_spacing_m=rng.uniform(2.5, 7.0), door_phase_m=rng.uniform(0, 7.0),
+        light_spacing_m=rng.uniform(2.0, 4.0), light_phase_m=rng.uniform(0, 4.0),
+        light_gain=rng.uniform(1.3, 2.2), falloff_m=rng.uniform(5.0, 25.0))
+
+
+def _value_noise(rng: np.random.Generator, n: int = 64) -> np.ndarray:
+    """Smooth periodic noise texture (n x n, zero mean, ~unit std)."""
+    z = rng.normal(0, 1, (n, n)).astype(np.float32)
+    zp = np.pad(z, 6, mode="wrap")  # periodic smoothing
+    z = cv2.GaussianBlur(zp, (0, 0), 1.5)[6:-6, 6:-6] + 0.3 * z
+    return (z - z.mean()) / (z.std() + 1e-6)
+
+
+def render_corridor(rng: np.random.Generator, cor: Corridor, R: np.ndarray, t: np.ndarray, intr: dict, downsample: int = 1) -> np.ndarray:
+    """Ray-cast the corridor for every pixel; returns linear RGB float32 (H, W, 3)."""
+    W, H = intr["width"], intr["height"]
+    w, h = (W + downsample - 1) // downsample, (H + downsample - 1) // downsample
+    us = (np.arange(w, dtype=np.float32) + 0.5) * downsample - 0.5
+    vs = (np.arange(h, dtype=np.float32) + 0.5) * downsample - 0.5
+    x = (us[None, :] - intr["cx"]) / intr["fx"]
+    y = -(vs[:, None] - intr["cy"]) / intr["fy"]
+    x, y = np.broadcast_to(x, (h, w)), np.broadcast_to(y, (h, w))
+    Rf = R.astype(np.float32)
+    d = [Rf[i, 0] * x + Rf[i, 1] * y - Rf[i, 2] for i in range(3)]  # world ray components
+    o = t.astype(np.float32)
+    big = np.float32(1e9)
+    tt = np.full((h, w), big, np.float32)
+    sid = np.zeros((h, w), np.int8)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        for s, (axis, plane) in enumerate([(1, 0.0), (1, cor.ceiling_m), (0, cor.x_left), (0, cor.x_right), (2, cor.z_end), (2, cor.z_back)]):
+            ti = (plane - o[axis]) / d[axis]
+            ok = (ti > 1e-4) & (ti < tt)
+            tt = np.where(ok, ti, tt)
+            sid = np.where(ok, s, sid).astype(np.int8)
+    tt = np.minimum(tt, 200.0)
+    P = [o[i] + tt * d[i] for i in range(3)]
+    noise = _value_noise(rng)
+    n = noise.shape[0]
+
+    def tex(a, b, scale):
+        ia = (np.floor(a * scale).astype(np.int64)) % n
+        ib = (np.floor(b * scale).astype(np.int64)) % n
+        return noise[ia, ib]
+
+    img = np.zeros((h, w, 3), np.float32)
+    # floor: tiles + noise
+    m = sid == 0
+    if m.any():
+        a, b = P[0][m], P[2][m]
+        checker = ((np.floor(a / cor.tile_m) + np.floor(b / cor.tile_m)) % 2) * 2 - 1
+        grout = ((np.abs((a / cor.tile_m) - np.round(a / cor.tile_m)) < 0.02) | (np.abs((b / cor.tile_m) - np.round(b / cor.tile_m)) < 0.02))
+        shade = 1.0 + cor.tile_contrast * checker + 0.06 * tex(a, b, 20.0) - 0.15 * grout
+        img[m] = cor.floor_rgb[None, :] * shade[:, None]
+    # ceiling: tiles and light panels
+    m = sid == 1
+    if m.any():
+        a, b = P[0][m], P[2][m]
+        grid = ((np.abs(a / 0.6 - np.round(a / 0.6)) < 0.02) | (np.abs(b / 0.6 - np.round(b / 0.6)) < 0.02))
+        zc = (b - cor.light_phase_m) % cor.light_spacing_m
+        xm = 0.5 * (cor.x_left + cor.x_right)
+        light = (zc < 0.6) & (np.abs(a - xm) < 0.6)
+        shade = (1.0 - 0.2 * grid + 0.03 * tex(a, b, 10.0))[:, None] * cor.ceil_rgb[None, :]
+        shade[light] = cor.light_gain
+        img[m] = shade
+    # side walls with doors and baseboard
+    for s in (2, 3):
+        m = sid == s
+        if not m.any():
+            continue
+        yy, zz = P[1][m], P[2][m]
+        zd = (zz - cor.door_phase_m - (0.37 * cor.door_spacing_m if s == 3 else 0.0)) % cor.door_spacing_m
+        door = (zd < 0.9) & (yy < 2.1)
+        frame = ((zd < 0.97) & (yy < 2.17)) & ~door
+        shade = (1.0 + 0.03 * tex(yy, zz, 15.0))[:, None] * cor.wall_rgb[None, :]
+        shade[door] = cor.door_rgb * (1.0 + 0.05 * tex(yy[door], zz[door], 30.0))[:, None]
+        shade[frame] = cor.wall_rgb * 0.6
+        shade[yy < 0.1] *= 0.4
+        img[m] = shade * (0.85 if s == 2 else 0.95)
+    for s in (4, 5):
+        m = sid == s
+        if m.any():
+            img[m] = cor.end_rgb[None, :] * (1.0 + 0.03 * tex(P[0][m], P[1][m], 15.0))[:, None] * 0.9
+    # lighting falloff with distance and a mild vertical gradient
+    light = 0.45 + 0.55 * np.exp(-tt / cor.falloff_m)
+    img *= light[..., None]
+    if downsample > 1:
+        img = cv2.resize(img, (W, H), interpolation=cv2.INTER_LINEAR)
+    return img
+
+
+def render_clutter(rng: np.random.Generator, W: int, H: int) -> np.ndarray:
+    """Non-corridor background: gradients, random rectangles/lines and texture (linear RGB)."""
+    img = np.zeros((H, W, 3), np.float32)
+    c0, c1 = rng.uniform(0.1, 0.9, 3), rng.uniform(0.1, 0.9, 3)
+    g = np.linspace(0, 1, H, dtype=np.float32)[:, None, None]
+    img[:] = c0 * (1 - g) + c1 * g
+    for _ in range(int(rng.integers(5, 30))):
+        col = tuple(float(c) for c in rng.uniform(0, 1, 3))
+        x0, y0 = int(rng.integers(0, W)), int(rng.integers(0, H))
+        if rng.random() < 0.7:
+            cv2.rectangle(img, (x0, y0), (x0 + int(rng.integers(5, W // 3)), y0 + int(rng.integers(5, H // 3))), col, -1)
+        else:
+            cv2.line(img, (x0, y0), (int(rng.integers(0, W)), int(rng.integers(0, H))), col, int(rng.integers(1, 8)))
+    nz = cv2.resize(_value_noise(rng, 64), (W, H), interpolation=cv2.INTER_LINEAR)
+    return np.clip(img * (1 + 0.08 * nz[..., None]), 0, 1)
+
+
+# --------------------------------------------------------------------------------------------------
+# Planar quads (signs, distractors)
+# --------------------------------------------------------------------------------------------------
+
+@dataclasses.dataclass
+class SignSpec:
+    """A sign (or distractor) in CAMERA coordinates: `center_cam` (3,) meters, `normal_cam` (3,)
+    unit vector pointing out of the face towards the viewer side, `width_m`, `height_m`, `kind`
+    ("exit" for US or ISO exit signs), `style` (texture options; see make_us_exit_texture), and
+    `iso` selects the ISO running-man face. The face's up direction is world up (signs hang level)."""
+    center_cam: np.ndarray
+    normal_cam: np.ndarray
+    width_m: float
+    height_m: float
+    kind: str = "exit"
+    style: Optional[dict] = None
+    iso: bool = False
+
+
+def quad_corners_world(center: np.ndarray, normal: np.ndarray, width_m: float, height_m: float) -> np.ndarray:
+    """TL, TR, BR, BL corners (4,3) of an upright rectangle facing along `normal` (seen from the
+    front: TL is top-left as the viewer sees it). Up is world +y."""
+    n = np.array(normal, np.float64)
+    n[1] = 0.0
+    n /= np.linalg.norm(n) + 1e-12
+    up = np.array([0.0, 1.0, 0.0])
+    right = np.cross(up, n)
+    hw, hh = width_m / 2, height_m / 2
+    c = np.asarray(center, np.float64)
+    return np.array([c - right * hw + up * hh, c + right * hw + up * hh, c + right * hw - up * hh, c - right * hw - up * hh])
+
+
+def paste_quad(img: np.ndarray, mask: Optional[np.ndarray], emissive_layer: np.ndarray, tex: Texture,
+               corners_uv: np.ndarray, light: float) -> bool:
+    """Warp `tex` onto `img` at the projected corners (TL,TR,BR,BL). Updates `mask` with the
+    texture's class where the quad covers more than half a pixel; adds emissive light to
+    `emissive_layer` for the bloom. Returns False if the quad is off-image."""
+    H, W = img.shape[:2]
+    x0, y0 = np.floor(corners_uv.min(axis=0)).astype(int) - 2
+    x1, y1 = np.ceil(corners_uv.max(axis=0)).astype(int) + 2
+    x0, y0, x1, y1 = max(x0, 0), max(y0, 0), min(x1, W), min(y1, H)
+    if x1 <= x0 or y1 <= y0:
+        return False
+    # pick a texture level close to twice the projected size (anti-aliasing)
+    th, tw = tex.rgb.shape[:2]
+    proj_w = max(np.linalg.norm(corners_uv[1] - corners_uv[0]), np.linalg.norm(corners_uv[2] - corners_uv[3]), 1.0)
+    proj_h = max(np.linalg.norm(corners_uv[3] - corners_uv[0]), np.linalg.norm(corners_uv[2] - corners_uv[1]), 1.0)
+    sw, sh = min(1.0, 2.0 * proj_w / tw), min(1.0, 2.0 * proj_h / th)
+    rgb, alpha = tex.rgb, tex.alpha
+    if sw < 1.0 or sh < 1.0:
+        nw, nh = max(2, int(round(tw * sw))), max(2, int(round(th * sh)))
+        rgb = cv2.resize(rgb, (nw, nh), interpolation=cv2.INTER_AREA)
+        alpha = cv2.resize(alpha, (nw, nh), interpolation=cv2.INTER_AREA)
+        th, tw = nh, nw
+    src = np.array([[0, 0], [tw, 0], [tw, th], [0, th]], np.float32)
+    dst = (corners_uv - np.array([x0, y0])).astype(np.float32)
+    Hm = cv2.getPerspectiveTransform(src, dst)
+    # pad so that edges interpolate to transparent
+    rgb_p = cv2.copyMakeBorder(rgb, 1, 1, 1, 1, cv2.BORDER_REPLICATE)
+    a_p = cv2.copyMakeBorder(alpha, 1, 1, 1, 1, cv2.BORDER_CONSTANT, value=0)
+    size = (x1 - x0, y1 - y0)
+    # padded texture index j has its centre at continuous texture coordinate j - 0.5 (edges of the
+    # unpadded texture at 0 and tw); destination pixel centres are integer coordinates, the same
+    # convention as the projected corners.
+    Hp = Hm @ np.array([[1, 0, -0.5], [0, 1, -0.5], [0, 0, 1]], np.float64)
+    wr = cv2.warpPerspective(rgb_p, Hp, size, flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    wa = cv2.warpPerspective(a_p, Hp, size, flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_CONSTANT, borderValue=0)
+    roi = img[y0:y1, x0:x1]
+    shaded = wr if tex.emissive > 0 else wr * light
+    roi[:] = roi * (1 - wa[..., None]) + shaded * wa[..., None]
+    if tex.emissive > 0:
+        emissive_layer[y0:y1, x0:x1] += wr * wa[..., None]
+    if mask is not None:
+        mroi = mask[y0:y1, x0:x1]
+        if tex.mask_class > 0:
+            mroi[wa > 0.5] = tex.mask_class
+        else:
+            mroi[wa > 0.5] = 0
+    return True
+
+
+# --------------------------------------------------------------------------------------------------
+# Frame rendering
+# --------------------------------------------------------------------------------------------------
+
+def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec], rng: np.random.Generator,
+                 n_distractors: Optional[int] = None, occlusion_prob: float = 0.15, degrade: bool = True,
+                 background: Optional[str] = None) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
+    """Render one frame.
+
+    camera_to_world: 4x4 (rotation R, translation t; world y up, floor at y = 0).
+    intr: dict fx, fy, cx, cy, width, height (pixels).
+    signs_cam: signs in camera coordinates (see SignSpec).
+    Returns (image uint8 RGB (H,W,3), mask uint8 (H,W) class index, sign labels as in labels.jsonl
+    (cornersRaw, rangeMeters, bearingRad, heightMeters, widthMeters, kind, style)).
+    """
+    T = np.asarray(camera_to_world, np.float64)
+    R, t = T[:3, :3], T[:3, 3]
+    W, H = intr["width"], intr["height"]
+    signs_world = []
+    for s in signs_cam:
+        cw = R @ np.asarray(s.center_cam, np.float64) + t
+        nw = R @ np.asarray(s.normal_cam, np.float64)
+        signs_world.append((s, cw, nw))
+    bg_kind = background or ("corridor" if rng.random() < 0.85 else "clutter")
+    ds = 2 if W * H > 1_000_000 else 1
+    if bg_kind == "corridor":
+        cor = sample_corridor(rng, [c for _, c, _ in signs_world], t)
+        img = render_corridor(rng, cor, R, t, intr, downsample=ds)
+    else:
+        cor = None
+        img = render_clutter(rng, W, H)
+    exposure = rng.uniform(0.6, 1.3)
+    img *= exposure
+    mask = np.zeros((H, W), np.uint8)
+    emissive = np.zeros((H, W, 3), np.float32)
+
+    # distractors on the walls or floating in view
+    nd = int(rng.integers(0, 6)) if n_distractors is None else n_distractors
+    for _ in range(nd):
+        tex, dw, dh = make_distractor_texture(rng)
+        dist = rng.uniform(1.5, 14.0)
+        ang = rng.uniform(-0.6, 0.6)
+        yaw = math.atan2(-R[0, 2], -R[2, 2])
+        hx, hz = -math.sin(yaw + ang), -math.cos(yaw + ang)
+        center = np.array([t[0] + dist * hx, rng.uniform(0.9, 2.7), t[2] + dist * hz])
+        if cor is not None and rng.random() < 0.6:  # on a side wall, facing into the corridor
+            left = rng.random() < 0.5
+            center[0] = cor.x_left + 0.01 if left else cor.x_right - 0.01
+            normal = np.array([1.0, 0, 0]) if left else np.array([-1.0, 0, 0])
+            if (center[2] - t[2]) > -0.5:
+                continue
+        else:
+            normal = np.array([t[0] - center[0], 0, t[2] - center[2]])
+            normal = rot_y(rng.uniform(-0.7, 0.7)) @ (normal / (np.linalg.norm(normal) + 1e-9))
+        if tex.emissive and tex.mask_class == 0 and rng.random() < 0.5 and cor is not None:
+            center[1] = cor.ceiling_m - 0.02
+        corners = quad_corners_world(center, normal, dw, dh)
+        uv, depth = project_points(corners, R, t, intr)
+        if (depth < 0.3).any() or not np.isfinite(uv).all():
+            continue
+        facing = np.dot(normal, t - center) > 0
+        if not facing:
+            continue
+        paste_quad(img, mask, emissive, tex, uv, light=exposure * rng.uniform(0.7, 1.1))
+
+    labels = []
+    for s, cw, nw in signs_world:
+        if s.iso:
+            tex, style = make_iso_exit_texture(rng, s.width_m, s.height_m)
+        else:
+            tex, style = make_us_exit_texture(rng, s.width_m, s.height_m, s.style)
+        corners = quad_corners_world(cw, nw, s.width_m, s.height_m)
+        uv, depth = project_points(corners, R, t, intr)
+        if (depth < 0.1).any():
+            continue
+        # housing (slightly larger box behind the face), not part of the mask
+        if rng.random() < 0.8:
+            hc = quad_corners_world(cw - 0.01 * nw / (np.linalg.norm(nw) + 1e-9), nw, s.width_m + 0.03, s.height_m + 0.03)
+            huv, hd = project_points(hc, R, t, intr)
+            if (hd > 0.1).all():
+                hcol = np.array(rng.choice([[0.92, 0.92, 0.9], [0.15, 0.15, 0.15], [0.7, 0.7, 0.72]]), np.float32)
+                htex = Texture(rgb=np.ones((8, 8, 3), np.float32) * hcol, alpha=np.ones((8, 8), np.float32), emissive=0.0, mask_class=0)
+                paste_quad(img, None, emissive, htex, huv, light=exposure * 0.9)
+        paste_quad(img, mask, emissive, tex, uv, light=exposure * rng.uniform(0.8, 1.1))
+        d_h = np.array([cw[0] - t[0], cw[2] - t[2]])
+        fwd = np.array([-R[0, 2], -R[2, 2]])
+        fwd /= np.linalg.norm(fwd) + 1e-12
+        # bearing: angle from camera forward to the sign, positive to the left (CCW seen from above)
+        cross = fwd[0] * d_h[1] - fwd[1] * d_h[0]
+        bearing = -math.atan2(cross, float(np.dot(fwd, d_h)))
+        labels.append(dict(kind=s.kind, cornersRaw=[[float(a), float(b)] for a, b in uv],
+                           rangeMeters=float(np.linalg.norm(d_h)), bearingRad=float(bearing),
+                           heightMeters=float(s.height_m), widthMeters=float(s.width_m),
+                           centerHeightMeters=float(cw[1]), style={k: (v if isinstance(v, (bool, str)) else str(v)) for k, v in style.items()},
+                           _uv=uv))
+    # partial occlusion of signs by a foreground object (pillar, hanging fixture, person)
+    for lab in labels:
+        if rng.random() < occlusion_prob:
+            uv = lab["_uv"]
+            bw = uv[:, 0].max() - uv[:, 0].min()
+            bh = uv[:, 1].max() - uv[:, 1].min()
+            side = rng.integers(0, 4)
+            frac = rng.uniform(0.1, 0.35)
+            cx0, cy0 = uv[:, 0].min(), uv[:, 1].min()
+            if side == 0:
+                rect = (cx0 - bw, cy0 - bh, cx0 + frac * bw, cy0 + 2 * bh)
+            elif side == 1:
+                rect = (cx0 + (1 - frac) * bw, cy0 - bh, cx0 + 2 * bw, cy0 + 2 * bh)
+            elif side == 2:
+                rect = (cx0 - bw, cy0 - bh, cx0 + 2 * bw, cy0 + frac * bh)
+            else:
+                rect = (cx0 - bw, cy0 + (1 - frac) * bh, cx0 + 2 * bw, cy0 + 2 * bh)
+            p0 = (int(max(rect[0], 0)), int(max(rect[1], 0)))
+            p1 = (int(min(rect[2], W - 1)), int(min(rect[3], H - 1)))
+            col = tuple(float(c) for c in rng.uniform(0.05, 0.8, 3) * exposure)
+            cv2.rectangle(img, p0, p1, col, -1)
+            cv2.rectangle(mask, p0, p1, 0, -1)
+            cv2.rectangle(emissive, p0, p1, (0, 0, 0), -1)
+            lab["occluded"] = True
+        lab.pop("_uv", None)
+
+    # glow (bloom) of lit faces and lights
+    if emissive.any():
+        sig = max(1.0, 0.004 * max(W, H) * rng.uniform(0.5, 2.0))
+        img += rng.uniform(0.15, 0.5) * cv2.GaussianBlur(emissive, (0, 0), sig)
+    if degrade:
+        img = degrade_image(img, rng)
+    else:
+        img = np.clip(img, 0, 1)
+    out = (np.clip(img, 0, 1) * 255.0 + 0.5).astype(np.uint8)
+    return out, mask, labels
+
+
+def degrade_image(img: np.ndarray, rng: np.random.Generator) -> np.ndarray:
+    """Camera effects on a float RGB image: white balance, motion blur, defocus, vignetting, noise."""
+    H, W = img.shape[:2]
+    scale = max(W, H) / 1920.0
+    img = img * rng.uniform(0.9, 1.1, 3).astype(np.float32)
+    r = rng.random()
+    if r < 0.35:  # motion blur along a random direction: mean of shifted copies along the streak
+        L = rng.uniform(2, 25) * scale
+        if L > 1.5:
+            a = rng.uniform(0, math.pi)
+            n = int(min(9, max(3, round(L))))
+            acc = np.zeros_like(img)
+            for s_ in np.linspace(-L / 2, L / 2, n):
+                M = np.array([[1, 0, s_ * math.cos(a)], [0, 1, s_ * math.sin(a)]], np.float32)
+                acc += cv2.warpAffine(img, M, (W, H), flags=cv2.INTER_LINEAR, borderMode=cv2.BORDER_REFLECT)
+            img = acc / n
+    elif r < 0.6:  # defocus
+        s = rng.uniform(0.5, 3.0) * scale
+        if s > 0.3:
+            img = cv2.GaussianBlur(img, (0, 0), s)
+    xx = ((np.arange(W, dtype=np.float32) - W / 2) ** 2)[None, :]
+    yy = ((np.arange(H, dtype=np.float32) - H / 2) ** 2)[:, None]
+    rr = (xx + yy) / ((W / 2) ** 2 + (H / 2) ** 2)
+    img = img * (1 - rng.uniform(0, 0.35) * rr)[..., None]
+    img = np.clip(img, 0, 1)
+    sigma = rng.uniform(0.003, 0.03)
+    img = img + rng.standard_normal(img.shape, dtype=np.float32) * (sigma * np.sqrt(img + 0.02))
+    return np.clip(img, 0, 1)
+
+
+# --------------------------------------------------------------------------------------------------
+# Scene sampling
+# --------------------------------------------------------------------------------------------------
+
+def sample_camera(rng: np.random.Generator, test: bool = False) -> Tuple[float, float, float, float]:
+    """Random (pitch, roll, yaw, camera height) of a hand-held phone (radians, meters)."""
+    if rng.random() < 0.8:
+        pitch = math.radians(rng.uniform(-5, 20))
+    else:
+        pitch = math.radians(rng.uniform(-30, 30))
+    portrait = rng.random() < 0.7
+    roll = (-math.pi / 2 if portrait else 0.0) + math.radians(rng.normal(0, 6 if test else 8))
+    yaw = rng.uniform(-math.pi, math.pi)
+    cam_h = rng.uniform(1.2, 1.6)
+    return pitch, roll, yaw, cam_h
+
+
+def sample_scene(rng: np.random.Generator, intr: dict, distance_m: Optional[float] = None, test: bool = False,
+                 max_tries: int = 200) -> Tuple[np.ndarray, List[SignSpec], dict]:
+    """Draw a camera pose and one Exit sign visible in the frame.
+
+    distance_m: horizontal range to the sign centre (drawn in 1..12 m when None).
+    Returns (camera_to_world 4x4, [SignSpec in camera coordinates], info dict).
+    """
+    for _ in range(max_tries):
+        pitch, roll, yaw, cam_h = sample_camera(rng, test)
+        R = camera_rotation(yaw, pitch, roll)
+        t = np.array([0.0, cam_h, 0.0])
+        Z = distance_m if distance_m is not None else float(np.exp(rng.uniform(math.log(1.0), math.log(12.0))))
+        iso = (not test) and rng.random() < 0.2
+        if iso:
+            w_m, h_m = (0.30, 0.15) if rng.random() < 0.5 else (0.40, 0.20)
+        else:
+            w_m, h_m = 0.30, (0.21 if test else float(rng.uniform(0.19, 0.21)))
+        bottom = rng.uniform(2.0, 2.5)
+        bearing = rng.uniform(-0.6, 0.6)
+        hdir = np.array([-math.sin(yaw + bearing), 0.0, -math.cos(yaw + bearing)])
+        center = t + Z * hdir
+        center[1] = bottom + h_m / 2
+        # sign faces back towards the camera with an off-axis angle
+        off = rng.uniform(-0.7, 0.7) if test else (rng.uniform(-1.1, 1.1) if rng.random() < 0.15 else rng.uniform(-0.7, 0.7))
+        normal = rot_y(off) @ (-hdir)
+        corners = quad_corners_world(center, normal, w_m, h_m)
+        uv, depth = project_points(corners, R, t, intr)
+        margin = 4
+        if (depth < 0.3).any() or (uv[:, 0] < margin).any() or (uv[:, 1] < margin).any() or \
+                (uv[:, 0] > intr["width"] - 1 - margin).any() or (uv[:, 1] > intr["height"] - 1 - margin).any():
+            continue
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, t
+        spec = SignSpec(center_cam=R.T @ (center - t), normal_cam=R.T @ normal, width_m=w_m, height_m=h_m,
+                        kind="exit", style=None, iso=iso)
+        return T, [spec], dict(pitch=pitch, roll=roll, yaw=yaw)
+    raise RuntimeError("sample_scene: could not place a visible sign at %.1f m" % (distance_m or -1))
+
+
+def sample_empty(rng: np.random.Generator, test: bool = False) -> Tuple[np.ndarray, dict]:
+    """Camera pose for a sign-free frame."""
+    pitch, roll, yaw, cam_h = sample_camera(rng, test)
+    T = np.eye(4)
+    T[:3, :3] = camera_rotation(yaw, pitch, roll)
+    T[:3, 3] = [0.0, cam_h, 0.0]
+    return T, dict(pitch=pitch, roll=roll, yaw=yaw)
+
+
+SPLIT_CODES = {"train": 1, "val": 2, "test": 3}
+
+
+def frame_rng(seed: int, split: str, index: int) -> np.random.Generator:
+    """Independent generator of frame `index` of `split` for `seed`."""
+    return np.random.default_rng([int(seed), SPLIT_CODES[split], int(index)])
+
+
+def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40, n_empty: int = 200,
+                   n_train: int = 0, resolution: str = "raw", jpeg: bool = True, verbose: bool = True) -> int:
+    """Render a split into `out_dir` (images, masks, labels.jsonl). Returns the number of frames.
+
+    split "test": for each distance 2..9 m, `n_per_distance` frames with one US Exit sign (0.30 x
+    0.21 m), then `n_empty` sign-free frames. Other splits: `n_train` frames with a sign at 1..12 m
+    plus `n_empty` sign-free frames.
+    """
+    intr = RAW_INTRINSICS.copy() if resolution == "raw" else scaled_intrinsics(640, 480)
+    os.makedirs(out_dir, exist_ok=True)
+    jobs = []
+    if split == "test":
+        for d in range(2, 10):
+            jobs += [("sign", float(d))] * n_per_distance
+    else:
+        jobs += [("sign", None)] * n_train
+    jobs += [("empty", None)] * n_empty
+    test = split == "test"
+    with open(os.path.join(out_dir, "labels.jsonl"), "w") as f:
+        for i, (kind, dist) in enumerate(jobs):
+            rng = frame_rng(seed, split, i)
+            if kind == "sign":
+                T, signs, info = sample_scene(rng, intr, dist, test=test)
+            else:
+                T, info = sample_empty(rng, test=test)
+                signs = []
+            img, mask, labels = render_frame(T, intr, signs, rng, occlusion_prob=0.0 if test else 0.15)
+            name = "%06d" % (i + 1)
+            ext = ".jpg" if jpeg else ".png"
+            bgr = cv2.cvtColor(img, cv2.COLOR_RGB2BGR)
+            if jpeg:
+                cv2.imwrite(os.path.join(out_dir, name + ext), bgr, [cv2.IMWRITE_JPEG_QUALITY, int(rng.integers(75, 96))])
+            else:
+                cv2.imwrite(os.path.join(out_dir, name + ext), bgr)
+            cv2.imwrite(os.path.join(out_dir, name + "_mask.png"), mask)
+            rec = dict(image=name + ext, mask=name + "_mask.png", intrinsics=intr, pitchRad=info["pitch"], rollRad=info["roll"],
+                       yawRad=info["yaw"], cameraToWorld=[float(x) for x in T.T.reshape(-1)], signs=labels)
+            f.write(json.dumps(rec) + "\n")
+            if verbose and (i + 1) % 50 == 0:
+                print("rendered %d/%d" % (i + 1, len(jobs)), file=sys.stderr, flush=True)
+    return len(jobs)
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--out", required=True, help="output directory")
+    ap.add_argument("--split", choices=["train", "val", "test"], default="test")
+    ap.add_argument("--seed", type=int, default=1234)
+    ap.add_argument("--n-per-distance", type=int, default=40, help="test split: frames per distance 2..9 m")
+    ap.add_argument("--n-empty", type=int, default=200, help="sign-free frames")
+    ap.add_argument("--n", type=int, default=500, help="train/val split: frames with a sign")
+    ap.add_argument("--resolution", choices=["raw", "vga"], default="raw", help="raw 1920x1440 or VGA 640x480")
+    ap.add_argument("--png", action="store_true", help="write PNG images instead of JPEG")
+    a = ap.parse_args(argv)
+    if a.split == "test" and a.seed != 1234:
+        print("warning: the fixed test set is --split test --seed 1234", file=sys.stderr)
+    n = render_dataset(a.out, a.split, a.seed, a.n_per_distance, a.n_empty, a.n, a.resolution, jpeg=not a.png)
+    print("wrote %d frames to %s" % (n, a.out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
