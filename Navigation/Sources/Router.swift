@@ -1,0 +1,214 @@
+// Snapping and shortest paths (paper section 4: "we first snap the location (x, y) to the closest point
+// (x', y') on the graph ... Next we use a standard Dijkstra shortest-path algorithm").
+import Foundation
+import Maps
+
+/// Edge costs and restrictions for routing. Costs are in meters of level walking, so a penalty reads as
+/// "how much farther the traveler would rather walk than take this".
+public struct RoutingOptions: Sendable, Equatable {
+    /// Never use stairs (e.g. wheelchair users). Strict: no route rather than a route with stairs.
+    public var avoidStairs = false
+    /// Never use elevators. Strict, like `avoidStairs`.
+    public var avoidElevators = false
+    /// Fixed cost of taking an elevator: waiting for the car and finding the button (~15 s at 1.2 m/s
+    /// plus margin), meters. Default 20.
+    public var elevatorPenaltyMeters = 20.0
+    /// Elevator cost per meter of floor-to-floor rise, meters. Default 1 (the car is about as fast as walking).
+    public var elevatorMetersPerMeterOfRise = 1.0
+    /// Fixed cost of taking stairs: finding the handrail and the first step, meters. Default 5.
+    public var stairsPenaltyMeters = 5.0
+    /// Stairs cost per meter of rise, meters. Default 4: a flight rising 1 m has about 2 m of run, walked at
+    /// about half the level speed.
+    public var stairsMetersPerMeterOfRise = 4.0
+    /// Extra cost of passing through a door (finding and opening it without sight), meters. Default 2.
+    public var doorPenaltyMeters = 2.0
+    /// Snapping: how far to look for an edge reachable without crossing a wall before falling back to the
+    /// nearest edge through the wall, meters. Default 10.
+    public var maxUnobstructedSnapMeters = 10.0
+    /// Creates the defaults above.
+    public init() {}
+}
+
+/// A location estimate snapped onto the graph: a point on one horizontal edge.
+public struct SnappedPosition: Sendable, Equatable {
+    /// Graph edge index (into `RoutingGraph.edges`).
+    public var edgeIndex: Int
+    /// Position along the edge, 0 at its `from` node, 1 at its `to` node.
+    public var parameter: Double
+    /// The snapped point, meters in the floor's frame.
+    public var point: Point2
+    /// Floor of the edge.
+    public var floorId: String
+    /// Distance from the estimate to the snapped point, meters.
+    public var distanceMeters: Double
+    /// True when every edge within `maxUnobstructedSnapMeters` is behind a wall and the nearest one was
+    /// used anyway.
+    public var throughWall: Bool
+}
+
+/// A shortest path from a snapped position to a node.
+public struct PathResult: Sendable, Equatable {
+    /// The start.
+    public var start: SnappedPosition
+    /// Node indices from the first node reached from the snapped point to the destination.
+    public var nodeIndices: [Int]
+    /// Edge indices: the first is the snapped edge when the path leaves the virtual start node through it,
+    /// then one edge per consecutive pair of `nodeIndices`.
+    public var edgeIndices: [Int]
+    /// Total routing cost (meters, with penalties).
+    public var costMeters: Double
+}
+
+/// Snaps and routes on one `RoutingGraph` with one set of options. Holds reusable scratch arrays, so a
+/// query allocates only its result; not thread-safe (use one router per thread).
+public final class Router {
+    /// The graph routed on.
+    public let graph: RoutingGraph
+    /// Costs and restrictions in force.
+    public let options: RoutingOptions
+    /// Cost of each edge under `options`; +infinity for an excluded edge.
+    let edgeCost: [Double]
+
+    private var dist: [Double]
+    private var prevEdge: [Int32]
+    private var settled: [Bool]
+    private var touched: [Int] = []
+    private var heap = MinHeap()
+
+    /// Creates a router; computes every edge's cost once.
+    public init(graph: RoutingGraph, options: RoutingOptions = RoutingOptions()) {
+        self.graph = graph
+        self.options = options
+        var cost = [Double](repeating: 0, count: graph.edgeCount)
+        for e in 0..<graph.edgeCount {
+            let len = graph.edgeLength[e]
+            switch graph.edgeKind[e] {
+            case .horizontal: cost[e] = len + (graph.edgeDoor[e] ? options.doorPenaltyMeters : 0)
+            case .elevator:
+                cost[e] = options.avoidElevators ? .infinity
+                    : options.elevatorPenaltyMeters + options.elevatorMetersPerMeterOfRise * len
+            case .stairs:
+                cost[e] = options.avoidStairs ? .infinity
+                    : options.stairsPenaltyMeters + options.stairsMetersPerMeterOfRise * len
+            }
+        }
+        edgeCost = cost
+        dist = [Double](repeating: .infinity, count: graph.nodeCount)
+        prevEdge = [Int32](repeating: -1, count: graph.nodeCount)
+        settled = [Bool](repeating: false, count: graph.nodeCount)
+    }
+
+    /// Cost of edge `index` under this router's options (meters; +infinity when excluded).
+    public func cost(ofEdge index: Int) -> Double { edgeCost[index] }
+
+    /// Snaps a location estimate to the nearest point of a horizontal edge on `floorId` that can be reached
+    /// in a straight line without crossing a wall (falling back to the nearest edge at all, flagged
+    /// `throughWall`). Uses the floor's edge grid: cost independent of the map's size. Nil when the floor
+    /// is unknown or has no edges.
+    public func snap(_ point: Point2, floorId: String) -> SnappedPosition? {
+        guard let f = graph.floorIndexById[floorId] else { return nil }
+        let index = graph.floorIndices[f]
+        guard let hit = index.nearestEdge(to: Vec2(point), maxClearSearchMeters: options.maxUnobstructedSnapMeters)
+        else { return nil }
+        return SnappedPosition(edgeIndex: index.edgeIds[hit.segment], parameter: hit.t, point: hit.point.point2,
+                               floorId: floorId, distanceMeters: hit.distance, throughWall: hit.obstructed)
+    }
+
+    /// Dijkstra with a binary heap (lazy deletion) from the snapped point, treated as a virtual node joined
+    /// to both ends of its edge, to node `destination`. Stops when the destination is settled. Nil when
+    /// the destination cannot be reached under the options.
+    public func shortestPath(from start: SnappedPosition, to destination: Int) -> PathResult? {
+        let e0 = start.edgeIndex
+        let a = graph.edgeFrom[e0], b = graph.edgeTo[e0]
+        let c0 = edgeCost[e0]
+        guard c0.isFinite else { return nil }
+        reset()
+        // The virtual start node reaches `from` at cost t * c and `to` at (1 - t) * c (door penalty
+        // included proportionally: an estimate just past the door has almost paid it).
+        relax(a, start.parameter * c0, via: -2)
+        relax(b, (1 - start.parameter) * c0, via: -2)
+        while let (d, v) = heap.pop() {
+            if settled[v] || d > dist[v] { continue }
+            settled[v] = true
+            if v == destination { break }
+            for k in graph.adjStart[v]..<graph.adjStart[v + 1] {
+                let e = Int(graph.adjEdge[k])
+                let c = edgeCost[e]
+                if !c.isFinite { continue }
+                let w = Int(graph.adjNode[k])
+                if settled[w] { continue }
+                let nd = d + c
+                if nd < dist[w] { relax(w, nd, via: Int32(e)) }
+            }
+        }
+        guard dist[destination].isFinite else { return nil }
+        var nodesRev: [Int] = [destination]
+        var edgesRev: [Int] = []
+        var v = destination
+        while prevEdge[v] >= 0 {
+            let e = Int(prevEdge[v])
+            edgesRev.append(e)
+            v = graph.otherEnd(ofEdge: e, from: v)
+            nodesRev.append(v)
+        }
+        edgesRev.append(e0)  // from the virtual start to the first node, along the snapped edge
+        return PathResult(start: start, nodeIndices: nodesRev.reversed(), edgeIndices: edgesRev.reversed(),
+                          costMeters: dist[destination])
+    }
+
+    @inline(__always)
+    private func relax(_ v: Int, _ d: Double, via edge: Int32) {
+        if !dist[v].isFinite && prevEdge[v] == -1 { touched.append(v) }
+        if d < dist[v] {
+            dist[v] = d
+            prevEdge[v] = edge
+            heap.push(d, v)
+        }
+    }
+
+    private func reset() {
+        for v in touched { dist[v] = .infinity; prevEdge[v] = -1; settled[v] = false }
+        touched.removeAll(keepingCapacity: true)
+        heap.removeAll()
+    }
+}
+
+/// Binary min-heap of (cost, node) in one flat array; duplicates allowed (lazy deletion in Dijkstra).
+struct MinHeap {
+    private var keys: [Double] = []
+    private var values: [Int32] = []
+
+    mutating func removeAll() { keys.removeAll(keepingCapacity: true); values.removeAll(keepingCapacity: true) }
+
+    mutating func push(_ key: Double, _ value: Int) {
+        keys.append(key); values.append(Int32(value))
+        var i = keys.count - 1
+        while i > 0 {
+            let p = (i - 1) >> 1
+            if keys[p] <= keys[i] { break }
+            keys.swapAt(p, i); values.swapAt(p, i)
+            i = p
+        }
+    }
+
+    mutating func pop() -> (Double, Int)? {
+        guard let k0 = keys.first else { return nil }
+        let v0 = Int(values[0])
+        let lastK = keys.removeLast(), lastV = values.removeLast()
+        if !keys.isEmpty {
+            keys[0] = lastK; values[0] = lastV
+            var i = 0
+            let n = keys.count
+            while true {
+                let l = 2 * i + 1, r = l + 1
+                var m = i
+                if l < n && keys[l] < keys[m] { m = l }
+                if r < n && keys[r] < keys[m] { m = r }
+                if m == i { break }
+                keys.swapAt(m, i); values.swapAt(m, i)
+                i = m
+            }
+        }
+        return (k0, v0)
+    }
+}
