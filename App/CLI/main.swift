@@ -3,6 +3,8 @@ import Foundation
 /// Every subcommand of `wayfinder`, in the order `--help` lists them.
 enum Subcommands {
     static let all: [Subcommand.Type] = [
+        InspectCommand.self,
+        ImportOccamCommand.self,
         ReplayCommand.self,
         EvalCommand.self,
         RenderCommand.self,

@@ -160,12 +160,15 @@ public struct SessionInfo: Codable, Hashable, Sendable {
     public var intrinsics: CameraIntrinsics?
     /// How the phone was carried: `handheld` or `lanyard`.
     public var carry: String?
+    /// Where the recording came from when it was not recorded by Wayfinder itself (an imported file, with
+    /// its original identifiers), free text; nil for Wayfinder's own recordings and simulations.
+    public var source: String?
     /// Creates session info.
     public init(formatVersion: Int = sessionFormatVersion, device: String, appVersion: String, mapId: String? = nil,
                 floorId: String? = nil, start: String? = nil, destination: String? = nil, signHeightMeters: Double = 0.21,
-                intrinsics: CameraIntrinsics? = nil, carry: String? = nil) {
+                intrinsics: CameraIntrinsics? = nil, carry: String? = nil, source: String? = nil) {
         self.formatVersion = formatVersion; self.device = device; self.appVersion = appVersion; self.mapId = mapId
         self.floorId = floorId; self.start = start; self.destination = destination; self.signHeightMeters = signHeightMeters
-        self.intrinsics = intrinsics; self.carry = carry
+        self.intrinsics = intrinsics; self.carry = carry; self.source = source
     }
 }
