@@ -34,7 +34,7 @@ extension Point2: Codable {
 }
 
 /// A whole building: floors and the navigation graph joining them.
-public struct Building: Codable, Sendable {
+public struct Building: Codable, Equatable, Sendable {
     /// Format version of the file this came from; this code reads and writes 1.
     public var formatVersion: Int
     /// Stable identifier, referenced by recorded sessions (`session.json` `mapId`).
@@ -56,7 +56,7 @@ public struct Building: Codable, Sendable {
 }
 
 /// One storey.
-public struct Floor: Codable, Sendable {
+public struct Floor: Codable, Equatable, Sendable {
     /// Identifier unique in the building (e.g. "3").
     public var id: String
     /// Spoken name ("Floor 3", "Ground floor").
@@ -126,6 +126,9 @@ public struct Sign: Codable, Hashable, Sendable {
     public var mountingHeightMeters: Double?
     /// True when the sign can be read from both sides (hung from the ceiling, or printed on both faces).
     public var doubleSided: Bool
+    /// How far an importer moved the surveyed position to put the sign on its wall, meters; nil when the
+    /// position was not adjusted (hand-made maps). Informational: the localizer uses `position` only.
+    public var positionAdjustmentMeters: Double? = nil
     /// Creates a sign.
     public init(id: String, kind: String, position: Point2, facing: Point2, widthMeters: Double, heightMeters: Double,
                 mountingHeightMeters: Double? = nil, doubleSided: Bool = false) {
@@ -153,7 +156,7 @@ public struct PointOfInterest: Codable, Hashable, Sendable {
 }
 
 /// The navigation graph: nodes on floors and edges between them.
-public struct NavigationGraph: Codable, Sendable {
+public struct NavigationGraph: Codable, Equatable, Sendable {
     /// Nodes of every floor.
     public var nodes: [GraphNode]
     /// Undirected edges; lengths are derived from node positions (see `GraphEdge`).

@@ -1,0 +1,234 @@
+// Consistency rules of map format v1 beyond JSON types (docs/map-format.md, "Validation rules").
+// MapLoader runs them on every file; importers and generators run them on the buildings they make.
+
+/// Checks a `Building` against the rules of map format v1 and throws the first violation as a `MapError`
+/// whose JSON path is where the offending value is (or would be) in the file.
+public enum MapValidator {
+    /// A sign must be within this distance of some wall segment, meters.
+    public static let maximumSignDistanceFromWallMeters = 0.3
+    /// Walls shorter than this are degenerate, meters.
+    public static let minimumWallLengthMeters = 0.001
+    /// A sign's facing must have length 1 within this tolerance.
+    public static let unitVectorTolerance = 0.01
+    /// Largest accepted |coordinate|, meters (a building is far smaller; larger values are unit mistakes).
+    public static let maximumCoordinateMeters = 100_000.0
+    /// Largest accepted |floor elevation|, meters.
+    public static let maximumElevationMeters = 1_000.0
+    /// Largest accepted sign width or height, meters.
+    public static let maximumSignSizeMeters = 5.0
+    /// Largest accepted mounting height, meters.
+    public static let maximumMountingHeightMeters = 30.0
+    /// Largest accepted door width, meters.
+    public static let maximumDoorWidthMeters = 30.0
+
+    /// Throws the first rule `building` breaks; `file` is used in the error only.
+    /// - Throws: `MapError`.
+    public static func validate(_ building: Building, file: String = "<memory>") throws {
+        do { try check(building) } catch let e as PathError { throw e.mapError(file: file) }
+    }
+
+    private static func fail(_ path: String, _ reason: String) -> PathError { PathError(path: path, reason: reason) }
+
+    private static func fmt(_ v: Double) -> String {
+        guard v.isFinite else { return "\(v)" }
+        let r = (v * 1000).rounded() / 1000
+        return r == r.rounded() ? String(Int(r)) : String(r)
+    }
+
+    private static func checkId(_ s: String, _ path: String) throws {
+        if s.trimmingCharacters(in: .whitespacesAndNewlines).isEmpty { throw fail(path, "identifier must not be empty") }
+    }
+
+    private static func checkNumber(_ v: Double, _ path: String, range: ClosedRange<Double>, what: String) throws {
+        guard v.isFinite else { throw fail(path, "\(what) must be a finite number, got \(v)") }
+        guard range.contains(v) else {
+            throw fail(path, "\(what) \(fmt(v)) is out of range [\(fmt(range.lowerBound)), \(fmt(range.upperBound))]")
+        }
+    }
+
+    private static func checkPoint(_ p: Point2, _ path: String) throws {
+        let m = maximumCoordinateMeters
+        try checkNumber(p.x, path + "[0]", range: -m...m, what: "coordinate x (meters)")
+        try checkNumber(p.y, path + "[1]", range: -m...m, what: "coordinate y (meters)")
+    }
+
+    private static func check(_ b: Building) throws {
+        guard b.formatVersion == MapLoader.supportedFormatVersion else {
+            throw fail("$.formatVersion", "unsupported formatVersion \(b.formatVersion); this build reads version \(MapLoader.supportedFormatVersion)")
+        }
+        try checkId(b.id, "$.id")
+        guard !b.floors.isEmpty else { throw fail("$.floors", "the building has no floors (empty building)") }
+
+        var floorIndex: [String: Int] = [:]
+        var poiLocation: [String: (floor: Int, index: Int)] = [:]
+        for (fi, f) in b.floors.enumerated() {
+            let fp = "$.floors[\(fi)]"
+            try checkId(f.id, fp + ".id")
+            if let first = floorIndex[f.id] {
+                throw fail(fp + ".id", "duplicate floor id \"\(f.id)\" (also $.floors[\(first)])")
+            }
+            floorIndex[f.id] = fi
+            try checkNumber(f.elevationMeters, fp + ".elevationMeters", range: -maximumElevationMeters...maximumElevationMeters,
+                            what: "elevation (meters)")
+            guard !f.walls.isEmpty else {
+                throw fail(fp + ".walls", "floor \"\(f.id)\" has no walls (a zero-area map cannot localize anyone)")
+            }
+            for (wi, w) in f.walls.enumerated() {
+                let wp = "\(fp).walls[\(wi)]"
+                try checkPoint(w.from, wp + ".from")
+                try checkPoint(w.to, wp + ".to")
+                if w.lengthMeters < minimumWallLengthMeters {
+                    throw fail(wp, "degenerate wall: its ends coincide (length \(fmt(w.lengthMeters)) m < \(minimumWallLengthMeters) m)")
+                }
+            }
+            var doorIds: [String: Int] = [:]
+            for (di, d) in f.doors.enumerated() {
+                let dp = "\(fp).doors[\(di)]"
+                try checkId(d.id, dp + ".id")
+                if let first = doorIds[d.id] { throw fail(dp + ".id", "duplicate door id \"\(d.id)\" on floor \"\(f.id)\" (also \(fp).doors[\(first)])") }
+                doorIds[d.id] = di
+                try checkPoint(d.position, dp + ".position")
+                guard d.widthMeters.isFinite, d.widthMeters > 0 else {
+                    throw fail(dp + ".widthMeters", "door width must be a positive number of meters, got \(fmt(d.widthMeters))")
+                }
+                try checkNumber(d.widthMeters, dp + ".widthMeters", range: 0...maximumDoorWidthMeters, what: "door width (meters)")
+            }
+            var signIds: [String: Int] = [:]
+            for (si, s) in f.signs.enumerated() {
+                let sp = "\(fp).signs[\(si)]"
+                try checkId(s.id, sp + ".id")
+                if let first = signIds[s.id] { throw fail(sp + ".id", "duplicate sign id \"\(s.id)\" on floor \"\(f.id)\" (also \(fp).signs[\(first)])") }
+                signIds[s.id] = si
+                if s.kind.isEmpty { throw fail(sp + ".kind", "sign kind must not be empty (e.g. \"exit\")") }
+                try checkPoint(s.position, sp + ".position")
+                try checkPoint(s.facing, sp + ".facing")
+                let len = s.facing.vectorLength
+                if len == 0 { throw fail(sp + ".facing", "facing is the zero vector; it must be a unit normal pointing away from the wall") }
+                if abs(len - 1) > unitVectorTolerance {
+                    throw fail(sp + ".facing", "facing must be a unit vector, its length is \(fmt(len))")
+                }
+                for (key, v) in [("widthMeters", s.widthMeters), ("heightMeters", s.heightMeters)] {
+                    guard v.isFinite, v > 0 else { throw fail("\(sp).\(key)", "sign size must be positive, got \(fmt(v)) m") }
+                    guard v <= maximumSignSizeMeters else {
+                        throw fail("\(sp).\(key)", "sign size \(fmt(v)) m is out of range (0, \(fmt(maximumSignSizeMeters))] m")
+                    }
+                }
+                if let h = s.mountingHeightMeters {
+                    try checkNumber(h, sp + ".mountingHeightMeters", range: 0...maximumMountingHeightMeters, what: "mounting height (meters)")
+                }
+                if let a = s.positionAdjustmentMeters {
+                    try checkNumber(a, sp + ".positionAdjustmentMeters", range: 0...maximumCoordinateMeters, what: "position adjustment (meters)")
+                }
+                let nearest = f.nearestWall(to: s.position)?.distanceMeters ?? .infinity
+                if nearest > maximumSignDistanceFromWallMeters {
+                    throw fail(sp + ".position", "sign \"\(s.id)\" is not on a wall: the nearest wall is \(fmt(nearest)) m away (at most \(maximumSignDistanceFromWallMeters) m allowed)")
+                }
+            }
+            for (pi, p) in f.pointsOfInterest.enumerated() {
+                let pp = "\(fp).pointsOfInterest[\(pi)]"
+                try checkId(p.id, pp + ".id")
+                if let first = poiLocation[p.id] {
+                    throw fail(pp + ".id", "duplicate point-of-interest id \"\(p.id)\" (also $.floors[\(first.floor)].pointsOfInterest[\(first.index)])")
+                }
+                poiLocation[p.id] = (fi, pi)
+                if p.name.trimmingCharacters(in: .whitespaces).isEmpty { throw fail(pp + ".name", "point of interest \"\(p.id)\" has an empty name") }
+                if p.category.isEmpty { throw fail(pp + ".category", "point of interest \"\(p.id)\" has an empty category") }
+                try checkPoint(p.position, pp + ".position")
+            }
+        }
+
+        // Graph nodes.
+        let g = b.graph
+        guard !g.nodes.isEmpty else { throw fail("$.graph.nodes", "the navigation graph has no nodes") }
+        var nodeIndex: [String: Int] = [:]
+        var poisWithNode = Set<String>()
+        for (ni, n) in g.nodes.enumerated() {
+            let np = "$.graph.nodes[\(ni)]"
+            try checkId(n.id, np + ".id")
+            if let first = nodeIndex[n.id] { throw fail(np + ".id", "duplicate node id \"\(n.id)\" (also $.graph.nodes[\(first)])") }
+            nodeIndex[n.id] = ni
+            guard floorIndex[n.floorId] != nil else {
+                throw fail(np + ".floorId", "node \"\(n.id)\" is on unknown floor \"\(n.floorId)\" (floors: \(b.floors.map(\.id).joined(separator: ", ")))")
+            }
+            try checkPoint(n.position, np + ".position")
+            switch n.kind {
+            case .pointOfInterest:
+                guard let pid = n.pointOfInterestId else {
+                    throw fail(np + ".pointOfInterestId", "pointOfInterest node \"\(n.id)\" must name its point of interest")
+                }
+                guard let loc = poiLocation[pid] else {
+                    throw fail(np + ".pointOfInterestId", "node \"\(n.id)\" refers to unknown point of interest \"\(pid)\"")
+                }
+                if b.floors[loc.floor].id != n.floorId {
+                    throw fail(np + ".floorId", "node \"\(n.id)\" is on floor \"\(n.floorId)\" but its point of interest \"\(pid)\" is on floor \"\(b.floors[loc.floor].id)\"")
+                }
+                poisWithNode.insert(pid)
+            case .verticalLink:
+                if n.verticalLink == nil {
+                    throw fail(np + ".verticalLink", "verticalLink node \"\(n.id)\" must say \"elevator\" or \"stairs\"")
+                }
+            case .control:
+                break
+            }
+            if n.kind != .pointOfInterest, n.pointOfInterestId != nil {
+                throw fail(np + ".pointOfInterestId", "only pointOfInterest nodes may name a point of interest (node \"\(n.id)\" is \(n.kind.rawValue))")
+            }
+            if n.kind != .verticalLink, n.verticalLink != nil {
+                throw fail(np + ".verticalLink", "only verticalLink nodes may have 'verticalLink' (node \"\(n.id)\" is \(n.kind.rawValue))")
+            }
+        }
+
+        // Edges.
+        var seenEdges: [String: Int] = [:]
+        var adjacency = Array(repeating: [Int](), count: g.nodes.count)
+        var hasCounterpart = Array(repeating: false, count: g.nodes.count)
+        for (ei, e) in g.edges.enumerated() {
+            let ep = "$.graph.edges[\(ei)]"
+            guard let a = nodeIndex[e.from] else { throw fail(ep + ".from", "edge refers to unknown node \"\(e.from)\" (dangling edge)") }
+            guard let c = nodeIndex[e.to] else { throw fail(ep + ".to", "edge refers to unknown node \"\(e.to)\" (dangling edge)") }
+            if a == c { throw fail(ep, "self-loop: edge joins node \"\(e.from)\" to itself") }
+            let key = a < c ? "\(a)-\(c)" : "\(c)-\(a)"
+            if let first = seenEdges[key] {
+                throw fail(ep, "duplicate edge between \"\(e.from)\" and \"\(e.to)\" (also $.graph.edges[\(first)]; edges are undirected)")
+            }
+            seenEdges[key] = ei
+            let na = g.nodes[a], nc = g.nodes[c]
+            if na.floorId != nc.floorId {
+                guard na.kind == .verticalLink, nc.kind == .verticalLink else {
+                    throw fail(ep, "edge between floors \"\(na.floorId)\" and \"\(nc.floorId)\" must join two verticalLink nodes (\"\(na.id)\" is \(na.kind.rawValue), \"\(nc.id)\" is \(nc.kind.rawValue))")
+                }
+                guard na.verticalLink == nc.verticalLink else {
+                    throw fail(ep, "vertical edge joins \(na.verticalLink!.rawValue) node \"\(na.id)\" to \(nc.verticalLink!.rawValue) node \"\(nc.id)\"")
+                }
+                let ea = b.floors[floorIndex[na.floorId]!].elevationMeters, ec = b.floors[floorIndex[nc.floorId]!].elevationMeters
+                if ea == ec { throw fail(ep, "vertical edge joins floors \"\(na.floorId)\" and \"\(nc.floorId)\" of equal elevation (zero length)") }
+                hasCounterpart[a] = true; hasCounterpart[c] = true
+            }
+            adjacency[a].append(c); adjacency[c].append(a)
+        }
+
+        // Points of interest must be reachable: each needs a node.
+        for (fi, f) in b.floors.enumerated() {
+            for (pi, p) in f.pointsOfInterest.enumerated() where !poisWithNode.contains(p.id) {
+                throw fail("$.floors[\(fi)].pointsOfInterest[\(pi)]", "point of interest \"\(p.id)\" has no graph node (add a pointOfInterest node naming it)")
+            }
+        }
+        for (ni, n) in g.nodes.enumerated() where n.kind == .verticalLink && !hasCounterpart[ni] {
+            throw fail("$.graph.nodes[\(ni)]", "verticalLink node \"\(n.id)\" has no counterpart: no edge joins it to a verticalLink node on another floor")
+        }
+
+        // Connectivity over the whole building (vertical edges included).
+        var reached = Array(repeating: false, count: g.nodes.count)
+        var stack = [0]
+        reached[0] = true
+        while let i = stack.popLast() {
+            for j in adjacency[i] where !reached[j] { reached[j] = true; stack.append(j) }
+        }
+        if let ni = reached.firstIndex(of: false) {
+            let missing = reached.filter { !$0 }.count
+            throw fail("$.graph.nodes[\(ni)]", "the navigation graph is disconnected: node \"\(g.nodes[ni].id)\" cannot be reached from \"\(g.nodes[0].id)\" (\(missing) of \(g.nodes.count) nodes unreachable)")
+        }
+    }
+}
+
+import Foundation
