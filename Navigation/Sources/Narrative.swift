@@ -1,0 +1,188 @@
+// Stage 2 of guidance (after valhalla's narrative builder): maneuvers become phrases, from a template file
+// per language in Navigation/Locales/<language>.json. Code never builds sentences itself: every spoken
+// word comes from the file, so a language is added by adding a file.
+import Foundation
+import Maps
+
+/// The phrase templates of one language.
+public struct PhraseBook: Sendable {
+    /// Language code, e.g. "en" (the file's name without `.json`).
+    public let language: String
+    /// Template per key; placeholders are `{name}`.
+    public let templates: [String: String]
+
+    /// Every key the navigator uses. A phrase file must define all of them.
+    public static let requiredKeys: [String] = {
+        var keys = ["distance.one", "distance.other", "startWalking", "noRoute",
+                    "depart.ahead", "depart.left", "depart.right", "depart.turnAround",
+                    "continuation", "safety.wrongWay", "safety.offRoute",
+                    "whereAmI.between", "whereAmI.near", "whereAmI.unknown", "repeat.none", "cue.continue"]
+        let alerted: [ManeuverKind] = [.turnLeft, .turnRight, .slightLeft, .slightRight, .sharpLeft, .sharpRight,
+                                       .uTurn, .takeElevator, .takeStairs, .goThroughDoor]
+        keys += alerted.map { "alert.\($0.rawValue)" } + ["alert.arrive"]
+        keys += alerted.map { "cue.\($0.rawValue)" }
+        for side in ArrivalSide.allCases {
+            keys += ["arrival.\(side.rawValue)", "arrival.\(side.rawValue).door"]
+        }
+        return keys
+    }()
+
+    /// Placeholders the code fills; any other `{...}` in a template is an error.
+    public static let knownPlaceholders: Set<String> = ["distance", "count", "floor", "destination", "place", "from", "to"]
+
+    /// Loads `Navigation/Locales/<language>.json` from the module's resources.
+    public static func load(language: String) throws -> PhraseBook {
+        guard language.allSatisfy({ $0.isLetter || $0 == "-" || $0 == "_" }),
+              let url = Bundle.module.url(forResource: language, withExtension: "json", subdirectory: "Locales")
+                ?? Bundle.module.url(forResource: language, withExtension: "json")
+        else { throw NavigationError.unknownLanguage(language) }
+        let data: Data
+        do { data = try Data(contentsOf: url) } catch {
+            throw NavigationError.invalidPhraseFile("\(language).json: cannot read (\(error.localizedDescription))")
+        }
+        return try PhraseBook(language: language, json: data, sourceName: "\(language).json")
+    }
+
+    /// Parses a phrase file: `{"language": "...", "phrases": {"key": "template", ...}}`. Throws
+    /// `invalidPhraseFile` naming `sourceName` and the key when a required key is missing or a template
+    /// uses an unknown placeholder.
+    public init(language: String, json: Data, sourceName: String) throws {
+        struct File: Decodable { var language: String; var phrases: [String: String] }
+        let file: File
+        do { file = try JSONDecoder().decode(File.self, from: json) } catch {
+            throw NavigationError.invalidPhraseFile("\(sourceName): not a phrase file (\(error))")
+        }
+        for key in Self.requiredKeys where file.phrases[key] == nil {
+            throw NavigationError.invalidPhraseFile("\(sourceName): missing key '\(key)'")
+        }
+        for (key, template) in file.phrases {
+            for name in Self.placeholders(in: template) where !Self.knownPlaceholders.contains(name) {
+                throw NavigationError.invalidPhraseFile("\(sourceName): key '\(key)' uses unknown placeholder {\(name)}")
+            }
+        }
+        self.language = language
+        templates = file.phrases
+    }
+
+    static func placeholders(in template: String) -> [String] {
+        var out: [String] = []
+        var rest = template[...]
+        while let open = rest.firstIndex(of: "{"), let close = rest[open...].firstIndex(of: "}") {
+            out.append(String(rest[rest.index(after: open)..<close]))
+            rest = rest[rest.index(after: close)...]
+        }
+        return out
+    }
+
+    /// The template for `key` with `{name}` replaced by `values[name]`. A missing key (impossible after
+    /// validation) yields the key itself, so nothing crashes.
+    public func phrase(_ key: String, _ values: [String: String] = [:]) -> String {
+        var text = templates[key] ?? key
+        for (name, value) in values { text = text.replacingOccurrences(of: "{\(name)}", with: value) }
+        return text
+    }
+
+    /// Spoken distances are rounded: to the nearest meter under 10 m (at least 1), to the nearest 5 m from
+    /// 10 m up (half rounds up: 12.5 -> 15). 9.6 m is "10 meters".
+    public static func roundedDistanceMeters(_ meters: Double) -> Int {
+        guard meters.isFinite else { return 0 }
+        let m = max(0, meters)
+        let whole = Int(m.rounded(.toNearestOrAwayFromZero))
+        if whole < 10 { return max(1, whole) }
+        return Int((m / 5).rounded(.toNearestOrAwayFromZero)) * 5
+    }
+
+    /// A distance as spoken ("1 meter", "15 meters").
+    public func distance(_ meters: Double) -> String {
+        let n = Self.roundedDistanceMeters(meters)
+        return n == 1 ? phrase("distance.one") : phrase("distance.other", ["count": String(n)])
+    }
+}
+
+/// Where the destination lies relative to the traveler's heading on arrival.
+public enum ArrivalSide: String, Sendable, CaseIterable, Equatable {
+    /// 45 to 135 deg counter-clockwise of the heading.
+    case left
+    /// 45 to 135 deg clockwise of the heading.
+    case right
+    /// Within 45 deg of the heading.
+    case ahead
+    /// More than 135 deg from the heading.
+    case behind
+
+    /// Classifies the bearing of the destination relative to the heading (radians, positive = left).
+    public static func classify(relativeBearingRad r: Double) -> ArrivalSide {
+        let d = abs(normalizedAngleRad(r)) * 180 / Double.pi
+        if d <= 45 { return .ahead }
+        if d >= 135 { return .behind }
+        return normalizedAngleRad(r) > 0 ? .left : .right
+    }
+}
+
+/// Direction of the first leg relative to the traveler's heading when a route starts.
+public enum DepartOrientation: String, Sendable, Equatable {
+    /// Within 30 deg of the heading.
+    case ahead
+    /// 30 to 135 deg to the left.
+    case left
+    /// 30 to 135 deg to the right.
+    case right
+    /// More than 135 deg away.
+    case turnAround
+
+    /// Classifies the route direction relative to the heading (radians, positive = left). 30 deg is wider
+    /// than the straight band of turns (20 deg) because the heading of a hand-held phone wobbles.
+    public static func classify(relativeBearingRad r: Double) -> DepartOrientation {
+        let d = abs(normalizedAngleRad(r)) * 180 / Double.pi
+        if d <= 30 { return .ahead }
+        if d > 135 { return .turnAround }
+        return normalizedAngleRad(r) > 0 ? .left : .right
+    }
+}
+
+/// Turns maneuvers into phrases with a `PhraseBook`.
+public struct Narrative: Sendable {
+    /// The phrase templates.
+    public let phrases: PhraseBook
+
+    /// Wraps a phrase book.
+    public init(phrases: PhraseBook) { self.phrases = phrases }
+
+    /// Start of a route: "Turn left, then go 10 meters."
+    public func depart(_ orientation: DepartOrientation, distanceMeters: Double) -> String {
+        phrases.phrase("depart.\(orientation.rawValue)", ["distance": phrases.distance(distanceMeters)])
+    }
+
+    /// The early alert: "In 8 meters, turn left." Nil for kinds without one (depart, continue).
+    public func alert(_ m: Maneuver, distanceMeters: Double, destinationName: String) -> String? {
+        switch m.kind {
+        case .depart, .continue: return nil
+        default:
+            return phrases.phrase("alert.\(m.kind.rawValue)",
+                                  ["distance": phrases.distance(distanceMeters), "floor": m.toFloorName ?? "",
+                                   "destination": destinationName])
+        }
+    }
+
+    /// The cue at the maneuver: "Turn left now." For `continue` (off an elevator or stairs):
+    /// "Now on Floor 2. Continue 10 meters." Nil for depart and arrive (see `depart`, `arrival`).
+    public func cue(_ m: Maneuver, floorName: String) -> String? {
+        switch m.kind {
+        case .depart, .arrive: return nil
+        case .continue:
+            return phrases.phrase("cue.continue", ["floor": floorName, "distance": phrases.distance(m.distanceToNextMeters)])
+        default:
+            return phrases.phrase("cue.\(m.kind.rawValue)", ["floor": m.toFloorName ?? ""])
+        }
+    }
+
+    /// After a maneuver, on a long leg: "Continue 15 meters."
+    public func continuation(distanceMeters: Double) -> String {
+        phrases.phrase("continuation", ["distance": phrases.distance(distanceMeters)])
+    }
+
+    /// "Arrived. Room 312 is on your left, behind a door."
+    public func arrival(side: ArrivalSide, behindDoor: Bool, destinationName: String) -> String {
+        phrases.phrase("arrival.\(side.rawValue)" + (behindDoor ? ".door" : ""), ["destination": destinationName])
+    }
+}

@@ -1,0 +1,593 @@
+// The navigator: location estimates in, guidance events out (a value-driven state machine in the style
+// of InvisibleMap: no clock, no audio, no platform types). Per update: snap the estimate (grid), track
+// progress along the current route (a window of the polyline), detect wrong way / off route, re-route
+// with hysteresis, and submit maneuver phrases at their distances to the announcement policy.
+import Foundation
+import Maps
+
+/// One location update from the localizer.
+public struct NavigationInput: Sendable, Equatable {
+    /// Time, seconds (any monotonic clock; events carry the same clock).
+    public var t: Double
+    /// Estimated position, meters in the floor's map frame (x east, y north).
+    public var positionInMap: Point2
+    /// Floor of the estimate.
+    public var floorId: String
+    /// Walking/phone heading in the map frame, radians counter-clockwise from +x.
+    public var headingRad: Double
+    /// False until the localizer has converged; the navigator then says only "Start walking".
+    public var isLocalized: Bool
+    /// Localizer confidence in [0, 1] (kept for logging; guidance does not use it yet).
+    public var confidence: Double
+
+    /// Creates an input.
+    public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, isLocalized: Bool,
+                confidence: Double = 1) {
+        self.t = t; self.positionInMap = positionInMap; self.floorId = floorId; self.headingRad = headingRad
+        self.isLocalized = isLocalized; self.confidence = confidence
+    }
+}
+
+/// Navigator tunables. Distances in meters, times in seconds, angles in degrees.
+public struct NavigatorOptions: Sendable {
+    /// The cue ("Turn left now") is issued when the position snapped on the route is this far before the
+    /// control point. 0.75 m from the paper (section 4).
+    public var cueDistanceMeters = 0.75
+    /// The early alert ("In 8 meters, turn left") is issued this far before a maneuver.
+    public var alertDistanceMeters = 8.0
+    /// No alert when the maneuver is closer than the cue distance plus this gap (the cue follows at once).
+    public var alertCueGapMeters = 1.0
+    /// Arrival when the remaining route is at most this long. 1 m from the paper (section 4).
+    public var arrivalRadiusMeters = 1.0
+    /// Never route over stairs.
+    public var avoidStairs = false
+    /// Never route over elevators.
+    public var avoidElevators = false
+    /// Phrase file language (`Navigation/Locales/<language>.json`).
+    public var language = "en"
+    /// Off route when the estimate is farther than this from the route polyline.
+    public var offRouteDistanceMeters = 3.0
+    /// Re-route when the estimate is nearer to an edge off the route than to the route by this much.
+    public var closerEdgeMarginMeters = 1.0
+    /// Hysteresis: a new route replaces the current one only when it is shorter (in routing cost) by more
+    /// than max(`rerouteMinimumGainMeters`, `rerouteMinimumGainFraction` x current remaining cost).
+    public var rerouteMinimumGainMeters = 2.0
+    /// See `rerouteMinimumGainMeters`.
+    public var rerouteMinimumGainFraction = 0.10
+    /// While the estimate snaps to an edge off the route (but within the margins above), a candidate
+    /// route is computed at most this often.
+    public var rerouteCheckIntervalSeconds = 1.0
+    /// Wrong way when the heading is more than this from the route direction ...
+    public var wrongWayAngleDeg = 120.0
+    /// ... for at least this long ...
+    public var wrongWaySustainSeconds = 2.0
+    /// ... while moving at least this fast (speed over the last `speedWindowSeconds`).
+    public var movingSpeedMetersPerSecond = 0.3
+    /// Window for the walking speed estimate.
+    public var speedWindowSeconds = 1.0
+    /// The same spoken correction (wrong way, off route) is not repeated within this time.
+    public var correctionCooldownSeconds = 6.0
+    /// "Continue N meters" after a maneuver only when the next one is farther than the alert distance
+    /// plus this margin, and once the traveler is this far past the maneuver.
+    public var continuationMarginMeters = 2.0
+    /// "Start walking" is repeated this often while not localized.
+    public var startWalkingRepeatSeconds = 15.0
+    /// Route direction used for wrong-way detection and the first instruction: from the position on the
+    /// route to the route point this far ahead.
+    public var lookAheadMeters = 1.5
+    /// Edge costs (elevator and stairs penalties, door penalty); `avoidStairs`/`avoidElevators` above
+    /// override the fields of the same name.
+    public var routing = RoutingOptions()
+    /// Speech policy tunables.
+    public var announcements = AnnouncementPolicyConfig()
+    /// Creates the defaults above.
+    public init() {}
+}
+
+/// Turn-by-turn guidance to one destination.
+public final class Navigator {
+    /// Options in force.
+    public let options: NavigatorOptions
+    /// The routing graph of the building.
+    public let graph: RoutingGraph
+    /// The router (snapping and shortest paths).
+    public let router: Router
+    /// Phrase rendering.
+    public let narrative: Narrative
+    /// The announcement policy all speech goes through.
+    public let policy: AnnouncementPolicy
+
+    /// Destination node index.
+    public let destinationNode: Int
+    /// Spoken name of the destination.
+    public let destinationName: String
+    /// Destination position used for the arrival side (the point of interest's entrance, else the node).
+    public let destinationPosition: Point2
+    /// True when the destination is behind a door (announced on arrival).
+    public let destinationBehindDoor: Bool
+
+    /// The route being followed, nil before localization or when there is no route.
+    public private(set) var currentRoute: Route?
+    /// True once arrival was announced; later updates produce nothing.
+    public private(set) var hasArrived = false
+    /// Maneuvers of the current route (empty before there is one).
+    public var lastManeuvers: [Maneuver] { currentRoute?.maneuvers ?? [] }
+    /// Distance walked along the current route, meters.
+    public private(set) var progressMeters = 0.0
+    /// Distance from the last estimate to the current route, meters.
+    public private(set) var distanceFromRouteMeters = 0.0
+    /// Number of routes computed and adopted so far (the first included).
+    public private(set) var routeCount = 0
+    /// The last instruction spoken (what "Repeat" says).
+    public private(set) var lastInstruction: String?
+
+    private let builder: RouteBuilder
+    private var routeEdges: Set<Int> = []
+    private var routeCumulativeCost: [Double] = []
+    /// Continuous polyline position of the traveler on the current route.
+    private var polylinePosition = 0.0
+    private var nextManeuver = 0
+    private var alertIssued: [Bool] = []
+    private var cueIssued: [Bool] = []
+    private var continuationDue: Int? = nil
+    private var lastStartWalkingT: Double? = nil
+    private var lastInput: NavigationInput? = nil
+    private var lastSnap: SnappedPosition? = nil
+    private var history: [(t: Double, p: Vec2, floor: String)] = []
+    private var wrongWaySince: Double? = nil
+    private var lastCorrectionT: [HapticPattern: Double] = [:]
+    private var lastRerouteCheckT = -Double.infinity
+    private var noRouteAnnounced = false
+
+    /// Creates a navigator to `destinationId`: a point-of-interest id (routed to the graph node that
+    /// references it, else to the nearest node on its floor) or a graph node id. Throws
+    /// `NavigationError` for an inconsistent graph, an unknown destination or a missing phrase file.
+    public init(building: Building, destinationId: String, options: NavigatorOptions = NavigatorOptions()) throws {
+        self.options = options
+        graph = try RoutingGraph(building: building)
+        var routing = options.routing
+        routing.avoidStairs = options.avoidStairs
+        routing.avoidElevators = options.avoidElevators
+        router = Router(graph: graph, options: routing)
+        narrative = Narrative(phrases: try PhraseBook.load(language: options.language))
+        policy = AnnouncementPolicy(config: options.announcements)
+        builder = RouteBuilder(graph: graph)
+
+        let graph = self.graph
+        var poi: (PointOfInterest, Floor)? = nil
+        for f in building.floors { if let p = f.pointsOfInterest.first(where: { $0.id == destinationId }) { poi = (p, f); break } }
+        if let (p, floor) = poi {
+            if let n = graph.nodes.firstIndex(where: { $0.pointOfInterestId == p.id }) {
+                destinationNode = n
+            } else {
+                let candidates = graph.nodes.indices.filter { graph.nodes[$0].floorId == floor.id }
+                guard let n = candidates.min(by: {
+                    graph.positions[$0].distance(to: Vec2(p.position)) < graph.positions[$1].distance(to: Vec2(p.position))
+                }) else { throw NavigationError.unknownDestination(destinationId) }
+                destinationNode = n
+            }
+            destinationName = p.name
+            destinationPosition = p.position
+            destinationBehindDoor = p.behindDoor
+        } else if let n = graph.nodeIndex(id: destinationId) {
+            destinationNode = n
+            let node = graph.nodes[n]
+            let linked = node.pointOfInterestId.flatMap { id in building.floors.lazy.compactMap { $0.pointsOfInterest.first { $0.id == id } }.first }
+            destinationName = linked?.name ?? node.label ?? node.id
+            destinationPosition = linked?.position ?? node.position
+            destinationBehindDoor = linked?.behindDoor ?? false
+        } else {
+            throw NavigationError.unknownDestination(destinationId)
+        }
+    }
+
+    // MARK: - Updates
+
+    /// Processes one location update; returns what to render now (already through the policy).
+    public func update(_ input: NavigationInput) -> [TimedGuidanceEvent] {
+        let t = input.t
+        guard input.positionInMap.x.isFinite, input.positionInMap.y.isFinite, input.headingRad.isFinite else {
+            return emit(t)
+        }
+        if hasArrived { return emit(t) }
+        guard input.isLocalized else {
+            // Paper section 4: "the app issues no directions other than 'start walking' until it is able
+            // to estimate the user's location".
+            if lastStartWalkingT.map({ t - $0 >= options.startWalkingRepeatSeconds }) ?? true {
+                say(narrative.phrases.phrase("startWalking"), .information, t)
+                lastStartWalkingT = t
+            }
+            lastInput = nil
+            history.removeAll()
+            wrongWaySince = nil
+            return emit(t)
+        }
+        lastInput = input
+        let p = Vec2(input.positionInMap)
+        history.append((t, p, input.floorId))
+        while let first = history.first, t - first.t > options.speedWindowSeconds + 0.5 { history.removeFirst() }
+
+        guard let snap = router.snap(input.positionInMap, floorId: input.floorId) else { return emit(t) }
+        lastSnap = snap
+
+        if currentRoute == nil {
+            adoptRoute(from: snap, input: input)
+        } else {
+            trackProgress(p, floorId: input.floorId)
+            checkDeviation(input: input, snap: snap)
+        }
+        guard currentRoute != nil else { return emit(t) }
+        if checkArrival(input: input) { return emit(t) }
+        announceManeuvers(input: input)
+        return emit(t)
+    }
+
+    /// "Where am I": the nearest labelled place on the floor (preferring one not behind a wall) and the
+    /// labelled places found by following the current corridor both ways.
+    public func requestWhereAmI(t: Double) -> [TimedGuidanceEvent] {
+        guard let input = lastInput, let snap = lastSnap else {
+            policy.submit(narrative.phrases.phrase("whereAmI.unknown"), priority: .information, t: t, requested: true)
+            return emit(t)
+        }
+        let p = Vec2(input.positionInMap)
+        var places: [(name: String, position: Vec2)] = []
+        if let floor = graph.building.floor(id: input.floorId) {
+            places += floor.pointsOfInterest.map { ($0.name, Vec2($0.position)) }
+        }
+        for n in graph.nodes where n.floorId == input.floorId && n.pointOfInterestId == nil {
+            if let label = n.label { places.append((label, Vec2(n.position))) }
+        }
+        places.sort { $0.position.distance(to: p) < $1.position.distance(to: p) }
+        let place = places.first { graph.isUnobstructed(from: input.positionInMap, to: $0.position.point2, floorId: input.floorId) }
+            ?? places.first
+        guard let place else {
+            policy.submit(narrative.phrases.phrase("whereAmI.unknown"), priority: .information, t: t, requested: true)
+            return emit(t)
+        }
+        let e = snap.edgeIndex
+        let a = labelAlongCorridor(from: graph.edgeFrom[e], cameFrom: graph.edgeTo[e])
+        let b = labelAlongCorridor(from: graph.edgeTo[e], cameFrom: graph.edgeFrom[e])
+        let text: String
+        if let a, let b, a != b, a != place.name, b != place.name {
+            text = narrative.phrases.phrase("whereAmI.between", ["place": place.name, "from": a, "to": b])
+        } else {
+            text = narrative.phrases.phrase("whereAmI.near", ["place": place.name])
+        }
+        policy.submit(text, priority: .information, t: t, requested: true)
+        return emit(t)
+    }
+
+    /// "Repeat": the last instruction spoken, again (exempt from repeat suppression).
+    public func requestRepeat(t: Double) -> [TimedGuidanceEvent] {
+        policy.submit(lastInstruction ?? narrative.phrases.phrase("repeat.none"), priority: .information, t: t,
+                      requested: true)
+        return emit(t)
+    }
+
+    // MARK: - Routing
+
+    /// Computes a route from `snap` and adopts it unconditionally; announces its start.
+    private func adoptRoute(from snap: SnappedPosition, input: NavigationInput) {
+        guard let path = router.shortestPath(from: snap, to: destinationNode) else {
+            currentRoute = nil
+            if !noRouteAnnounced {
+                say(narrative.phrases.phrase("noRoute", ["destination": destinationName]), .information, input.t)
+                noRouteAnnounced = true
+            }
+            return
+        }
+        noRouteAnnounced = false
+        adopt(path, input: input)
+    }
+
+    private func adopt(_ path: PathResult, input: NavigationInput) {
+        let route = builder.build(path: path, routeCost: path.costMeters, destinationBehindDoor: destinationBehindDoor,
+                                  destinationName: destinationName)
+        currentRoute = route
+        routeCount += 1
+        routeEdges = Set(route.segmentEdges)
+        var cc: [Double] = [0]
+        for (i, e) in route.segmentEdges.enumerated() {
+            let full = router.cost(ofEdge: e)
+            let segCost: Double
+            if i == 0 {
+                let len = graph.edgeLength[e]
+                segCost = len > 1e-9 ? full * (route.cumulativeMeters[1] / len) : 0
+            } else {
+                segCost = full
+            }
+            cc.append(cc[i] + segCost)
+        }
+        routeCumulativeCost = cc
+        polylinePosition = 0
+        progressMeters = 0
+        distanceFromRouteMeters = 0
+        nextManeuver = 1
+        alertIssued = Array(repeating: false, count: route.maneuvers.count)
+        cueIssued = Array(repeating: false, count: route.maneuvers.count)
+        continuationDue = nil
+        wrongWaySince = nil
+        policy.discardPending(below: .safety)
+        trackProgress(Vec2(input.positionInMap), floorId: input.floorId)
+
+        // First instruction: direction of the route relative to the heading, distance to the next maneuver.
+        let ahead = route.point(atDistance: progressMeters + options.lookAheadMeters, fromSegment: 0).point
+        let here = route.point(atDistance: progressMeters, fromSegment: 0).point
+        let dir = ahead - here
+        let orientation: DepartOrientation = dir.length > 1e-6
+            ? DepartOrientation.classify(relativeBearingRad: dir.angleRad - input.headingRad) : .ahead
+        let next = route.maneuvers.count > 1 ? route.maneuvers[1] : route.maneuvers[0]
+        if next.kind != .arrive || next.distanceFromStartMeters - progressMeters > options.arrivalRadiusMeters {
+            say(narrative.depart(orientation, distanceMeters: next.distanceFromStartMeters - progressMeters),
+                .information, input.t)
+        }
+    }
+
+    /// Remaining routing cost from the traveler's position on the current route.
+    private func remainingCost() -> Double {
+        guard let r = currentRoute, r.points.count > 1 else { return 0 }
+        let i = min(Int(polylinePosition.rounded(.down)), r.points.count - 2)
+        let f = polylinePosition - Double(i)
+        let at = routeCumulativeCost[i] + f * (routeCumulativeCost[i + 1] - routeCumulativeCost[i])
+        return routeCumulativeCost[r.points.count - 1] - at
+    }
+
+    /// Re-routes when the traveler left the route (off route: correction spoken), is clearly nearer to
+    /// another edge (silent re-route), or a better route appeared (hysteresis); flags a wrong way.
+    private func checkDeviation(input: NavigationInput, snap: SnappedPosition) {
+        let t = input.t
+        if distanceFromRouteMeters > options.offRouteDistanceMeters {
+            correction(.offRoute, key: "safety.offRoute", t: t)
+            adoptRoute(from: snap, input: input)
+            return
+        }
+        let onRouteEdge = routeEdges.contains(snap.edgeIndex)
+        if !onRouteEdge && snap.distanceMeters + options.closerEdgeMarginMeters < distanceFromRouteMeters {
+            adoptRoute(from: snap, input: input)
+            return
+        }
+        if !onRouteEdge && t - lastRerouteCheckT >= options.rerouteCheckIntervalSeconds {
+            lastRerouteCheckT = t
+            considerBetterRoute(snap: snap, input: input)
+        }
+        // Wrong way: heading against the route direction, sustained, while moving.
+        guard let r = currentRoute else { return }
+        let here = r.point(atDistance: progressMeters, fromSegment: Int(polylinePosition)).point
+        let ahead = r.point(atDistance: progressMeters + options.lookAheadMeters, fromSegment: Int(polylinePosition)).point
+        let dir = ahead - here
+        var wrong = false
+        if dir.length > 0.2, speedMetersPerSecond() >= options.movingSpeedMetersPerSecond {
+            let err = abs(normalizedAngleRad(input.headingRad - dir.angleRad)) * 180 / Double.pi
+            wrong = err > options.wrongWayAngleDeg
+        }
+        if wrong {
+            let since = wrongWaySince ?? t
+            wrongWaySince = since
+            if t - since >= options.wrongWaySustainSeconds {
+                correction(.wrongWay, key: "safety.wrongWay", t: t)
+                wrongWaySince = nil
+                // The route from the virtual start node already goes both ways along the edge; a better
+                // route in the direction now walked replaces it only past the hysteresis.
+                considerBetterRoute(snap: snap, input: input)
+            }
+        } else {
+            wrongWaySince = nil
+        }
+    }
+
+    private func considerBetterRoute(snap: SnappedPosition, input: NavigationInput) {
+        guard let path = router.shortestPath(from: snap, to: destinationNode) else { return }
+        let current = remainingCost() + distanceFromRouteMeters
+        let candidate = path.costMeters + snap.distanceMeters
+        let needed = max(options.rerouteMinimumGainMeters, options.rerouteMinimumGainFraction * current)
+        if current - candidate > needed { adopt(path, input: input) }
+    }
+
+    private func correction(_ pattern: HapticPattern, key: String, t: Double) {
+        policy.submitHaptic(pattern)
+        if lastCorrectionT[pattern].map({ t - $0 >= options.correctionCooldownSeconds }) ?? true {
+            say(narrative.phrases.phrase(key), .safety, t)
+            lastCorrectionT[pattern] = t
+        }
+    }
+
+    private func speedMetersPerSecond() -> Double {
+        guard let last = history.last else { return 0 }
+        guard let first = history.first(where: { last.t - $0.t <= options.speedWindowSeconds && $0.floor == last.floor }),
+              last.t - first.t > 0.2 else { return 0 }
+        return last.p.distance(to: first.p) / (last.t - first.t)
+    }
+
+    // MARK: - Progress
+
+    /// Projects the estimate on the current route: first on a window of segments around the last
+    /// position (constant work per update), then, only when that fails or lands off route, on the whole
+    /// route (work bounded by the route, not the map). Points of the route on other floors are skipped; a
+    /// ride segment counts as its end point on the estimate's floor.
+    private func trackProgress(_ p: Vec2, floorId: String) {
+        guard let r = currentRoute, r.points.count > 1 else { return }
+        let segCount = r.points.count - 1
+        let cur = min(Int(polylinePosition.rounded(.down)), segCount - 1)
+        var best = bestProjection(p, floorId: floorId, route: r, segments: max(0, cur - 2)...min(segCount - 1, cur + 6))
+        if best == nil || best!.distance > options.offRouteDistanceMeters {
+            if let full = bestProjection(p, floorId: floorId, route: r, segments: 0...(segCount - 1)),
+               best == nil || full.distance < best!.distance {
+                best = full
+            }
+        }
+        guard let best else {
+            distanceFromRouteMeters = .infinity
+            return
+        }
+        polylinePosition = best.u
+        progressMeters = r.distanceAlong(best.u)
+        distanceFromRouteMeters = best.distance
+    }
+
+    private func bestProjection(_ p: Vec2, floorId: String, route r: Route, segments: ClosedRange<Int>)
+        -> (u: Double, distance: Double)? {
+        var best: (u: Double, distance: Double)? = nil
+        for i in segments {
+            let a = r.points[i], b = r.points[i + 1]
+            let onA = a.floorId == floorId, onB = b.floorId == floorId
+            let candidate: (t: Double, d: Double)
+            if onA && onB {
+                let pr = projectOntoSegment(p, Vec2(a.position), Vec2(b.position))
+                candidate = (pr.t, pr.distance)
+            } else if onA {
+                candidate = (0, p.distance(to: Vec2(a.position)))
+            } else if onB {
+                candidate = (1, p.distance(to: Vec2(b.position)))
+            } else {
+                continue
+            }
+            let u = Double(i) + candidate.t
+            if let b = best {
+                // Nearest wins; near-ties go to the position closest to the previous one (a route may pass
+                // the same corridor twice).
+                if candidate.d < b.distance - 1e-6
+                    || (abs(candidate.d - b.distance) <= 1e-6 && abs(u - polylinePosition) < abs(b.u - polylinePosition)) {
+                    best = (u, candidate.d)
+                }
+            } else {
+                best = (u, candidate.d)
+            }
+        }
+        return best
+    }
+
+    // MARK: - Announcements
+
+    private func checkArrival(input: NavigationInput) -> Bool {
+        guard let r = currentRoute else { return false }
+        let remaining = r.lengthMeters - progressMeters
+        guard input.floorId == r.points[r.points.count - 1].floorId, remaining <= options.arrivalRadiusMeters,
+              distanceFromRouteMeters <= options.offRouteDistanceMeters,
+              polylinePosition >= Double(r.points.count - 1) - 1 - 1e-9 || remaining <= 1e-9
+        else { return false }
+        let v = Vec2(destinationPosition) - Vec2(input.positionInMap)
+        let side: ArrivalSide
+        if v.length < 0.25 {
+            side = .ahead
+        } else {
+            side = ArrivalSide.classify(relativeBearingRad: v.angleRad - input.headingRad)
+        }
+        policy.submitHaptic(.arrived)
+        say(narrative.arrival(side: side, behindDoor: destinationBehindDoor, destinationName: destinationName), .cue, input.t)
+        hasArrived = true
+        return true
+    }
+
+    private func announceManeuvers(input: NavigationInput) {
+        guard let r = currentRoute else { return }
+        let t = input.t
+        let u = polylinePosition
+        let s = progressMeters
+        while nextManeuver < r.maneuvers.count {
+            let i = nextManeuver
+            let m = r.maneuvers[i]
+            if m.kind == .arrive {
+                if !alertIssued[i], s < m.distanceFromStartMeters - options.cueDistanceMeters - options.alertCueGapMeters,
+                   m.distanceFromStartMeters - s <= options.alertDistanceMeters, r.maneuvers[i - 1].kind != .depart || s > 0.5 {
+                    alertIssued[i] = true
+                    if let text = narrative.alert(m, distanceMeters: m.distanceFromStartMeters - s, destinationName: destinationName) {
+                        say(text, .alert, t)
+                    }
+                }
+                break
+            }
+            if m.kind == .continue {
+                if u >= m.polylinePosition - 1e-9 {
+                    if !cueIssued[i], let text = narrative.cue(m, floorName: floorName(m.floorId)) {
+                        say(text, .cue, t)
+                    }
+                    cueIssued[i] = true
+                    nextManeuver += 1
+                    continue
+                }
+                break
+            }
+            // A point maneuver is passed once the traveler is beyond it on the polyline.
+            let passed = u > m.polylinePosition + 1e-9
+            if passed {
+                if m.kind.isTurn || m.kind == .goThroughDoor { continuationDue = i }
+                nextManeuver += 1
+                continue
+            }
+            let d = m.distanceFromStartMeters - s
+            if !cueIssued[i] && d <= options.cueDistanceMeters {
+                cueIssued[i] = true
+                alertIssued[i] = true
+                if let text = narrative.cue(m, floorName: floorName(m.floorId)) {
+                    if m.kind.isTurn { policy.submitHaptic(.turnCue) }
+                    say(text, .cue, t)
+                }
+            } else if !alertIssued[i] && d <= options.alertDistanceMeters
+                        && d > options.cueDistanceMeters + options.alertCueGapMeters {
+                alertIssued[i] = true
+                continuationDue = nil
+                if let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) { say(text, .alert, t) }
+            }
+            break
+        }
+        // Post-maneuver continuation on a long leg.
+        if let c = continuationDue, c + 1 < r.maneuvers.count {
+            let m = r.maneuvers[c]
+            let next = r.maneuvers[c + 1]
+            let remaining = next.distanceFromStartMeters - s
+            if remaining <= options.alertDistanceMeters + options.continuationMarginMeters {
+                continuationDue = nil
+            } else if s >= m.distanceFromStartMeters + options.continuationMarginMeters {
+                continuationDue = nil
+                say(narrative.continuation(distanceMeters: remaining), .information, t)
+            }
+        }
+    }
+
+    private func floorName(_ id: String) -> String { graph.building.floor(id: id)?.name ?? id }
+
+    /// Follows the corridor from `start` (arrived from `cameFrom`) while it goes on within 45 deg of
+    /// straight, up to 40 nodes, and returns the first spoken name met.
+    private func labelAlongCorridor(from start: Int, cameFrom: Int) -> String? {
+        var prev = cameFrom, v = start
+        for _ in 0..<40 {
+            if let name = spokenName(ofNode: v) { return name }
+            let incoming = graph.positions[v] - graph.positions[prev]
+            var bestNext: Int? = nil
+            var bestAngle = 45.0
+            for k in graph.adjStart[v]..<graph.adjStart[v + 1] {
+                let e = Int(graph.adjEdge[k]), w = Int(graph.adjNode[k])
+                guard w != prev, graph.edgeKind[e] == .horizontal else { continue }
+                let out = graph.positions[w] - graph.positions[v]
+                guard incoming.length > 1e-9, out.length > 1e-9 else { continue }
+                let a = abs(signedTurnAngleRad(from: incoming, to: out)) * 180 / Double.pi
+                if a < bestAngle { bestAngle = a; bestNext = w }
+            }
+            guard let n = bestNext else { return nil }
+            prev = v; v = n
+        }
+        return nil
+    }
+
+    private func spokenName(ofNode v: Int) -> String? {
+        let n = graph.nodes[v]
+        if let id = n.pointOfInterestId {
+            for f in graph.building.floors { if let p = f.pointsOfInterest.first(where: { $0.id == id }) { return p.name } }
+        }
+        return n.label
+    }
+
+    // MARK: - Output
+
+    private func say(_ text: String, _ priority: AnnouncementPriority, _ t: Double) {
+        policy.submit(text, priority: priority, t: t)
+    }
+
+    private func emit(_ t: Double) -> [TimedGuidanceEvent] {
+        let events = policy.flush(t: t)
+        for e in events {
+            if case .speak(let text, _, _) = e.event, !policy.lastUtteranceWasRequested { lastInstruction = text }
+        }
+        return events
+    }
+}
