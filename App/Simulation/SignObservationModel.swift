@@ -1,0 +1,119 @@
+import Foundation
+import Maps
+import SessionFormat
+
+/// The truth behind one simulated observation (diagnostics; parallel to the walk's observations).
+public struct ObservationTruth: Sendable, Codable, Equatable {
+    /// The sign seen; nil for a false positive.
+    public var signId: String?
+    /// True horizontal range, meters (nil for a false positive).
+    public var trueRangeMeters: Double?
+    /// True bearing, radians, positive left (nil for a false positive).
+    public var trueBearingRad: Double?
+}
+
+/// A sign that was truly visible on a processed frame, detected or missed (diagnostics for detection rates).
+public struct VisibleSign: Sendable, Codable, Equatable {
+    /// Frame index.
+    public var frameIndex: Int
+    /// Sign id.
+    public var signId: String
+    /// True horizontal range, meters.
+    public var rangeMeters: Double
+    /// Whether the simulated detector reported it.
+    public var detected: Bool
+}
+
+/// The Exit-sign detector and range estimator as seen by the localizer: on every processed frame, each truly
+/// visible sign (in the image with a small margin for the actual pitch and roll, within the detector's range,
+/// its face towards the camera unless double-sided, no wall in between) is detected with a probability that
+/// falls with range (halved during fast turns: motion blur); a detection reports the range with log-normal
+/// noise and the bearing with normal noise. False positives arrive as a Bernoulli process per processed frame
+/// with uniform range and a bearing inside the field of view.
+struct SignObservationModel {
+    let parameters: DetectorParameters
+    let floors: [String: Floor]
+    let geometry: [String: FloorGeometry]
+    /// Intrinsics used for the visibility test (the field of view only depends on their ratios).
+    let intrinsics: CameraIntrinsics
+    /// Default mounting height of a sign's bottom edge when the map has none, meters.
+    static let defaultMountingHeightMeters = 2.3
+
+    /// Pixel of a map-frame 3D point (x east, y north, z up) for a camera pose expressed with the map as the
+    /// world (world x = map x, world y = up, world z = -map y); nil when behind the camera.
+    static func project(_ point: (x: Double, y: Double, z: Double), pose: CameraPose, intrinsics k: CameraIntrinsics) -> (u: Double, v: Double)? {
+        let m = pose.columnMajor
+        let d = (point.x - m[12], point.z - m[13], -point.y - m[14])
+        let cx = m[0] * d.0 + m[1] * d.1 + m[2] * d.2
+        let cy = m[4] * d.0 + m[5] * d.1 + m[6] * d.2
+        let cz = m[8] * d.0 + m[9] * d.1 + m[10] * d.2
+        guard cz < -1e-6 else { return nil }
+        return (k.cx + k.fx * cx / -cz, k.cy - k.fy * cy / -cz)
+    }
+
+    /// The camera pose with the map as world (see `project`).
+    static func mapPose(_ s: TrueCameraState) -> CameraPose {
+        CameraPose(positionInWorld: (x: s.position.x, y: s.heightAboveFloorMeters, z: -s.position.y),
+                   yawRad: s.yawRad, pitchRad: s.pitchRad, rollRad: s.rollRad)
+    }
+
+    /// Signs truly visible from `s`: (sign, range, bearing).
+    func visibleSigns(from s: TrueCameraState) -> [(sign: Sign, rangeMeters: Double, bearingRad: Double)] {
+        guard let floor = floors[s.floorId], let geo = geometry[s.floorId] else { return [] }
+        let pose = Self.mapPose(s)
+        let k = intrinsics
+        let mu = parameters.imageMargin * Double(k.width) / 2, mv = parameters.imageMargin * Double(k.height) / 2
+        var out: [(Sign, Double, Double)] = []
+        for sign in floor.signs {
+            let dx = sign.position.x - s.position.x, dy = sign.position.y - s.position.y
+            let r = hypot(dx, dy)
+            guard r >= parameters.minRangeMeters, r <= parameters.maxRangeMeters else { continue }
+            if !sign.doubleSided && sign.facing.x * dx + sign.facing.y * dy >= 0 { continue }
+            let mount = sign.mountingHeightMeters ?? Self.defaultMountingHeightMeters
+            guard let px = Self.project((sign.position.x, sign.position.y, mount + sign.heightMeters / 2), pose: pose, intrinsics: k),
+                  px.u >= mu, px.u <= Double(k.width) - mu, px.v >= mv, px.v <= Double(k.height) - mv else { continue }
+            // Line of sight to a point 5 cm in front of the sign, towards the camera.
+            let end = Point2(sign.position.x - 0.05 * dx / r, sign.position.y - 0.05 * dy / r)
+            if geo.segmentCrossesWall(s.position.asPoint, end) { continue }
+            out.append((sign, r, wrapAngle(atan2(dy, dx) - s.yawRad)))
+        }
+        return out
+    }
+
+    /// Observations of one processed frame.
+    func observe(frameIndex: Int, state s: TrueCameraState, rng: inout SeededRandom, fpRng: inout SeededRandom,
+                 visibleLog: inout [VisibleSign]) -> [(ObservationRecord, ObservationTruth)] {
+        let p = parameters
+        var out: [(ObservationRecord, ObservationTruth)] = []
+        let blur = abs(s.yawRateRadPerSecond) > radians(p.motionBlurTurnRateDegPerSecond) ? 0.5 : 1.0
+        for (sign, r, b) in visibleSigns(from: s) {
+            let pd = p.detectionProbability(rangeMeters: r) * blur
+            // Draw all three numbers whether detected or not, so streams stay aligned.
+            let u = rng.uniform(), zr = rng.normal(), zb = rng.normal(), zs = rng.normal()
+            let detected = u < pd
+            visibleLog.append(VisibleSign(frameIndex: frameIndex, signId: sign.id, rangeMeters: r, detected: detected))
+            guard detected else { continue }
+            let range = r * exp(p.rangeLogSigma * zr)
+            let bearing = wrapAngle(b + radians(p.bearingSigmaDeg) * zb)
+            let score = max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs))
+            out.append((ObservationRecord(t: s.t, kind: sign.kind, rangeMeters: range, bearingRad: bearing, score: score,
+                                          source: "simulated"),
+                        ObservationTruth(signId: sign.id, trueRangeMeters: r, trueBearingRad: b)))
+        }
+        let fpDraw = fpRng.uniform(), fr = fpRng.uniform(1, p.maxRangeMeters), fb = fpRng.uniform(-1, 1), fs = fpRng.uniform(0.3, 0.7)
+        if fpDraw < p.falsePositivesPerFrame {
+            let portrait = abs(sin(s.rollRad)) > abs(cos(s.rollRad))
+            let halfPixels = portrait ? intrinsics.cy : intrinsics.cx
+            let fx = portrait ? intrinsics.fy : intrinsics.fx
+            let halfFov = atan(halfPixels / fx)
+            out.append((ObservationRecord(t: s.t, kind: floors[s.floorId]?.signs.first?.kind ?? "exit", rangeMeters: fr,
+                                          bearingRad: fb * halfFov, score: fs, source: "simulated"),
+                        ObservationTruth(signId: nil, trueRangeMeters: nil, trueBearingRad: nil)))
+        }
+        return out
+    }
+}
+
+extension Point2Value {
+    var asPoint: Point2 { Point2(x, y) }
+}

@@ -1,0 +1,214 @@
+import Foundation
+
+/// Every noise model's parameters. Defaults are the values documented in docs/simulator.md (table "Noise
+/// models"); tests in Tests/SimulationTests measure generated data against them.
+public struct SimulationParameters: Codable, Sendable, Equatable {
+    /// The walking person.
+    public var walker = WalkerParameters()
+    /// The phone's pose relative to the body.
+    public var phone = PhoneParameters()
+    /// ARKit visual-inertial odometry errors.
+    public var vio = VIOParameters()
+    /// The Exit-sign detector and range estimator.
+    public var detector = DetectorParameters()
+    /// Barometer (CMAltimeter relative altitude).
+    public var barometer = BarometerParameters()
+    /// Compass (Core Location heading).
+    public var compass = CompassParameters()
+    /// The defaults.
+    public init() {}
+    /// The defaults.
+    public static let standard = SimulationParameters()
+}
+
+/// The walking person: speed, pauses, sway, corners. Meters, seconds.
+public struct WalkerParameters: Codable, Sendable, Equatable {
+    /// Bounds of the walking (cruise) speed, m/s: the speed never leaves them except while starting, stopping
+    /// or turning around.
+    public var minSpeedMetersPerSecond = 0.8
+    /// Upper bound of the cruise speed, m/s.
+    public var maxSpeedMetersPerSecond = 1.4
+    /// The walk's preferred speed is drawn uniformly from this range, m/s.
+    public var preferredSpeedRange: ClosedRange<Double> = 0.9...1.3
+    /// Standard deviation of the slow speed variation around the preferred speed (Ornstein-Uhlenbeck), m/s.
+    public var speedVariationSigma = 0.08
+    /// Correlation time of the speed variation, s.
+    public var speedVariationTauSeconds = 5.0
+    /// Acceleration when starting off, m/s^2.
+    public var accelerationMetersPerSecond2 = 0.6
+    /// Deceleration when stopping (pauses, turn-arounds, arrival), m/s^2.
+    public var decelerationMetersPerSecond2 = 0.8
+    /// Mean number of pauses per meter walked (Poisson), 1/m.
+    public var pausesPerMeter = 1.0 / 40.0
+    /// Pause length range, s.
+    public var pauseSecondsRange: ClosedRange<Double> = 1.0...3.0
+    /// Amplitude of the body's lateral sway at half the step frequency, m.
+    public var swayAmplitudeMeters = 0.03
+    /// Standard deviation of the slow lateral wander off the corridor centre line (Ornstein-Uhlenbeck), m.
+    public var lateralWanderSigmaMeters = 0.10
+    /// Correlation time of the lateral wander, s.
+    public var lateralWanderTauSeconds = 4.0
+    /// Minimum distance the camera keeps from any wall when the walker leaves the graph's centre line, m.
+    public var wallClearanceMeters = 0.25
+    /// At a corner, the walker leaves the straight path this far before the corner (drawn uniformly), m:
+    /// larger values cut the corner more.
+    public var cornerCutRangeMeters: ClosedRange<Double> = 0.3...1.2
+    /// Probability that a corner is widened (swung wide) instead of cut.
+    public var cornerWidenProbability = 0.3
+    /// How far a widened corner swings outwards, m.
+    public var cornerWidenRangeMeters: ClosedRange<Double> = 0.1...0.4
+    /// Maximum body turn rate, rad/s (turning in place at a turn-around).
+    public var maxTurnRateRadPerSecond = 2.1
+    /// Step frequency at 1.1 m/s, Hz (scales with the square root of speed).
+    public var stepFrequencyHz = 1.8
+    /// How far down the wrong branch the walker goes before turning around, m.
+    public var wrongTurnDistanceRange: ClosedRange<Double> = 3.0...6.0
+    /// Standing still before setting off, s.
+    public var standBeforeSeconds = 1.5
+    /// Standing still after arriving, s.
+    public var standAfterSeconds = 1.0
+    /// Time spent in an elevator between floors (waiting plus ride), s.
+    public var elevatorSeconds = 15.0
+    /// Vertical speed on stairs, m/s.
+    public var stairsVerticalMetersPerSecond = 0.3
+    /// The defaults.
+    public init() {}
+}
+
+/// The phone's height and orientation relative to the walking body. Angles in degrees.
+public struct PhoneParameters: Codable, Sendable, Equatable {
+    /// Camera height above the floor, drawn once per walk, m.
+    public var cameraHeightRange: ClosedRange<Double> = 1.3...1.5
+    /// Vertical bob at the step frequency, m.
+    public var bobAmplitudeMeters = 0.02
+    /// Handheld: mean pitch drawn once per walk, degrees (positive looking up).
+    public var handheldPitchMeanRangeDeg: ClosedRange<Double> = 0.0...12.0
+    /// Handheld: pitch always stays in this range, degrees.
+    public var handheldPitchLimitsDeg: ClosedRange<Double> = -5.0...20.0
+    /// Handheld: slow pitch/roll/yaw wander standard deviation, degrees (Ornstein-Uhlenbeck, tau 3 s).
+    public var handheldWanderSigmaDeg = 3.0
+    /// Handheld: pitch and roll oscillation at the step frequency, degrees.
+    public var handheldStepAmplitudeDeg = 1.0
+    /// Hand tremor: white noise per frame on pitch, roll and yaw, degrees.
+    public var tremorSigmaDeg = 0.3
+    /// Lanyard: mean pitch range, degrees.
+    public var lanyardPitchMeanRangeDeg: ClosedRange<Double> = -5.0...5.0
+    /// Lanyard: pitch oscillation at the step frequency, degrees.
+    public var lanyardPitchAmplitudeDeg = 5.0
+    /// Lanyard: roll oscillation at the step frequency, degrees.
+    public var lanyardRollAmplitudeDeg = 6.0
+    /// Lanyard: yaw swing at half the step frequency (the torso's rotation with each stride), degrees.
+    public var lanyardYawAmplitudeDeg = 8.0
+    /// Lanyard: slow wander standard deviation, degrees.
+    public var lanyardWanderSigmaDeg = 2.0
+    /// Correlation time of the slow orientation wander, s.
+    public var wanderTauSeconds = 3.0
+    /// The defaults.
+    public init() {}
+}
+
+/// ARKit VIO errors (see docs/simulator.md for what each imitates).
+public struct VIOParameters: Codable, Sendable, Equatable {
+    /// Magnitude of the scale error |s - 1|, drawn uniformly, sign random (1-5 %).
+    public var scaleErrorRange: ClosedRange<Double> = 0.01...0.05
+    /// Magnitude of the constant yaw drift rate, drawn uniformly, sign random, degrees per minute.
+    public var yawDriftRateRangeDegPerMinute: ClosedRange<Double> = 0.5...2.0
+    /// Yaw random walk on top of the drift, degrees per square-root minute.
+    public var yawRandomWalkDegPerSqrtMinute = 0.5
+    /// Position jitter (white, each axis, not accumulated), m.
+    public var positionJitterMeters = 0.002
+    /// Orientation jitter (white, each angle), degrees.
+    public var orientationJitterDeg = 0.1
+    /// Extra position random walk while tracking is limited, m per square-root second (each horizontal axis).
+    public var limitedPositionRandomWalkMetersPerSqrtSecond = 0.03
+    /// Body turn rate above which ARKit reports `limited`/`excessiveMotion`, degrees per second.
+    public var excessiveMotionTurnRateDegPerSecond = 100.0
+    /// Mean rate of `limited`/`insufficientFeatures` spells (dark or blank walls), per second.
+    public var darkSpellsPerSecond = 1.0 / 120.0
+    /// Length of a dark spell, s.
+    public var darkSpellSecondsRange: ClosedRange<Double> = 1.0...3.0
+    /// Mean rate of relocalization events (a `relocalizing` spell then a jump of the world origin), per second.
+    public var relocalizationsPerSecond = 1.0 / 180.0
+    /// Length of the `relocalizing` spell before the jump, s.
+    public var relocalizingSecondsRange: ClosedRange<Double> = 1.0...2.0
+    /// Size of the origin jump after relocalizing (uniform), m; capped at 1 m by the default.
+    public var relocalizationJumpMetersRange: ClosedRange<Double> = 0.2...1.0
+    /// Standard deviation of the yaw jump after relocalizing, degrees (capped at 3 sigma).
+    public var relocalizationYawJumpSigmaDeg = 2.0
+    /// `limited`/`initializing` at the session start and after a reset, s.
+    public var initializingSeconds = 0.7
+    /// `limited`/`relocalizing` after a tracking loss, s.
+    public var afterLossRelocalizingSeconds = 1.0
+    /// Distance of the session's world origin from the start (the first pose is near the origin), m.
+    public var originOffsetMeters = 0.05
+    /// The defaults.
+    public init() {}
+}
+
+/// The sign detector and its range/bearing measurements.
+public struct DetectorParameters: Codable, Sendable, Equatable {
+    /// Signs farther than this (horizontal range) are never detected, m.
+    public var maxRangeMeters = 12.0
+    /// Signs closer than this are never detected (the sign fills or leaves the image), m.
+    public var minRangeMeters = 0.5
+    /// Log-normal range noise: measured = true * exp(N(0, sigma)); the median relative error is 0.6745 sigma
+    /// (8.1 % for 0.12, the U-Net column of the paper's Table 1).
+    public var rangeLogSigma = 0.12
+    /// Bearing noise standard deviation, degrees.
+    public var bearingSigmaDeg = 2.0
+    /// Detection probability up to `nearRangeMeters`.
+    public var nearDetectionProbability = 0.95
+    /// Range up to which the detection probability is `nearDetectionProbability`, m.
+    public var nearRangeMeters = 5.0
+    /// Detection probability at `midRangeMeters` (linear from near), then linear to `farDetectionProbability`.
+    public var midDetectionProbability = 0.85
+    /// See `midDetectionProbability`, m.
+    public var midRangeMeters = 7.0
+    /// Detection probability at `maxRangeMeters`.
+    public var farDetectionProbability = 0.3
+    /// Body turn rate above which motion blur halves the detection probability, degrees per second.
+    public var motionBlurTurnRateDegPerSecond = 60.0
+    /// False positives per processed frame (e.g. a red light taken for a sign).
+    public var falsePositivesPerFrame = 1.0 / 300.0
+    /// Fraction of the image's half-width kept as a margin: a sign whose centre projects closer to the image
+    /// border than this is not detected (it is cut off).
+    public var imageMargin = 0.03
+    /// The defaults.
+    public init() {}
+
+    /// Detection probability of a sign at horizontal range `r` meters (before motion blur).
+    public func detectionProbability(rangeMeters r: Double) -> Double {
+        if r < minRangeMeters || r > maxRangeMeters { return 0 }
+        if r <= nearRangeMeters { return nearDetectionProbability }
+        if r <= midRangeMeters {
+            return nearDetectionProbability + (midDetectionProbability - nearDetectionProbability) * (r - nearRangeMeters) / (midRangeMeters - nearRangeMeters)
+        }
+        return midDetectionProbability + (farDetectionProbability - midDetectionProbability) * (r - midRangeMeters) / (maxRangeMeters - midRangeMeters)
+    }
+}
+
+/// The barometer's relative altitude.
+public struct BarometerParameters: Codable, Sendable, Equatable {
+    /// White noise of each reading, m.
+    public var noiseSigmaMeters = 0.1
+    /// Standard deviation of the constant drift rate drawn per walk (weather, temperature), m per minute.
+    public var driftRateSigmaMetersPerMinute = 0.03
+    /// New readings per second (CMAltimeter delivers about one per second; frames repeat the last one).
+    public var updateRateHz = 1.0
+    /// The defaults.
+    public init() {}
+}
+
+/// The compass's heading.
+public struct CompassParameters: Codable, Sendable, Equatable {
+    /// Standard deviation of the indoor magnetic disturbance, a smooth random field over the floor, degrees.
+    public var disturbanceSigmaDeg = 15.0
+    /// The disturbance is clipped to +- this, degrees.
+    public var disturbanceMaxDeg = 30.0
+    /// Wavelengths of the disturbance field's components, m.
+    public var disturbanceWavelengthRangeMeters: ClosedRange<Double> = 3.0...15.0
+    /// White noise per reading, degrees.
+    public var noiseSigmaDeg = 2.0
+    /// The defaults.
+    public init() {}
+}
