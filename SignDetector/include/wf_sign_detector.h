@@ -1,0 +1,288 @@
+/*
+ * wf_sign_detector.h — C ABI of the Wayfinder run-time sign detector (C++17 / OpenCV 4.6 inside).
+ *
+ * Pipeline per frame (docs/sign-detection.md; Fusco et al. 2020, section 3, in
+ * ../shared/reference/paper.md):
+ *   1. validate the frame (bad frames are rejected with WF_ERR_BAD_FRAME or skipped with a positive
+ *      warning status, never a crash);
+ *   2. "unroll": rotate the raw camera image about the principal point by the camera roll so that the
+ *      horizon is horizontal (exact cv::rotate for multiples of 90 degrees, cv::warpAffine otherwise);
+ *   3. detect signs on the unrolled image, either with per-kind AdaBoost cascades (a rough box per
+ *      sign) or with a U-Net (coarse 224x224 pass, then a zoomed 224x224 pass per candidate);
+ *   4. measure each sign by vertical slices: median height, median bottom edge, centre column.
+ * Range and bearing are NOT computed here (LocalizerCore's RangeEstimator does that from the
+ * observation and the unrolled intrinsics).
+ *
+ * Conventions
+ *   - Pixel coordinates are pixel-centre based: pixel (column i, row j) covers [i-0.5, i+0.5] x
+ *     [j-0.5, j+0.5]; u right, v down. The same convention is used for the principal point.
+ *   - Roll (radians) is ARKit's Euler roll: 0 = landscape with the image top up, -pi/2 = portrait
+ *     (the traveler's posture; world up points to raw image -u). Pitch (radians) is positive looking up.
+ *   - "Unrolled" quantities live in the rotated image in which world-up is image-up (-v).
+ *
+ * Conventions of the ABI (libgit2 / sqlite style)
+ *   - Every function returns int: 0 = WF_OK, > 0 = a warning (the call did its job, see the status
+ *     list), < 0 = an error; wf_detector_last_error() then gives a message naming the problem.
+ *   - Opaque handles; every allocation has its free function; *_free(NULL) is a no-op.
+ *   - Options structs carry a version field; initialise them with the *_INIT macro or
+ *     wf_detector_options_init(). Zero in a numeric option field means "use the default" given in
+ *     its comment.
+ *   - No C++ exception crosses this boundary. A handle is not thread-safe: use one handle per thread
+ *     or serialise calls (the Swift wrapper serialises).
+ */
+#ifndef WF_SIGN_DETECTOR_H
+#define WF_SIGN_DETECTOR_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ---- Status codes ---------------------------------------------------------------------------- */
+
+/** Success. */
+#define WF_OK 0
+/** Warning: the frame was skipped (mean luma < 2: lens covered, phone in a pocket); 0 observations. */
+#define WF_SKIPPED_DARK_FRAME 1
+/** Warning: more signs were found than the output capacity; the highest-scoring ones were written. */
+#define WF_TRUNCATED 2
+/** Error: a NULL pointer or an out-of-range argument (message names it). */
+#define WF_ERR_INVALID_ARGUMENT (-1)
+/** Error: the options struct version is not supported by this library. */
+#define WF_ERR_VERSION (-2)
+/** Error: a model file (cascade XML, ONNX, classes.json) is missing or unreadable. */
+#define WF_ERR_MODEL_LOAD (-3)
+/** Error: the frame was rejected (empty, wrong size for its intrinsics, non-finite intrinsics/pitch/roll). */
+#define WF_ERR_BAD_FRAME (-4)
+/** Error: an image file could not be read or decoded (wf_image_read). */
+#define WF_ERR_IMAGE_READ (-5)
+/** Error: an unexpected internal failure (an OpenCV exception caught at the boundary). */
+#define WF_ERR_INTERNAL (-6)
+
+/* ---- Images ---------------------------------------------------------------------------------- */
+
+/** Pixel layout of an input image. */
+typedef enum wf_pixel_format {
+    /** 8-bit luma, 1 byte per pixel. */
+    WF_PIXEL_GRAY8 = 0,
+    /** 8-bit B, G, R, A (an iPhone kCVPixelFormatType_32BGRA buffer), 4 bytes per pixel. */
+    WF_PIXEL_BGRA8 = 1,
+    /** 8-bit R, G, B, 3 bytes per pixel. */
+    WF_PIXEL_RGB8 = 2,
+    /** Bi-planar 4:2:0 full-range YCbCr (ARKit's capturedImage,
+     *  kCVPixelFormatType_420YpCbCr8BiPlanarFullRange): `data` = Y plane (width x height), `data_uv` =
+     *  interleaved Cb, Cr plane ((width/2) x (height/2) pairs). `data_uv` may be NULL: the frame is then
+     *  processed as gray (enough for cascades; a U-Net sees R = G = B = Y). */
+    WF_PIXEL_NV12 = 3
+} wf_pixel_format;
+
+/** A borrowed view of caller-owned pixels; the detector never keeps the pointers after a call. */
+typedef struct wf_image {
+    /** First byte of the first row (for NV12: of the Y plane). */
+    const uint8_t *data;
+    /** Width and height in pixels (> 0). */
+    int width;
+    int height;
+    /** Bytes from one row to the next (>= width * bytes per pixel). */
+    size_t stride;
+    /** Layout of `data`. */
+    wf_pixel_format format;
+    /** NV12 only: first byte of the interleaved CbCr plane, or NULL; ignored for other formats. */
+    const uint8_t *data_uv;
+    /** NV12 only: bytes per CbCr row (>= 2 * ((width + 1) / 2)). */
+    size_t stride_uv;
+} wf_image;
+
+/** Pinhole intrinsics of the raw image, pixels (pixel-centre convention). */
+typedef struct wf_intrinsics {
+    double fx, fy, cx, cy;
+} wf_intrinsics;
+
+/** One camera frame: image, intrinsics, and the camera's gravity angles (radians). */
+typedef struct wf_frame {
+    wf_image image;
+    wf_intrinsics intrinsics;
+    /** Elevation of the optical axis above the horizon, radians, positive looking up (|pitch| < pi/2). */
+    double pitch_rad;
+    /** ARKit Euler roll, radians: 0 = landscape upright, -pi/2 = portrait. */
+    double roll_rad;
+} wf_frame;
+
+/** An image owned by the library (from wf_image_read); free with wf_owned_image_free. */
+typedef struct wf_owned_image {
+    /** Pixels, `height` rows of `stride` bytes, allocated by the library. */
+    uint8_t *data;
+    int width;
+    int height;
+    size_t stride;
+    /** WF_PIXEL_GRAY8, WF_PIXEL_RGB8 or WF_PIXEL_BGRA8, as requested. */
+    wf_pixel_format format;
+} wf_owned_image;
+
+/**
+ * Reads and decodes an image file (PNG, JPEG, BMP... anything cv::imread reads) into `*out`, converted
+ * to `format` (GRAY8, RGB8 or BGRA8; NV12 is not offered). On error `*out` is zeroed and the message is
+ * available from wf_thread_last_error(). The caller frees the pixels with wf_owned_image_free.
+ */
+int wf_image_read(wf_owned_image *out, const char *path, wf_pixel_format format);
+
+/** Frees the pixels of an image from wf_image_read and zeroes the struct; NULL is a no-op. */
+void wf_owned_image_free(wf_owned_image *image);
+
+/** Message of the last failed handle-less call (wf_image_read, wf_detector_create) on this thread;
+ *  "" if none. The string is owned by the library and valid until the next call on this thread. */
+const char *wf_thread_last_error(void);
+
+/* ---- Detector -------------------------------------------------------------------------------- */
+
+/** Which detector a handle runs. */
+typedef enum wf_detector_kind {
+    /** One AdaBoost cascade per sign kind (cv::CascadeClassifier::detectMultiScale); rough boxes. */
+    WF_DETECTOR_CASCADE = 0,
+    /** U-Net segmentation (cv::dnn, ONNX), coarse pass + zoomed pass per candidate; masks. */
+    WF_DETECTOR_UNET = 1
+} wf_detector_kind;
+
+/** Version of wf_detector_options understood by this header. */
+#define WF_DETECTOR_OPTIONS_VERSION 1
+
+/**
+ * Detector options. Initialise with WF_DETECTOR_OPTIONS_INIT (all defaults) and set what you need.
+ * Strings and arrays are borrowed only during wf_detector_create (they are copied).
+ */
+typedef struct wf_detector_options {
+    /** Must be WF_DETECTOR_OPTIONS_VERSION. */
+    unsigned int version;
+    /** Detector to run. */
+    wf_detector_kind kind;
+
+    /* Cascade detector: one cascade per sign kind. */
+    /** `cascade_count` paths of OpenCV cascade XML files. */
+    const char *const *cascade_paths;
+    /** `cascade_count` kind names ("exit", "restroom"...); NULL = every cascade is "exit". */
+    const char *const *cascade_kinds;
+    size_t cascade_count;
+    /** detectMultiScale scale step; 0 = 1.2. */
+    double cascade_scale_factor;
+    /** detectMultiScale minNeighbors; 0 = 3. The observation score of a cascade hit is its neighbour count. */
+    int cascade_min_neighbors;
+    /** Smallest search window, pixels; 0 = 36 x 24 (the reference app's setting). */
+    int cascade_min_window_width;
+    int cascade_min_window_height;
+    /** Largest window as a multiple of the smallest; 0 = no limit. */
+    double cascade_max_window_factor;
+
+    /* U-Net detector. */
+    /** Path of the ONNX model: input "image" 1x3xSxS float RGB in [0,1], output "logits" 1xKxSxS. */
+    const char *unet_path;
+    /** `class_count` class names, index 0 = background. If 0, "classes.json" next to the model is read
+     *  ({"classes":["background","exit",...]}); if that is absent the classes are "background",
+     *  "class1"... */
+    const char *const *class_names;
+    size_t class_count;
+    /** Network input side, pixels; 0 = 224. */
+    int unet_input_size;
+    /** Probability above which a pixel belongs to a class; 0 = 0.5. */
+    double unet_mask_threshold;
+    /** Crop side as a multiple of the coarse blob's larger side (unrolled pixels); 0 = 3.5. */
+    double unet_zoom_factor;
+    /** Smallest crop side in unrolled (original-resolution) pixels; 0 = 64. */
+    int unet_min_crop_px;
+    /** Smallest coarse blob, in network pixels; 0 = 3. */
+    int unet_min_blob_area_px;
+    /** At most this many coarse candidates are zoomed, largest first; 0 = 8. */
+    int unet_max_candidates;
+
+    /* Both. */
+    /** Observations scoring below this are dropped (cascade: neighbour count; U-Net: mean class
+     *  probability over the mask); 0 = keep all. */
+    double min_score;
+    /** Slices: 0 = every column of the middle band; N > 0 = N evenly spaced columns in it. */
+    int slice_count;
+    /** Fraction of the sign's width, centred, that slices sample; 0 = 0.6. */
+    double slice_band_fraction;
+    /** Rolls within this of a multiple of pi/2 are treated as that multiple (exact, fast cv::rotate);
+     *  0 = always rotate by the exact roll. Radians. */
+    double roll_snap_tolerance_rad;
+} wf_detector_options;
+
+/** All defaults (cascade detector, no models: set the paths). */
+#define WF_DETECTOR_OPTIONS_INIT { WF_DETECTOR_OPTIONS_VERSION }
+
+/** Fills `opts` with the defaults of `version` (like WF_DETECTOR_OPTIONS_INIT). */
+int wf_detector_options_init(wf_detector_options *opts, unsigned int version);
+
+/** Opaque detector handle (models loaded once). */
+typedef struct wf_detector wf_detector;
+
+/** Longest sign kind name, including the terminating NUL. */
+#define WF_KIND_NAME_CAPACITY 32
+
+/** One detected sign, measured on the unrolled image. */
+typedef struct wf_sign_observation {
+    /** Kind name ("exit"...), NUL-terminated. */
+    char kind[WF_KIND_NAME_CAPACITY];
+    /** Index of the kind: the cascade's index, or the U-Net class index (>= 1). */
+    int kind_index;
+    /** Confidence: cascade neighbour count, or U-Net mean class probability in [0, 1]. */
+    double score;
+    /** Bounding box in unrolled pixels: left edge, top edge, width, height (edges, pixel-centre
+     *  convention: a box covering columns i..i+w-1 has box_x = i - 0.5). */
+    double box_x, box_y, box_width, box_height;
+    /** Median over slices of the sign's bottom edge, unrolled v, pixels. */
+    double median_bottom_row_px;
+    /** Median over slices of the sign's apparent height (bottom edge - top edge), pixels. */
+    double median_height_px;
+    /** Unrolled u of the sign's centre column, pixels. */
+    double center_column_px;
+    /** Intrinsics of the unrolled image (principal point moved; fx/fy swapped for +-90 degrees). */
+    double unrolled_fx, unrolled_fy, unrolled_cx, unrolled_cy;
+    /** Size of the unrolled image, pixels. */
+    int unrolled_width, unrolled_height;
+    /** Number of slices the medians were taken over. */
+    int slice_count;
+    /** Roll actually removed, radians (differs from the frame's roll when snapped). */
+    double applied_roll_rad;
+    /** Affine map unrolled -> raw pixels, row-major 2x3: u = m[0] u' + m[1] v' + m[2],
+     *  v = m[3] u' + m[4] v' + m[5]. */
+    double unrolled_to_raw[6];
+} wf_sign_observation;
+
+/**
+ * Creates a detector and loads its models. On success `*out` owns a handle to free with
+ * wf_detector_free. On failure `*out` is NULL, the return value is negative and the message is
+ * available from wf_thread_last_error().
+ */
+int wf_detector_create(wf_detector **out, const wf_detector_options *opts);
+
+/** Frees a detector; NULL is a no-op. */
+void wf_detector_free(wf_detector *detector);
+
+/**
+ * Detects signs in one frame. Writes at most `capacity` observations, highest score first, to `out`
+ * (caller-owned) and their number to `*count_out`. Returns WF_OK, a warning (WF_SKIPPED_DARK_FRAME,
+ * WF_TRUNCATED) or an error; on error or skip `*count_out` is 0. `out` may be NULL when capacity is 0.
+ */
+int wf_detector_detect(wf_detector *detector, const wf_frame *frame, wf_sign_observation *out,
+                       size_t capacity, size_t *count_out);
+
+/** Message of the last non-zero status on this handle ("" if none); owned by the handle, valid until
+ *  its next call. NULL handle: same as wf_thread_last_error(). */
+const char *wf_detector_last_error(const wf_detector *detector);
+
+/** Number of sign kinds the detector reports (cascades, or U-Net classes without background). */
+size_t wf_detector_kind_count(const wf_detector *detector);
+
+/** Name of kind `index` (0-based among the reported kinds); NULL if out of range. Owned by the handle. */
+const char *wf_detector_kind_name(const wf_detector *detector, size_t index);
+
+/** Library version string, e.g. "1.0.0"; static storage. */
+const char *wf_sign_detector_version(void);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* WF_SIGN_DETECTOR_H */

@@ -1,0 +1,50 @@
+// Detector A: one AdaBoost cascade per sign kind (Viola-Jones as trained by opencv_traincascade; the
+// reference app's Exit-sign detector, Fusco et al. 2020 section 3 / [6]) run with
+// cv::CascadeClassifier::detectMultiScale on the unrolled gray frame. Gives a rough box per sign.
+#pragma once
+
+#include "detection.hpp"
+
+#include <opencv2/objdetect.hpp>
+
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace wf::sign {
+
+/// Search parameters shared by all cascades of a detector.
+struct CascadeParams {
+    /// Scale step between pyramid levels (the reference app: 1.2).
+    double scaleFactor = 1.2;
+    /// Raw hits that must agree for a detection (also its score).
+    int minNeighbors = 3;
+    /// Smallest window, pixels (the reference app: 36 x 24).
+    cv::Size minWindow{36, 24};
+    /// Largest window as a multiple of minWindow; 0 = unlimited.
+    double maxWindowFactor = 0;
+    /// How the box is sliced (a box gives the same height in every slice).
+    SliceParams slices;
+};
+
+/// A list of (kind, cascade) pairs. Not thread-safe (OpenCV's classifier keeps scratch state).
+class CascadeDetector {
+public:
+    /// Loads one cascade XML per kind. Returns false and sets `error` (naming the file) on failure.
+    bool load(const std::vector<std::string>& paths, const std::vector<std::string>& kinds, std::string* error);
+
+    /// Detects every kind on `grayUnrolled` (CV_8UC1). Detections carry box measurements in its pixels.
+    std::vector<Detection> detect(const cv::Mat& grayUnrolled, const CascadeParams& params);
+
+    /// Kind names, in load order.
+    const std::vector<std::string>& kinds() const { return kinds_; }
+
+    /// Window size the cascade of kind `index` was trained with (e.g. 24 x 16).
+    cv::Size trainedWindow(size_t index) const;
+
+private:
+    std::vector<std::string> kinds_;
+    std::vector<std::unique_ptr<cv::CascadeClassifier>> cascades_;
+};
+
+}  // namespace wf::sign

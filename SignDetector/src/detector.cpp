@@ -1,0 +1,194 @@
+#include "detector.hpp"
+
+#include <algorithm>
+#include <cstring>
+#include <fstream>
+
+namespace wf::sign {
+
+namespace {
+std::string directoryOf(const std::string& path) {
+    const size_t slash = path.find_last_of('/');
+    return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+}  // namespace
+
+int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOptions* out, std::string* error) {
+    if (opts.version != WF_DETECTOR_OPTIONS_VERSION) {
+        *error = "wf_detector_options version " + std::to_string(opts.version) + " is not supported (expected " +
+                 std::to_string(WF_DETECTOR_OPTIONS_VERSION) + ")";
+        return WF_ERR_VERSION;
+    }
+    ResolvedOptions r;
+    if (opts.kind != WF_DETECTOR_CASCADE && opts.kind != WF_DETECTOR_UNET) {
+        *error = "unknown detector kind " + std::to_string(static_cast<int>(opts.kind));
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    r.kind = opts.kind;
+    if (opts.cascade_count > 0 && opts.cascade_paths == nullptr) {
+        *error = "cascade_count is " + std::to_string(opts.cascade_count) + " but cascade_paths is NULL";
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    for (size_t i = 0; i < opts.cascade_count; ++i) {
+        if (opts.cascade_paths[i] == nullptr) {
+            *error = "cascade_paths[" + std::to_string(i) + "] is NULL";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        r.cascadePaths.emplace_back(opts.cascade_paths[i]);
+        std::string kind = opts.cascade_kinds && opts.cascade_kinds[i] ? opts.cascade_kinds[i] : "exit";
+        if (kind.empty() || kind.size() >= WF_KIND_NAME_CAPACITY) {
+            *error = "cascade kind name '" + kind + "' must have 1 to " + std::to_string(WF_KIND_NAME_CAPACITY - 1) +
+                     " characters";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        r.cascadeKinds.push_back(kind);
+    }
+    if (opts.unet_path) r.unetPath = opts.unet_path;
+    if (opts.class_count > 0 && opts.class_names == nullptr) {
+        *error = "class_count is " + std::to_string(opts.class_count) + " but class_names is NULL";
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    for (size_t i = 0; i < opts.class_count; ++i) {
+        if (opts.class_names[i] == nullptr || std::strlen(opts.class_names[i]) == 0 ||
+            std::strlen(opts.class_names[i]) >= WF_KIND_NAME_CAPACITY) {
+            *error = "class_names[" + std::to_string(i) + "] must have 1 to " +
+                     std::to_string(WF_KIND_NAME_CAPACITY - 1) + " characters";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        r.classNames.emplace_back(opts.class_names[i]);
+    }
+    if (opts.class_count == 1) {
+        *error = "class_names needs background plus at least one class";
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    auto positiveOr = [](double v, double d) { return v > 0 ? v : d; };
+    r.cascade.scaleFactor = positiveOr(opts.cascade_scale_factor, 1.2);
+    if (r.cascade.scaleFactor <= 1.0) {
+        *error = "cascade_scale_factor must be > 1";
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    r.cascade.minNeighbors = opts.cascade_min_neighbors > 0 ? opts.cascade_min_neighbors : 3;
+    r.cascade.minWindow = cv::Size(opts.cascade_min_window_width > 0 ? opts.cascade_min_window_width : 36,
+                                   opts.cascade_min_window_height > 0 ? opts.cascade_min_window_height : 24);
+    r.cascade.maxWindowFactor = positiveOr(opts.cascade_max_window_factor, 0);
+    r.unetInputSize = opts.unet_input_size > 0 ? opts.unet_input_size : 224;
+    r.unet.maskThreshold = positiveOr(opts.unet_mask_threshold, 0.5);
+    if (r.unet.maskThreshold >= 1.0) {
+        *error = "unet_mask_threshold must be in (0, 1)";
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    r.unet.zoomFactor = positiveOr(opts.unet_zoom_factor, 3.5);
+    r.unet.minCropPx = opts.unet_min_crop_px > 0 ? opts.unet_min_crop_px : 64;
+    r.unet.minBlobAreaPx = opts.unet_min_blob_area_px > 0 ? opts.unet_min_blob_area_px : 3;
+    r.unet.maxCandidates = opts.unet_max_candidates > 0 ? opts.unet_max_candidates : 8;
+    r.minScore = std::max(0.0, opts.min_score);
+    SliceParams slices;
+    slices.sliceCount = std::max(0, opts.slice_count);
+    slices.bandFraction = opts.slice_band_fraction > 0 && opts.slice_band_fraction <= 1 ? opts.slice_band_fraction : 0.6;
+    r.cascade.slices = slices;
+    r.unet.slices = slices;
+    r.rollSnapToleranceRad = std::max(0.0, opts.roll_snap_tolerance_rad);
+    *out = std::move(r);
+    return WF_OK;
+}
+
+int Detector::load(const ResolvedOptions& options, std::string* error) {
+    options_ = options;
+    kinds_.clear();
+    if (options_.kind == WF_DETECTOR_CASCADE) {
+        if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_ERR_MODEL_LOAD;
+        kinds_ = cascade_.kinds();
+        return WF_OK;
+    }
+    if (options_.unetPath.empty()) {
+        *error = "U-Net detector needs unet_path";
+        return WF_ERR_MODEL_LOAD;
+    }
+    std::vector<std::string> classes = options_.classNames;
+    if (classes.empty()) {
+        const std::string classesPath = directoryOf(options_.unetPath) + "/classes.json";
+        if (std::ifstream(classesPath).good() && !readClassList(classesPath, &classes, error)) return WF_ERR_MODEL_LOAD;
+    }
+    if (!unet_.load(options_.unetPath, classes, options_.unetInputSize, error)) return WF_ERR_MODEL_LOAD;
+    for (const auto& name : unet_.classNames()) {
+        if (name.size() >= WF_KIND_NAME_CAPACITY) {
+            *error = "class name '" + name + "' is longer than " + std::to_string(WF_KIND_NAME_CAPACITY - 1);
+            return WF_ERR_MODEL_LOAD;
+        }
+    }
+    kinds_.assign(unet_.classNames().begin() + 1, unet_.classNames().end());
+    return WF_OK;
+}
+
+wf_sign_observation makeObservation(const Detection& d, const Unrolling& unrolling) {
+    wf_sign_observation o;
+    std::memset(&o, 0, sizeof o);
+    std::strncpy(o.kind, d.kind.c_str(), WF_KIND_NAME_CAPACITY - 1);
+    o.kind_index = d.kindIndex;
+    o.score = d.score;
+    const SliceMeasurement& m = d.measurement;
+    o.box_x = m.box.x;
+    o.box_y = m.box.y;
+    o.box_width = m.box.width;
+    o.box_height = m.box.height;
+    o.median_bottom_row_px = m.medianBottomEdgePx;
+    o.median_height_px = m.medianHeightPx;
+    o.center_column_px = m.centerColumnPx;
+    const Intrinsics& k = unrolling.unrolledIntrinsics();
+    o.unrolled_fx = k.fx;
+    o.unrolled_fy = k.fy;
+    o.unrolled_cx = k.cx;
+    o.unrolled_cy = k.cy;
+    o.unrolled_width = unrolling.unrolledSize().width;
+    o.unrolled_height = unrolling.unrolledSize().height;
+    o.slice_count = m.sliceCount;
+    o.applied_roll_rad = unrolling.appliedRollRad();
+    const cv::Matx23d& a = unrolling.unrolledToRawMatrix();
+    for (int i = 0; i < 6; ++i) o.unrolled_to_raw[i] = a(i / 3, i % 3);
+    return o;
+}
+
+FrameResult Detector::detect(const wf_frame& frame) {
+    FrameResult result;
+    const FrameCheck check = checkFrame(frame);
+    if (!check.ok()) {
+        result.status = check.status;
+        result.message = check.message;
+        return result;
+    }
+    try {
+        const cv::Mat gray = toGray(frame.image);
+        const FrameCheck brightness = checkBrightness(gray);
+        if (!brightness.ok()) {
+            result.status = brightness.status;
+            result.message = brightness.message;
+            return result;
+        }
+        const Intrinsics k{frame.intrinsics.fx, frame.intrinsics.fy, frame.intrinsics.cx, frame.intrinsics.cy};
+        const Unrolling unrolling =
+            Unrolling::forRoll(frame.roll_rad, k, gray.size(), options_.rollSnapToleranceRad);
+        std::vector<Detection> detections;
+        if (options_.kind == WF_DETECTOR_CASCADE) {
+            detections = cascade_.detect(unrolling.apply(gray), options_.cascade);
+            detections = suppressOverlaps(std::move(detections), 0.5);
+        } else {
+            detections = unet_.detect(unrolling.apply(toRgb(frame.image)), options_.unet);
+        }
+        for (const auto& d : detections) {
+            if (d.score >= options_.minScore && d.measurement.valid) {
+                result.observations.push_back(makeObservation(d, unrolling));
+            }
+        }
+    } catch (const cv::Exception& e) {
+        result.status = WF_ERR_INTERNAL;
+        result.message = std::string("OpenCV error: ") + e.what();
+        result.observations.clear();
+    } catch (const std::exception& e) {
+        result.status = WF_ERR_INTERNAL;
+        result.message = std::string("internal error: ") + e.what();
+        result.observations.clear();
+    }
+    return result;
+}
+
+}  // namespace wf::sign

@@ -1,0 +1,48 @@
+// Conversion of caller-owned frames (wf_image: GRAY8, BGRA8, RGB8, NV12) into OpenCV matrices, and the
+// checks that reject bad frames before any processing.
+#pragma once
+
+#include "wf_sign_detector.h"
+
+#include <opencv2/core.hpp>
+
+#include <string>
+
+namespace wf::sign {
+
+/// Outcome of a frame check: a wf status code (WF_OK, WF_SKIPPED_DARK_FRAME or WF_ERR_BAD_FRAME /
+/// WF_ERR_INVALID_ARGUMENT) and a message naming the problem.
+struct FrameCheck {
+    int status = WF_OK;
+    std::string message;
+    bool ok() const { return status == WF_OK; }
+};
+
+/// Checks the image description alone: non-NULL data, positive size, stride large enough, known format,
+/// NV12 chroma stride. Does not read pixels.
+FrameCheck checkImage(const wf_image& image);
+
+/// Checks a whole frame: the image (checkImage), finite positive focal lengths, finite principal point
+/// inside the central half of the image in each axis (otherwise the intrinsics belong to another
+/// resolution), finite pitch with |pitch| < pi/2, finite roll.
+FrameCheck checkFrame(const wf_frame& frame);
+
+/// Mean luma under which a frame is skipped as dark (lens covered, phone in a pocket).
+constexpr double kDarkFrameMeanLuma = 2.0;
+
+/// Checks the gray image's mean (sampled every 4th pixel): WF_SKIPPED_DARK_FRAME when below
+/// kDarkFrameMeanLuma.
+FrameCheck checkBrightness(const cv::Mat& gray);
+
+/// Wraps (no copy) or converts the image to 8-bit gray: GRAY8 and NV12 (Y plane) are wrapped; BGRA8 and
+/// RGB8 are converted (ITU-R BT.601 luma, cv::cvtColor).
+cv::Mat toGray(const wf_image& image);
+
+/// Converts the image to a new 8-bit RGB matrix. NV12 uses full-range BT.601 (JPEG) coefficients, as ARKit
+/// delivers; NV12 without chroma and GRAY8 give R = G = B = luma.
+cv::Mat toRgb(const wf_image& image);
+
+/// Bytes per pixel of the first plane of `format`, or 0 if unknown.
+int bytesPerPixel(wf_pixel_format format);
+
+}  // namespace wf::sign

@@ -1,0 +1,112 @@
+// Tests of src/cascade_detector: loading errors, per-kind cascades, the reference cascade on a drawn sign.
+#include "cascade_detector.hpp"
+#include "synthetic_scene.hpp"
+#include "test_paths.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <fstream>
+
+using namespace wf::sign;
+using wf::sign::testing::referenceCascadePath;
+
+namespace {
+
+/// Upright VGA gray frame with an Exit sign (red letters on white) drawn straight ahead at `rangeMeters`.
+cv::Mat uprightSignFrame(double rangeMeters, synthetic::RenderedSign* truth) {
+    synthetic::Camera cam;
+    cam.rollRad = 0;
+    cam = cam.resized({640, 480});
+    cv::Mat bgr = synthetic::renderBackground(cam, 11);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = rangeMeters;
+    sign.bottomAboveCameraMeters = 0.3;
+    *truth = synthetic::drawSign(bgr, cam, sign);
+    cv::Mat gray;
+    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+    return gray;
+}
+
+}  // namespace
+
+TEST(CascadeDetector, MissingFileIsAnErrorNamingIt) {
+    CascadeDetector d;
+    std::string error;
+    EXPECT_FALSE(d.load({"/nonexistent/cascade.xml"}, {"exit"}, &error));
+    EXPECT_NE(error.find("/nonexistent/cascade.xml"), std::string::npos);
+    EXPECT_FALSE(d.load({}, {}, &error));
+}
+
+TEST(CascadeDetector, NonCascadeFileIsAnError) {
+    CascadeDetector d;
+    std::string error;
+    const std::string path = wf::sign::testing::testDataDir() + "/classes.json";
+    EXPECT_FALSE(d.load({path}, {"exit"}, &error));
+    EXPECT_NE(error.find("not an OpenCV cascade"), std::string::npos) << error;
+}
+
+TEST(CascadeDetector, ReferenceCascadeLoadsWithItsTrainedWindow) {
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {}, &error)) << error;
+    EXPECT_EQ(d.kinds(), std::vector<std::string>{"exit"});
+    EXPECT_EQ(d.trainedWindow(0), cv::Size(24, 16));
+}
+
+TEST(CascadeDetector, ReferenceCascadeRunsOnADrawnSign) {
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    synthetic::RenderedSign truth;
+    const cv::Mat gray = uprightSignFrame(2.5, &truth);
+    ASSERT_TRUE(truth.visible);
+    CascadeParams params;
+    params.minNeighbors = 1;
+    const std::vector<Detection> found = d.detect(gray, params);
+    // The reference cascade was trained on photographs; on this drawing it must at least run and every
+    // detection must be a valid, in-frame box measurement of kind "exit".
+    for (const auto& det : found) {
+        EXPECT_EQ(det.kind, "exit");
+        EXPECT_TRUE(det.measurement.valid);
+        EXPECT_GE(det.measurement.box.x, -0.5);
+        EXPECT_LE(det.measurement.box.x + det.measurement.box.width, gray.cols - 0.5);
+        EXPECT_GE(det.score, 1);
+    }
+    const cv::Rect2d truthBox = cv::boundingRect(std::vector<cv::Point2f>(truth.cornersRaw.begin(), truth.cornersRaw.end()));
+    int hits = 0;
+    for (const auto& det : found) hits += (det.measurement.box & truthBox).area() > 0;
+    RecordProperty("reference_cascade_detections", static_cast<int>(found.size()));
+    RecordProperty("reference_cascade_hits_on_sign", hits);
+}
+
+TEST(CascadeDetector, EveryKindHasItsOwnCascade) {
+    // Two kinds backed by the same file: each reports its own kind and index.
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath(), referenceCascadePath()}, {"exit", "restroom"}, &error)) << error;
+    synthetic::RenderedSign truth;
+    cv::Mat gray = uprightSignFrame(2.0, &truth);
+    CascadeParams params;
+    params.minNeighbors = 1;
+    const std::vector<Detection> found = d.detect(gray, params);
+    size_t exits = 0, restrooms = 0;
+    for (const auto& det : found) {
+        if (det.kind == "exit") {
+            EXPECT_EQ(det.kindIndex, 0);
+            ++exits;
+        } else {
+            EXPECT_EQ(det.kind, "restroom");
+            EXPECT_EQ(det.kindIndex, 1);
+            ++restrooms;
+        }
+    }
+    EXPECT_EQ(exits, restrooms);
+}
+
+TEST(CascadeDetector, BlankFrameGivesNothing) {
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    EXPECT_TRUE(d.detect(cv::Mat(480, 640, CV_8UC1, cv::Scalar(128)), CascadeParams{}).empty());
+}

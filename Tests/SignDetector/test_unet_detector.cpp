@@ -1,0 +1,160 @@
+// Tests of src/unet_detector with the tiny committed model (a red-pixel segmenter with the U-Net's
+// interface): loading, softmax, coarse candidates, zoomed refinement, range accuracy through the slices.
+#include "unet_detector.hpp"
+#include "range_formula.hpp"
+#include "synthetic_scene.hpp"
+#include "test_paths.hpp"
+#include "unroll.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+
+using namespace wf::sign;
+using wf::sign::testing::tinyUnetPath;
+
+namespace {
+
+UnetDetector loadTiny() {
+    UnetDetector d;
+    std::string error;
+    EXPECT_TRUE(d.load(tinyUnetPath(), {"background", "exit"}, 224, &error)) << error;
+    return d;
+}
+
+struct Scene {
+    synthetic::Camera camera;
+    synthetic::RenderedSign truth;
+    Unrolling unrolling;
+    cv::Mat rgbUnrolled;
+};
+
+/// A portrait 1920 x 1440 frame with a red-plate Exit sign at `rangeMeters`, unrolled.
+Scene portraitScene(double rangeMeters, double bearingRad, double pitchRad, uint32_t seed) {
+    Scene s;
+    s.camera.pitchRad = pitchRad;
+    cv::Mat bgr = synthetic::renderBackground(s.camera, seed);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = rangeMeters;
+    sign.bearingRad = bearingRad;
+    sign.style = synthetic::SignStyle::WhiteLettersOnRed;
+    s.truth = synthetic::drawSign(bgr, s.camera, sign);
+    s.unrolling = Unrolling::forRoll(s.camera.rollRad, {s.camera.fx, s.camera.fy, s.camera.cx, s.camera.cy}, bgr.size());
+    cv::Mat rgb;
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+    s.rgbUnrolled = s.unrolling.apply(rgb);
+    return s;
+}
+
+}  // namespace
+
+TEST(UnetDetector, LoadsTheModelAndItsClassList) {
+    UnetDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load(tinyUnetPath(), {}, 224, &error)) << error;
+    EXPECT_EQ(d.classNames(), (std::vector<std::string>{"background", "class1"}));
+    std::vector<std::string> classes;
+    ASSERT_TRUE(readClassList(wf::sign::testing::testDataDir() + "/classes.json", &classes, &error)) << error;
+    EXPECT_EQ(classes, (std::vector<std::string>{"background", "exit"}));
+}
+
+TEST(UnetDetector, LoadErrorsNameTheProblem) {
+    UnetDetector d;
+    std::string error;
+    EXPECT_FALSE(d.load("/nonexistent/sign_unet.onnx", {}, 224, &error));
+    EXPECT_NE(error.find("/nonexistent/sign_unet.onnx"), std::string::npos);
+    EXPECT_FALSE(d.load(tinyUnetPath(), {"background", "exit", "restroom"}, 224, &error));
+    EXPECT_NE(error.find("outputs 2 classes"), std::string::npos) << error;
+    EXPECT_FALSE(d.load(wf::sign::testing::testDataDir() + "/classes.json", {}, 224, &error));
+    std::vector<std::string> classes;
+    EXPECT_FALSE(readClassList("/nonexistent/classes.json", &classes, &error));
+}
+
+TEST(UnetDetector, ProbabilitiesAreASoftmaxOverClasses) {
+    UnetDetector d = loadTiny();
+    cv::Mat rgb(224, 224, CV_8UC3, cv::Scalar(235, 235, 235));
+    rgb(cv::Rect(100, 100, 20, 10)).setTo(cv::Scalar(220, 20, 20));  // red in RGB order
+    const std::vector<cv::Mat> p = d.probabilities(rgb);
+    ASSERT_EQ(p.size(), 2u);
+    cv::Mat sum = p[0] + p[1];
+    double lo, hi;
+    cv::minMaxLoc(sum, &lo, &hi);
+    EXPECT_NEAR(lo, 1.0, 1e-5);
+    EXPECT_NEAR(hi, 1.0, 1e-5);
+    EXPECT_GT(p[1].at<float>(105, 110), 0.99f);
+    EXPECT_LT(p[1].at<float>(50, 50), 0.01f);
+}
+
+TEST(UnetDetector, CoarseCandidateMapsBackToTheSign) {
+    UnetDetector d = loadTiny();
+    const Scene s = portraitScene(4.0, 0.1, 0.05, 5);
+    ASSERT_TRUE(s.truth.visible);
+    const std::vector<UnetCandidate> c = d.coarseCandidates(s.rgbUnrolled, UnetParams{});
+    ASSERT_EQ(c.size(), 1u);
+    EXPECT_EQ(c[0].classIndex, 1);
+    // The truth box in unrolled pixels; the coarse box agrees within two network pixels (~17 px).
+    double minX = 1e9, maxX = -1e9, minY = 1e9, maxY = -1e9;
+    for (const auto& p : s.truth.cornersRaw) {
+        const cv::Point2d q = s.unrolling.rawToUnrolled(p);
+        minX = std::min(minX, q.x); maxX = std::max(maxX, q.x);
+        minY = std::min(minY, q.y); maxY = std::max(maxY, q.y);
+    }
+    const cv::Rect2d truthBox(minX, minY, maxX - minX, maxY - minY);
+    EXPECT_NEAR(c[0].boxInUnrolled.x, truthBox.x, 18);
+    EXPECT_NEAR(c[0].boxInUnrolled.y + c[0].boxInUnrolled.height, truthBox.y + truthBox.height, 18);
+}
+
+class UnetRange : public ::testing::TestWithParam<double> {};
+
+TEST_P(UnetRange, ZoomedMaskGivesRangeWithinThreePercent) {
+    const double rangeMeters = GetParam();
+    const double pitch = 0.08;
+    UnetDetector d = loadTiny();
+    const Scene s = portraitScene(rangeMeters, 0.0, pitch, 17);
+    ASSERT_TRUE(s.truth.visible);
+    const std::vector<Detection> found = d.detect(s.rgbUnrolled, UnetParams{});
+    ASSERT_EQ(found.size(), 1u) << "range " << rangeMeters;
+    const Detection& det = found[0];
+    EXPECT_EQ(det.kind, "exit");
+    EXPECT_GT(det.score, 0.8);
+    const Intrinsics& k = s.unrolling.unrolledIntrinsics();
+    // Truth: the sign straight ahead, so its centre column is the principal column.
+    EXPECT_NEAR(det.measurement.centerColumnPx, k.cx, 2.0);
+    const double z = rangeFromApparentHeight(0.21, det.measurement.medianBottomEdgePx, det.measurement.medianHeightPx,
+                                             k.fy, k.cy, pitch);
+    EXPECT_NEAR(z, rangeMeters, 0.03 * rangeMeters) << "height " << det.measurement.medianHeightPx;
+}
+
+INSTANTIATE_TEST_SUITE_P(Ranges, UnetRange, ::testing::Values(2.0, 4.0, 6.0, 9.0));
+
+TEST(UnetDetector, SignFreeFrameGivesNothing) {
+    UnetDetector d = loadTiny();
+    synthetic::Camera cam;
+    cv::Mat rgb;
+    cv::cvtColor(synthetic::renderBackground(cam, 3), rgb, cv::COLOR_BGR2RGB);
+    EXPECT_TRUE(d.detect(rgb, UnetParams{}).empty());
+}
+
+TEST(UnetDetector, TwoSignsGiveTwoDetections) {
+    UnetDetector d = loadTiny();
+    synthetic::Camera cam;
+    cam.rollRad = 0;
+    cv::Mat bgr = synthetic::renderBackground(cam, 9);
+    synthetic::SignPlacement a, b;
+    a.style = b.style = synthetic::SignStyle::WhiteLettersOnRed;
+    a.rangeMeters = 3;
+    a.bearingRad = 0.3;
+    b.rangeMeters = 5;
+    b.bearingRad = -0.3;
+    ASSERT_TRUE(synthetic::drawSign(bgr, cam, a).visible);
+    ASSERT_TRUE(synthetic::drawSign(bgr, cam, b).visible);
+    cv::Mat rgb;
+    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+    const std::vector<Detection> found = d.detect(rgb, UnetParams{});
+    ASSERT_EQ(found.size(), 2u);
+    // The nearer sign (left, bearing +0.3 => smaller u) is the taller one.
+    const Detection& left = found[0].measurement.centerColumnPx < found[1].measurement.centerColumnPx ? found[0] : found[1];
+    const Detection& right = &left == &found[0] ? found[1] : found[0];
+    EXPECT_GT(left.measurement.medianHeightPx, right.measurement.medianHeightPx * 1.5);
+}

@@ -1,0 +1,272 @@
+// Tests of the C ABI (src/wf_sign_detector.cpp): options, handle lifetime, status codes and messages,
+// pixel formats end to end, capacity handling, image reading.
+#include "wf_sign_detector.h"
+
+#include "synthetic_scene.hpp"
+#include "test_paths.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <vector>
+
+using namespace wf::sign;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+wf_detector* makeUnet() {
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.kind = WF_DETECTOR_UNET;
+    const std::string path = wf::sign::testing::tinyUnetPath();
+    opts.unet_path = path.c_str();
+    wf_detector* d = nullptr;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    return d;
+}
+
+/// A portrait 1920 x 1440 BGR frame with a red-plate sign 3 m ahead.
+struct PortraitFrame {
+    synthetic::Camera camera;
+    synthetic::RenderedSign truth;
+    cv::Mat bgr;
+};
+
+PortraitFrame portraitFrame() {
+    PortraitFrame f;
+    f.camera.pitchRad = 0.1;
+    f.camera.rollRad = -kPi / 2;
+    f.bgr = synthetic::renderBackground(f.camera, 21);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = 3;
+    sign.bearingRad = 0.15;
+    sign.style = synthetic::SignStyle::WhiteLettersOnRed;
+    f.truth = synthetic::drawSign(f.bgr, f.camera, sign);
+    return f;
+}
+
+wf_frame frameOf(const PortraitFrame& f, const wf_image& image) {
+    wf_frame frame{};
+    frame.image = image;
+    frame.intrinsics = wf_intrinsics{f.camera.fx, f.camera.fy, f.camera.cx, f.camera.cy};
+    frame.pitch_rad = f.camera.pitchRad;
+    frame.roll_rad = f.camera.rollRad;
+    return frame;
+}
+
+/// Full-range BT.601 NV12 planes of a BGR image (the inverse of the detector's conversion).
+void toNv12(const cv::Mat& bgr, std::vector<uint8_t>* y, std::vector<uint8_t>* uv) {
+    const int w = bgr.cols, h = bgr.rows;
+    y->resize(size_t(w) * h);
+    uv->resize(size_t(w) * (h / 2));
+    for (int r = 0; r < h; ++r)
+        for (int c = 0; c < w; ++c) {
+            const cv::Vec3b p = bgr.at<cv::Vec3b>(r, c);
+            (*y)[size_t(r) * w + c] = cv::saturate_cast<uchar>(0.299 * p[2] + 0.587 * p[1] + 0.114 * p[0]);
+        }
+    for (int r = 0; r < h / 2; ++r)
+        for (int c = 0; c < w / 2; ++c) {
+            const cv::Vec3b p = bgr.at<cv::Vec3b>(2 * r, 2 * c);
+            const double luma = 0.299 * p[2] + 0.587 * p[1] + 0.114 * p[0];
+            (*uv)[size_t(r) * w + 2 * c] = cv::saturate_cast<uchar>(128 + (p[0] - luma) / 1.772);
+            (*uv)[size_t(r) * w + 2 * c + 1] = cv::saturate_cast<uchar>(128 + (p[2] - luma) / 1.402);
+        }
+}
+
+}  // namespace
+
+TEST(CApi, OptionsInitAndVersion) {
+    wf_detector_options opts;
+    EXPECT_EQ(wf_detector_options_init(&opts, WF_DETECTOR_OPTIONS_VERSION), WF_OK);
+    EXPECT_EQ(opts.version, unsigned(WF_DETECTOR_OPTIONS_VERSION));
+    EXPECT_EQ(opts.cascade_count, 0u);
+    EXPECT_EQ(wf_detector_options_init(&opts, 99), WF_ERR_VERSION);
+    EXPECT_EQ(wf_detector_options_init(nullptr, WF_DETECTOR_OPTIONS_VERSION), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_STRNE(wf_sign_detector_version(), "");
+}
+
+TEST(CApi, CreateErrorsLeaveNoHandleAndAMessage) {
+    wf_detector* d = reinterpret_cast<wf_detector*>(0x1);
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    EXPECT_EQ(wf_detector_create(&d, nullptr), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(d, nullptr);
+    EXPECT_EQ(wf_detector_create(nullptr, &opts), WF_ERR_INVALID_ARGUMENT);
+    opts.version = 7;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_VERSION);
+    opts.version = WF_DETECTOR_OPTIONS_VERSION;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);  // cascade with no path
+    const char* missing = "/nonexistent/exit.xml";
+    opts.cascade_paths = &missing;
+    opts.cascade_count = 1;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);
+    EXPECT_NE(std::string(wf_thread_last_error()).find(missing), std::string::npos);
+    EXPECT_EQ(d, nullptr);
+    opts.kind = WF_DETECTOR_UNET;
+    opts.unet_path = "/nonexistent/sign_unet.onnx";
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);
+    EXPECT_NE(std::string(wf_detector_last_error(nullptr)).find("sign_unet.onnx"), std::string::npos);
+    wf_detector_free(nullptr);  // no-op
+}
+
+TEST(CApi, CascadeHandleReportsItsKinds) {
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    const std::string path = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {path.c_str(), path.c_str()};
+    const char* kinds[] = {"exit", "restroom"};
+    opts.cascade_paths = paths;
+    opts.cascade_kinds = kinds;
+    opts.cascade_count = 2;
+    wf_detector* d = nullptr;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    EXPECT_EQ(wf_detector_kind_count(d), 2u);
+    EXPECT_STREQ(wf_detector_kind_name(d, 1), "restroom");
+    EXPECT_EQ(wf_detector_kind_name(d, 2), nullptr);
+    wf_detector_free(d);
+}
+
+TEST(CApi, UnetReadsClassesJsonNextToTheModel) {
+    wf_detector* d = makeUnet();
+    ASSERT_NE(d, nullptr);
+    EXPECT_EQ(wf_detector_kind_count(d), 1u);
+    EXPECT_STREQ(wf_detector_kind_name(d, 0), "exit");
+    wf_detector_free(d);
+}
+
+TEST(CApi, BadFramesAreRejectedWithAMessage) {
+    wf_detector* d = makeUnet();
+    ASSERT_NE(d, nullptr);
+    std::vector<uint8_t> pixels(640 * 480, 100);
+    wf_frame good{};
+    good.image = wf_image{pixels.data(), 640, 480, 640, WF_PIXEL_GRAY8, nullptr, 0};
+    good.intrinsics = wf_intrinsics{534, 534, 319.5, 239.5};
+    good.roll_rad = -kPi / 2;
+    wf_sign_observation obs[4];
+    size_t count = 99;
+    EXPECT_EQ(wf_detector_detect(d, &good, obs, 4, &count), WF_OK) << wf_detector_last_error(d);
+    EXPECT_EQ(count, 0u);
+
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    struct Case {
+        const char* name;
+        void (*mutate)(wf_frame&);
+        int status;
+        const char* fragment;
+    };
+    const Case cases[] = {
+        {"empty", [](wf_frame& f) { f.image.data = nullptr; }, WF_ERR_BAD_FRAME, "empty"},
+        {"zero size", [](wf_frame& f) { f.image.height = 0; }, WF_ERR_BAD_FRAME, "empty"},
+        {"wrong size", [](wf_frame& f) { f.intrinsics = {1602, 1602, 959.5, 719.5}; }, WF_ERR_BAD_FRAME, "resolution"},
+        {"nan fx", [](wf_frame& f) { f.intrinsics.fx = std::numeric_limits<double>::quiet_NaN(); }, WF_ERR_BAD_FRAME, "intrinsics"},
+        {"nan pitch", [](wf_frame& f) { f.pitch_rad = std::numeric_limits<double>::quiet_NaN(); }, WF_ERR_BAD_FRAME, "pitch"},
+        {"nan roll", [](wf_frame& f) { f.roll_rad = std::numeric_limits<double>::quiet_NaN(); }, WF_ERR_BAD_FRAME, "roll"},
+    };
+    (void)nan;
+    for (const Case& c : cases) {
+        wf_frame f = good;
+        c.mutate(f);
+        count = 99;
+        EXPECT_EQ(wf_detector_detect(d, &f, obs, 4, &count), c.status) << c.name;
+        EXPECT_EQ(count, 0u) << c.name;
+        EXPECT_NE(std::string(wf_detector_last_error(d)).find(c.fragment), std::string::npos)
+            << c.name << ": " << wf_detector_last_error(d);
+    }
+    std::vector<uint8_t> black(640 * 480, 0);
+    wf_frame dark = good;
+    dark.image.data = black.data();
+    EXPECT_EQ(wf_detector_detect(d, &dark, obs, 4, &count), WF_SKIPPED_DARK_FRAME);
+    EXPECT_NE(std::string(wf_detector_last_error(d)).find("mean luma"), std::string::npos);
+    EXPECT_EQ(wf_detector_detect(d, nullptr, obs, 4, &count), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_detect(d, &good, nullptr, 4, &count), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_detect(d, &good, obs, 4, nullptr), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_detect(nullptr, &good, obs, 4, &count), WF_ERR_INVALID_ARGUMENT);
+    wf_detector_free(d);
+}
+
+TEST(CApi, EveryPixelFormatFindsThePortraitSign) {
+    wf_detector* d = makeUnet();
+    ASSERT_NE(d, nullptr);
+    const PortraitFrame f = portraitFrame();
+    ASSERT_TRUE(f.truth.visible);
+    cv::Mat rgb, bgra;
+    cv::cvtColor(f.bgr, rgb, cv::COLOR_BGR2RGB);
+    cv::cvtColor(f.bgr, bgra, cv::COLOR_BGR2BGRA);
+    std::vector<uint8_t> y, uv;
+    toNv12(f.bgr, &y, &uv);
+    const wf_image images[] = {
+        {rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0},
+        {bgra.data, bgra.cols, bgra.rows, bgra.step, WF_PIXEL_BGRA8, nullptr, 0},
+        {y.data(), f.bgr.cols, f.bgr.rows, size_t(f.bgr.cols), WF_PIXEL_NV12, uv.data(), size_t(f.bgr.cols)},
+    };
+    cv::Point2d truthCentre(0, 0);
+    for (const auto& p : f.truth.cornersRaw) truthCentre += 0.25 * p;
+    for (const wf_image& image : images) {
+        const wf_frame frame = frameOf(f, image);
+        wf_sign_observation obs[4];
+        size_t count = 0;
+        ASSERT_EQ(wf_detector_detect(d, &frame, obs, 4, &count), WF_OK) << wf_detector_last_error(d);
+        ASSERT_EQ(count, 1u) << "format " << image.format;
+        const wf_sign_observation& o = obs[0];
+        EXPECT_STREQ(o.kind, "exit");
+        EXPECT_EQ(o.kind_index, 1);
+        EXPECT_EQ(o.unrolled_width, 1440);
+        EXPECT_EQ(o.unrolled_height, 1920);
+        EXPECT_DOUBLE_EQ(o.unrolled_fx, f.camera.fy);
+        EXPECT_DOUBLE_EQ(o.unrolled_cx, 1440 - 1 - f.camera.cy);
+        EXPECT_DOUBLE_EQ(o.unrolled_cy, f.camera.cx);
+        EXPECT_DOUBLE_EQ(o.applied_roll_rad, -kPi / 2);
+        // The observation's centre mapped back to raw pixels lands on the drawn sign's centre.
+        const double uc = o.center_column_px, vc = o.median_bottom_row_px - 0.5 * o.median_height_px;
+        const double* m = o.unrolled_to_raw;
+        EXPECT_NEAR(m[0] * uc + m[1] * vc + m[2], truthCentre.x, 3.0);
+        EXPECT_NEAR(m[3] * uc + m[4] * vc + m[5], truthCentre.y, 3.0);
+        // Apparent height: the drawn sign's left and right edges (raw pixels; a quarter turn keeps lengths).
+        const double truthHeight = 0.5 * (cv::norm(f.truth.cornersRaw[3] - f.truth.cornersRaw[0]) +
+                                          cv::norm(f.truth.cornersRaw[2] - f.truth.cornersRaw[1]));
+        EXPECT_NEAR(o.median_height_px, truthHeight, 3.0);
+        EXPECT_GT(o.slice_count, 30);  // slices are network-mask columns of the zoomed crop
+    }
+    wf_detector_free(d);
+}
+
+TEST(CApi, CapacityTooSmallTruncates) {
+    wf_detector* d = makeUnet();
+    ASSERT_NE(d, nullptr);
+    const PortraitFrame f = portraitFrame();
+    cv::Mat rgb;
+    cv::cvtColor(f.bgr, rgb, cv::COLOR_BGR2RGB);
+    const wf_frame frame = frameOf(f, {rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0});
+    size_t count = 5;
+    EXPECT_EQ(wf_detector_detect(d, &frame, nullptr, 0, &count), WF_TRUNCATED);
+    EXPECT_EQ(count, 0u);
+    EXPECT_NE(std::string(wf_detector_last_error(d)).find("capacity"), std::string::npos);
+    wf_detector_free(d);
+}
+
+TEST(CApi, ImageReadDecodesFilesAndNamesMissingOnes) {
+    const std::string path = ::testing::TempDir() + "wf_image_read_test.png";
+    cv::Mat bgr(3, 5, CV_8UC3, cv::Scalar(10, 20, 30));
+    ASSERT_TRUE(cv::imwrite(path, bgr));
+    wf_owned_image image;
+    ASSERT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_RGB8), WF_OK) << wf_thread_last_error();
+    EXPECT_EQ(image.width, 5);
+    EXPECT_EQ(image.height, 3);
+    EXPECT_EQ(image.stride, 15u);
+    EXPECT_EQ(image.data[0], 30);  // R first
+    EXPECT_EQ(image.data[2], 10);
+    wf_owned_image_free(&image);
+    EXPECT_EQ(image.data, nullptr);
+    wf_owned_image_free(nullptr);
+    ASSERT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_GRAY8), WF_OK);
+    EXPECT_EQ(image.stride, 5u);
+    wf_owned_image_free(&image);
+    EXPECT_EQ(wf_image_read(&image, "/nonexistent/frame.png", WF_PIXEL_RGB8), WF_ERR_IMAGE_READ);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("/nonexistent/frame.png"), std::string::npos);
+    EXPECT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_NV12), WF_ERR_INVALID_ARGUMENT);
+    std::remove(path.c_str());
+}
