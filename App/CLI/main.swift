@@ -8,6 +8,7 @@ enum Subcommands {
         ReplayCommand.self,
         EvalCommand.self,
         RenderCommand.self,
+        SimulateCommand.self,
     ]
 }
 

@@ -52,6 +52,7 @@ struct WalkerModel {
         let p = parameters
         var states: [BodyState] = []
         var t = 0.0
+        _ = t
         var heading = startHeading
         var stepPhase = 0.0
         let preferred = rng.uniform(p.preferredSpeedRange.lowerBound, p.preferredSpeedRange.upperBound)
@@ -62,10 +63,10 @@ struct WalkerModel {
         var lastPosition: Point2?
 
         func emit(_ floorId: String, _ pos: Point2, _ elev: Double, _ v: Double, _ phase: WalkPhase) {
+            t = Double(states.count) * dt   // from the frame index: no accumulated rounding
             states.append(BodyState(t: t, floorId: floorId, position: pos, floorElevation: elev, headingRad: heading,
                                     speed: v, stepPhaseRad: stepPhase, phase: phase))
             lastPosition = pos
-            t += dt
         }
         func turnTowards(_ target: Double) -> Double {
             let err = wrapAngle(target - heading)
