@@ -208,6 +208,12 @@ enum MapDocumentDecoder {
                             mountingHeightMeters: try s.optionalNumber("mountingHeightMeters"),
                             doubleSided: try s.bool("doubleSided", default: false))
             sign.positionAdjustmentMeters = try s.optionalNumber("positionAdjustmentMeters")
+            if let t = try s.optionalString("placement") {
+                guard let pl = SignPlacement(rawValue: t) else {
+                    throw PathError(path: "\(p).placement", reason: "unknown sign placement \"\(t)\" (expected wall or projecting)")
+                }
+                sign.placement = pl
+            }
             try s.rejectUnknownMembers()
             return sign
         }

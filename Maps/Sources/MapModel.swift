@@ -129,12 +129,26 @@ public struct Sign: Codable, Hashable, Sendable {
     /// How far an importer moved the surveyed position to put the sign on its wall, meters; nil when the
     /// position was not adjusted (hand-made maps). Informational: the localizer uses `position` only.
     public var positionAdjustmentMeters: Double? = nil
+    /// How the sign is mounted: flat on a wall (the default) or projecting into the corridor (flag mount,
+    /// ceiling-hung). Sets how far from a wall `MapValidator` lets `position` be.
+    public var placement: SignPlacement = .wall
     /// Creates a sign.
     public init(id: String, kind: String, position: Point2, facing: Point2, widthMeters: Double, heightMeters: Double,
                 mountingHeightMeters: Double? = nil, doubleSided: Bool = false) {
         self.id = id; self.kind = kind; self.position = position; self.facing = facing; self.widthMeters = widthMeters
         self.heightMeters = heightMeters; self.mountingHeightMeters = mountingHeightMeters; self.doubleSided = doubleSided
     }
+}
+
+/// How a sign is mounted. JSON: "wall" (default when absent) or "projecting".
+public enum SignPlacement: String, Codable, Sendable {
+    /// Flat on a wall face: `position` lies within `MapValidator.maximumSignDistanceFromWallMeters` (0.3 m)
+    /// of a wall segment, `facing` points away from that wall.
+    case wall
+    /// Projecting into the space: a flag sign perpendicular to its wall or a sign hung from the ceiling over
+    /// a corridor; `position` is the face centre in the open, within
+    /// `MapValidator.maximumProjectingSignDistanceFromWallMeters` (1.5 m) of a wall.
+    case projecting
 }
 
 /// A labelled place (room, restroom, elevator lobby...).

@@ -6,6 +6,8 @@
 public enum MapValidator {
     /// A sign must be within this distance of some wall segment, meters.
     public static let maximumSignDistanceFromWallMeters = 0.3
+    /// A projecting (flag or ceiling-hung) sign must be within this distance of some wall segment, meters.
+    public static let maximumProjectingSignDistanceFromWallMeters = 1.5
     /// Walls shorter than this are degenerate, meters.
     public static let minimumWallLengthMeters = 0.001
     /// A sign's facing must have length 1 within this tolerance.
@@ -120,8 +122,13 @@ public enum MapValidator {
                     try checkNumber(a, sp + ".positionAdjustmentMeters", range: 0...maximumCoordinateMeters, what: "position adjustment (meters)")
                 }
                 let nearest = f.nearestWall(to: s.position)?.distanceMeters ?? .infinity
-                if nearest > maximumSignDistanceFromWallMeters {
-                    throw fail(sp + ".position", "sign \"\(s.id)\" is not on a wall: the nearest wall is \(fmt(nearest)) m away (at most \(maximumSignDistanceFromWallMeters) m allowed)")
+                switch s.placement {
+                case .wall where nearest > maximumSignDistanceFromWallMeters:
+                    throw fail(sp + ".position", "sign \"\(s.id)\" is not on a wall: the nearest wall is \(fmt(nearest)) m away (at most \(maximumSignDistanceFromWallMeters) m allowed for a wall sign)")
+                case .projecting where nearest > maximumProjectingSignDistanceFromWallMeters:
+                    throw fail(sp + ".position", "projecting sign \"\(s.id)\" is not near a wall: the nearest wall is \(fmt(nearest)) m away (at most \(maximumProjectingSignDistanceFromWallMeters) m allowed)")
+                default:
+                    break
                 }
             }
             for (pi, p) in f.pointsOfInterest.enumerated() {

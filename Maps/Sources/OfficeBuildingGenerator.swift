@@ -119,10 +119,13 @@ private final class FloorBuilder {
     }
 
     func exitSign(_ id: String, at p: Point2, facing: Point2, doubleSided: Bool = false) {
-        signs.append(Sign(id: "exit-\(tag)-\(id)", kind: "exit", position: p, facing: facing,
+        var sign = Sign(id: "exit-\(tag)-\(id)", kind: "exit", position: p, facing: facing,
                           widthMeters: OfficeBuildingGenerator.exitSignWidthMeters,
                           heightMeters: OfficeBuildingGenerator.exitSignHeightMeters,
-                          mountingHeightMeters: OfficeBuildingGenerator.exitSignMountingHeightMeters, doubleSided: doubleSided))
+                          mountingHeightMeters: OfficeBuildingGenerator.exitSignMountingHeightMeters, doubleSided: doubleSided)
+        // A double-sided sign here is a flag sign sticking out of its wall.
+        if doubleSided { sign.placement = .projecting }
+        signs.append(sign)
     }
 
     // MARK: floor

@@ -6,7 +6,7 @@ import XCTest
 final class BundledMapsTests: XCTestCase {
     /// Path of the committed JSON in the source tree (found from this file's path).
     static var sourceFileURL: URL {
-        URL(fileURLWithPath: #filePath).deletingLastPathComponent().deletingLastPathComponent().deletingLastPathComponent()
+        URL(fileURLWithPath: #filePath).resolvingSymlinksInPath().deletingLastPathComponent().deletingLastPathComponent().deletingLastPathComponent()
             .appendingPathComponent("Maps/Buildings/wayfinder-office.json")
     }
 
