@@ -184,19 +184,31 @@ typedef struct wf_range_slice_measurement {
     double median_height_px;
     /** The sign's centre column, unrolled pixels (midpoint of the columns' extent). */
     double center_column_px;
+    /** Slope dv/du of the bottom edge in the unrolled image (robust: median of slopes between column pairs
+     * half the extent apart). 0 = level, the assumption when unknown. */
+    double bottom_edge_slope;
+    /** Slope dv/du of the top edge, as bottom_edge_slope. */
+    double top_edge_slope;
+    /** Width of the columns' extent (max - min column), pixels; 0 = unknown. With the slopes it locates the
+     * image of the sign's centre line, off the extent's middle for a sign not facing the camera (the nearer
+     * half looks wider): from the heights h_l, h_r of the edge lines at the extent's ends, the centre column
+     * is left + width * h_l / (h_l + h_r). */
+    double extent_width_px;
 } wf_range_slice_measurement;
 
 /** How a slice measurement becomes two elevations. */
 typedef enum wf_range_slice_model {
-    /** Elevations of the rays through the bottom point (center column, bottom row) and the top point at
-     * row bottom - height on the image of the world vertical through the bottom point (world verticals
-     * converge to (cx, cy - fy / tan(pitch)) in the unrolled image). Equals the paper's formula at the
-     * centre column, and also corrects off-axis signs, where the planar formula gives the depth along the
-     * optical axis (about range * cos(bearing)) and the column's top point lies beside the sign's centre
-     * line. The default. */
+    /** Elevations of two points of one world vertical: the bottom point B on the bottom edge line (median
+     * bottom row at the extent's middle, slope bottom_edge_slope) at the sign's centre column (see
+     * extent_width_px), and the top point where the image of the world vertical through B (world verticals converge to
+     * (cx, cy - fy / tan(pitch)) in the unrolled image) meets the top edge (the line of slope
+     * top_edge_slope through (center column, median bottom row - median height)). Equals the paper's formula at the centre
+     * column of a level sign; off-axis it also corrects what the planar formula gets wrong: that it gives
+     * the depth in the optical axis's vertical plane (about range * cos(bearing)), and that under pitch the
+     * column's top point is not above its bottom point in the world. The default. */
     WF_RANGE_SLICE_MODEL_RAY_ELEVATION = 0,
     /** The paper's equation (3) verbatim: alpha = atan((cy - v_bottom) / fy), alpha + delta =
-     * atan((cy - v_top) / fy), the column ignored for the range. */
+     * atan((cy - v_top) / fy), the column and slopes ignored for the range. */
     WF_RANGE_SLICE_MODEL_PAPER_PLANAR = 1
 } wf_range_slice_model;
 
@@ -214,8 +226,10 @@ int wf_range_apparent_height_slices(wf_range_result *out, const wf_range_unrolle
                                     wf_range_slice_model model);
 
 /** Slice medians from per-column edges of a segmentation in the unrolled image: column_u[i], top_row[i]
- * and bottom_row[i] (continuous edge rows, top < bottom) for count >= 1 columns. The centre column is the
- * midpoint of min and max column_u. Columns with a non-finite value are an error. */
+ * and bottom_row[i] (continuous edge rows, top < bottom) for count >= 1 columns, in increasing column
+ * order. The centre column is the midpoint of min and max column_u, the extent width max - min; the edge
+ * slopes are the medians of the slopes between columns i and i + count / 2 (0 for a single column).
+ * Non-finite values are an error. */
 int wf_range_slice_measurement_from_columns(wf_range_slice_measurement *out, const double *column_u,
                                             const double *top_row, const double *bottom_row, size_t count);
 

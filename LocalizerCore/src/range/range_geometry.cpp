@@ -161,9 +161,11 @@ Status paperEquation3(double pitchRad, double alphaRad, double deltaRad, double 
 
 Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_range_slice_measurement &m,
                             double signHeightMeters, wf_range_slice_model model, RangeBearing *out) {
-    const double v[9] = {camera.fx, camera.fy, camera.cx, camera.cy, camera.pitch_rad,
-                         m.median_bottom_row_px, m.median_height_px, m.center_column_px, signHeightMeters};
-    if (!allFinite(v, 9)) return WF_RANGE_ERR_NOT_FINITE;
+    const double v[12] = {camera.fx, camera.fy, camera.cx, camera.cy, camera.pitch_rad,
+                          m.median_bottom_row_px, m.median_height_px, m.center_column_px,
+                          m.bottom_edge_slope, m.top_edge_slope, m.extent_width_px, signHeightMeters};
+    if (!allFinite(v, 12)) return WF_RANGE_ERR_NOT_FINITE;
+    if (m.extent_width_px < 0) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
     if (!(camera.fx > 0) || !(camera.fy > 0) || !(m.median_height_px > 0) || !(signHeightMeters > 0))
         return WF_RANGE_ERR_NONPOSITIVE_SIZE;
     if (!(std::abs(camera.pitch_rad) < kPi / 2)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
@@ -172,24 +174,42 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
 
     // The unrolled image is a camera with roll 0: R' = Rx(pitch) (yaw irrelevant).
     const Eigen::Matrix3d r = rotationFromPitchRoll(camera.pitch_rad, 0.0);
-    const Intrinsics k{camera.fx, camera.fy, camera.cx, camera.cy};
-    const double bottomRow = m.median_bottom_row_px;
-    const double topRow = m.median_bottom_row_px - m.median_height_px;
-    const double column = m.center_column_px;
+    const Intrinsics intrinsics{camera.fx, camera.fy, camera.cx, camera.cy};
+    // Centre line of a sign not facing the camera: the 3-D midpoint of a segment whose ends have depths
+    // z_l, z_r projects at the fraction z_r / (z_l + z_r) of the image segment from its left end; apparent
+    // heights being inversely proportional to depth, that is h_l / (h_l + h_r).
+    double column = m.center_column_px;
+    if (m.extent_width_px > 0) {
+        const double halfWidth = 0.5 * m.extent_width_px;
+        const double heightSlope = m.bottom_edge_slope - m.top_edge_slope;
+        const double heightLeft = m.median_height_px - heightSlope * halfWidth;
+        const double heightRight = m.median_height_px + heightSlope * halfWidth;
+        if (heightLeft > 0 && heightRight > 0)
+            column = m.center_column_px - halfWidth + m.extent_width_px * heightLeft / (heightLeft + heightRight);
+    }
+    const double bottomRow = m.median_bottom_row_px + m.bottom_edge_slope * (column - m.center_column_px);
+    const double topRow =
+        m.median_bottom_row_px - m.median_height_px + m.top_edge_slope * (column - m.center_column_px);
 
     // World verticals converge in the unrolled image of a pitched camera, to the vanishing point
-    // (cx, cy - fy / tan(pitch)) (camera coordinates of world up: (0, cos p, -sin p)). The top point is taken
-    // on the image of the world vertical through the bottom point, at the top row: the column's own top
-    // point lies beside the sign's centre line by about height * bearing * tan(pitch), a 1-2 % range error at
-    // 30 degrees of pitch and 12 of bearing without this correction (top edge assumed level near the centre).
+    // (cx, cy - fy / tan(pitch)) (camera coordinates of world up: (0, cos p, -sin p)). The image of the
+    // world vertical through the bottom point B = (column, bottomRow) is u = column + k (v - bottomRow) with
+    // k = (column - cx) tan p / ((bottomRow - cy) tan p + fy). The top point is where it meets the top edge
+    // v = topRow + topSlope (u - column): without this, the column's own top point lies beside the sign's
+    // centre line, a 1-3 % range error at 30 degrees of pitch and 12 of bearing.
     const double tanPitch = std::tan(camera.pitch_rad);
-    const double toVanishing = (bottomRow - camera.cy) * tanPitch + camera.fy;  // (v_b - v_vp) * tan p
+    const double toVanishing = (bottomRow - camera.cy) * tanPitch + camera.fy;
     if (!(std::abs(toVanishing) > 1e-9 * camera.fy)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
-    const double topColumn = column + (topRow - bottomRow) * (column - camera.cx) * tanPitch / toVanishing;
+    const double k = (column - camera.cx) * tanPitch / toVanishing;
+    const double topSlope = m.top_edge_slope;
+    const double denominator = 1.0 - topSlope * k;
+    if (!(std::abs(denominator) > 1e-9)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    const double topPointRow = (topRow - topSlope * k * bottomRow) / denominator;
+    const double topColumn = column + k * (topPointRow - bottomRow);
 
     RangeBearing result;
-    if (const Status s = apparentHeightFromRays(r, rayInWorld(r, k, topColumn, topRow),
-                                                rayInWorld(r, k, column, bottomRow), signHeightMeters, &result);
+    if (const Status s = apparentHeightFromRays(r, rayInWorld(r, intrinsics, topColumn, topPointRow),
+                                                rayInWorld(r, intrinsics, column, bottomRow), signHeightMeters, &result);
         s != WF_RANGE_OK)
         return s;
     if (model == WF_RANGE_SLICE_MODEL_PAPER_PLANAR) {
@@ -224,6 +244,23 @@ Status sliceMeasurementFromColumns(const double *columnU, const double *topRow, 
     m.median_bottom_row_px = median(bottoms);
     m.median_height_px = median(heights);
     m.center_column_px = 0.5 * (minU + maxU);
+    m.extent_width_px = maxU - minU;
+    // Robust edge slopes: median of the slopes between columns half the extent apart (a Theil-Sen estimate
+    // on n/2 pairs); the columns at the sign's ends, whose edges are the side edges, are outvoted.
+    const std::size_t half = count / 2;
+    if (half > 0) {
+        std::vector<double> bottomSlopes, topSlopes;
+        for (std::size_t i = 0; i + half < count; ++i) {
+            const double du = columnU[i + half] - columnU[i];
+            if (!(std::abs(du) > 0)) continue;
+            bottomSlopes.push_back((bottomRow[i + half] - bottomRow[i]) / du);
+            topSlopes.push_back((topRow[i + half] - topRow[i]) / du);
+        }
+        if (!bottomSlopes.empty()) {
+            m.bottom_edge_slope = median(bottomSlopes);
+            m.top_edge_slope = median(topSlopes);
+        }
+    }
     if (!(m.median_height_px > 0)) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
     *out = m;
     return WF_RANGE_OK;

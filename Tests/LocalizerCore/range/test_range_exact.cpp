@@ -3,6 +3,7 @@
 
 #include "range_synthetic.hpp"
 
+#include <cstdio>
 #include <random>
 
 namespace wf::range::test {
@@ -196,54 +197,85 @@ TEST(RangeExact, PaperEquation3EqualsTheTangentDifference) {
     }
 }
 
-// Slice medians of an exact (continuous, noise-free) mask in the unrolled image. The paper's slice analysis
-// is exact only for the centre column of an unpitched camera: the medians over columns follow the slanted
-// edges of a sign seen off-axis or under pitch. Measured worst case on this grid: see the tolerances.
-TEST(RangeSlices, RayElevationModelIsCloseOnExactMasks) {
-    double worst = 0, worstBearing = 0;
+/// Slice measurement of the exact (continuous, noise-free) mask of a grid scene, and its unrolled camera.
+void exactSliceMeasurement(const Scene &s, const std::array<wf_range_point, 4> &corners,
+                           wf_range_slice_measurement *m, wf_range_unrolled_camera *cam) {
+    wf_range_unroll_map map{};
+    ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, s.rollRad, kImageWidth, kImageHeight), WF_RANGE_OK);
+    const Slices slices = maskSlices(map, corners);
+    ASSERT_EQ(wf_range_slice_measurement_from_columns(m, slices.columnU.data(), slices.topRow.data(),
+                                                      slices.bottomRow.data(), slices.columnU.size()),
+              WF_RANGE_OK);
+    *cam = unrolledCamera(s, map);
+}
+
+// Slice medians of exact masks over the whole grid (pitch +-30, roll +-90, 1-15 m, bearing +-12 deg, sign
+// 0.40 x 0.21 m turned 20 deg). The paper's slice analysis is exact only at the centre column of a level
+// sign facing the camera; the ray-elevation model with the measured edge slopes and extent follows the
+// world vertical through the sign's centre line. Worst cases measured on this grid (tolerances ~1.3x):
+//   ray-elevation, measured slopes:       1.9 % range, 1.2 deg bearing (1 m, pitch 30, bearing 12 deg:
+//                                         the side edges' slant under pitch biases the centre column);
+//                                         0.31 %, 0.18 deg at 4 m and beyond
+//   ray-elevation, slopes set to 0:       3.4 %   (level edges assumed)
+//   paper planar (eq. 3 on the rows):     5.5 %; within 3.4 % of range * cos(bearing)
+TEST(RangeSlices, RayElevationModelIsWithinStatedToleranceOnExactMasks) {
+    double worst = 0, worstBearing = 0, worstLevel = 0, worstPlanarVsCos = 0, worstPlanar = 0;
+    double worstFar = 0, worstBearingFar = 0;  // range >= 4 m
     forEachGridScene([&](const Scene &s, const std::array<wf_range_point, 4> &corners) {
-        wf_range_unroll_map map{};
-        ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, s.rollRad, kImageWidth, kImageHeight), WF_RANGE_OK);
-        const Slices slices = maskSlices(map, corners);
         wf_range_slice_measurement m{};
-        ASSERT_EQ(wf_range_slice_measurement_from_columns(&m, slices.columnU.data(), slices.topRow.data(),
-                                                          slices.bottomRow.data(), slices.columnU.size()),
-                  WF_RANGE_OK);
-        const wf_range_unrolled_camera cam = unrolledCamera(s, map);
+        wf_range_unrolled_camera cam{};
+        exactSliceMeasurement(s, corners, &m, &cam);
         wf_range_result r{};
         ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
                   WF_RANGE_OK);
         worst = std::max(worst, relativeError(r.range_m, s.rangeM));
         worstBearing = std::max(worstBearing, std::abs(wrap(r.bearing_rad - s.bearingRad)));
+        if (s.rangeM >= 4) {
+            worstFar = std::max(worstFar, relativeError(r.range_m, s.rangeM));
+            worstBearingFar = std::max(worstBearingFar, std::abs(wrap(r.bearing_rad - s.bearingRad)));
+        }
+
+        wf_range_slice_measurement level = m;
+        level.bottom_edge_slope = level.top_edge_slope = 0;
+        ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &level, s.signHeightM, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
+                  WF_RANGE_OK);
+        worstLevel = std::max(worstLevel, relativeError(r.range_m, s.rangeM));
+
+        ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_PAPER_PLANAR),
+                  WF_RANGE_OK);
+        worstPlanarVsCos = std::max(worstPlanarVsCos, relativeError(r.range_m, s.rangeM * std::cos(s.bearingRad)));
+        worstPlanar = std::max(worstPlanar, relativeError(r.range_m, s.rangeM));
     });
-    RecordProperty("worst_relative_error", std::to_string(worst));
-    EXPECT_LT(worst, 0.03);
-    EXPECT_LT(worstBearing, deg(2.5));
+    RecordProperty("worst_ray", std::to_string(worst));
+    RecordProperty("worst_ray_level", std::to_string(worstLevel));
+    RecordProperty("worst_planar", std::to_string(worstPlanar));
+    std::printf("slices on exact masks, worst relative range error: ray %.5f (bearing %.4f deg), at >= 4 m %.5f "
+                "(%.4f deg), ray with level edges %.4f, planar %.4f (vs range cos(bearing) %.4f)\n",
+                worst, worstBearing * 180 / kPi, worstFar, worstBearingFar * 180 / kPi, worstLevel, worstPlanar,
+                worstPlanarVsCos);
+    EXPECT_LT(worst, 0.025);
+    EXPECT_LT(worstBearing, deg(1.5));
+    EXPECT_LT(worstFar, 0.004);
+    EXPECT_LT(worstBearingFar, deg(0.25));
+    EXPECT_LT(worstLevel, 0.045);
+    EXPECT_LT(worstPlanar, 0.07);
+    EXPECT_LT(worstPlanarVsCos, 0.045);
 }
 
-// The paper's planar formula measures the depth along the optical axis's vertical plane: for a sign at
-// bearing b it gives about range * cos(b); at bearing 0 it equals the ray-elevation model.
-TEST(RangeSlices, PaperPlanarModelGivesRangeTimesCosBearing) {
+TEST(RangeSlices, PaperPlanarModelEqualsRayModelForALevelSignOnTheCentreColumn) {
     forEachGridScene([&](const Scene &s, const std::array<wf_range_point, 4> &corners) {
-        wf_range_unroll_map map{};
-        ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, s.rollRad, kImageWidth, kImageHeight), WF_RANGE_OK);
-        const Slices slices = maskSlices(map, corners);
+        if (s.bearingRad != 0) return;
         wf_range_slice_measurement m{};
-        ASSERT_EQ(wf_range_slice_measurement_from_columns(&m, slices.columnU.data(), slices.topRow.data(),
-                                                          slices.bottomRow.data(), slices.columnU.size()),
-                  WF_RANGE_OK);
-        const wf_range_unrolled_camera cam = unrolledCamera(s, map);
+        wf_range_unrolled_camera cam{};
+        exactSliceMeasurement(s, corners, &m, &cam);
+        m.center_column_px = cam.cx;
+        m.top_edge_slope = m.bottom_edge_slope = 0;
         wf_range_result planar{}, ray{};
         ASSERT_EQ(wf_range_apparent_height_slices(&planar, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_PAPER_PLANAR),
                   WF_RANGE_OK);
         ASSERT_EQ(wf_range_apparent_height_slices(&ray, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
                   WF_RANGE_OK);
-        if (s.bearingRad == 0 && std::abs(m.center_column_px - cam.cx) < 1e-9) {
-            EXPECT_NEAR(planar.range_m, ray.range_m, 1e-9 * s.rangeM);
-        }
-        // Planar = depth in the optical axis's vertical plane; only approximately rangeM * cos(bearing) when
-        // pitched (the column's plane is not vertical then).
-        EXPECT_LT(relativeError(planar.range_m, s.rangeM * std::cos(s.bearingRad)), 0.03);
+        EXPECT_NEAR(planar.range_m, ray.range_m, 1e-9 * s.rangeM);
         EXPECT_NEAR(planar.bearing_rad, ray.bearing_rad, 1e-12);
     });
 }
@@ -258,7 +290,7 @@ TEST(RangeSlices, CentreColumnMeasurementMatchesPaperFormulaExactly) {
         // Rows of the bottom and top at the centre column: v = cy - f tan(elevation - pitch).
         const double vBottom = cam.cy - cam.fy * std::tan(std::atan(bottomAboveCamera / z) - p);
         const double vTop = cam.cy - cam.fy * std::tan(std::atan((bottomAboveCamera + h0) / z) - p);
-        const wf_range_slice_measurement m{vBottom, vBottom - vTop, cam.cx};
+        const wf_range_slice_measurement m{vBottom, vBottom - vTop, cam.cx, 0, 0, 0};
         for (auto model : {WF_RANGE_SLICE_MODEL_RAY_ELEVATION, WF_RANGE_SLICE_MODEL_PAPER_PLANAR}) {
             wf_range_result r{};
             ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &m, h0, model), WF_RANGE_OK);
