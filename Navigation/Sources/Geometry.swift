@@ -61,12 +61,14 @@ func projectOntoSegment(_ p: Vec2, _ a: Vec2, _ b: Vec2) -> (t: Double, point: V
 @inline(__always)
 private func orient(_ a: Vec2, _ b: Vec2, _ c: Vec2) -> Double { (b - a).cross(c - a) }
 
-/// True when the segments p1-p2 and q1-q2 cross properly (each straddles the other's line by more than
-/// `eps` meters of signed area scale). Touching at an end point or running along a wall does not count:
-/// a location estimate lying exactly on a wall line is not treated as behind it.
-func segmentsCrossProperly(_ p1: Vec2, _ p2: Vec2, _ q1: Vec2, _ q2: Vec2, eps: Double = 1e-9) -> Bool {
+/// True when the segment p1-p2 (a line of sight) crosses the wall q1-q2: its ends lie strictly on
+/// opposite sides of the wall's line, and the wall's ends are not both strictly on one side of p1-p2.
+/// A wall end exactly on the line of sight blocks it (so a line through the joint of two wall segments
+/// is blocked); a line-of-sight end exactly on a wall line does not (an estimate lying on a wall is not
+/// behind it).
+func segmentsCrossProperly(_ p1: Vec2, _ p2: Vec2, _ q1: Vec2, _ q2: Vec2, eps: Double = 1e-12) -> Bool {
     let d1 = orient(q1, q2, p1), d2 = orient(q1, q2, p2)
+    guard (d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps) else { return false }
     let d3 = orient(p1, p2, q1), d4 = orient(p1, p2, q2)
-    return ((d1 > eps && d2 < -eps) || (d1 < -eps && d2 > eps))
-        && ((d3 > eps && d4 < -eps) || (d3 < -eps && d4 > eps))
+    return !((d3 > eps && d4 > eps) || (d3 < -eps && d4 < -eps))
 }

@@ -1,0 +1,91 @@
+import Foundation
+import XCTest
+@testable import Navigation
+
+final class AnnouncementPolicyTests: XCTestCase {
+    private func texts(_ e: [TimedGuidanceEvent]) -> [String] { e.compactMap(\.spokenText) }
+
+    func testDurationFromWordCount() {
+        let p = AnnouncementPolicy()
+        XCTAssertEqual(p.estimatedDurationSeconds("In 8 meters, turn left."), 5 / 2.5, accuracy: 1e-12)
+        XCTAssertEqual(p.estimatedDurationSeconds("Go"), 0.5, "minimum utterance")
+    }
+
+    func testSafetyAndCueInterruptInformationWaits() {
+        let p = AnnouncementPolicy()
+        p.submit("Continue fifteen meters along here.", priority: .information, t: 0)  // 5 words: 2 s
+        XCTAssertEqual(texts(p.flush(t: 0)), ["Continue fifteen meters along here."])
+        p.submit("Turn left now.", priority: .cue, t: 0.5)
+        let cue = p.flush(t: 0.5)
+        XCTAssertEqual(cue, [TimedGuidanceEvent(t: 0.5, event: .speak(text: "Turn left now.", priority: .cue, interrupt: true))])
+        // An alert does not interrupt the cue (1.2 s long): it waits for silence.
+        p.submit("In 8 meters, turn right.", priority: .alert, t: 0.6)
+        XCTAssertEqual(texts(p.flush(t: 0.6)), [])
+        XCTAssertEqual(texts(p.flush(t: 1.6)), [])
+        let later = p.flush(t: 1.7)
+        XCTAssertEqual(later, [TimedGuidanceEvent(t: 1.7, event: .speak(text: "In 8 meters, turn right.", priority: .alert, interrupt: false))])
+        // Safety interrupts the alert.
+        p.submit("Wrong way, turn around.", priority: .safety, t: 2.0)
+        XCTAssertEqual(p.flush(t: 2.0), [TimedGuidanceEvent(t: 2.0, event: .speak(text: "Wrong way, turn around.", priority: .safety, interrupt: true))])
+        // A cue does not interrupt safety; it waits and, 1.5 s old, is dropped as stale.
+        p.submit("Turn right now.", priority: .cue, t: 2.1)
+        XCTAssertEqual(texts(p.flush(t: 2.1)), [])
+        XCTAssertEqual(texts(p.flush(t: 3.7)), [], "stale cue dropped, not spoken late")
+    }
+
+    func testHighestPriorityFirstWhenSubmittedTogether() {
+        let p = AnnouncementPolicy()
+        p.submit("Start walking.", priority: .information, t: 0)
+        p.submit("In 5 meters, turn left.", priority: .alert, t: 0)
+        p.submit("Turn right now.", priority: .cue, t: 0)
+        XCTAssertEqual(texts(p.flush(t: 0)), ["Turn right now."])
+        XCTAssertEqual(texts(p.flush(t: 1.2)), ["In 5 meters, turn left."])
+        // Information: silence after the alert (ends 3.2), no previous informational message.
+        XCTAssertEqual(texts(p.flush(t: 3.1)), [])
+        XCTAssertEqual(texts(p.flush(t: 3.2)), ["Start walking."])
+    }
+
+    func testInformationSpacing() {
+        let p = AnnouncementPolicy()
+        p.submit("Continue 10 meters.", priority: .information, t: 0)  // 3 words: 1.2 s
+        p.submit("Go straight ahead, 5 meters.", priority: .information, t: 0)
+        XCTAssertEqual(texts(p.flush(t: 0)), ["Continue 10 meters."])
+        XCTAssertEqual(texts(p.flush(t: 1.3)), [], "speech ended at 1.2 s but 1.5 s spacing applies")
+        XCTAssertEqual(texts(p.flush(t: 2.6)), [])
+        XCTAssertEqual(texts(p.flush(t: 2.7)), ["Go straight ahead, 5 meters."])
+    }
+
+    func testStalenessPerPriority() {
+        let p = AnnouncementPolicy()
+        p.submit("A long informational message of exactly ten words here.", priority: .information, t: 0)
+        XCTAssertEqual(texts(p.flush(t: 0)).count, 1)  // speaking until 4 s
+        p.submit("In 8 meters, turn left.", priority: .alert, t: 0.1)
+        // Alert waits; at 4.0 it is 3.9 s old: still fresh.
+        XCTAssertEqual(texts(p.flush(t: 4.0)), ["In 8 meters, turn left."])
+        p.submit("Ten more words to keep the speaker busy for four seconds.", priority: .cue, t: 4.1)
+        XCTAssertEqual(texts(p.flush(t: 4.1)).count, 1)  // cue interrupts the alert, speaking until 8.1
+        p.submit("In 6 meters, turn right.", priority: .alert, t: 4.2)
+        XCTAssertEqual(texts(p.flush(t: 8.2)), [], "alert older than 4 s dropped")
+    }
+
+    func testRepeatSuppressionUnlessRequested() {
+        let p = AnnouncementPolicy()
+        p.submit("Continue 10 meters.", priority: .information, t: 0)
+        XCTAssertEqual(texts(p.flush(t: 0)).count, 1)
+        p.submit("Continue 10 meters.", priority: .information, t: 5)
+        XCTAssertEqual(texts(p.flush(t: 5)), [], "same text within 10 s")
+        p.submit("Continue 10 meters.", priority: .information, t: 6, requested: true)
+        XCTAssertEqual(p.flush(t: 6), [TimedGuidanceEvent(t: 6, event: .speak(text: "Continue 10 meters.", priority: .information, interrupt: true))])
+        p.submit("Continue 10 meters.", priority: .information, t: 16.5)
+        XCTAssertEqual(texts(p.flush(t: 16.5)), ["Continue 10 meters."], "10 s after the last time it was spoken")
+    }
+
+    func testHapticsPassThroughWhileSpeaking() {
+        let p = AnnouncementPolicy()
+        p.submit("A message that takes a few seconds to say.", priority: .safety, t: 0)
+        _ = p.flush(t: 0)
+        p.submitHaptic(.wrongWay)
+        p.submit("Another informational message.", priority: .information, t: 0.2)
+        XCTAssertEqual(p.flush(t: 0.2), [TimedGuidanceEvent(t: 0.2, event: .haptic(.wrongWay))])
+    }
+}
