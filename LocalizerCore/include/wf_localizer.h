@@ -1,0 +1,368 @@
+/*
+ * wf_localizer.h - C ABI of the Wayfinder particle-filter localizer (LocalizerCore).
+ *
+ * The filter fuses ARKit visual-inertial odometry (VIO) with sign sightings (kind, range, bearing) on a 2D
+ * floor-plan map with walls, as in Fusco & Coughlan (ICCHP 2018, W4A 2020); see docs/localizer.md.
+ *
+ * Conventions (docs/HELPERS.md, App/SessionFormat/CameraPose.swift):
+ *  - map frame: x east, y north, meters; angles radians, counter-clockwise from +x;
+ *  - VIO plane: (east, north) = (x_w, -z_w) of the ARKit world; VIO yaw CCW from VIO east;
+ *  - particle heading in the map = VIO yaw + particle yaw offset;
+ *    map displacement = scale * Rot(yaw offset) * (dEast, dNorth);
+ *  - sign bearing: horizontal angle from camera forward, positive to the LEFT (CCW); range: horizontal m.
+ *
+ * ABI rules (libgit2 / sqlite style):
+ *  - every function returns int: WF_LOC_OK (0) on success, a negative wf_localizer_status on failure;
+ *  - outputs come first; handles are opaque; wf_localizer_free(NULL) is a no-op;
+ *  - no C++ exception crosses this boundary; the last error message is kept per handle
+ *    (wf_localizer_last_error);
+ *  - OWNERSHIP: the caller owns every struct and array it passes in; wf_localizer_create copies the map,
+ *    so the map arrays may be freed as soon as create returns. The handle owns everything it allocates
+ *    and releases it in wf_localizer_free. Output structs/arrays are caller-allocated and filled in.
+ *  - a handle is not thread-safe: call it from one thread at a time.
+ */
+#ifndef WF_LOCALIZER_H
+#define WF_LOCALIZER_H
+
+#include <stddef.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/** Status codes. 0 is success; every error is negative so bindings can test `< 0`. */
+typedef enum wf_localizer_status {
+    WF_LOC_OK = 0,
+    /** A NULL pointer, a count out of range, or an option outside its documented range. */
+    WF_LOC_ERR_INVALID_ARGUMENT = -1,
+    /** Allocation failed. */
+    WF_LOC_ERR_OUT_OF_MEMORY = -2,
+    /** The options or map struct carries a version this library does not know. */
+    WF_LOC_ERR_VERSION = -3,
+    /** The map is unusable (no floors, non-finite coordinates, a floor index out of range). */
+    WF_LOC_ERR_INVALID_MAP = -4,
+    /** The requested floor has no walkable cell (zero-area floor, seeds outside the walls) or the start
+     *  point is not inside the map. */
+    WF_LOC_ERR_NO_WALKABLE_SPACE = -5,
+    /** The filter has not been initialised yet (call an init function first). */
+    WF_LOC_ERR_NOT_INITIALIZED = -6,
+    /** An input carried NaN or infinity; it was ignored and the filter state is unchanged. */
+    WF_LOC_ERR_NON_FINITE_INPUT = -7,
+    /** An unexpected internal failure (a bug); the message says what. */
+    WF_LOC_ERR_INTERNAL = -8
+} wf_localizer_status;
+
+/** Opaque filter handle. */
+typedef struct wf_localizer wf_localizer;
+
+/** VIO tracking state (ARKit ARCamera.TrackingState). */
+typedef enum wf_vio_tracking {
+    WF_VIO_TRACKING_NORMAL = 0,
+    WF_VIO_TRACKING_LIMITED = 1,
+    WF_VIO_TRACKING_NOT_AVAILABLE = 2
+} wf_vio_tracking;
+
+/** A sign on a floor. */
+typedef struct wf_localizer_sign {
+    /** Sign kind as a small id, 0 <= kind < wf_localizer_map.kind_count (e.g. 0 = "exit"). */
+    int32_t kind;
+    /** Centre of the sign face projected on the plan, meters, map frame. */
+    float x, y;
+    /** Unit normal of the face pointing to where it can be read from (normalised by create). */
+    float facing_x, facing_y;
+    /** Nonzero when readable from both sides (facing is then ignored). */
+    int32_t double_sided;
+} wf_localizer_sign;
+
+/** One floor of the map. Every array may be NULL when its count is 0. */
+typedef struct wf_localizer_floor {
+    /** Floor elevation above the building reference, meters (for barometric floor changes). */
+    double elevation_m;
+    /** Wall segments: 4 floats each (ax, ay, bx, by), meters, map frame. */
+    const float *walls;
+    size_t wall_count;
+    /** Signs on this floor. */
+    const wf_localizer_sign *signs;
+    size_t sign_count;
+    /** Vertical-link points (elevator / stairs graph nodes): 2 floats each (x, y), meters. */
+    const float *link_points;
+    size_t link_point_count;
+    /** Seeds for the walkable flood fill (navigation-graph node positions of this floor): 2 floats each.
+     *  With no seed, every cell of the floor's bounding box away from walls counts as walkable. */
+    const float *seed_points;
+    size_t seed_point_count;
+} wf_localizer_floor;
+
+#define WF_LOCALIZER_MAP_VERSION 1
+
+/** The whole map. Floor index = position in `floors`. */
+typedef struct wf_localizer_map {
+    /** WF_LOCALIZER_MAP_VERSION. */
+    unsigned int version;
+    const wf_localizer_floor *floors;
+    size_t floor_count;
+    /** Number of sign kinds; sign and observation kinds are ids in [0, kind_count). */
+    int32_t kind_count;
+} wf_localizer_map;
+
+#define WF_LOCALIZER_OPTIONS_VERSION 1
+
+/**
+ * Filter options. Fill with wf_localizer_options_init() or WF_LOCALIZER_OPTIONS_INIT (same defaults), then
+ * change fields. Units are in the names; textbook aliases (Probabilistic Robotics, Thrun, Burgard, Fox 2005
+ * = "PR") in the comments. docs/localizer.md explains each default.
+ */
+typedef struct wf_localizer_options {
+    /** WF_LOCALIZER_OPTIONS_VERSION. */
+    unsigned int version;
+
+    /* --- particle count --- */
+    /** Particles after an init (and the fixed count when adaptive_particle_count is 0). Default 20000. */
+    int32_t particle_count;
+    /** KLD-sampling bounds (Fox 2003). Defaults 2000 and 100000. */
+    int32_t min_particles;
+    int32_t max_particles;
+    /** Nonzero: KLD-sampling picks the count at each resampling. Default 1. */
+    int32_t adaptive_particle_count;
+    /** KLD bound epsilon (Fox 2003 "epsilon"), default 0.05; upper 1-delta quantile z, default 2.326 (delta 0.01). */
+    double kld_epsilon;
+    double kld_z;
+    /** KLD histogram bin size: meters in x and y, radians in heading. Defaults 0.5 m, 10 deg. */
+    double kld_bin_m;
+    double kld_bin_yaw_rad;
+
+    /* --- resampling and recovery --- */
+    /** Resample (systematic, PR Table 4.4) when ESS < this fraction of N. Default 0.5. */
+    double resample_ess_fraction;
+    /** Nonzero: augmented MCL random-particle injection (PR Table 8.3). Default 1. */
+    int32_t recovery;
+    /** PR Table 8.3 alpha_slow, alpha_fast. Defaults 0.001 and 0.1. */
+    double recovery_alpha_slow;
+    double recovery_alpha_fast;
+    /** Cap on the fraction of particles injected at one resampling. Default 0.1. */
+    double recovery_max_fraction;
+
+    /* --- motion model (VIO deltas) --- */
+    /** Std of position noise per meter walked (isotropic), m/m. Default 0.04. */
+    double position_noise_per_meter;
+    /** Std of position noise per radian turned, m/rad. Default 0.02. */
+    double position_noise_per_rad;
+    /** Std of yaw-offset random walk per meter walked, rad/m. Default 0.01. */
+    double yaw_noise_per_meter;
+    /** Std of yaw-offset random walk per radian of VIO turn, rad/rad. Default 0.03. */
+    double yaw_noise_per_rad;
+    /** Std of scale-factor random walk per meter walked, 1/m. Default 0.002. */
+    double scale_noise_per_meter;
+    /** Std of the initial scale factor around 1. Default 0.03. Scale is clamped to [scale_min, scale_max]. */
+    double initial_scale_sigma;
+    double scale_min;
+    double scale_max;
+    /** Noise multiplier while tracking is limited. Default 3. */
+    double limited_tracking_noise_factor;
+    /** A delta longer than this (m) or turning more than jump_yaw_rad in one frame is a VIO relocalization /
+     *  origin reset: skipped, and noise inflated. Defaults 1.5 m, 45 deg. */
+    double jump_distance_m;
+    double jump_yaw_rad;
+    /** Noise added after a skipped jump: position std (m) and yaw-offset std (rad). Defaults 0.5 m, 0.2 rad. */
+    double jump_position_sigma_m;
+    double jump_yaw_sigma_rad;
+    /** Assumed walking speed while tracking was unavailable, m/s (inflates position noise). Default 0.7. */
+    double lost_tracking_speed_mps;
+    /** Weight factor of a particle whose move crosses a wall. Default 1e-3. */
+    double wall_crossing_weight;
+
+    /* --- sign measurement model --- */
+    /** Horizontal field of view, radians. Default 48 deg (portrait iPhone). */
+    double horizontal_fov_rad;
+    /** Signs farther than this are never predicted visible, meters. Default 12. */
+    double max_sign_range_m;
+    /** Range std = range_sigma_base_m + range_sigma_per_meter * range. Defaults 0.1 m and 0.12 (median
+     *  |error| 0.6745 sigma ~ 8 % of range, paper Table 1). */
+    double range_sigma_base_m;
+    double range_sigma_per_meter;
+    /** Bearing std, radians. Default 3 deg. */
+    double bearing_sigma_rad;
+    /** Probability that a sighting is clutter / a false positive (PR z_rand). Default 0.1. */
+    double clutter_probability;
+    /** Nonzero: plainly visible signs that were not detected lower the weight. Default 1. */
+    int32_t negative_information;
+    /** "Plainly visible": closer than this (m) and within this fraction of the half FOV. Defaults 5 m, 0.6. */
+    double negative_info_max_range_m;
+    double negative_info_fov_fraction;
+    /** Weight factor per plainly visible but undetected sign per frame (= miss probability). Default 0.8. */
+    double negative_info_miss_weight;
+
+    /* --- map grids --- */
+    /** Cell of the visibility and walkable grids, meters. Default 0.25. Enlarged automatically for huge floors. */
+    double grid_cell_m;
+    /** Cell of the wall spatial index, meters. Default 1. */
+    double wall_index_cell_m;
+    /** Walkable cells keep this clearance from walls, meters. Default 0.2. */
+    double wall_clearance_m;
+
+    /* --- estimate --- */
+    /** Clustering cell: meters in x,y and radians in heading. Defaults 1 m and 45 deg. */
+    double cluster_cell_m;
+    double cluster_yaw_bin_rad;
+    /** A cluster counts as a hypothesis above this weight. Default 0.05. */
+    double hypothesis_min_weight;
+    /** Becomes localized when dominant weight > localize_weight and position std < localize_std_m for
+     *  localize_hold_s. Defaults 0.8, 1 m, 1 s. */
+    double localize_weight;
+    double localize_std_m;
+    double localize_hold_s;
+    /** Stops being localized when dominant weight < unlocalize_weight or std > unlocalize_std_m.
+     *  Defaults 0.5 and 2 m. */
+    double unlocalize_weight;
+    double unlocalize_std_m;
+
+    /* --- floors --- */
+    /** Relative-altitude change from the last settled altitude that means a floor change, m. Default 2. */
+    double storey_threshold_m;
+    /** Altitude is settled after staying within altitude_settle_tolerance_m for altitude_settle_s.
+     *  Defaults 0.3 m, 1.5 s. */
+    double altitude_settle_tolerance_m;
+    double altitude_settle_s;
+    /** Particles within this distance of a vertical link change floor, meters. Default 3. */
+    double link_radius_m;
+    /** Weight factor of particles that cannot explain a floor change (far from links). Default 0.05. */
+    double far_from_link_weight;
+} wf_localizer_options;
+
+/** Same defaults as wf_localizer_options_init(); a test checks they agree. */
+#define WF_LOCALIZER_OPTIONS_INIT { WF_LOCALIZER_OPTIONS_VERSION, \
+    20000, 2000, 100000, 1, 0.05, 2.326, 0.5, 0.17453292519943295, \
+    0.5, 1, 0.001, 0.1, 0.1, \
+    0.04, 0.02, 0.01, 0.03, 0.002, 0.03, 0.8, 1.25, 3.0, 1.5, 0.7853981633974483, 0.5, 0.2, 0.7, 1e-3, \
+    0.8377580409572781, 12.0, 0.1, 0.12, 0.05235987755982988, 0.1, 1, 5.0, 0.6, 0.8, \
+    0.25, 1.0, 0.2, \
+    1.0, 0.7853981633974483, 0.05, 0.8, 1.0, 1.0, 0.5, 2.0, \
+    2.0, 0.3, 1.5, 3.0, 0.05 }
+
+/** One VIO sample (one ARKit frame). */
+typedef struct wf_vio_sample {
+    /** Timestamp, seconds (monotonic). */
+    double t;
+    /** Camera position on the VIO plane, meters. */
+    double east_m, north_m;
+    /** Camera forward yaw on the VIO plane, radians CCW from VIO east. */
+    double yaw_rad;
+    /** A wf_vio_tracking value. */
+    int32_t tracking;
+} wf_vio_sample;
+
+/** One sign sighting in the current frame. */
+typedef struct wf_sign_observation {
+    /** Sign kind id; ids the map does not have are treated as clutter. */
+    int32_t kind;
+    /** Horizontal range, meters (> 0). */
+    double range_m;
+    /** Horizontal bearing from camera forward, radians, positive to the LEFT. */
+    double bearing_rad;
+    /** Detector score in [0, 1]; scales the sighting's trust (clutter probability grows as score drops). */
+    double score;
+} wf_sign_observation;
+
+/** Pose estimate (from the dominant particle cluster). */
+typedef struct wf_localizer_estimate {
+    /** Time of the last input, seconds. */
+    double t;
+    /** Weighted mean position of the dominant cluster, meters, map frame. */
+    double x, y;
+    /** Floor index of the dominant cluster (-1 before init). */
+    int32_t floor_index;
+    /** Camera heading in the map (circular mean), radians CCW from +x, in (-pi, pi]. */
+    double heading_rad;
+    /** Position covariance of the dominant cluster, m^2. */
+    double cov_xx, cov_xy, cov_yy;
+    /** Circular std of heading in the dominant cluster, radians. */
+    double heading_std_rad;
+    /** Mean VIO scale factor and yaw offset (map minus VIO yaw, radians) of the dominant cluster. */
+    double scale;
+    double yaw_offset_rad;
+    /** Weight of the dominant cluster, 0..1. */
+    double dominant_weight;
+    /** sqrt of the largest eigenvalue of the position covariance, meters. */
+    double position_std_m;
+    /** dominant_weight / (1 + (position_std_m / 1 m)^2), 0..1. */
+    double confidence;
+    /** Nonzero when localized (hysteresis, see options); the navigator guides only then. */
+    int32_t localized;
+    /** Clusters holding more than hypothesis_min_weight. */
+    int32_t hypothesis_count;
+    /** Current particle count. */
+    int32_t particle_count;
+} wf_localizer_estimate;
+
+/** One particle, for drawing. */
+typedef struct wf_localizer_particle {
+    float x, y;
+    /** Heading in the map, radians. */
+    float heading_rad;
+    float scale;
+    /** Normalised weight (sums to 1 over all particles, not over the copied subset). */
+    float weight;
+    int32_t floor_index;
+} wf_localizer_particle;
+
+/** Fills *opts with the defaults for `version` (must be WF_LOCALIZER_OPTIONS_VERSION). */
+int wf_localizer_options_init(wf_localizer_options *opts, unsigned int version);
+
+/**
+ * Creates a filter over `map` (copied; see OWNERSHIP) with `opts` (NULL = defaults) and the RNG `seed`.
+ * Precomputes the wall index, walkable space and per-sign visibility grids. *out is NULL on failure.
+ * The filter starts uninitialised: call wf_localizer_init_floor_only or wf_localizer_init_start_point.
+ */
+int wf_localizer_create(wf_localizer **out, const wf_localizer_map *map, const wf_localizer_options *opts,
+                        uint64_t seed);
+
+/** Frees the filter. NULL is a no-op. */
+void wf_localizer_free(wf_localizer *loc);
+
+/** Message of the last failure on this handle ("" if none). Owned by the handle, valid until the next call. */
+const char *wf_localizer_last_error(const wf_localizer *loc);
+
+/** Static description of a status code (never NULL, not owned by the caller). */
+const char *wf_localizer_status_string(int status);
+
+/** Spreads particle_count particles uniformly over the walkable space of `floor_index`, yaw offset uniform
+ *  (or from the compass prior), scale ~ N(1, initial_scale_sigma). */
+int wf_localizer_init_floor_only(wf_localizer *loc, int32_t floor_index);
+
+/** Spreads particles uniformly in the disc (x, y, radius_m) on `floor_index` (not across walls from the
+ *  centre), yaw offset uniform (or from the compass prior). */
+int wf_localizer_init_start_point(wf_localizer *loc, int32_t floor_index, double x, double y, double radius_m);
+
+/** Compass prior: camera heading in the map `heading_in_map_rad` +- `sigma_rad` (Gaussian). Used by the
+ *  next init (when a VIO yaw is known) or else applied as a reweighting at the next predict. */
+int wf_localizer_set_compass_prior(wf_localizer *loc, double heading_in_map_rad, double sigma_rad);
+
+/** Motion update from one VIO sample (before init it only records the sample). Non-finite samples return
+ *  WF_LOC_ERR_NON_FINITE_INPUT and are ignored. */
+int wf_localizer_predict(wf_localizer *loc, const wf_vio_sample *sample);
+
+/** Measurement update with the `count` sightings of one frame at time t (count 0 = a frame with no
+ *  detection: negative information only). Non-finite observations are skipped (status
+ *  WF_LOC_ERR_NON_FINITE_INPUT after applying the finite ones). */
+int wf_localizer_update_signs(wf_localizer *loc, const wf_sign_observation *observations, size_t count, double t);
+
+/** Barometric relative altitude (meters, arbitrary origin) at time t: floor changes near vertical links. */
+int wf_localizer_update_altitude(wf_localizer *loc, double relative_altitude_m, double t);
+
+/** Fills *out with the current estimate (valid fields also before init: particle_count 0, floor -1). */
+int wf_localizer_get_estimate(wf_localizer *loc, wf_localizer_estimate *out);
+
+/** Copies up to `capacity` particles (an even subsample when there are more) into `out`; *count receives
+ *  the number written. */
+int wf_localizer_get_particles(const wf_localizer *loc, wf_localizer_particle *out, size_t capacity,
+                               size_t *count);
+
+/** Current particle count (0 before init, or on a NULL handle). */
+size_t wf_localizer_particle_count(const wf_localizer *loc);
+
+#ifdef __cplusplus
+}
+#endif
+
+#endif /* WF_LOCALIZER_H */

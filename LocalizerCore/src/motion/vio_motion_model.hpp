@@ -1,0 +1,84 @@
+// Motion model driven by ARKit VIO pose deltas (Fusco & Coughlan 2018: VIO "dead reckoning" between sign
+// sightings). Two parts:
+//  - VioDeltaTracker turns the stream of VIO samples into per-frame deltas and classifies them: an ordinary
+//    move, a frame to skip (first sample, tracking not available), or a relocalization jump / origin reset
+//    (implausible displacement or turn between consecutive frames, or tracking coming back after being
+//    unavailable), which is skipped while the particles' uncertainty is inflated instead.
+//  - apply_motion moves every particle: the VIO displacement is rotated by the particle's yaw offset and
+//    scaled by its scale factor; noise grows with distance walked and angle turned (the odometry model of
+//    Probabilistic Robotics Table 5.6 / section 5.4 in spirit: error proportional to motion, not to time),
+//    and a move that crosses a wall multiplies the particle's weight by `wall_crossing_weight`.
+#pragma once
+
+#include <cstdint>
+
+#include "common/rng.hpp"
+#include "map/localizer_map.hpp"
+#include "pf/particle_set.hpp"
+#include "wf_localizer.h"
+
+namespace wf::loc {
+
+/// Noise parameters of the motion model (wf_localizer_options fields of the same names).
+struct MotionNoise {
+    /// Isotropic position std per meter walked (m/m) and per radian turned (m/rad).
+    float position_per_meter = 0.04f;
+    float position_per_rad = 0.02f;
+    /// Yaw-offset random walk std per meter walked (rad/m) and per radian turned (rad/rad).
+    float yaw_per_meter = 0.01f;
+    float yaw_per_rad = 0.03f;
+    /// Scale random walk std per meter walked (1/m).
+    float scale_per_meter = 0.002f;
+    float scale_min = 0.8f, scale_max = 1.25f;
+    /// Weight factor of a particle whose move crosses a wall.
+    float wall_crossing_weight = 1e-3f;
+
+    static MotionNoise from_options(const wf_localizer_options &o);
+};
+
+enum class DeltaKind {
+    /// Nothing to apply (first sample, tracking not available, duplicate timestamp).
+    kNone,
+    /// An ordinary frame-to-frame move.
+    kMove,
+    /// A relocalization jump / VIO origin reset: skip the displacement, keep the map heading, inflate noise.
+    kJump,
+};
+
+/// One classified VIO delta.
+struct VioDelta {
+    DeltaKind kind = DeltaKind::kNone;
+    /// Displacement on the VIO plane, meters, and VIO yaw change, radians (wrapped).
+    float d_east = 0, d_north = 0, d_yaw = 0;
+    /// Noise multiplier (limited tracking).
+    float noise_factor = 1;
+    /// For kJump: extra position and yaw-offset std to add, meters / radians.
+    float jump_position_sigma = 0, jump_yaw_sigma = 0;
+};
+
+class VioDeltaTracker {
+public:
+    explicit VioDeltaTracker(const wf_localizer_options &o) : opts_(o) {}
+
+    /// Classifies `s` against the previous usable sample. Non-finite samples must be rejected before.
+    VioDelta push(const wf_vio_sample &s);
+
+    bool has_yaw() const { return has_last_; }
+    /// Last usable VIO yaw, radians.
+    double last_yaw() const { return last_.yaw_rad; }
+    void reset() { has_last_ = false; lost_since_ = -1; }
+
+private:
+    wf_localizer_options opts_;
+    wf_vio_sample last_{};
+    bool has_last_ = false;
+    /// Time tracking became unavailable (-1 while available).
+    double lost_since_ = -1;
+};
+
+/// Moves all particles by `delta` (kMove or kJump), sampling noise from `rng`, and down-weights particles
+/// whose move crosses a wall of their floor. Returns the sum of the weights afterwards (not normalised).
+double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &noise, const LocalizerMap &map,
+                    Rng &rng);
+
+}  // namespace wf::loc

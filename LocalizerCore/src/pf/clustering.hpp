@@ -1,0 +1,54 @@
+// Clustering of the particle cloud into pose hypotheses, for the estimate. Particles are binned on a coarse
+// (floor, x, y, heading) grid; occupied bins holding at least `min_cell_weight` are joined with their 26
+// neighbours (heading wraps around) by union-find, so each connected blob of probability mass is one
+// hypothesis. The estimate is the weighted mean of the heaviest cluster (circular mean for angles), never the
+// mean of the whole cloud, which for two mirrored hypotheses would lie in a wall between them.
+#pragma once
+
+#include <cstdint>
+#include <vector>
+
+#include "pf/particle_set.hpp"
+#include "pf/resampling.hpp"
+
+namespace wf::loc {
+
+struct ClusterSummary {
+    /// Total normalised weight of the cluster.
+    double weight = 0;
+    int16_t floor = 0;
+    /// Weighted mean position (m) and position covariance (m^2).
+    double x = 0, y = 0, cov_xx = 0, cov_xy = 0, cov_yy = 0;
+    /// Circular mean and circular std (sqrt(-2 ln R)) of the map heading, radians.
+    double heading = 0, heading_std = 0;
+    /// Circular mean of the yaw offset, radians; weighted mean scale.
+    double yaw_offset = 0, scale = 1;
+    size_t particle_count = 0;
+};
+
+struct ClusterParams {
+    float cell_m = 1.0f;
+    float yaw_bin_rad = 0.7853982f;
+    /// Bins lighter than this do not join clusters (a thin trail of near-dead particles must not merge two
+    /// hypotheses).
+    float min_cell_weight = 1e-4f;
+};
+
+class ParticleClusterer {
+public:
+    /// Clusters `p` (weights normalised) with headings vio_yaw + yaw_offset. Result sorted by weight,
+    /// heaviest first; empty only for an empty set.
+    const std::vector<ClusterSummary> &run(const ParticleSet &p, float vio_yaw, const ClusterParams &params);
+
+private:
+    int32_t find(int32_t a);
+    BinCounter bins_;
+    std::vector<uint64_t> keys_;
+    std::vector<uint32_t> cell_of_;
+    std::vector<double> cell_weight_;
+    std::vector<int32_t> parent_;
+    std::vector<int32_t> cluster_of_cell_;
+    std::vector<ClusterSummary> clusters_;
+};
+
+}  // namespace wf::loc

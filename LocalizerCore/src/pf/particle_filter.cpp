@@ -1,0 +1,525 @@
+#include "pf/particle_filter.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+#include "common/fast_math.hpp"
+
+namespace wf::loc {
+
+namespace {
+
+bool in_range(double v, double lo, double hi) { return std::isfinite(v) && v >= lo && v <= hi; }
+
+}  // namespace
+
+int validate_options(const wf_localizer_options &o, std::string &error) {
+    if (o.version != WF_LOCALIZER_OPTIONS_VERSION) {
+        error = "options version " + std::to_string(o.version) + " is not supported (expected " +
+                std::to_string(WF_LOCALIZER_OPTIONS_VERSION) + ")";
+        return WF_LOC_ERR_VERSION;
+    }
+    struct Check {
+        const char *name;
+        double value, lo, hi;
+    };
+    const double big = 1e9;
+    const Check checks[] = {
+        {"particle_count", double(o.particle_count), 1, 10'000'000},
+        {"min_particles", double(o.min_particles), 1, 10'000'000},
+        {"max_particles", double(o.max_particles), 1, 10'000'000},
+        {"kld_epsilon", o.kld_epsilon, 1e-6, 1},
+        {"kld_z", o.kld_z, 0, 10},
+        {"kld_bin_m", o.kld_bin_m, 1e-3, 100},
+        {"kld_bin_yaw_rad", o.kld_bin_yaw_rad, 1e-3, 2 * kPiD},
+        {"resample_ess_fraction", o.resample_ess_fraction, 0, 1},
+        {"recovery_alpha_slow", o.recovery_alpha_slow, 0, 1},
+        {"recovery_alpha_fast", o.recovery_alpha_fast, 0, 1},
+        {"recovery_max_fraction", o.recovery_max_fraction, 0, 1},
+        {"position_noise_per_meter", o.position_noise_per_meter, 0, 10},
+        {"position_noise_per_rad", o.position_noise_per_rad, 0, 10},
+        {"yaw_noise_per_meter", o.yaw_noise_per_meter, 0, 10},
+        {"yaw_noise_per_rad", o.yaw_noise_per_rad, 0, 10},
+        {"scale_noise_per_meter", o.scale_noise_per_meter, 0, 10},
+        {"initial_scale_sigma", o.initial_scale_sigma, 0, 1},
+        {"scale_min", o.scale_min, 1e-3, 1},
+        {"scale_max", o.scale_max, 1, 100},
+        {"limited_tracking_noise_factor", o.limited_tracking_noise_factor, 0, 1000},
+        {"jump_distance_m", o.jump_distance_m, 0, big},
+        {"jump_yaw_rad", o.jump_yaw_rad, 0, 2 * kPiD},
+        {"jump_position_sigma_m", o.jump_position_sigma_m, 0, 100},
+        {"jump_yaw_sigma_rad", o.jump_yaw_sigma_rad, 0, 2 * kPiD},
+        {"lost_tracking_speed_mps", o.lost_tracking_speed_mps, 0, 100},
+        {"wall_crossing_weight", o.wall_crossing_weight, 0, 1},
+        {"horizontal_fov_rad", o.horizontal_fov_rad, 1e-3, 2 * kPiD},
+        {"max_sign_range_m", o.max_sign_range_m, 0.1, 1000},
+        {"range_sigma_base_m", o.range_sigma_base_m, 0, 100},
+        {"range_sigma_per_meter", o.range_sigma_per_meter, 0, 10},
+        {"bearing_sigma_rad", o.bearing_sigma_rad, 1e-4, kPiD},
+        {"clutter_probability", o.clutter_probability, 1e-6, 1},
+        {"negative_info_max_range_m", o.negative_info_max_range_m, 0, 1000},
+        {"negative_info_fov_fraction", o.negative_info_fov_fraction, 0, 1},
+        {"negative_info_miss_weight", o.negative_info_miss_weight, 1e-6, 1},
+        {"grid_cell_m", o.grid_cell_m, 0.02, 10},
+        {"wall_index_cell_m", o.wall_index_cell_m, 0.05, 100},
+        {"wall_clearance_m", o.wall_clearance_m, 0, 10},
+        {"cluster_cell_m", o.cluster_cell_m, 0.05, 100},
+        {"cluster_yaw_bin_rad", o.cluster_yaw_bin_rad, 0.01, 2 * kPiD},
+        {"hypothesis_min_weight", o.hypothesis_min_weight, 0, 1},
+        {"localize_weight", o.localize_weight, 0, 1},
+        {"localize_std_m", o.localize_std_m, 0, big},
+        {"localize_hold_s", o.localize_hold_s, 0, big},
+        {"unlocalize_weight", o.unlocalize_weight, 0, 1},
+        {"unlocalize_std_m", o.unlocalize_std_m, 0, big},
+        {"storey_threshold_m", o.storey_threshold_m, 0.1, 1000},
+        {"altitude_settle_tolerance_m", o.altitude_settle_tolerance_m, 0, 1000},
+        {"altitude_settle_s", o.altitude_settle_s, 0, big},
+        {"link_radius_m", o.link_radius_m, 0, 1000},
+        {"far_from_link_weight", o.far_from_link_weight, 0, 1},
+    };
+    for (const Check &c : checks) {
+        if (!in_range(c.value, c.lo, c.hi)) {
+            error = std::string("option ") + c.name + " = " + std::to_string(c.value) + " is outside [" +
+                    std::to_string(c.lo) + ", " + std::to_string(c.hi) + "]";
+            return WF_LOC_ERR_INVALID_ARGUMENT;
+        }
+    }
+    if (o.min_particles > o.max_particles) {
+        error = "option min_particles is larger than max_particles";
+        return WF_LOC_ERR_INVALID_ARGUMENT;
+    }
+    if (o.unlocalize_weight > o.localize_weight || o.unlocalize_std_m < o.localize_std_m) {
+        error = "options unlocalize_* must be looser than localize_* (hysteresis)";
+        return WF_LOC_ERR_INVALID_ARGUMENT;
+    }
+    return WF_LOC_OK;
+}
+
+ParticleFilter::ParticleFilter(LocalizerMap map, const wf_localizer_options &opts, uint64_t seed)
+    : map_(std::move(map)),
+      opts_(opts),
+      motion_(MotionNoise::from_options(opts)),
+      sign_model_(SignModelParams::from_options(opts)),
+      rng_(seed),
+      tracker_(opts) {
+    estimate_.floor_index = -1;
+    estimate_.scale = 1;
+}
+
+int ParticleFilter::fail(int status, std::string message) {
+    error_ = std::move(message);
+    return status;
+}
+
+bool ParticleFilter::sample_walkable(int16_t floor, float &x, float &y) {
+    const FloorData &f = map_.floors[floor];
+    if (f.walkable_cells.empty()) return false;
+    const int32_t c = f.walkable_cells[rng_.below(static_cast<uint32_t>(f.walkable_cells.size()))];
+    const int32_t ix = c % f.grid.nx, iy = c / f.grid.nx;
+    x = f.grid.x0 + (static_cast<float>(ix) + rng_.uniform_float()) * f.grid.cell_m;
+    y = f.grid.y0 + (static_cast<float>(iy) + rng_.uniform_float()) * f.grid.cell_m;
+    return true;
+}
+
+float ParticleFilter::sample_yaw_offset() {
+    if (compass_set_ && tracker_.has_yaw()) {
+        return static_cast<float>(
+            wrap_angle(compass_heading_ - vio_yaw_ + compass_sigma_ * static_cast<double>(rng_.normal())));
+    }
+    return static_cast<float>(rng_.uniform(-kPiD, kPiD));
+}
+
+void ParticleFilter::reset_filter_state() {
+    initialized_ = true;
+    w_slow_ = w_fast_ = 0;
+    localized_ = false;
+    has_candidate_ = false;
+    estimate_dirty_ = true;
+    // A compass prior given before the first VIO yaw is applied at the next predict.
+    compass_pending_ = compass_set_ && !tracker_.has_yaw();
+}
+
+int ParticleFilter::init_floor_only(int32_t floor) {
+    if (floor < 0 || static_cast<size_t>(floor) >= map_.floors.size()) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "floor index " + std::to_string(floor) + " is outside [0, " +
+                                                     std::to_string(map_.floors.size()) + ")");
+    }
+    const auto f16 = static_cast<int16_t>(floor);
+    if (map_.floors[floor].walkable_cells.empty()) {
+        return fail(WF_LOC_ERR_NO_WALKABLE_SPACE,
+                    "floor " + std::to_string(floor) + " has no walkable cell (no area inside its walls)");
+    }
+    const size_t n = static_cast<size_t>(opts_.adaptive_particle_count
+                                             ? std::clamp(opts_.particle_count, opts_.min_particles, opts_.max_particles)
+                                             : opts_.particle_count);
+    p_.resize(n);
+    const float w = 1.0f / static_cast<float>(n);
+    for (size_t i = 0; i < n; ++i) {
+        sample_walkable(f16, p_.x[i], p_.y[i]);
+        p_.yaw_offset[i] = sample_yaw_offset();
+        p_.scale[i] = std::clamp(1.0f + static_cast<float>(opts_.initial_scale_sigma) * rng_.normal(),
+                                 motion_.scale_min, motion_.scale_max);
+        p_.floor[i] = f16;
+        p_.weight[i] = w;
+    }
+    init_floor_ = f16;
+    reset_filter_state();
+    return WF_LOC_OK;
+}
+
+int ParticleFilter::init_start_point(int32_t floor, double x, double y, double radius_m) {
+    if (floor < 0 || static_cast<size_t>(floor) >= map_.floors.size()) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "floor index " + std::to_string(floor) + " is outside [0, " +
+                                                     std::to_string(map_.floors.size()) + ")");
+    }
+    if (!std::isfinite(x) || !std::isfinite(y) || !std::isfinite(radius_m)) {
+        return fail(WF_LOC_ERR_NON_FINITE_INPUT, "start point or radius is not finite");
+    }
+    if (radius_m < 0 || radius_m > 1000) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "start radius " + std::to_string(radius_m) + " m is outside [0, 1000]");
+    }
+    const FloorData &fd = map_.floors[floor];
+    if (fd.grid.index(static_cast<float>(x), static_cast<float>(y)) < 0) {
+        return fail(WF_LOC_ERR_NO_WALKABLE_SPACE, "start point (" + std::to_string(x) + ", " + std::to_string(y) +
+                                                      ") is outside floor " + std::to_string(floor));
+    }
+    const auto f16 = static_cast<int16_t>(floor);
+    const size_t n = static_cast<size_t>(opts_.adaptive_particle_count
+                                             ? std::clamp(opts_.particle_count, opts_.min_particles, opts_.max_particles)
+                                             : opts_.particle_count);
+    p_.resize(n);
+    const float w = 1.0f / static_cast<float>(n);
+    const float cx = static_cast<float>(x), cy = static_cast<float>(y), r = static_cast<float>(radius_m);
+    for (size_t i = 0; i < n; ++i) {
+        // Uniform in the disc, rejecting points behind a wall as seen from the centre (another room).
+        float px = cx, py = cy;
+        for (int attempt = 0; attempt < 32; ++attempt) {
+            const float rr = r * std::sqrt(rng_.uniform_float());
+            const float a = kTwoPi * rng_.uniform_float();
+            float s, c;
+            fast_sincos(a, s, c);
+            const float qx = cx + rr * c, qy = cy + rr * s;
+            if (!fd.walls.crosses(cx, cy, qx, qy)) {
+                px = qx;
+                py = qy;
+                break;
+            }
+        }
+        p_.x[i] = px;
+        p_.y[i] = py;
+        p_.yaw_offset[i] = sample_yaw_offset();
+        p_.scale[i] = std::clamp(1.0f + static_cast<float>(opts_.initial_scale_sigma) * rng_.normal(),
+                                 motion_.scale_min, motion_.scale_max);
+        p_.floor[i] = f16;
+        p_.weight[i] = w;
+    }
+    init_floor_ = f16;
+    reset_filter_state();
+    return WF_LOC_OK;
+}
+
+int ParticleFilter::set_compass_prior(double heading_in_map_rad, double sigma_rad) {
+    if (!std::isfinite(heading_in_map_rad) || !std::isfinite(sigma_rad)) {
+        return fail(WF_LOC_ERR_NON_FINITE_INPUT, "compass heading or sigma is not finite");
+    }
+    if (sigma_rad <= 0 || sigma_rad > 2 * kPiD) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "compass sigma " + std::to_string(sigma_rad) + " rad is outside (0, 2 pi]");
+    }
+    compass_set_ = true;
+    compass_heading_ = wrap_angle(heading_in_map_rad);
+    compass_sigma_ = sigma_rad;
+    if (initialized_) compass_pending_ = true;
+    return WF_LOC_OK;
+}
+
+void ParticleFilter::apply_compass_reweight() {
+    // w *= N(heading - compass; 0, sigma) (unnormalised), with a small floor so a wrong compass (magnetic
+    // disturbance indoors is common) cannot remove every hypothesis.
+    const double inv = 1.0 / compass_sigma_;
+    double sum = 0;
+    for (size_t i = 0; i < p_.size(); ++i) {
+        const double e = wrap_angle(vio_yaw_ + p_.yaw_offset[i] - compass_heading_) * inv;
+        p_.weight[i] *= static_cast<float>(std::exp(-0.5 * e * e) + 1e-3);
+        sum += p_.weight[i];
+    }
+    normalize(sum);
+    compass_pending_ = false;
+}
+
+void ParticleFilter::normalize(double sum) {
+    const size_t n = p_.size();
+    if (n == 0) return;
+    if (!(sum > 0) || !std::isfinite(sum)) {
+        // Every hypothesis was rejected (e.g. all crossed walls): keep them all, equally weighted, rather
+        // than dividing by zero.
+        std::fill(p_.weight.begin(), p_.weight.end(), 1.0f / static_cast<float>(n));
+        return;
+    }
+    const float inv = static_cast<float>(1.0 / sum);
+    float *w = p_.weight.data();
+    for (size_t i = 0; i < n; ++i) w[i] *= inv;
+}
+
+int ParticleFilter::predict(const wf_vio_sample &s) {
+    if (!std::isfinite(s.t) || !std::isfinite(s.east_m) || !std::isfinite(s.north_m) || !std::isfinite(s.yaw_rad)) {
+        return fail(WF_LOC_ERR_NON_FINITE_INPUT, "VIO sample has a non-finite value (ignored)");
+    }
+    if (s.tracking < WF_VIO_TRACKING_NORMAL || s.tracking > WF_VIO_TRACKING_NOT_AVAILABLE) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "VIO tracking state " + std::to_string(s.tracking) + " is unknown");
+    }
+    t_last_ = s.t;
+    const VioDelta d = tracker_.push(s);
+    if (tracker_.has_yaw()) vio_yaw_ = wrap_angle(tracker_.last_yaw());
+    if (!initialized_) return WF_LOC_OK;
+    if (compass_pending_ && tracker_.has_yaw()) apply_compass_reweight();
+    if (d.kind != DeltaKind::kNone) {
+        const double sum = apply_motion(p_, d, motion_, map_, rng_);
+        normalize(sum);
+        maybe_resample(false);
+    }
+    estimate_dirty_ = true;
+    return WF_LOC_OK;
+}
+
+int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, double t) {
+    if (!initialized_) return fail(WF_LOC_ERR_NOT_INITIALIZED, "update_signs before an init");
+    if (count > 0 && obs == nullptr) return fail(WF_LOC_ERR_INVALID_ARGUMENT, "observations is NULL with count > 0");
+    if (!std::isfinite(t)) return fail(WF_LOC_ERR_NON_FINITE_INPUT, "update_signs time is not finite");
+    t_last_ = t;
+    size_t bad = 0;
+    const std::vector<PreparedSighting> z = prepare_sightings(obs, count, sign_model_, map_.kind_count, &bad);
+    if (!z.empty() || sign_model_.negative_information) {
+        const size_t n = p_.size();
+        log_likelihood_.resize(n);
+        const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
+                                                 log_likelihood_.data());
+        // w_i <- w_i * L_i / sum_j w_j L_j, in the log domain relative to the best particle (no underflow).
+        double s = 0;
+        float *w = p_.weight.data();
+        const float *ll = log_likelihood_.data();
+        for (size_t i = 0; i < n; ++i) {
+            const float f = std::exp(ll[i] - max_ll);
+            w[i] *= f;
+            s += w[i];
+        }
+        if (s > 0 && std::isfinite(s) && std::isfinite(max_ll)) {
+            normalize(s);
+            if (!z.empty() && opts_.recovery) {
+                // PR Table 8.3 lines 8-10: w_avg = sum w_i L_i (prior weights normalised) = exp(max) * s,
+                // taken per sighting (geometric mean) so frames with 1 or 3 sightings are comparable.
+                const double log_avg = (static_cast<double>(max_ll) + std::log(s)) / static_cast<double>(z.size());
+                const double w_avg = std::exp(std::clamp(log_avg, -700.0, 700.0));
+                if (w_slow_ == 0 && w_fast_ == 0) {
+                    w_slow_ = w_fast_ = w_avg;  // start both at the first value (no spurious injection)
+                } else {
+                    w_slow_ += opts_.recovery_alpha_slow * (w_avg - w_slow_);
+                    w_fast_ += opts_.recovery_alpha_fast * (w_avg - w_fast_);
+                }
+            }
+            maybe_resample(!z.empty());
+        } else {
+            normalize(0);
+        }
+        estimate_dirty_ = true;
+    }
+    compute_estimate();
+    if (bad > 0) {
+        return fail(WF_LOC_ERR_NON_FINITE_INPUT,
+                    std::to_string(bad) + " sighting(s) with a non-finite or negative value were ignored");
+    }
+    return WF_LOC_OK;
+}
+
+void ParticleFilter::maybe_resample(bool after_measurement) {
+    const size_t n = p_.size();
+    if (n == 0) return;
+    const double ess = effective_sample_size(p_.weight.data(), n);
+    double inject = 0;
+    if (opts_.recovery && after_measurement && w_slow_ > 0) {
+        inject = std::clamp(1.0 - w_fast_ / w_slow_, 0.0, opts_.recovery_max_fraction);
+    }
+    if (ess < opts_.resample_ess_fraction * static_cast<double>(n) || inject > 0.01) resample(inject);
+}
+
+void ParticleFilter::resample(double inject_fraction) {
+    const size_t n = p_.size();
+    size_t target = static_cast<size_t>(opts_.particle_count);
+    if (opts_.adaptive_particle_count) {
+        // KLD-sampling (Fox 2003): k = bins occupied by a systematic draw of the current size.
+        systematic_resample(p_.weight.data(), n, n, rng_.uniform(), indices_);
+        const size_t k = count_occupied_bins(p_, indices_, static_cast<float>(vio_yaw_), static_cast<float>(opts_.kld_bin_m),
+                                             static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_);
+        target = std::clamp(kld_sample_count(k, opts_.kld_epsilon, opts_.kld_z), static_cast<size_t>(opts_.min_particles),
+                            static_cast<size_t>(opts_.max_particles));
+    }
+    // Injection goes to the floor of the best hypothesis (the estimate's floor), else the init floor.
+    const int16_t inject_floor =
+        estimate_.floor_index >= 0 ? static_cast<int16_t>(estimate_.floor_index) : init_floor_;
+    size_t n_inject = static_cast<size_t>(std::lround(inject_fraction * static_cast<double>(target)));
+    if (map_.floors[inject_floor].walkable_cells.empty()) n_inject = 0;
+    const size_t n_keep = target - n_inject;
+    systematic_resample(p_.weight.data(), n, n_keep, rng_.uniform(), indices_);
+    scratch_.resize(target);
+    for (size_t k = 0; k < n_keep; ++k) {
+        const uint32_t i = indices_[k];
+        scratch_.x[k] = p_.x[i];
+        scratch_.y[k] = p_.y[i];
+        scratch_.yaw_offset[k] = p_.yaw_offset[i];
+        scratch_.scale[k] = p_.scale[i];
+        scratch_.floor[k] = p_.floor[i];
+    }
+    for (size_t k = n_keep; k < target; ++k) {
+        // Augmented MCL: a random particle from the walkable space ("kidnapped traveler" recovery).
+        sample_walkable(inject_floor, scratch_.x[k], scratch_.y[k]);
+        scratch_.yaw_offset[k] = sample_yaw_offset();
+        scratch_.scale[k] = std::clamp(1.0f + static_cast<float>(opts_.initial_scale_sigma) * rng_.normal(),
+                                       motion_.scale_min, motion_.scale_max);
+        scratch_.floor[k] = inject_floor;
+    }
+    std::fill(scratch_.weight.begin(), scratch_.weight.end(), 1.0f / static_cast<float>(target));
+    p_.swap(scratch_);
+    ++resample_count_;
+    injected_count_ += n_inject;
+    estimate_dirty_ = true;
+}
+
+int ParticleFilter::update_altitude(double relative_altitude_m, double t) {
+    if (!std::isfinite(relative_altitude_m) || !std::isfinite(t)) {
+        return fail(WF_LOC_ERR_NON_FINITE_INPUT, "relative altitude or time is not finite (ignored)");
+    }
+    t_last_ = t;
+    if (!has_altitude_) {
+        has_altitude_ = true;
+        settled_altitude_ = stable_ref_altitude_ = relative_altitude_m;
+        stable_since_t_ = t;
+        return WF_LOC_OK;
+    }
+    if (std::fabs(relative_altitude_m - stable_ref_altitude_) > opts_.altitude_settle_tolerance_m) {
+        stable_ref_altitude_ = relative_altitude_m;
+        stable_since_t_ = t;
+    }
+    const bool settled = t - stable_since_t_ >= opts_.altitude_settle_s;
+    const double delta = relative_altitude_m - settled_altitude_;
+    if (settled && std::fabs(delta) > opts_.storey_threshold_m) {
+        if (initialized_) apply_floor_change(delta);
+        settled_altitude_ = relative_altitude_m;
+    } else if (settled && std::fabs(delta) < opts_.altitude_settle_tolerance_m) {
+        settled_altitude_ = relative_altitude_m;  // absorb slow barometric drift, not half storeys
+    }
+    return WF_LOC_OK;
+}
+
+void ParticleFilter::apply_floor_change(double delta_m) {
+    const size_t nf = map_.floors.size();
+    // For each source floor: the floor whose elevation matches elevation + delta (within half the change).
+    std::vector<int16_t> dest(nf, -1);
+    for (size_t f = 0; f < nf; ++f) {
+        const double target = map_.floors[f].elevation_m + delta_m;
+        double best = std::max(1.0, 0.5 * std::fabs(delta_m));
+        for (size_t g = 0; g < nf; ++g) {
+            const double e = std::fabs(map_.floors[g].elevation_m - target);
+            if (g != f && e < best) {
+                best = e;
+                dest[f] = static_cast<int16_t>(g);
+            }
+        }
+    }
+    const float radius = static_cast<float>(opts_.link_radius_m);
+    const float far = static_cast<float>(opts_.far_from_link_weight);
+    double sum = 0;
+    for (size_t i = 0; i < p_.size(); ++i) {
+        const int16_t f = p_.floor[i];
+        if (dest[f] >= 0 && map_.floors[f].distance_to_link(p_.x[i], p_.y[i]) <= radius) {
+            p_.floor[i] = dest[f];
+        } else {
+            p_.weight[i] *= far;  // cannot explain a storey change from here
+        }
+        sum += p_.weight[i];
+    }
+    normalize(sum);
+    maybe_resample(false);
+    estimate_dirty_ = true;
+    compute_estimate();
+}
+
+void ParticleFilter::compute_estimate() {
+    estimate_dirty_ = false;
+    wf_localizer_estimate e{};
+    e.t = t_last_;
+    e.floor_index = -1;
+    e.scale = 1;
+    e.particle_count = static_cast<int32_t>(p_.size());
+    if (!initialized_ || p_.size() == 0) {
+        estimate_ = e;
+        return;
+    }
+    ClusterParams cp;
+    cp.cell_m = static_cast<float>(opts_.cluster_cell_m);
+    cp.yaw_bin_rad = static_cast<float>(opts_.cluster_yaw_bin_rad);
+    const std::vector<ClusterSummary> &clusters = clusterer_.run(p_, static_cast<float>(vio_yaw_), cp);
+    if (clusters.empty()) {
+        estimate_ = e;
+        return;
+    }
+    const ClusterSummary &d = clusters.front();
+    int32_t hyps = 0;
+    for (const ClusterSummary &c : clusters) hyps += c.weight > opts_.hypothesis_min_weight ? 1 : 0;
+    Eigen::Matrix2d cov;
+    cov << d.cov_xx, d.cov_xy, d.cov_xy, d.cov_yy;
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> eig(cov, Eigen::EigenvaluesOnly);
+    const double std_m = std::sqrt(std::max(0.0, eig.eigenvalues().maxCoeff()));
+    e.x = d.x;
+    e.y = d.y;
+    e.floor_index = d.floor;
+    e.heading_rad = wrap_angle(d.heading);
+    e.cov_xx = d.cov_xx;
+    e.cov_xy = d.cov_xy;
+    e.cov_yy = d.cov_yy;
+    e.heading_std_rad = d.heading_std;
+    e.scale = d.scale;
+    e.yaw_offset_rad = wrap_angle(d.yaw_offset);
+    e.dominant_weight = std::clamp(d.weight, 0.0, 1.0);
+    e.position_std_m = std_m;
+    e.confidence = e.dominant_weight / (1.0 + std_m * std_m);
+    e.hypothesis_count = hyps;
+    // Localized flag with hysteresis: on after the dominant cluster stays heavy and tight for
+    // localize_hold_s; off as soon as it gets light or wide. Two mirrored clusters (~0.5 each) keep it off.
+    if (localized_) {
+        if (e.dominant_weight < opts_.unlocalize_weight || std_m > opts_.unlocalize_std_m) {
+            localized_ = false;
+            has_candidate_ = false;
+        }
+    } else if (e.dominant_weight > opts_.localize_weight && std_m < opts_.localize_std_m) {
+        if (!has_candidate_) {
+            has_candidate_ = true;
+            candidate_since_t_ = t_last_;
+        }
+        if (t_last_ - candidate_since_t_ >= opts_.localize_hold_s) localized_ = true;
+    } else {
+        has_candidate_ = false;
+    }
+    e.localized = localized_ ? 1 : 0;
+    // Never hand out NaN: fall back to zeros (cannot happen with finite particles; kept as a guard).
+    const double fields[] = {e.x, e.y, e.heading_rad, e.cov_xx, e.cov_xy, e.cov_yy, e.heading_std_rad, e.confidence};
+    for (double v : fields) {
+        if (!std::isfinite(v)) {
+            e.localized = 0;
+            localized_ = false;
+            e.x = e.y = e.heading_rad = e.cov_xy = e.confidence = 0;
+            e.cov_xx = e.cov_yy = 1e6;
+            e.heading_std_rad = kPiD;
+            break;
+        }
+    }
+    estimate_ = e;
+}
+
+const wf_localizer_estimate &ParticleFilter::estimate() {
+    if (estimate_dirty_) compute_estimate();
+    estimate_.particle_count = static_cast<int32_t>(p_.size());
+    return estimate_;
+}
+
+}  // namespace wf::loc

@@ -1,0 +1,102 @@
+// The Monte Carlo localizer (Probabilistic Robotics Table 8.2 MCL, with the augmented-MCL recovery of
+// Table 8.3 and KLD-sampling of Fox 2003): particles over (map x, y, VIO->map yaw offset, VIO scale, floor),
+// moved by VIO deltas (motion/vio_motion_model), weighted by sign sightings (sensors/sign_measurement_model)
+// and by walls, resampled with the low-variance sampler, summarised by clustering (pf/clustering). All
+// methods return a wf_localizer_status; the C ABI (capi/wf_localizer.cpp) is a thin shell around this class.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "common/rng.hpp"
+#include "map/localizer_map.hpp"
+#include "motion/vio_motion_model.hpp"
+#include "pf/clustering.hpp"
+#include "pf/particle_set.hpp"
+#include "pf/resampling.hpp"
+#include "sensors/sign_measurement_model.hpp"
+#include "wf_localizer.h"
+
+namespace wf::loc {
+
+/// Checks every option against its documented range; on failure names the field in `error`.
+int validate_options(const wf_localizer_options &o, std::string &error);
+
+class ParticleFilter {
+public:
+    ParticleFilter(LocalizerMap map, const wf_localizer_options &opts, uint64_t seed);
+
+    int init_floor_only(int32_t floor);
+    int init_start_point(int32_t floor, double x, double y, double radius_m);
+    int set_compass_prior(double heading_in_map_rad, double sigma_rad);
+    int predict(const wf_vio_sample &s);
+    int update_signs(const wf_sign_observation *obs, size_t count, double t);
+    int update_altitude(double relative_altitude_m, double t);
+
+    /// Current estimate (recomputed when particles changed since the last call).
+    const wf_localizer_estimate &estimate();
+
+    bool initialized() const { return initialized_; }
+    const ParticleSet &particles() const { return p_; }
+    /// Heading of particle i = vio_yaw() + yaw_offset[i].
+    float vio_yaw() const { return static_cast<float>(vio_yaw_); }
+    const LocalizerMap &map() const { return map_; }
+    const wf_localizer_options &options() const { return opts_; }
+    const std::string &error() const { return error_; }
+    void clear_error() { error_.clear(); }
+    /// Augmented-MCL averages (PR Table 8.3), per-sighting geometric mean of the frame likelihood.
+    double w_slow() const { return w_slow_; }
+    double w_fast() const { return w_fast_; }
+    /// Number of resamplings so far and particles injected by recovery in total (diagnostics, tests).
+    size_t resample_count() const { return resample_count_; }
+    size_t injected_count() const { return injected_count_; }
+
+private:
+    int fail(int status, std::string message);
+    bool sample_walkable(int16_t floor, float &x, float &y);
+    float sample_yaw_offset();
+    void reset_filter_state();
+    void normalize(double sum);
+    void maybe_resample(bool after_measurement);
+    void resample(double inject_fraction);
+    void apply_compass_reweight();
+    void apply_floor_change(double delta_m);
+    void compute_estimate();
+
+    LocalizerMap map_;
+    wf_localizer_options opts_;
+    MotionNoise motion_;
+    SignModelParams sign_model_;
+    Rng rng_;
+    VioDeltaTracker tracker_;
+    ParticleSet p_, scratch_;
+    std::vector<float> log_likelihood_;
+    std::vector<uint32_t> indices_;
+    BinCounter kld_bins_;
+    ParticleClusterer clusterer_;
+    std::string error_;
+
+    bool initialized_ = false;
+    int16_t init_floor_ = 0;
+    double vio_yaw_ = 0;
+    double t_last_ = 0;
+
+    bool compass_set_ = false;
+    bool compass_pending_ = false;
+    double compass_heading_ = 0, compass_sigma_ = 0;
+
+    double w_slow_ = 0, w_fast_ = 0;
+    size_t resample_count_ = 0, injected_count_ = 0;
+
+    bool has_altitude_ = false;
+    double settled_altitude_ = 0, stable_ref_altitude_ = 0, stable_since_t_ = 0;
+
+    bool estimate_dirty_ = true;
+    bool localized_ = false;
+    double candidate_since_t_ = -1;
+    bool has_candidate_ = false;
+    wf_localizer_estimate estimate_{};
+};
+
+}  // namespace wf::loc

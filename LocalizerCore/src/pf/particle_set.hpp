@@ -1,0 +1,33 @@
+// Particles as a structure of arrays (one contiguous float array per state variable), so the motion and
+// measurement loops stream through memory and the compiler can vectorise the arithmetic parts.
+// State of particle i (docs/localizer.md):
+//   x[i], y[i]       position in the map frame of its floor, meters;
+//   yaw_offset[i]    map yaw minus VIO yaw, radians (heading in map = VIO yaw + yaw_offset);
+//   scale[i]         VIO scale factor (map meters per VIO meter);
+//   floor[i]         floor index;
+//   weight[i]        importance weight (normalised to sum 1 after every update).
+#pragma once
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+namespace wf::loc {
+
+struct ParticleSet {
+    std::vector<float> x, y, yaw_offset, scale, weight;
+    std::vector<int16_t> floor;
+
+    size_t size() const { return x.size(); }
+    void resize(size_t n) {
+        x.resize(n); y.resize(n); yaw_offset.resize(n); scale.resize(n); weight.resize(n); floor.resize(n);
+    }
+    void swap(ParticleSet &o) {
+        x.swap(o.x); y.swap(o.y); yaw_offset.swap(o.yaw_offset); scale.swap(o.scale); weight.swap(o.weight);
+        floor.swap(o.floor);
+    }
+    /// Bytes of state per particle (one copy).
+    static constexpr size_t kBytesPerParticle = 5 * sizeof(float) + sizeof(int16_t);
+};
+
+}  // namespace wf::loc

@@ -1,0 +1,143 @@
+#include "pf/resampling.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/fast_math.hpp"
+
+namespace wf::loc {
+
+double effective_sample_size(const float *weights, size_t n) {
+    double s = 0, s2 = 0;
+    for (size_t i = 0; i < n; ++i) {
+        s += weights[i];
+        s2 += static_cast<double>(weights[i]) * weights[i];
+    }
+    if (!(s2 > 0) || !std::isfinite(s2)) return 0;
+    return s * s / s2;  // = 1 / sum w^2 when the weights sum to 1
+}
+
+void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out) {
+    out.resize(n_out);
+    if (n == 0 || n_out == 0) {
+        out.clear();
+        return;
+    }
+    double total = 0;
+    for (size_t i = 0; i < n; ++i) total += weights[i];
+    if (!(total > 0) || !std::isfinite(total)) {
+        for (size_t k = 0; k < n_out; ++k) out[k] = static_cast<uint32_t>((k * n) / n_out);
+        return;
+    }
+    // Pointers at (u0 + k) * total / n_out, k = 0..n_out-1, walked along the cumulative weights.
+    const double step = total / static_cast<double>(n_out);
+    double target = u0 * step;
+    double cumulative = weights[0];
+    size_t i = 0;
+    for (size_t k = 0; k < n_out; ++k) {
+        while (target > cumulative && i + 1 < n) {
+            ++i;
+            cumulative += weights[i];
+        }
+        out[k] = static_cast<uint32_t>(i);
+        target += step;
+    }
+}
+
+size_t kld_sample_count(size_t k, double epsilon, double z) {
+    if (k <= 1) return 1;
+    const double km1 = static_cast<double>(k - 1);
+    const double a = 2.0 / (9.0 * km1);
+    const double t = 1.0 - a + std::sqrt(a) * z;
+    const double n = km1 / (2.0 * epsilon) * t * t * t;
+    if (!(n < 1e12)) return static_cast<size_t>(1e12);
+    return static_cast<size_t>(std::ceil(n));
+}
+
+uint64_t BinCounter::key(int16_t floor, float x, float y, float heading_rad, float inv_bin_m, float inv_bin_yaw,
+                         int32_t yaw_bins) {
+    // 22 bits per axis (offset by 2^21 bins), 8 bits of heading, 12 bits of floor.
+    const int64_t ix = static_cast<int64_t>(std::floor(x * inv_bin_m)) + (int64_t{1} << 21);
+    const int64_t iy = static_cast<int64_t>(std::floor(y * inv_bin_m)) + (int64_t{1} << 21);
+    const float h = wrap_angle_f(heading_rad) + kPi;  // [0, 2pi]
+    int64_t ih = static_cast<int64_t>(h * inv_bin_yaw);
+    if (ih >= yaw_bins) ih -= yaw_bins;
+    if (ih < 0) ih = 0;
+    const uint64_t ux = static_cast<uint64_t>(std::clamp<int64_t>(ix, 0, (int64_t{1} << 22) - 1));
+    const uint64_t uy = static_cast<uint64_t>(std::clamp<int64_t>(iy, 0, (int64_t{1} << 22) - 1));
+    return (static_cast<uint64_t>(static_cast<uint16_t>(floor) & 0xfff) << 52) | (ux << 30) | (uy << 8) |
+           static_cast<uint64_t>(ih & 0xff);
+}
+
+void BinCounter::clear(size_t expected) {
+    size_t cap = 64;
+    while (cap < 2 * expected) cap <<= 1;
+    keys_.assign(cap, ~uint64_t{0});
+    ids_.assign(cap, 0);
+    mask_ = cap - 1;
+    count_ = 0;
+}
+
+namespace {
+inline size_t hash64(uint64_t k) {
+    k ^= k >> 33;
+    k *= 0xff51afd7ed558ccdull;
+    k ^= k >> 33;
+    return static_cast<size_t>(k);
+}
+}  // namespace
+
+uint32_t BinCounter::insert(uint64_t key) {
+    if (2 * (count_ + 1) > keys_.size()) {
+        // Grow and rehash (keeps ids).
+        std::vector<uint64_t> old_keys;
+        std::vector<uint32_t> old_ids;
+        old_keys.swap(keys_);
+        old_ids.swap(ids_);
+        const size_t cap = std::max<size_t>(64, old_keys.size() * 2);
+        keys_.assign(cap, ~uint64_t{0});
+        ids_.assign(cap, 0);
+        mask_ = cap - 1;
+        for (size_t i = 0; i < old_keys.size(); ++i) {
+            if (old_keys[i] == ~uint64_t{0}) continue;
+            size_t h = hash64(old_keys[i]) & mask_;
+            while (keys_[h] != ~uint64_t{0}) h = (h + 1) & mask_;
+            keys_[h] = old_keys[i];
+            ids_[h] = old_ids[i];
+        }
+    }
+    size_t h = hash64(key) & mask_;
+    while (keys_[h] != ~uint64_t{0}) {
+        if (keys_[h] == key) return ids_[h];
+        h = (h + 1) & mask_;
+    }
+    keys_[h] = key;
+    ids_[h] = static_cast<uint32_t>(count_);
+    return static_cast<uint32_t>(count_++);
+}
+
+uint32_t BinCounter::find(uint64_t key) const {
+    if (keys_.empty()) return UINT32_MAX;
+    size_t h = hash64(key) & mask_;
+    while (keys_[h] != ~uint64_t{0}) {
+        if (keys_[h] == key) return ids_[h];
+        h = (h + 1) & mask_;
+    }
+    return UINT32_MAX;
+}
+
+size_t count_occupied_bins(const ParticleSet &p, const std::vector<uint32_t> &indices, float vio_yaw, float bin_m,
+                           float bin_yaw_rad, BinCounter &bins) {
+    const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::ceil(2.0f * kPi / bin_yaw_rad)));
+    const float inv_m = 1.0f / bin_m, inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);
+    bins.clear(std::min<size_t>(indices.size(), 1 << 16));
+    uint32_t last = UINT32_MAX;
+    for (uint32_t i : indices) {
+        if (i == last) continue;  // systematic indices are sorted: duplicates are adjacent
+        last = i;
+        bins.insert(BinCounter::key(p.floor[i], p.x[i], p.y[i], vio_yaw + p.yaw_offset[i], inv_m, inv_yaw, yaw_bins));
+    }
+    return bins.size();
+}
+
+}  // namespace wf::loc

@@ -1,0 +1,111 @@
+// Tests for pf/resampling.hpp: ESS, systematic resampling proportions, KLD sample counts.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <vector>
+
+#include "common/rng.hpp"
+#include "pf/resampling.hpp"
+
+using namespace wf::loc;
+
+TEST(Resampling, EffectiveSampleSize) {
+    std::vector<float> uniform(100, 0.01f);
+    EXPECT_NEAR(effective_sample_size(uniform.data(), uniform.size()), 100.0, 1e-3);
+    std::vector<float> one_hot(100, 0.0f);
+    one_hot[7] = 1;
+    EXPECT_NEAR(effective_sample_size(one_hot.data(), one_hot.size()), 1.0, 1e-9);
+    std::vector<float> half(100, 0.0f);
+    for (int i = 0; i < 50; ++i) half[i] = 0.02f;
+    EXPECT_NEAR(effective_sample_size(half.data(), half.size()), 50.0, 1e-3);
+}
+
+// Systematic resampling draws particle i floor(N w_i) or ceil(N w_i) times, whatever the offset.
+TEST(Resampling, SystematicKeepsProportions) {
+    const std::vector<float> w = {0.5f, 0.25f, 0.125f, 0.125f, 0.0f};
+    std::vector<uint32_t> idx;
+    // Offsets away from exact ties with the cumulative sums.
+    for (double u0 : {0.1, 0.5, 0.9}) {
+        systematic_resample(w.data(), w.size(), 80, u0, idx);
+        std::map<uint32_t, int> count;
+        for (uint32_t i : idx) ++count[i];
+        EXPECT_EQ(count[0], 40);
+        EXPECT_EQ(count[1], 20);
+        EXPECT_EQ(count[2], 10);
+        EXPECT_EQ(count[3], 10);
+        EXPECT_EQ(count[4], 0);
+        EXPECT_TRUE(std::is_sorted(idx.begin(), idx.end()));
+    }
+    // Random weights: each count within 1 of N w_i.
+    Rng rng(3);
+    std::vector<float> r(1000);
+    double total = 0;
+    for (float &v : r) total += (v = rng.uniform_float());
+    systematic_resample(r.data(), r.size(), 5000, rng.uniform(), idx);
+    std::vector<int> c(r.size(), 0);
+    for (uint32_t i : idx) ++c[i];
+    for (size_t i = 0; i < r.size(); ++i) EXPECT_NEAR(c[i], 5000 * r[i] / total, 1.0 + 1e-6);
+}
+
+TEST(Resampling, SystematicWithZeroWeightsFallsBackToUniform) {
+    const std::vector<float> w(10, 0.0f);
+    std::vector<uint32_t> idx;
+    systematic_resample(w.data(), w.size(), 20, 0.5, idx);
+    ASSERT_EQ(idx.size(), 20u);
+    EXPECT_EQ(idx.front(), 0u);
+    EXPECT_EQ(idx.back(), 9u);
+}
+
+// Fox 2003 bound: grows about linearly in k; e.g. k = 100, epsilon 0.05, z 2.326 gives ~1,300 particles.
+TEST(Resampling, KldCountGrowsWithBins) {
+    EXPECT_EQ(kld_sample_count(1, 0.05, 2.326), 1u);
+    size_t prev = 1;
+    for (size_t k : {2, 10, 100, 1000, 10000}) {
+        const size_t n = kld_sample_count(k, 0.05, 2.326);
+        EXPECT_GT(n, prev);
+        prev = n;
+    }
+    const double k = 100, a = 2.0 / (9 * (k - 1));
+    const double expected = (k - 1) / 0.1 * std::pow(1 - a + std::sqrt(a) * 2.326, 3);
+    EXPECT_NEAR(double(kld_sample_count(100, 0.05, 2.326)), expected, 1.0);
+    EXPECT_GT(kld_sample_count(100, 0.05, 2.326), 1200u);
+    EXPECT_LT(kld_sample_count(100, 0.05, 2.326), 1400u);
+}
+
+// A spread-out cloud occupies more bins than a concentrated one, so KLD asks for more particles.
+TEST(Resampling, KldCountGrowsWithSpread) {
+    Rng rng(8);
+    BinCounter bins;
+    size_t previous = 0;
+    for (float spread : {0.2f, 2.0f, 20.0f}) {
+        ParticleSet p;
+        p.resize(5000);
+        std::vector<uint32_t> idx(5000);
+        for (size_t i = 0; i < 5000; ++i) {
+            p.x[i] = spread * rng.normal();
+            p.y[i] = spread * rng.normal();
+            p.yaw_offset[i] = 0.1f * spread * rng.normal();
+            p.floor[i] = 0;
+            idx[i] = static_cast<uint32_t>(i);
+        }
+        const size_t k = count_occupied_bins(p, idx, 0.0f, 0.5f, 0.1745f, bins);
+        const size_t n = kld_sample_count(k, 0.05, 2.326);
+        EXPECT_GT(n, previous) << "spread " << spread;
+        previous = n;
+    }
+}
+
+TEST(Resampling, BinCounterDenseIds) {
+    BinCounter b;
+    b.clear(4);
+    EXPECT_EQ(b.insert(10), 0u);
+    EXPECT_EQ(b.insert(20), 1u);
+    EXPECT_EQ(b.insert(10), 0u);
+    for (uint64_t k = 100; k < 1100; ++k) b.insert(k);  // forces growth
+    EXPECT_EQ(b.size(), 1002u);
+    EXPECT_EQ(b.find(20), 1u);
+    EXPECT_EQ(b.find(555), 457u);
+    EXPECT_EQ(b.find(99999), UINT32_MAX);
+}
