@@ -193,7 +193,8 @@ final class BundleReaderTests: XCTestCase {
         let l = try lines()
         try replaceFrameLine(4, with: l[3].replacingOccurrences(of: ",1],", with: ",1e999],"))
         let e = readError()
-        XCTAssertEqual(e?.kind, .invalidJSON)
+        // Linux Foundation refuses the number while parsing; a parser that yields +inf is caught by validation.
+        XCTAssertTrue([.invalidJSON, .invalidValue].contains(e?.kind), "\(String(describing: e))")
         XCTAssertEqual(e?.line, 4)
     }
 
@@ -201,7 +202,7 @@ final class BundleReaderTests: XCTestCase {
         let l = try lines()
         try replaceFrameLine(20, with: l[19].replacingOccurrences(of: ",1],", with: ",1e999],"))
         let e = readError()
-        XCTAssertEqual(e?.kind, .invalidJSON)
+        XCTAssertTrue([.invalidJSON, .invalidValue].contains(e?.kind), "\(String(describing: e))")
         XCTAssertEqual(e?.line, 20)
     }
 
