@@ -138,6 +138,7 @@ public final class Navigator {
     private var lastCorrectionT: [HapticPattern: Double] = [:]
     private var lastRerouteCheckT = -Double.infinity
     private var noRouteAnnounced = false
+    private var offRouteLatched = false
 
     /// Creates a navigator to `destinationId`: a point-of-interest id (routed to the graph node that
     /// references it, else to the nearest node on its floor) or a graph node id. Throws
@@ -193,7 +194,7 @@ public final class Navigator {
         guard input.isLocalized else {
             // Paper section 4: "the app issues no directions other than 'start walking' until it is able
             // to estimate the user's location".
-            if lastStartWalkingT.map({ t - $0 >= options.startWalkingRepeatSeconds }) ?? true {
+            if lastStartWalkingT.map({ t - $0 >= options.startWalkingRepeatSeconds - 1e-6 }) ?? true {
                 say(narrative.phrases.phrase("startWalking"), .information, t)
                 lastStartWalkingT = t
             }
@@ -245,10 +246,10 @@ public final class Navigator {
             return emit(t)
         }
         let e = snap.edgeIndex
-        let a = labelAlongCorridor(from: graph.edgeFrom[e], cameFrom: graph.edgeTo[e])
-        let b = labelAlongCorridor(from: graph.edgeTo[e], cameFrom: graph.edgeFrom[e])
+        let a = labelAlongCorridor(from: graph.edgeFrom[e], cameFrom: graph.edgeTo[e], skipping: place.name)
+        let b = labelAlongCorridor(from: graph.edgeTo[e], cameFrom: graph.edgeFrom[e], skipping: place.name)
         let text: String
-        if let a, let b, a != b, a != place.name, b != place.name {
+        if let a, let b, a != b {
             text = narrative.phrases.phrase("whereAmI.between", ["place": place.name, "from": a, "to": b])
         } else {
             text = narrative.phrases.phrase("whereAmI.near", ["place": place.name])
@@ -317,9 +318,12 @@ public final class Navigator {
         let orientation: DepartOrientation = dir.length > 1e-6
             ? DepartOrientation.classify(relativeBearingRad: dir.angleRad - input.headingRad) : .ahead
         let next = route.maneuvers.count > 1 ? route.maneuvers[1] : route.maneuvers[0]
-        if next.kind != .arrive || next.distanceFromStartMeters - progressMeters > options.arrivalRadiusMeters {
-            say(narrative.depart(orientation, distanceMeters: next.distanceFromStartMeters - progressMeters),
-                .information, input.t)
+        let toNext = next.distanceFromStartMeters - progressMeters
+        if next.kind != .arrive || toNext > options.arrivalRadiusMeters {
+            // Alert rank: it must precede the alert of the next maneuver, which it makes redundant when
+            // that one is already within the alert distance ("Turn left, then go 5 meters." then the cue).
+            say(narrative.depart(orientation, distanceMeters: toNext), .alert, input.t)
+            if route.maneuvers.count > 1 && toNext <= options.alertDistanceMeters { alertIssued[1] = true }
         }
     }
 
@@ -336,7 +340,11 @@ public final class Navigator {
     /// another edge (silent re-route), or a better route appeared (hysteresis); flags a wrong way.
     private func checkDeviation(input: NavigationInput, snap: SnappedPosition) {
         let t = input.t
-        if distanceFromRouteMeters > options.offRouteDistanceMeters {
+        if distanceFromRouteMeters <= options.offRouteDistanceMeters { offRouteLatched = false }
+        if distanceFromRouteMeters > options.offRouteDistanceMeters && !offRouteLatched {
+            // Latched until the traveler is back within the distance: in an open area the new route
+            // starts as far away as the old one was, and must not be announced again on every update.
+            offRouteLatched = true
             correction(.offRoute, key: "safety.offRoute", t: t)
             adoptRoute(from: snap, input: input)
             return
@@ -431,7 +439,19 @@ public final class Navigator {
             let a = r.points[i], b = r.points[i + 1]
             let onA = a.floorId == floorId, onB = b.floorId == floorId
             let candidate: (t: Double, d: Double)
-            if onA && onB {
+            if i == 0 && onA && onB {
+                // The first segment is the part of the snapped edge ahead of the start. Behind the start the
+                // traveler is still on that edge (walking the wrong way, not off route): project on the whole
+                // edge and clamp the progress at 0.
+                let e = r.segmentEdges[0]
+                let p1 = Vec2(b.position)
+                let ea = graph.positions[graph.edgeFrom[e]], eb = graph.positions[graph.edgeTo[e]]
+                let tail = ea.distance(to: p1) > eb.distance(to: p1) ? ea : eb
+                let pr = projectOntoSegment(p, tail, p1)
+                let start = Vec2(a.position), ab = p1 - start
+                let t = ab.lengthSquared > 1e-18 ? max(0, min(1, (pr.point - start).dot(ab) / ab.lengthSquared)) : 0
+                candidate = (t, pr.distance)
+            } else if onA && onB {
                 let pr = projectOntoSegment(p, Vec2(a.position), Vec2(b.position))
                 candidate = (pr.t, pr.distance)
             } else if onA {
@@ -487,8 +507,8 @@ public final class Navigator {
             let i = nextManeuver
             let m = r.maneuvers[i]
             if m.kind == .arrive {
-                if !alertIssued[i], s < m.distanceFromStartMeters - options.cueDistanceMeters - options.alertCueGapMeters,
-                   m.distanceFromStartMeters - s <= options.alertDistanceMeters, r.maneuvers[i - 1].kind != .depart || s > 0.5 {
+                if !alertIssued[i], s < m.distanceFromStartMeters - options.arrivalRadiusMeters - options.alertCueGapMeters,
+                   m.distanceFromStartMeters - s <= options.alertDistanceMeters {
                     alertIssued[i] = true
                     if let text = narrative.alert(m, distanceMeters: m.distanceFromStartMeters - s, destinationName: destinationName) {
                         say(text, .alert, t)
@@ -500,6 +520,10 @@ public final class Navigator {
                 if u >= m.polylinePosition - 1e-9 {
                     if !cueIssued[i], let text = narrative.cue(m, floorName: floorName(m.floorId)) {
                         say(text, .cue, t)
+                        // The phrase gives the distance to the next maneuver: no separate early alert.
+                        if i + 1 < r.maneuvers.count && m.distanceToNextMeters <= options.alertDistanceMeters {
+                            alertIssued[i + 1] = true
+                        }
                     }
                     cueIssued[i] = true
                     nextManeuver += 1
@@ -547,11 +571,11 @@ public final class Navigator {
     private func floorName(_ id: String) -> String { graph.building.floor(id: id)?.name ?? id }
 
     /// Follows the corridor from `start` (arrived from `cameFrom`) while it goes on within 45 deg of
-    /// straight, up to 40 nodes, and returns the first spoken name met.
-    private func labelAlongCorridor(from start: Int, cameFrom: Int) -> String? {
+    /// straight, up to 40 nodes, and returns the first spoken name met other than `skipping`.
+    private func labelAlongCorridor(from start: Int, cameFrom: Int, skipping: String) -> String? {
         var prev = cameFrom, v = start
         for _ in 0..<40 {
-            if let name = spokenName(ofNode: v) { return name }
+            if let name = spokenName(ofNode: v), name != skipping { return name }
             let incoming = graph.positions[v] - graph.positions[prev]
             var bestNext: Int? = nil
             var bestAngle = 45.0

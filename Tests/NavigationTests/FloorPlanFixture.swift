@@ -178,14 +178,17 @@ struct WalkRecord {
 struct Walker {
     var speedMetersPerSecond = 1.2
     var updatesPerSecond = 10.0
-    var t = 0.0
+    /// Time of the next update, seconds: `startT + updates / updatesPerSecond` (no accumulated rounding).
+    var t: Double { startT + Double(updateCount) / updatesPerSecond }
+    let startT: Double
+    private var updateCount = 0
     var position: Point2
     var floorId: String
     var headingRad: Double
     var records: [WalkRecord] = []
 
     init(start: Point2, floorId: String, headingRad: Double = 0, t: Double = 0) {
-        position = start; self.floorId = floorId; self.headingRad = headingRad; self.t = t
+        position = start; self.floorId = floorId; self.headingRad = headingRad; startT = t
     }
 
     private mutating func tick(_ nav: Navigator, localized: Bool = true) {
@@ -198,7 +201,7 @@ struct Walker {
                 .map { $0.distanceFromStartMeters - nav.progressMeters }
         }
         records.append(WalkRecord(input: input, events: events, progressMeters: nav.progressMeters, nextTurnDistanceMeters: nextTurn))
-        t += 1 / updatesPerSecond
+        updateCount += 1
     }
 
     mutating func run(_ nav: Navigator, _ steps: [WalkStep]) {

@@ -1,0 +1,278 @@
+// The navigator end to end on ASCII fixtures: simulated walks at 1.2 m/s with 10 Hz updates, checking
+// what is said and felt, and when.
+import Foundation
+import Maps
+import XCTest
+@testable import Navigation
+
+final class NavigatorTests: XCTestCase {
+    /// a(0,8) to b(16,8), down to c(16,4), east to d(36,4), down to e(36,0); 2 m grid.
+    let zigzag = FloorPlanFixture(gridMeters: 2).floor("1", map: """
+        a-------b
+                |
+                c---------d
+                          |
+                          e
+        """).build()
+
+    func testOnlyStartWalkingUntilLocalized() throws {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a-----------b").build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var w = Walker(start: Point2(x: 2, y: 0), floorId: "1")
+        w.unlocalized(nav, seconds: 5)
+        XCTAssertEqual(w.spoken, ["Start walking."])
+        XCTAssertEqual(w.haptics, [])
+        XCTAssertNil(nav.currentRoute)
+        w.unlocalized(nav, seconds: 11)
+        XCTAssertEqual(w.spoken, ["Start walking.", "Start walking."], "repeated every 15 s while not localized")
+        XCTAssertEqual(w.records.filter { !$0.events.isEmpty }.map(\.input.t), [0, 15].map { Double($0) },
+                       "nothing else in between")
+        w.run(nav, [.wait(seconds: 0.1)])
+        XCTAssertEqual(w.spoken.last, "Go straight ahead, 10 meters.")
+        XCTAssertNotNil(nav.currentRoute)
+    }
+
+    func testCuesBetweenHalfAndOneAndAHalfMetersBeforeEachControlPoint() throws {
+        let nav = try Navigator(building: zigzag, destinationId: "e")
+        var w = Walker(start: zigzag.nodePosition("a"), floorId: "1", headingRad: 0)
+        w.run(nav, [.wait(seconds: 0.1)])
+        let route = try XCTUnwrap(nav.currentRoute)
+        XCTAssertEqual(kindsList(route.maneuvers), "depart,turnRight,turnLeft,turnRight,arrive")
+        w.run(nav, route.points.dropFirst().map { .walk(to: $0.position) })
+        XCTAssertTrue(nav.hasArrived)
+        // Every turn got its cue, at 0.5-1.5 m before the control point.
+        let cueRecords = w.records.filter { r in r.events.contains { $0.spokenText?.hasSuffix(" now.") ?? false } }
+        XCTAssertEqual(cueRecords.compactMap { $0.events.compactMap(\.spokenText).first }, ["Turn right now.", "Turn left now.", "Turn right now."])
+        for r in cueRecords {
+            let d = try XCTUnwrap(r.nextTurnDistanceMeters)
+            XCTAssertGreaterThanOrEqual(d, 0.5)
+            XCTAssertLessThanOrEqual(d, 1.5)
+        }
+        XCTAssertEqual(w.haptics, [.turnCue, .turnCue, .turnCue, .arrived])
+        XCTAssertEqual(w.spoken, [
+            "Go straight ahead, 15 meters.",  // 16 m to b, rounded to 5 m above 10 m
+            "In 8 meters, turn right.",
+            "Turn right now.",
+            "In 4 meters, turn left.",  // b-c is 4 m: the next alert right after the cue
+            "Turn left now.",
+            "Continue 20 meters.",
+            "In 8 meters, turn right.",
+            "Turn right now.",
+            "In 4 meters, arrive at e.",
+            "Arrived. e is ahead.",
+        ])
+    }
+
+    func testWrongWayAfterTwoSecondsOfWalkingAgainstTheRoute() throws {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a--------------------b").build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var w = Walker(start: Point2(x: 10, y: 0), floorId: "1", headingRad: 0)
+        w.run(nav, [.wait(seconds: 0.1)])
+        XCTAssertEqual(w.spoken, ["Go straight ahead, 10 meters."])
+        // Facing west while standing: no warning.
+        w.run(nav, [.face(headingRad: .pi), .wait(seconds: 3)])
+        XCTAssertEqual(w.haptics, [])
+        // Walking west: warned once, about 2 s after starting to move.
+        let startT = w.t
+        w.run(nav, [.walk(to: Point2(x: 5, y: 0))])
+        let warn = try XCTUnwrap(w.records.first { $0.events.contains(.init(t: $0.input.t, event: .haptic(.wrongWay))) })
+        XCTAssertGreaterThanOrEqual(warn.input.t - startT, 2.0)
+        XCTAssertLessThanOrEqual(warn.input.t - startT, 2.6)
+        XCTAssertTrue(warn.events.contains { $0.spokenText == "Wrong way, turn around." })
+        XCTAssertFalse(w.haptics.contains(.offRoute), "walking back along the route's own edge is not off route")
+        XCTAssertEqual(nav.routeCount, 1)
+        // Turning around and walking on: arrival.
+        w.run(nav, [.walk(to: Point2(x: 20, y: 0))])
+        XCTAssertTrue(nav.hasArrived)
+    }
+
+    func testOffRouteAnnouncedThenRerouted() throws {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: """
+            a-----------b
+            """).build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var w = Walker(start: Point2(x: 2, y: 0), floorId: "1", headingRad: 0)
+        w.run(nav, [.walk(to: Point2(x: 4, y: 0)), .walk(to: Point2(x: 4, y: 3.5))])
+        XCTAssertEqual(w.haptics.filter { $0 == .offRoute }.count, 1)
+        let at = try XCTUnwrap(w.records.first { r in r.events.contains { $0.spokenText == "Off route, recalculating." } })
+        XCTAssertGreaterThan(at.input.positionInMap.y, 3.0)
+        XCTAssertLessThan(at.input.positionInMap.y, 3.2)
+        XCTAssertEqual(nav.routeCount, 2)
+        // The new route's first instruction follows the correction once it has been said.
+        w.run(nav, [.wait(seconds: 3)])
+        XCTAssertEqual(w.spoken.last, "Turn right, then go 8 meters.")
+    }
+
+    func testSideCorridorReroutesSilently() throws {
+        let b = FloorPlanFixture(gridMeters: 2).floor("1", map: """
+            a-------b-------c
+                    |
+                    |
+                    d
+            """).build()
+        let nav = try Navigator(building: b, destinationId: "c")
+        var w = Walker(start: b.nodePosition("a"), floorId: "1", headingRad: 0)
+        let bp = b.nodePosition("b")
+        w.run(nav, [.walk(to: bp), .walk(to: Point2(x: bp.x, y: bp.y - 1.5))])
+        XCTAssertEqual(nav.routeCount, 2, "nearer to the side corridor than to the route by more than 1 m")
+        XCTAssertFalse(w.spoken.contains("Off route, recalculating."))
+        XCTAssertEqual(nav.currentRoute?.nodeIds, ["b", "c"])
+    }
+
+    func testHysteresisKeepsRouteAgainstSmallGainsButFollowsAClearChoice() throws {
+        // Square loop, 8 m sides, destination d at the far corner: a-b-d and a-c-d are equally long.
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: """
+            a-------b
+            |       |
+            |       |
+            |       |
+            |       |
+            |       |
+            |       |
+            |       |
+            c-------d
+            """).build()
+        let nav = try Navigator(building: b, destinationId: "d")
+        var w = Walker(start: Point2(x: 0.5, y: 8), floorId: "1", headingRad: 0)
+        w.run(nav, [.wait(seconds: 0.1)])
+        XCTAssertEqual(nav.currentRoute?.nodeIds, ["b", "d"])
+        // Estimate jitters onto the other branch: via c is now 0.8 m shorter, under the 2 m hysteresis.
+        w.run(nav, [.walk(to: Point2(x: 0, y: 7.6)), .wait(seconds: 2), .walk(to: Point2(x: 0.5, y: 8)), .wait(seconds: 1)])
+        XCTAssertEqual(nav.routeCount, 1)
+        XCTAssertEqual(nav.currentRoute?.nodeIds, ["b", "d"])
+        // Walking down the other branch is a clear choice.
+        w.run(nav, [.walk(to: Point2(x: 0, y: 8)), .walk(to: Point2(x: 0, y: 5))])
+        XCTAssertEqual(nav.routeCount, 2)
+        XCTAssertEqual(nav.currentRoute?.nodeIds, ["c", "d"])
+    }
+
+    /// Map for the arrival sides: node p with entrance markers around it, c at the east end.
+    let sidesMap = """
+          4   1
+
+        a-----p-----c  3
+
+              2
+        """
+
+    private func arrivalText(entrance: Character, from: String, to: String = "p", behindDoor: Bool = false) throws -> String? {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: sidesMap)
+            .pointOfInterest(node: to, id: "room", name: "Room 312", behindDoor: behindDoor, entrance: entrance).build()
+        let nav = try Navigator(building: b, destinationId: "room")
+        var w = Walker(start: b.nodePosition(from), floorId: "1")
+        w.run(nav, [.walk(to: b.nodePosition(to))])
+        XCTAssertTrue(nav.hasArrived)
+        return w.spoken.last
+    }
+
+    func testArrivalSaysWhichSideAndDoor() throws {
+        XCTAssertEqual(try arrivalText(entrance: "1", from: "a"), "Arrived. Room 312 is on your left.")
+        XCTAssertEqual(try arrivalText(entrance: "2", from: "a"), "Arrived. Room 312 is on your right.")
+        XCTAssertEqual(try arrivalText(entrance: "1", from: "c"), "Arrived. Room 312 is on your right.")
+        XCTAssertEqual(try arrivalText(entrance: "4", from: "a"), "Arrived. Room 312 is behind you.")
+        XCTAssertEqual(try arrivalText(entrance: "3", from: "a", to: "c"), "Arrived. Room 312 is ahead.")
+        XCTAssertEqual(try arrivalText(entrance: "1", from: "a", behindDoor: true), "Arrived. Room 312 is on your left, behind a door.")
+    }
+
+    func testArrivalWithinOneMeterAndNothingAfter() throws {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a-----------b").build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var w = Walker(start: Point2(x: 0, y: 0), floorId: "1")
+        w.run(nav, [.walk(to: Point2(x: 12, y: 0))])
+        let at = try XCTUnwrap(w.records.first { $0.events.contains { $0.spokenText?.hasPrefix("Arrived.") ?? false } })
+        XCTAssertGreaterThanOrEqual(at.input.positionInMap.x, 11.0)
+        XCTAssertLessThan(at.input.positionInMap.x, 11.13)
+        let after = w.records.filter { $0.input.t > at.input.t }.flatMap(\.events)
+        XCTAssertEqual(after, [])
+    }
+
+    func testElevatorRideEndToEnd() throws {
+        let b = FloorPlanFixture(gridMeters: 1)
+            .floor("1", map: "a-------E")
+            .floor("2", map: "        E-----------b")
+            .build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var w = Walker(start: b.nodePosition("a"), floorId: "1")
+        let e = b.nodePosition("E1")
+        w.run(nav, [.walk(to: e), .wait(seconds: 6), .changeFloor(to: "2"), .wait(seconds: 1),
+                    .walk(to: b.nodePosition("b"))])
+        XCTAssertTrue(nav.hasArrived)
+        XCTAssertEqual(w.spoken, [
+            "Go straight ahead, 8 meters.",
+            "Take the elevator to Floor 2.",
+            "Now on Floor 2. Continue 10 meters.",  // 12 m, rounded to 5 m
+            "In 8 meters, arrive at b.",
+            "Arrived. b is ahead.",
+        ])
+        let cue = try XCTUnwrap(w.records.first { $0.events.contains { $0.spokenText == "Take the elevator to Floor 2." } })
+        XCTAssertEqual(8 - cue.input.positionInMap.x, 0.75, accuracy: 0.13)
+    }
+
+    func testWhereAmIAndRepeat() throws {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "E-----p-----q-----S")
+            .label("E1", "the elevator").label("S1", "stairwell B")
+            .pointOfInterest(node: "p", id: "r312", name: "Room 312")
+            .pointOfInterest(node: "q", id: "r314", name: "Room 314")
+            .build()
+        let nav = try Navigator(building: b, destinationId: "r314")
+        XCTAssertEqual(nav.requestWhereAmI(t: 0).compactMap(\.spokenText), ["Location not known yet. Start walking."])
+        XCTAssertEqual(nav.requestRepeat(t: 0.5).compactMap(\.spokenText), ["No instruction yet."])
+        var w = Walker(start: Point2(x: 7, y: 0), floorId: "1", headingRad: 0, t: 5)
+        w.run(nav, [.wait(seconds: 0.1)])
+        XCTAssertEqual(w.spoken, ["Go straight ahead, 5 meters."])
+        let where1 = nav.requestWhereAmI(t: 6)
+        XCTAssertEqual(where1, [TimedGuidanceEvent(t: 6, event: .speak(text: "Near Room 312, between the elevator and Room 314.",
+                                                                        priority: .information, interrupt: true))])
+        // Repeat gives the last instruction, not the answer to "where am I", even within 10 s.
+        XCTAssertEqual(nav.requestRepeat(t: 9).compactMap(\.spokenText), ["Go straight ahead, 5 meters."])
+        // Nearer the stairs, at the end of the corridor (nothing labelled beyond): just "near".
+        let toElevator = try Navigator(building: b, destinationId: "E1")
+        _ = toElevator.update(NavigationInput(t: 20, positionInMap: Point2(x: 17, y: 0), floorId: "1", headingRad: .pi, isLocalized: true))
+        XCTAssertEqual(toElevator.requestWhereAmI(t: 21).compactMap(\.spokenText), ["Near stairwell B."])
+    }
+
+    func testRouteNotRecomputedWhileOnRoute() throws {
+        let nav = try Navigator(building: zigzag, destinationId: "e")
+        var w = Walker(start: zigzag.nodePosition("a"), floorId: "1")
+        w.run(nav, [.wait(seconds: 0.1)])
+        let route = try XCTUnwrap(nav.currentRoute)
+        w.run(nav, route.points.dropFirst().map { .walk(to: $0.position) })
+        XCTAssertEqual(nav.routeCount, 1)
+        XCTAssertEqual(nav.currentRoute, route)
+    }
+
+    func testLanguagesAndPhraseFileErrors() throws {
+        var options = NavigatorOptions()
+        options.language = "xx"
+        XCTAssertThrowsError(try Navigator(building: zigzag, destinationId: "e", options: options)) {
+            XCTAssertEqual($0 as? NavigationError, .unknownLanguage("xx"))
+        }
+        let missing = Data(#"{"language": "en", "phrases": {"startWalking": "Go."}}"#.utf8)
+        XCTAssertThrowsError(try PhraseBook(language: "en", json: missing, sourceName: "test.json")) {
+            XCTAssertTrue("\($0)".contains("test.json: missing key"), "\($0)")
+        }
+        var all = try PhraseBook.load(language: "en").templates
+        all["startWalking"] = "Go {speed}."
+        let bad = try JSONSerialization.data(withJSONObject: ["language": "en", "phrases": all])
+        XCTAssertThrowsError(try PhraseBook(language: "en", json: bad, sourceName: "bad.json")) {
+            XCTAssertTrue("\($0)".contains("'startWalking' uses unknown placeholder {speed}"), "\($0)")
+        }
+    }
+
+    func testEveryTemplateRendersWithoutLeftoverPlaceholders() throws {
+        let book = try PhraseBook.load(language: "en")
+        let values = ["distance": "5 meters", "count": "5", "floor": "Floor 2", "destination": "Room 312",
+                      "place": "Room 312", "from": "the elevator", "to": "stairwell B"]
+        for key in PhraseBook.requiredKeys {
+            let text = book.phrase(key, values)
+            XCTAssertFalse(text.contains("{"), "\(key): \(text)")
+            XCTAssertFalse(text.isEmpty, key)
+        }
+    }
+
+    func testDistanceRounding() {
+        let table: [(Double, Int)] = [(0.2, 1), (1.4, 1), (1.5, 2), (7.6, 8), (9.49, 9), (9.6, 10), (10, 10),
+                                      (12.4, 10), (12.5, 15), (17.4, 15), (23, 25), (101, 100)]
+        for (m, expected) in table { XCTAssertEqual(PhraseBook.roundedDistanceMeters(m), expected, "\(m) m") }
+    }
+}
