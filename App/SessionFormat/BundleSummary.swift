@@ -32,6 +32,8 @@ public struct BundleSummary: Codable, Hashable, Sendable {
     public var distinctLandmarkCount: Int
     /// Number of truth poses (0 = no truth.jsonl).
     public var truthCount: Int
+    /// True when the bundle has truth.jsonl lines.
+    public var hasTruth: Bool
     /// Number of expected announcements.
     public var expectedCount: Int
     /// Frames naming an image.
@@ -40,9 +42,6 @@ public struct BundleSummary: Codable, Hashable, Sendable {
     public var imageFileCount: Int
     /// The reader's warnings, as text.
     public var warnings: [String]
-
-    /// True when the bundle has truth.jsonl lines.
-    public var hasTruth: Bool { truthCount > 0 }
 }
 
 extension SessionBundle {
@@ -68,7 +67,7 @@ extension SessionBundle {
             trackingShare: tracking.mapValues { Double($0) / Double(max(1, frames.count)) },
             pathLengthMeters: path, observationCount: observations.count, observationsByKind: byKind,
             distinctLandmarkCount: Set(observations.compactMap(\.landmarkId)).count,
-            truthCount: truth.count, expectedCount: expected.count,
+            truthCount: truth.count, hasTruth: !truth.isEmpty, expectedCount: expected.count,
             framesWithImage: frames.filter { $0.image != nil }.count, imageFileCount: imageFiles,
             warnings: warnings.map(\.description))
     }
