@@ -44,13 +44,13 @@ struct PhoneModel {
             if handheld {
                 pitch += moving * p.handheldStepAmplitudeDeg * sin(ph)
                 roll += moving * p.handheldStepAmplitudeDeg * sin(ph + 1.0)
-                pitch = max(p.handheldPitchLimitsDeg.lowerBound, min(p.handheldPitchLimitsDeg.upperBound, pitch))
             } else {
                 pitch += moving * p.lanyardPitchAmplitudeDeg * sin(ph)
                 roll += moving * p.lanyardRollAmplitudeDeg * sin(ph + 0.5)
                 yaw += moving * p.lanyardYawAmplitudeDeg * sin(ph / 2)
             }
             pitch += rng.normal(sigma: p.tremorSigmaDeg)
+            if handheld { pitch = max(p.handheldPitchLimitsDeg.lowerBound, min(p.handheldPitchLimitsDeg.upperBound, pitch)) }
             roll += rng.normal(sigma: p.tremorSigmaDeg)
             yaw += rng.normal(sigma: p.tremorSigmaDeg)
             let h = height + moving * p.bobAmplitudeMeters * sin(ph)

@@ -22,6 +22,8 @@ public struct VisibleSign: Sendable, Codable, Equatable {
     public var rangeMeters: Double
     /// Whether the simulated detector reported it.
     public var detected: Bool
+    /// Whether motion blur (a fast turn) halved the detection probability.
+    public var blurred: Bool
 }
 
 /// The Exit-sign detector and range estimator as seen by the localizer: on every processed frame, each truly
@@ -91,7 +93,7 @@ struct SignObservationModel {
             // Draw all three numbers whether detected or not, so streams stay aligned.
             let u = rng.uniform(), zr = rng.normal(), zb = rng.normal(), zs = rng.normal()
             let detected = u < pd
-            visibleLog.append(VisibleSign(frameIndex: frameIndex, signId: sign.id, rangeMeters: r, detected: detected))
+            visibleLog.append(VisibleSign(frameIndex: frameIndex, signId: sign.id, rangeMeters: r, detected: detected, blurred: blur < 1))
             guard detected else { continue }
             let range = r * exp(p.rangeLogSigma * zr)
             let bearing = wrapAngle(b + radians(p.bearingSigmaDeg) * zb)

@@ -1,0 +1,144 @@
+import XCTest
+import Maps
+import SessionFormat
+@testable import Simulation
+
+/// Ground truth: routes, speeds, walls, wrong turns, floor changes.
+final class WalkerTests: XCTestCase {
+    /// Independent brute-force wall check (no grid).
+    private func crossesAnyWall(_ a: Point2, _ b: Point2, floor: Floor) -> Bool {
+        floor.walls.contains { FloorGeometry.segmentsIntersect(a, b, $0.from, $0.to) }
+    }
+
+    private let wallScenarios: [SimulationScenario] = [
+        SimulationScenario(name: "a", from: "room-101", to: "room-111", seed: 1),
+        SimulationScenario(name: "b", from: "room-118", to: "room-107", seed: 2, carry: .lanyard),
+        SimulationScenario(name: "c", from: "kitchen-1f", to: "restroom-1f-men", seed: 3, wrongTurn: true),
+        SimulationScenario(name: "d", from: "room-105", to: "room-214", seed: 4),
+        SimulationScenario(name: "e", from: "room-116", to: "room-103", seed: 5, wrongTurn: true),
+        SimulationScenario(name: "f", from: "exit-main-entrance", to: "exit-rear", seed: 6, orientation: .landscape),
+    ]
+
+    func testNoTruthStepCrossesAWall() throws {
+        let floors = Dictionary(uniqueKeysWithValues: Fixtures.office.floors.map { ($0.id, $0) })
+        var steps = 0
+        for s in wallScenarios {
+            for seed in [s.seed, s.seed + 100] {
+                var sc = s; sc.seed = seed
+                let w = try Fixtures.walk(sc)
+                for k in 1..<w.truth.count where w.truth[k].floorId == w.truth[k - 1].floorId {
+                    let a = Point2(w.truth[k - 1].x, w.truth[k - 1].y), b = Point2(w.truth[k].x, w.truth[k].y)
+                    if a == b { continue }
+                    steps += 1
+                    XCTAssertFalse(crossesAnyWall(a, b, floor: floors[w.truth[k].floorId]!),
+                                   "\(sc.name) seed \(seed): step at t=\(w.truth[k].t) crosses a wall")
+                }
+            }
+        }
+        XCTAssertGreaterThan(steps, 10_000)
+    }
+
+    func testWalkerKeepsClearOfWallsWhileOffTheCentreLine() throws {
+        // Off the graph (more than 2 cm from it) the camera keeps 0.25 m from every wall.
+        let w = try Fixtures.walk(SimulationScenario(name: "clear", from: "room-118", to: "room-107", seed: 11))
+        let geo = FloorGeometry(walls: Fixtures.office.floor(id: "1")!.walls)
+        let minClear = w.truth.map { geo.clearance(at: Point2($0.x, $0.y)) }.min()!
+        // Doors are 0.9 m wide or more: the centre of a door gap is >= 0.45 m from its jambs; corridors are wider.
+        XCTAssertGreaterThan(minClear, 0.2)
+    }
+
+    func testSegmentIntersectionPrimitive() {
+        XCTAssertTrue(FloorGeometry.segmentsIntersect(Point2(0, 0), Point2(2, 2), Point2(0, 2), Point2(2, 0)))
+        XCTAssertFalse(FloorGeometry.segmentsIntersect(Point2(0, 0), Point2(1, 1), Point2(0, 2), Point2(2, 3)))
+        XCTAssertTrue(FloorGeometry.segmentsIntersect(Point2(0, 0), Point2(1, 0), Point2(1, 0), Point2(1, 1)), "touching counts")
+        let g = FloorGeometry(walls: [Wall(from: Point2(5, -10), to: Point2(5, 10))])
+        XCTAssertTrue(g.segmentCrossesWall(Point2(0, 0), Point2(10, 1)))
+        XCTAssertFalse(g.segmentCrossesWall(Point2(0, 0), Point2(4.9, 1)))
+        XCTAssertEqual(g.clearance(at: Point2(4, 0)), 1, accuracy: 1e-12)
+        XCTAssertEqual(g.firstHit(from: Point2(0, 0), dx: 1, dy: 0.5, maxT: 100)?.t ?? -1, 5, accuracy: 1e-9)
+        XCTAssertNil(g.firstHit(from: Point2(0, 0), dx: -1, dy: 0, maxT: 100))
+    }
+
+    func testCruiseSpeedStaysWithinBoundsAndMeanSpeedIsHuman() throws {
+        var cruising: [Double] = []
+        for seed: UInt64 in 1...6 {
+            let w = try Fixtures.walk(SimulationScenario(name: "speed", from: "room-101", to: "room-109", seed: seed))
+            let d = w.diagnostics
+            for (ph, v) in zip(d.phases, d.speedsMetersPerSecond) where ph == .cruising { cruising.append(v) }
+            // Whole-walk speed from truth positions while walking (not standing, paused, turning or changing floor).
+            var dist = 0.0, time = 0.0
+            for k in 1..<w.truth.count where d.phases[k] == .cruising || d.phases[k] == .changingSpeed {
+                dist += hypot(w.truth[k].x - w.truth[k - 1].x, w.truth[k].y - w.truth[k - 1].y)
+                time += w.truth[k].t - w.truth[k - 1].t
+            }
+            XCTAssertGreaterThan(dist / time, 0.7, "seed \(seed)")
+            XCTAssertLessThan(dist / time, 1.4, "seed \(seed)")
+        }
+        XCTAssertGreaterThan(cruising.count, 3000)
+        XCTAssertGreaterThanOrEqual(cruising.min()!, 0.8 - 1e-9)
+        XCTAssertLessThanOrEqual(cruising.max()!, 1.4 + 1e-9)
+        let m = Fixtures.median(cruising)
+        XCTAssertGreaterThan(m, 0.9); XCTAssertLessThan(m, 1.3)
+    }
+
+    func testWalkStartsAtStartEndsAtDestinationAndPauses() throws {
+        let w = try Fixtures.walk(SimulationScenario(name: "ends", from: "room-101", to: "room-111", seed: 1))
+        let start = Fixtures.office.pointOfInterest(id: "room-101")!.position, end = Fixtures.office.pointOfInterest(id: "room-111")!.position
+        XCTAssertEqual(w.truth.first!.x, start.x, accuracy: 1e-9); XCTAssertEqual(w.truth.first!.y, start.y, accuracy: 1e-9)
+        XCTAssertEqual(hypot(w.truth.last!.x - end.x, w.truth.last!.y - end.y), 0, accuracy: 0.05)
+        XCTAssertEqual(w.diagnostics.routeNodeIds.first, "room-101"); XCTAssertEqual(w.diagnostics.routeNodeIds.last, "room-111")
+        // Time stamps are exact multiples of the frame period.
+        for (k, f) in w.frames.enumerated() { XCTAssertEqual(f.t, Double(k) / 30, accuracy: 1e-9) }
+    }
+
+    func testRouteIsShortestByDijkstra() throws {
+        let planner = RoutePlanner(building: Fixtures.office)
+        let a = try planner.resolve("room-101"), b = try planner.resolve("Room 106")
+        let path = planner.shortestPath(from: a.nodeIndex, to: b.nodeIndex)!
+        let ids = path.map { Fixtures.office.graph.nodes[$0].id }
+        XCTAssertEqual(ids.first, "room-101"); XCTAssertEqual(ids.last, "room-106")
+        // Straight along the south corridor: every intermediate node has y = 7.
+        for id in ids.dropFirst().dropLast() { XCTAssertEqual(Fixtures.office.node(id: id)!.position.y, 7, "\(id)") }
+    }
+
+    func testWrongTurnLeavesTheRouteAndComesBack() throws {
+        let s = SimulationScenario(name: "wrong", from: "room-116", to: "room-103", seed: 5, wrongTurn: true)
+        let w = try Fixtures.walk(s)
+        let plain = try Fixtures.walk(SimulationScenario(name: "plain", from: "room-116", to: "room-103", seed: 5))
+        XCTAssertNotNil(w.diagnostics.wrongTurnAtNodeId)
+        // Distance of each truth point from the route polyline: the detour goes >= 2 m off it.
+        let nodes = w.diagnostics.routeNodeIds.map { Fixtures.office.node(id: $0)!.position }
+        func offRoute(_ p: Point2) -> Double {
+            (1..<nodes.count).map { FloorGeometry.distance(p, nodes[$0 - 1], nodes[$0]) }.min()!
+        }
+        let maxOff = w.truth.map { offRoute(Point2($0.x, $0.y)) }.max()!
+        XCTAssertGreaterThan(maxOff, 2.0)
+        XCTAssertLessThan(plain.truth.map { offRoute(Point2($0.x, $0.y)) }.max()!, 1.0)
+        XCTAssertTrue(w.diagnostics.phases.contains(.turning), "turns around in place")
+        XCTAssertGreaterThan(w.truth.last!.t, plain.truth.last!.t + 4)
+        let end = Fixtures.office.pointOfInterest(id: "room-103")!.position
+        XCTAssertEqual(hypot(w.truth.last!.x - end.x, w.truth.last!.y - end.y), 0, accuracy: 0.05)
+    }
+
+    func testFloorChangeByElevatorOrStairs() throws {
+        let w = try Fixtures.walk(SimulationScenario(name: "floors", from: "room-105", to: "room-214", seed: 4))
+        XCTAssertEqual(w.truth.first!.floorId, "1"); XCTAssertEqual(w.truth.last!.floorId, "2")
+        XCTAssertTrue(w.diagnostics.phases.contains(.changingFloor))
+        let switches = zip(w.truth, w.truth.dropFirst()).filter { $0.floorId != $1.floorId }.count
+        XCTAssertEqual(switches, 1)
+    }
+
+    func testUnknownPlaceAndBadSettingsAreClearErrors() {
+        XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office,
+                                                        scenario: SimulationScenario(name: "x", from: "nowhere", to: "room-101", seed: 1))) {
+            XCTAssertEqual($0 as? SimulationError, .unknownPlace("nowhere"))
+        }
+        XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office,
+                                                        scenario: SimulationScenario(name: "x", from: "room-101", to: "room-102", seed: 1, rateHz: 0))) {
+            guard case .invalidScenario(let m)? = $0 as? SimulationError else { return XCTFail("\($0)") }
+            XCTAssertTrue(m.contains("rateHz"))
+        }
+        XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office,
+                                                        scenario: SimulationScenario(name: "x", from: "room-101", to: "room-101", seed: 1)))
+    }
+}
