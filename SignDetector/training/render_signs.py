@@ -570,12 +570,15 @@ def paste_quad(img: np.ndarray, mask: Optional[np.ndarray], emissive_layer: np.n
 
 def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec], rng: np.random.Generator,
                  n_distractors: Optional[int] = None, occlusion_prob: float = 0.15, degrade: bool = True,
-                 background: Optional[str] = None) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
+                 background: Optional[str] = None, degrade_scale: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
     """Render one frame.
 
     camera_to_world: 4x4 (rotation R, translation t; world y up, floor at y = 0).
     intr: dict fx, fy, cx, cy, width, height (pixels).
-    signs_cam: signs in camera coordinates (see SignSpec).
+    signs_cam: signs in camera coordinates (see SignSpec); kind "distractor" draws a random
+      non-Exit object there instead (background class in the mask, no label).
+    degrade_scale: size of one output pixel in raw (1920 x 1440) pixels' units for blur/noise
+      (default: width / 1920), for crops rendered directly at a zoomed virtual camera.
     Returns (image uint8 RGB (H,W,3), mask uint8 (H,W) class index, sign labels as in labels.jsonl
     (cornersRaw, rangeMeters, bearingRad, heightMeters, widthMeters, kind, style)).
     """
@@ -631,7 +634,10 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
 
     labels = []
     for s, cw, nw in signs_world:
-        if s.iso:
+        if s.kind == "distractor":
+            tex, _, _ = make_distractor_texture(rng)
+            style = dict(kind="distractor")
+        elif s.iso:
             tex, style = make_iso_exit_texture(rng, s.width_m, s.height_m)
         else:
             tex, style = make_us_exit_texture(rng, s.width_m, s.height_m, s.style)
@@ -648,6 +654,8 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
                 htex = Texture(rgb=np.ones((8, 8, 3), np.float32) * hcol, alpha=np.ones((8, 8), np.float32), emissive=0.0, mask_class=0)
                 paste_quad(img, None, emissive, htex, huv, light=exposure * 0.9)
         paste_quad(img, mask, emissive, tex, uv, light=exposure * rng.uniform(0.8, 1.1))
+        if s.kind == "distractor":
+            continue
         d_h = np.array([cw[0] - t[0], cw[2] - t[2]])
         fwd = np.array([-R[0, 2], -R[2, 2]])
         fwd /= np.linalg.norm(fwd) + 1e-12
@@ -690,17 +698,19 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
         sig = max(1.0, 0.004 * max(W, H) * rng.uniform(0.5, 2.0))
         img += rng.uniform(0.15, 0.5) * cv2.GaussianBlur(emissive, (0, 0), sig)
     if degrade:
-        img = degrade_image(img, rng)
+        img = degrade_image(img, rng, degrade_scale)
     else:
         img = np.clip(img, 0, 1)
     out = (np.clip(img, 0, 1) * 255.0 + 0.5).astype(np.uint8)
     return out, mask, labels
 
 
-def degrade_image(img: np.ndarray, rng: np.random.Generator) -> np.ndarray:
-    """Camera effects on a float RGB image: white balance, motion blur, defocus, vignetting, noise."""
+def degrade_image(img: np.ndarray, rng: np.random.Generator, scale: Optional[float] = None) -> np.ndarray:
+    """Camera effects on a float RGB image: white balance, motion blur, defocus, vignetting, noise.
+    `scale`: output pixels per raw pixel (blur sizes are drawn in raw pixels)."""
     H, W = img.shape[:2]
-    scale = max(W, H) / 1920.0
+    if scale is None:
+        scale = max(W, H) / 1920.0
     img = img * rng.uniform(0.9, 1.1, 3).astype(np.float32)
     r = rng.random()
     if r < 0.35:  # motion blur along a random direction: mean of shifted copies along the streak

@@ -1,0 +1,365 @@
+#!/usr/bin/env python3
+"""Train an Exit-sign LBP cascade (OpenCV cascade XML) from rendered samples.
+
+OpenCV 4 no longer ships opencv_traincascade, so this is a from-scratch, numpy-vectorised trainer
+producing the same model type, loadable by cv::CascadeClassifier / cv2.CascadeClassifier:
+
+  * features: multi-block LBP (Zhang et al. 2007, "Face detection based on multi-block LBP
+    representation"): a rect (x, y, w, h) defines a 3 x 3 grid of w x h blocks inside the 24 x 16
+    window; the 8-bit code compares each outer block sum with the centre block sum (>= -> 1), bits
+    in OpenCV's order (block 0 -> 128, 1 -> 64, 2 -> 32, 5 -> 16, 8 -> 8, 7 -> 4, 6 -> 2, 3 -> 1,
+    blocks numbered row-major), exactly as OpenCV's LBP evaluator computes them;
+  * weak classifiers: depth-1 trees with a 256-way categorical split: a 256-bit subset (8 x 32-bit
+    masks) sends a code to leaf 0 when its bit is set, else to leaf 1; the best binary partition of
+    the categories for weighted squared error is found by sorting categories by their mean response
+    (Breiman et al., CART, 1984, sec. 4.2.2);
+  * boosting: Gentle AdaBoost (Friedman, Hastie, Tibshirani 2000, Additive logistic regression):
+    each stump is the weighted least-squares fit of the labels y in {-1, +1}, weights w *= exp(-y f),
+    weight trimming at 0.95 as in opencv_traincascade;
+  * cascade (Viola and Jones 2001): each stage adds stumps until, with its threshold set to keep
+    the target hit rate (0.995) of positives, at most maxFalseAlarm (0.5) of its negatives pass;
+    negatives of stage k are windows of sign-free rendered frames that pass stages 0..k-1 (hard
+    negative mining with cv2.CascadeClassifier on the cascade written so far, confirmed by the
+    numpy evaluator).
+
+Usage: python3 train_cascade.py --out ../models/exit_sign_cascade.xml --seed 7
+"""
+from __future__ import annotations
+
+import argparse
+import math
+import os
+import sys
+import time
+import xml.etree.ElementTree as ET
+from typing import List, Tuple
+
+import cv2
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import crops  # noqa: E402
+
+WIN_W, WIN_H = 24, 16
+
+
+# --------------------------------------------------------------------------------------------------
+# MB-LBP features
+# --------------------------------------------------------------------------------------------------
+
+def enumerate_features(win_w: int = WIN_W, win_h: int = WIN_H) -> np.ndarray:
+    """All MB-LBP rects (x, y, w, h) with the 3 x 3 block grid inside the window, grouped by (w, h)
+    with x fastest: the order compute_features() produces codes in. Returns (F, 4) int."""
+    out = []
+    for w in range(1, win_w // 3 + 1):
+        for h in range(1, win_h // 3 + 1):
+            for y in range(0, win_h - 3 * h + 1):
+                for x in range(0, win_w - 3 * w + 1):
+                    out.append((x, y, w, h))
+    return np.array(out, np.int32)
+
+
+# OpenCV bit for each block (row-major 3 x 3, centre excluded)
+_BITS = {(0, 0): 128, (0, 1): 64, (0, 2): 32, (1, 2): 16, (2, 2): 8, (2, 1): 4, (2, 0): 2, (1, 0): 1}
+
+
+def compute_features(patches: np.ndarray, win_w: int = WIN_W, win_h: int = WIN_H) -> np.ndarray:
+    """MB-LBP codes of every feature of enumerate_features() for grey patches (N, win_h, win_w).
+    Returns uint8 (N, F)."""
+    p = np.asarray(patches)
+    N = p.shape[0]
+    I = np.zeros((N, win_h + 1, win_w + 1), np.int32)
+    I[:, 1:, 1:] = p.astype(np.int32).cumsum(1).cumsum(2)
+    cols = []
+    for w in range(1, win_w // 3 + 1):
+        for h in range(1, win_h // 3 + 1):
+            nx, ny = win_w - 3 * w + 1, win_h - 3 * h + 1
+            S = [[I[:, j * h:j * h + ny, i * w:i * w + nx] for i in range(4)] for j in range(4)]
+
+            def block(r, c):
+                return S[r + 1][c + 1] - S[r][c + 1] - S[r + 1][c] + S[r][c]
+
+            centre = block(1, 1)
+            code = np.zeros((N, ny, nx), np.uint8)
+            for (r, c), bit in _BITS.items():
+                code |= np.where(block(r, c) >= centre, np.uint8(bit), np.uint8(0))
+            cols.append(code.reshape(N, -1))
+    return np.concatenate(cols, axis=1)
+
+
+# --------------------------------------------------------------------------------------------------
+# Boosting
+# --------------------------------------------------------------------------------------------------
+
+class Stump:
+    """Categorical stump: feature index (into enumerate_features()), 256-bool subset, leaf values
+    (leaf[0] when the code's subset bit is set, else leaf[1])."""
+
+    def __init__(self, feature: int, subset: np.ndarray, leaf0: float, leaf1: float):
+        self.feature, self.subset, self.leaf0, self.leaf1 = int(feature), subset.astype(bool), float(np.float32(leaf0)), float(np.float32(leaf1))
+
+    def predict(self, codes: np.ndarray) -> np.ndarray:
+        """Response for the codes of this stump's feature, (N,) uint8 -> (N,) float32."""
+        return np.where(self.subset[codes], np.float32(self.leaf0), np.float32(self.leaf1)).astype(np.float32)
+
+    def masks(self) -> List[int]:
+        """8 signed 32-bit masks as OpenCV writes them (bit c of mask c//32 = code c in subset)."""
+        out = []
+        for k in range(8):
+            v = 0
+            for b in range(32):
+                if self.subset[32 * k + b]:
+                    v |= 1 << b
+            out.append(v - (1 << 32) if v >= (1 << 31) else v)
+        return out
+
+
+class Stage:
+    """Boosted stage: stumps and the threshold (a window passes when the sum >= threshold)."""
+
+    def __init__(self):
+        self.stumps: List[Stump] = []
+        self.threshold = 0.0
+
+    def score(self, X: np.ndarray) -> np.ndarray:
+        s = np.zeros(X.shape[0], np.float32)
+        for st in self.stumps:
+            s += st.predict(X[:, st.feature])
+        return s
+
+
+def best_stump(X: np.ndarray, y: np.ndarray, w: np.ndarray, offsets: np.ndarray) -> Stump:
+    """Weighted least-squares categorical stump over all features (Gentle AdaBoost step)."""
+    N, F = X.shape
+    idx = (X.astype(np.int32) + offsets[None, :]).ravel()
+    Wc = np.bincount(idx, weights=np.repeat(w, F), minlength=F * 256).reshape(F, 256)
+    Sc = np.bincount(idx, weights=np.repeat(w * y, F), minlength=F * 256).reshape(F, 256)
+    mean = np.where(Wc > 0, Sc / np.maximum(Wc, 1e-300), 0.0)
+    order = np.argsort(mean, axis=1, kind="stable")
+    Ws = np.take_along_axis(Wc, order, 1).cumsum(1)
+    Ss = np.take_along_axis(Sc, order, 1).cumsum(1)
+    Wt, St = Ws[:, -1:], Ss[:, -1:]
+    WL, SL = Ws[:, :-1], Ss[:, :-1]
+    WR, SR = Wt - WL, St - SL
+    eps = 1e-12
+    gain = SL ** 2 / np.maximum(WL, eps) + SR ** 2 / np.maximum(WR, eps)
+    gain = np.where((WL > eps) & (WR > eps), gain, -1.0)
+    k = np.argmax(gain, axis=1)
+    f = int(np.argmax(gain[np.arange(F), k]))
+    kk = int(k[f])
+    subset = np.zeros(256, bool)
+    subset[order[f, :kk + 1]] = True
+    leaf0 = SL[f, kk] / WL[f, kk]
+    leaf1 = SR[f, kk] / WR[f, kk]
+    return Stump(f, subset, leaf0, leaf1)
+
+
+def train_stage(Xp: np.ndarray, Xn: np.ndarray, min_hit: float, max_fa: float, max_weak: int,
+                offsets: np.ndarray, log) -> Tuple[Stage, float, float]:
+    """Gentle AdaBoost until the stage meets min_hit on positives and max_fa on negatives."""
+    X = np.concatenate([Xp, Xn])
+    y = np.concatenate([np.ones(len(Xp)), -np.ones(len(Xn))])
+    w = np.concatenate([np.full(len(Xp), 0.5 / len(Xp)), np.full(len(Xn), 0.5 / len(Xn))])
+    F = np.zeros(len(X), np.float64)
+    stage = Stage()
+    hit = fa = 1.0
+    for _ in range(max_weak):
+        # weight trimming (keep the heaviest samples carrying 95 % of the weight)
+        ws = np.sort(w)[::-1]
+        cut = ws[min(np.searchsorted(np.cumsum(ws), 0.95), len(ws) - 1)]
+        keep = w >= cut
+        st = best_stump(X[keep], y[keep], w[keep], offsets)
+        stage.stumps.append(st)
+        f = st.predict(X[:, st.feature]).astype(np.float64)
+        F += f
+        w = w * np.exp(-y * f)
+        w /= w.sum()
+        sp = np.sort(stage.score(Xp))
+        k = int(math.floor((1.0 - min_hit) * len(sp)))
+        thr = float(sp[k]) - 1e-4
+        hit = float(np.mean(stage.score(Xp) >= thr))
+        fa = float(np.mean(stage.score(Xn) >= thr))
+        stage.threshold = thr
+        if fa <= max_fa and len(stage.stumps) >= 2:
+            break
+    log("  stage: %d weak, hit %.4f, false alarm %.4f" % (len(stage.stumps), hit, fa))
+    return stage, hit, fa
+
+
+def cascade_pass(stages: List[Stage], X: np.ndarray) -> np.ndarray:
+    """Boolean mask of samples passing every stage."""
+    ok = np.ones(len(X), bool)
+    for s in stages:
+        ok &= s.score(X) >= s.threshold
+    return ok
+
+
+# --------------------------------------------------------------------------------------------------
+# XML
+# --------------------------------------------------------------------------------------------------
+
+def write_xml(path: str, stages: List[Stage], rects: np.ndarray, min_hit: float, max_fa: float, max_weak: int) -> None:
+    """Write the cascade in OpenCV's cascade XML format (stageType BOOST, featureType LBP)."""
+    used = sorted({st.feature for s in stages for st in s.stumps})
+    remap = {f: i for i, f in enumerate(used)}
+    L = ['<?xml version="1.0"?>', "<opencv_storage>", "<cascade>",
+         "  <stageType>BOOST</stageType>", "  <featureType>LBP</featureType>",
+         "  <height>%d</height>" % WIN_H, "  <width>%d</width>" % WIN_W,
+         "  <stageParams>", "    <boostType>GAB</boostType>",
+         "    <minHitRate>%.17g</minHitRate>" % min_hit, "    <maxFalseAlarm>%.17g</maxFalseAlarm>" % max_fa,
+         "    <weightTrimRate>0.95</weightTrimRate>", "    <maxDepth>1</maxDepth>",
+         "    <maxWeakCount>%d</maxWeakCount></stageParams>" % max_weak,
+         "  <featureParams>", "    <maxCatCount>256</maxCatCount>", "    <featSize>1</featSize></featureParams>",
+         "  <stageNum>%d</stageNum>" % len(stages), "  <stages>"]
+    for i, s in enumerate(stages):
+        L += ["    <!-- stage %d -->" % i, "    <_>", "      <maxWeakCount>%d</maxWeakCount>" % len(s.stumps),
+              "      <stageThreshold>%.9e</stageThreshold>" % s.threshold, "      <weakClassifiers>"]
+        for st in s.stumps:
+            L += ["        <_>", "          <internalNodes>",
+                  "            0 -1 %d %s</internalNodes>" % (remap[st.feature], " ".join(str(m) for m in st.masks())),
+                  "          <leafValues>", "            %.9e %.9e</leafValues></_>" % (st.leaf0, st.leaf1)]
+        L += ["      </weakClassifiers></_>"]
+    L += ["  </stages>", "  <features>"]
+    for f in used:
+        x, y, w, h = rects[f]
+        L += ["    <_>", "      <rect>", "        %d %d %d %d</rect></_>" % (x, y, w, h)]
+    L += ["  </features>", "</cascade>", "</opencv_storage>", ""]
+    with open(path, "w") as fh:
+        fh.write("\n".join(L))
+
+
+def read_xml(path: str) -> Tuple[List[Stage], np.ndarray]:
+    """Read an OpenCV LBP cascade XML back (stages with stumps indexing its own rect list)."""
+    root = ET.parse(path).getroot().find("cascade")
+    rects = np.array([[int(v) for v in r.find("rect").text.split()] for r in root.find("features")], np.int32)
+    stages = []
+    for s in root.find("stages"):
+        st = Stage()
+        st.threshold = float(s.find("stageThreshold").text)
+        for wc in s.find("weakClassifiers"):
+            nodes = [int(v) for v in wc.find("internalNodes").text.split()]
+            leaves = [float(v) for v in wc.find("leafValues").text.split()]
+            subset = np.zeros(256, bool)
+            for c in range(256):
+                subset[c] = bool((nodes[3 + (c >> 5)] & 0xFFFFFFFF) & (1 << (c & 31)))
+            st.stumps.append(Stump(nodes[2], subset, leaves[0], leaves[1]))
+        stages.append(st)
+    return stages, rects
+
+
+# --------------------------------------------------------------------------------------------------
+# Data
+# --------------------------------------------------------------------------------------------------
+
+def sample_windows_random(frames: List[np.ndarray], n: int, rng: np.random.Generator) -> np.ndarray:
+    """Random 24 x 16 windows (random position and scale) from grey frames."""
+    out = np.zeros((n, WIN_H, WIN_W), np.uint8)
+    for i in range(n):
+        g = frames[int(rng.integers(len(frames)))]
+        H, W = g.shape
+        s = math.exp(rng.uniform(0, math.log(min(W / WIN_W, H / WIN_H) / 1.2)))
+        ww, wh = int(WIN_W * s), int(WIN_H * s)
+        x, y = int(rng.integers(0, W - ww + 1)), int(rng.integers(0, H - wh + 1))
+        out[i] = cv2.resize(g[y:y + wh, x:x + ww], (WIN_W, WIN_H), interpolation=cv2.INTER_LINEAR)
+    return out
+
+
+def mine_negatives(xml_path: str, frames: List[np.ndarray], n: int, rng: np.random.Generator, max_per_frame: int) -> Tuple[np.ndarray, int]:
+    """Windows of sign-free frames that the cascade in xml_path accepts (minNeighbors 0, scale 1.1).
+    Returns (patches, number of frames scanned)."""
+    cc = cv2.CascadeClassifier(xml_path)
+    if cc.empty():
+        raise RuntimeError("mine_negatives: cv2 could not load %s" % xml_path)
+    out = []
+    scanned = 0
+    order = rng.permutation(len(frames))
+    for fi in order:
+        g = frames[fi]
+        rects = cc.detectMultiScale(g, scaleFactor=1.1, minNeighbors=0, minSize=(WIN_W, WIN_H))
+        scanned += 1
+        if len(rects) == 0:
+            continue
+        rects = np.asarray(rects)
+        if len(rects) > max_per_frame:
+            rects = rects[rng.choice(len(rects), max_per_frame, replace=False)]
+        for x, y, w, h in rects:
+            out.append(cv2.resize(g[y:y + h, x:x + w], (WIN_W, WIN_H), interpolation=cv2.INTER_LINEAR))
+        if len(out) >= n:
+            break
+    if not out:
+        return np.zeros((0, WIN_H, WIN_W), np.uint8), scanned
+    return np.stack(out[:n]), scanned
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="Train the Exit-sign LBP cascade from rendered samples.")
+    ap.add_argument("--out", required=True, help="output cascade XML")
+    ap.add_argument("--seed", type=int, default=7)
+    ap.add_argument("--num-pos", type=int, default=3000)
+    ap.add_argument("--num-neg", type=int, default=3000)
+    ap.add_argument("--neg-frames", type=int, default=500)
+    ap.add_argument("--stages", type=int, default=20)
+    ap.add_argument("--min-hit", type=float, default=0.995)
+    ap.add_argument("--max-fa", type=float, default=0.5)
+    ap.add_argument("--max-weak", type=int, default=100)
+    ap.add_argument("--time-limit-min", type=float, default=25.0, help="stop adding stages after this wall time")
+    ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
+    a = ap.parse_args(argv)
+    t0 = time.time()
+
+    def log(msg):
+        print("[%6.1fs] %s" % (time.time() - t0, msg), flush=True)
+
+    os.makedirs(a.cache, exist_ok=True)
+    cache = os.path.join(a.cache, "cascade_samples_seed%d_p%d_f%d.npz" % (a.seed, a.num_pos, a.neg_frames))
+    if os.path.exists(cache):
+        z = np.load(cache, allow_pickle=True)
+        pos, frames = z["pos"], list(z["frames"])
+        log("loaded %s" % cache)
+    else:
+        pos = np.stack([crops.cascade_positive(np.random.default_rng([a.seed, 10, i])) for i in range(a.num_pos)])
+        log("rendered %d positives" % len(pos))
+        frames = [crops.negative_frame(np.random.default_rng([a.seed, 11, i])) for i in range(a.neg_frames)]
+        log("rendered %d negative frames" % len(frames))
+        arr = np.empty(len(frames), object)
+        arr[:] = frames
+        np.savez(cache, pos=pos, frames=arr)
+    rects = enumerate_features()
+    offsets = (np.arange(len(rects), dtype=np.int32) * 256)
+    log("%d MB-LBP features" % len(rects))
+    Xp_all = compute_features(pos)
+    rng = np.random.default_rng([a.seed, 12])
+    stages: List[Stage] = []
+    tmp_xml = a.out + ".partial.xml"
+    for k in range(a.stages):
+        if time.time() - t0 > a.time_limit_min * 60:
+            log("time limit reached")
+            break
+        Xp = Xp_all[cascade_pass(stages, Xp_all)]
+        if k == 0:
+            neg = sample_windows_random(frames, a.num_neg, rng)
+            scanned = 0
+        else:
+            write_xml(tmp_xml, stages, rects, a.min_hit, a.max_fa, a.max_weak)
+            neg, scanned = mine_negatives(tmp_xml, frames, 3 * a.num_neg, rng, max_per_frame=max(20, 3 * a.num_neg // 50))
+        Xn = compute_features(neg) if len(neg) else np.zeros((0, len(rects)), np.uint8)
+        if k > 0 and len(Xn):
+            Xn = Xn[cascade_pass(stages, Xn)]  # confirm they pass stages 0..k-1
+        Xn = Xn[rng.permutation(len(Xn))[:a.num_neg]]
+        log("stage %d: %d positives, %d negatives (frames scanned %d)" % (k, len(Xp), len(Xn), scanned))
+        if len(Xn) < 100:
+            log("too few hard negatives left; cascade done")
+            break
+        stage, hit, fa = train_stage(Xp, Xn, a.min_hit, a.max_fa, a.max_weak, offsets, log)
+        stages.append(stage)
+        write_xml(a.out, stages, rects, a.min_hit, a.max_fa, a.max_weak)
+    if os.path.exists(tmp_xml):
+        os.remove(tmp_xml)
+    total = float(np.mean(cascade_pass(stages, Xp_all)))
+    log("done: %d stages, %d weak classifiers, training-positive hit rate %.4f -> %s" %
+        (len(stages), sum(len(s.stumps) for s in stages), total, a.out))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

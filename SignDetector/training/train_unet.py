@@ -1,0 +1,319 @@
+#!/usr/bin/env python3
+"""Train the Exit-sign segmentation U-Net (MobileNetV2 encoder, U-Net decoder) on rendered crops.
+
+Architecture: MobileNetV2 (Sandler et al. 2018) with width multiplier --width (default 0.35),
+written here with torch.nn (no pretrained weights exist offline: trained from scratch); a U-Net
+decoder (Ronneberger et al. 2015) upsamples with 2x2 stride-2 transposed convolutions and
+concatenates the encoder features at strides 16, 8, 4 and 2; a 1x1 convolution gives K class logits
+at the input resolution (K = 2: background, exit). Input 1 x 3 x 224 x 224 RGB in [0, 1]. Only
+Conv, BatchNorm (folded at export), ReLU, Add, Concat and ConvTranspose: operators that OpenCV 4.6's
+ONNX importer and Core ML support. ReLU replaces MobileNetV2's ReLU6: ONNX opset >= 11 exports
+ReLU6 as Clip with min/max inputs, which OpenCV 4.6's importer rejects.
+
+Data (crops.py): coarse samples (the whole unrolled frame letterboxed to 224) and zoomed samples
+(a crop centred on a sign, 2.5-5 x its width, resized to 224; negatives centred on distractors),
+rendered once per seed and cached. Loss: cross-entropy + soft Dice of the exit class.
+
+Usage: python3 train_unet.py --out runs/unet --seed 11 --n-train 3000 --minutes 18
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import sys
+import time
+
+import numpy as np
+import torch
+import torch.nn as nn
+import torch.nn.functional as F
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+NUM_CLASSES = 2
+
+
+def _div(v: float, d: int = 8) -> int:
+    """Round channels to a multiple of d (MobileNetV2's make_divisible)."""
+    n = max(d, int(v + d / 2) // d * d)
+    return n + d if n < 0.9 * v else n
+
+
+class ConvBNReLU(nn.Sequential):
+    def __init__(self, cin, cout, k=3, s=1, groups=1):
+        super().__init__(nn.Conv2d(cin, cout, k, s, (k - 1) // 2, groups=groups, bias=False), nn.BatchNorm2d(cout), nn.ReLU(inplace=True))
+
+
+class InvertedResidual(nn.Module):
+    """MobileNetV2 block: 1x1 expand, 3x3 depthwise (stride s), 1x1 linear projection, residual when shapes match."""
+
+    def __init__(self, cin, cout, stride, expand):
+        super().__init__()
+        hid = cin * expand
+        layers = [] if expand == 1 else [ConvBNReLU(cin, hid, 1)]
+        layers += [ConvBNReLU(hid, hid, 3, stride, groups=hid), nn.Conv2d(hid, cout, 1, bias=False), nn.BatchNorm2d(cout)]
+        self.conv = nn.Sequential(*layers)
+        self.res = stride == 1 and cin == cout
+
+    def forward(self, x):
+        return x + self.conv(x) if self.res else self.conv(x)
+
+
+class MobileNetV2Encoder(nn.Module):
+    """MobileNetV2 feature extractor returning features at strides 2, 4, 8, 16, 32."""
+    CFG = [(1, 16, 1, 1), (6, 24, 2, 2), (6, 32, 3, 2), (6, 64, 4, 2), (6, 96, 3, 1), (6, 160, 3, 2), (6, 320, 1, 1)]
+
+    def __init__(self, width: float = 0.35):
+        super().__init__()
+        c = _div(32 * width)
+        self.stem = ConvBNReLU(3, c, 3, 2)
+        blocks = []
+        self.out_idx, self.channels = [], []
+        for t, ch, n, s in self.CFG:
+            co = _div(ch * width)
+            for i in range(n):
+                blocks.append(InvertedResidual(c, co, s if i == 0 else 1, t))
+                c = co
+            blocks_len = len(blocks)
+            if ch in (16, 24, 32, 96, 320):  # last block at strides 2, 4, 8, 16, 32
+                self.out_idx.append(blocks_len - 1)
+                self.channels.append(c)
+        self.blocks = nn.ModuleList(blocks)
+
+    def forward(self, x):
+        feats = []
+        x = self.stem(x)
+        for i, b in enumerate(self.blocks):
+            x = b(x)
+            if i in self.out_idx:
+                feats.append(x)
+        return feats
+
+
+class Up(nn.Module):
+    """Decoder step: 2x transposed conv, concat skip, 1x1 conv, 3x3 depthwise conv, 1x1 conv (BN, ReLU each)."""
+
+    def __init__(self, cin, cskip, cout):
+        super().__init__()
+        self.up = nn.ConvTranspose2d(cin, cout, 2, 2)
+        self.conv = nn.Sequential(ConvBNReLU(cout + cskip, cout, 1), ConvBNReLU(cout, cout, 3, groups=cout), ConvBNReLU(cout, cout, 1))
+
+    def forward(self, x, skip):
+        x = self.up(x)
+        return self.conv(torch.cat([x, skip], 1) if skip is not None else x)
+
+
+class SignUNet(nn.Module):
+    """MobileNetV2-U-Net: image (N,3,H,W) RGB [0,1] -> logits (N,K,H,W); H, W multiples of 32."""
+
+    def __init__(self, width: float = 0.35, num_classes: int = NUM_CLASSES, dec=(48, 32, 24, 16)):
+        super().__init__()
+        self.enc = MobileNetV2Encoder(width)
+        c2, c4, c8, c16, c32 = self.enc.channels
+        self.register_buffer("mean", torch.tensor([0.485, 0.456, 0.406]).view(1, 3, 1, 1))
+        self.register_buffer("std", torch.tensor([0.229, 0.224, 0.225]).view(1, 3, 1, 1))
+        self.up16 = Up(c32, c16, dec[0])
+        self.up8 = Up(dec[0], c8, dec[1])
+        self.up4 = Up(dec[1], c4, dec[2])
+        self.up2 = Up(dec[2], c2, dec[3])
+        # last 2x step straight to class logits (a full-resolution conv stack costs more than the encoder)
+        self.head = nn.ConvTranspose2d(dec[3], num_classes, 2, 2)
+
+    def forward(self, x):
+        x = (x - self.mean) / self.std
+        f2, f4, f8, f16, f32 = self.enc(x)
+        y = self.up16(f32, f16)
+        y = self.up8(y, f8)
+        y = self.up4(y, f4)
+        y = self.up2(y, f2)
+        return self.head(y)
+
+
+# --------------------------------------------------------------------------------------------------
+# Data
+# --------------------------------------------------------------------------------------------------
+
+def render_samples(n: int, seed: int, split_code: int, log) -> tuple:
+    """n samples: 30 % coarse with a sign, 10 % coarse sign-free, 42 % zoomed on a sign, 18 % zoomed negatives."""
+    import crops
+    X = np.zeros((n, 224, 224, 3), np.uint8)
+    Y = np.zeros((n, 224, 224), np.uint8)
+    kinds = np.zeros(n, np.int8)
+    t0 = time.time()
+    for i in range(n):
+        rng = np.random.default_rng([seed, split_code, i])
+        r = rng.random()
+        if r < 0.30:
+            X[i], Y[i] = crops.coarse_sample(rng, True)
+            kinds[i] = 0
+        elif r < 0.40:
+            X[i], Y[i] = crops.coarse_sample(rng, False)
+            kinds[i] = 1
+        elif r < 0.82:
+            X[i], Y[i] = crops.zoom_sample(rng, True)
+            kinds[i] = 2
+        else:
+            X[i], Y[i] = crops.zoom_sample(rng, False)
+            kinds[i] = 3
+        if (i + 1) % 250 == 0:
+            log("rendered %d/%d samples (%.0f s)" % (i + 1, n, time.time() - t0))
+    return X, Y, kinds
+
+
+def load_or_render(cache_dir: str, n: int, seed: int, split_code: int, log):
+    os.makedirs(cache_dir, exist_ok=True)
+    path = os.path.join(cache_dir, "unet_samples_seed%d_split%d_n%d.npz" % (seed, split_code, n))
+    if os.path.exists(path):
+        z = np.load(path)
+        return z["X"], z["Y"], z["kinds"]
+    X, Y, kinds = render_samples(n, seed, split_code, log)
+    np.savez(path, X=X, Y=Y, kinds=kinds)
+    return X, Y, kinds
+
+
+def augment(x: torch.Tensor, y: torch.Tensor, g: torch.Generator):
+    """Photometric jitter (brightness, contrast, per-channel gain) on a float batch in [0,1]."""
+    n = x.shape[0]
+    b = (torch.rand(n, 1, 1, 1, generator=g) - 0.5) * 0.3
+    c = 0.75 + 0.5 * torch.rand(n, 1, 1, 1, generator=g)
+    ch = 0.9 + 0.2 * torch.rand(n, 3, 1, 1, generator=g)
+    m = x.mean(dim=(1, 2, 3), keepdim=True)
+    x = ((x - m) * c + m + b) * ch
+    return x.clamp(0, 1), y
+
+
+def random_crops(x: torch.Tensor, y: torch.Tensor, size: int, g: torch.Generator):
+    """size x size crops (multiple of 32), containing exit pixels when the sample has any (80 %)."""
+    n = x.shape[0]
+    xs, ys = [], []
+    for k in range(n):
+        pos = torch.nonzero(y[k] == 1)
+        if len(pos) and torch.rand(1, generator=g).item() < 0.8:
+            cy, cx = pos[int(torch.randint(len(pos), (1,), generator=g))].tolist()
+            y0 = min(max(cy - int(torch.randint(size, (1,), generator=g)), 0), 224 - size)
+            x0 = min(max(cx - int(torch.randint(size, (1,), generator=g)), 0), 224 - size)
+        else:
+            y0 = int(torch.randint(224 - size + 1, (1,), generator=g))
+            x0 = int(torch.randint(224 - size + 1, (1,), generator=g))
+        xs.append(x[k, :, y0:y0 + size, x0:x0 + size])
+        ys.append(y[k, y0:y0 + size, x0:x0 + size])
+    return torch.stack(xs), torch.stack(ys)
+
+
+def loss_fn(logits, y):
+    """Cross-entropy + (1 - soft Dice of the exit class over the batch)."""
+    ce = F.cross_entropy(logits, y)
+    p = logits.softmax(1)[:, 1]
+    t = (y == 1).float()
+    dice = (2 * (p * t).sum() + 1.0) / (p.sum() + t.sum() + 1.0)
+    return ce + (1 - dice), ce.item(), dice.item()
+
+
+@torch.no_grad()
+def evaluate(model, X, Y, kinds, bs=32):
+    """IoU of the exit class over all pixels, per sample kind and overall."""
+    model.eval()
+    inter = np.zeros(4)
+    union = np.zeros(4)
+    for i in range(0, len(X), bs):
+        x = torch.from_numpy(X[i:i + bs]).permute(0, 3, 1, 2).float() / 255.0
+        pred = model(x).argmax(1).numpy()
+        t = Y[i:i + bs] == 1
+        p = pred == 1
+        for k in range(4):
+            sel = kinds[i:i + bs] == k
+            inter[k] += (p[sel] & t[sel]).sum()
+            union[k] += (p[sel] | t[sel]).sum()
+    model.train()
+    iou_all = inter.sum() / max(union.sum(), 1)
+    per = {name: (inter[k] / union[k] if union[k] else float("nan")) for k, name in enumerate(["coarse", "coarse_empty", "zoom", "zoom_neg"])}
+    fp_pixels = {"coarse_empty": union[1], "zoom_neg": union[3]}
+    return iou_all, per, fp_pixels
+
+
+def main(argv=None) -> int:
+    ap = argparse.ArgumentParser(description="Train the MobileNetV2 U-Net Exit-sign segmenter.")
+    ap.add_argument("--out", required=True, help="run directory (checkpoint, log)")
+    ap.add_argument("--seed", type=int, default=11)
+    ap.add_argument("--n-train", type=int, default=3000)
+    ap.add_argument("--n-val", type=int, default=300)
+    ap.add_argument("--width", type=float, default=0.35)
+    ap.add_argument("--batch", type=int, default=16)
+    ap.add_argument("--crop", type=int, default=128, help="training crop size (pixels, multiple of 32; 224 = whole sample)")
+    ap.add_argument("--lr", type=float, default=3e-3)
+    ap.add_argument("--minutes", type=float, default=18.0, help="training wall-time budget (cosine schedule over it)")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
+    a = ap.parse_args(argv)
+    torch.manual_seed(a.seed)
+    torch.set_num_threads(a.threads)
+    os.makedirs(a.out, exist_ok=True)
+    t0 = time.time()
+    logf = open(os.path.join(a.out, "train.log"), "a")
+
+    def log(msg):
+        line = "[%7.1fs] %s" % (time.time() - t0, msg)
+        print(line, flush=True)
+        logf.write(line + "\n")
+        logf.flush()
+
+    Xtr, Ytr, Ktr = load_or_render(a.cache, a.n_train, a.seed, 1, log)
+    Xva, Yva, Kva = load_or_render(a.cache, a.n_val, a.seed, 2, log)
+    log("data: %d train, %d val (exit pixel fraction %.4f)" % (len(Xtr), len(Xva), float((Ytr == 1).mean())))
+    t_data = time.time() - t0
+    model = SignUNet(a.width)
+    nparam = sum(p.numel() for p in model.parameters())
+    log("model: %d parameters" % nparam)
+    opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
+    g = torch.Generator().manual_seed(a.seed)
+    budget = a.minutes * 60.0
+    t_train0 = time.time()
+    step = 0
+    ema = None
+    Xt = torch.from_numpy(Xtr)
+    Yt = torch.from_numpy(Ytr.astype(np.int64))
+    epoch = 0
+    done = False
+    while not done:
+        perm = torch.randperm(len(Xtr), generator=g)
+        for i in range(0, len(perm) - a.batch + 1, a.batch):
+            frac = (time.time() - t_train0) / budget
+            if frac >= 1.0:
+                done = True
+                break
+            lr = a.lr * (min(1.0, step / 100.0)) * 0.5 * (1 + math.cos(math.pi * min(frac, 1.0)))
+            for pg in opt.param_groups:
+                pg["lr"] = lr
+            idx = perm[i:i + a.batch]
+            x = Xt[idx].permute(0, 3, 1, 2).float() / 255.0
+            y = Yt[idx]
+            if a.crop < 224:  # random crops at the same scale (the net is fully convolutional)
+                x, y = random_crops(x, y, a.crop, g)
+            if torch.rand(1, generator=g).item() < 0.5:  # horizontal flip (mirrored signs exist)
+                x, y = x.flip(3), y.flip(2)
+            x, y = augment(x, y, g)
+            loss, ce, dice = loss_fn(model(x), y)
+            opt.zero_grad()
+            loss.backward()
+            opt.step()
+            ema = loss.item() if ema is None else 0.98 * ema + 0.02 * loss.item()
+            step += 1
+            if step % 50 == 0:
+                log("epoch %d step %d lr %.2e loss %.4f (ema %.4f) ce %.4f dice %.3f" % (epoch, step, lr, loss.item(), ema, ce, dice))
+        epoch += 1
+    t_train = time.time() - t_train0
+    iou, per, fp = evaluate(model, Xva, Yva, Kva)
+    log("val IoU(exit) %.4f per kind %s; false-positive pixels on sign-free crops %s" % (iou, json.dumps(per), json.dumps(fp)))
+    torch.save({"state_dict": model.state_dict(), "width": a.width, "num_classes": NUM_CLASSES}, os.path.join(a.out, "sign_unet.pt"))
+    summary = dict(seed=a.seed, n_train=a.n_train, n_val=a.n_val, width=a.width, batch=a.batch, crop=a.crop, lr=a.lr, steps=step, epochs=epoch,
+                   params=nparam, data_seconds=t_data, train_seconds=t_train, final_loss_ema=ema, val_iou=iou, val_iou_per_kind=per)
+    with open(os.path.join(a.out, "summary.json"), "w") as f:
+        json.dump(summary, f, indent=1)
+    log("saved %s" % os.path.join(a.out, "sign_unet.pt"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
