@@ -3,6 +3,7 @@ import Foundation
 /// Every subcommand of `wayfinder`, in the order `--help` lists them.
 enum Subcommands {
     static let all: [Subcommand.Type] = [
+        ValidateMapCommand.self, ImportInavigateCommand.self,
         InspectCommand.self,
         ImportOccamCommand.self,
         ReplayCommand.self,
