@@ -40,7 +40,18 @@ public enum ScenarioMaps {
         return String(spec.dropFirst("skeri:".count))
     }
 
+    /// Imported SKERI buildings by directory path (the import traces wall masks: worth doing once per process).
+    nonisolated(unsafe) private static var skeriCache: [String: Building] = [:]
+    private static let cacheLock = NSLock()
+
     static func importSKERI(directory: URL) throws -> Building {
-        throw SimulationError.mapUnavailable("skeri: the iNavigate importer is not available yet (\(directory.path))")
+        cacheLock.lock(); defer { cacheLock.unlock() }
+        if let b = skeriCache[directory.path] { return b }
+        guard FileManager.default.fileExists(atPath: directory.path) else {
+            throw SimulationError.mapUnavailable("skeri: no iNavigate data at \(directory.path) (set WAYFINDER_SHARED_DATA)")
+        }
+        let b = try InavigateImporter.importBuilding(from: directory).building
+        skeriCache[directory.path] = b
+        return b
     }
 }

@@ -1,0 +1,68 @@
+import XCTest
+import Maps
+import SessionFormat
+@testable import Simulation
+
+/// Bundles: determinism, seeds, the round trip through the project's one reader.
+final class BundleOutputTests: XCTestCase {
+    private func tempDir(_ name: String) -> URL {
+        FileManager.default.temporaryDirectory.appendingPathComponent("wf-sim-\(name)-\(getpid())-\(UUID().uuidString)")
+    }
+
+    private func files(_ dir: URL) throws -> [String: Data] {
+        var out: [String: Data] = [:]
+        let e = FileManager.default.enumerator(at: dir, includingPropertiesForKeys: [.isRegularFileKey])!
+        for case let u as URL in e where (try u.resourceValues(forKeys: [.isRegularFileKey]).isRegularFile ?? false) {
+            out[String(u.path.dropFirst(dir.path.count))] = try Data(contentsOf: u)
+        }
+        return out
+    }
+
+    func testSameSeedGivesByteIdenticalBundles() throws {
+        let s = SimulationScenario(name: "det", from: "room-116", to: "room-103", seed: 77, wrongTurn: true, rateHz: 15)
+        let a = tempDir("a"), b = tempDir("b")
+        defer { try? FileManager.default.removeItem(at: a); try? FileManager.default.removeItem(at: b) }
+        try WalkSimulator.simulate(building: Fixtures.office, scenario: s).write(to: a)
+        try WalkSimulator.simulate(building: Fixtures.office, scenario: s).write(to: b)
+        let fa = try files(a), fb = try files(b)
+        XCTAssertEqual(Set(fa.keys), ["/session.json", "/frames.jsonl", "/observations.jsonl", "/truth.jsonl"])
+        XCTAssertEqual(fa, fb)
+    }
+
+    func testDifferentSeedsDiffer() throws {
+        let a = try WalkSimulator.simulate(building: Fixtures.office, scenario: SimulationScenario(name: "s", from: "room-101", to: "room-111", seed: 1))
+        let b = try WalkSimulator.simulate(building: Fixtures.office, scenario: SimulationScenario(name: "s", from: "room-101", to: "room-111", seed: 2))
+        XCTAssertNotEqual(a.truth.map(\.x), b.truth.map(\.x))
+        XCTAssertNotEqual(a.diagnostics.vio.scale, b.diagnostics.vio.scale)
+        XCTAssertNotEqual(a.observations.map(\.rangeMeters), b.observations.map(\.rangeMeters))
+        XCTAssertEqual(a.diagnostics.routeNodeIds, b.diagnostics.routeNodeIds, "same route, different walk")
+    }
+
+    func testBundleRoundTripsThroughTheReader() throws {
+        let s = SimulationScenario(name: "rt", from: "room-105", to: "room-214", seed: 4, startKnown: false, trackingLossAt: 10)
+        let w = try Fixtures.walk(s)
+        let dir = tempDir("rt")
+        defer { try? FileManager.default.removeItem(at: dir) }
+        try w.write(to: dir)
+        let bundle = try SessionBundle.read(from: dir)
+        XCTAssertTrue(bundle.warnings.isEmpty, "\(bundle.warnings)")
+        XCTAssertEqual(bundle.frames, w.frames)
+        XCTAssertEqual(bundle.truth, w.truth)
+        XCTAssertEqual(bundle.observations, w.observations)
+        XCTAssertEqual(bundle.info.mapId, "wayfinder-office")
+        XCTAssertEqual(bundle.info.floorId, "1")
+        XCTAssertNil(bundle.info.start, "floor-only start")
+        XCTAssertEqual(bundle.info.destination, "room-214")
+        XCTAssertEqual(bundle.info.device, "simulator")
+        XCTAssertEqual(bundle.info.signHeightMeters, 0.21)
+        // Writing over an existing bundle needs overwrite.
+        XCTAssertThrowsError(try w.write(to: dir))
+        XCTAssertNoThrow(try w.write(to: dir, overwrite: true))
+    }
+
+    func testKnownStartNamesTheStartPlace() throws {
+        let w = try WalkSimulator.simulate(building: Fixtures.office, scenario: SimulationScenario(
+            name: "k", from: "Room 101", to: "room-103", seed: 1, startKnown: true, rateHz: 10))
+        XCTAssertEqual(w.info.start, "room-101")
+    }
+}
