@@ -9,6 +9,7 @@ enum Subcommands {
         ReplayCommand.self,
         EvalCommand.self,
         RenderCommand.self,
+        BenchCommand.self,
         SimulateCommand.self,
     ]
 }
