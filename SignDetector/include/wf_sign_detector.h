@@ -235,8 +235,14 @@ typedef struct wf_sign_observation {
     double median_bottom_row_px;
     /** Median over slices of the sign's apparent height (bottom edge - top edge), pixels. */
     double median_height_px;
-    /** Unrolled u of the sign's centre column, pixels. */
+    /** Unrolled u of the sign's centre column (middle of its horizontal extent), pixels. */
     double center_column_px;
+    /** Width of the horizontal extent: last - first sign column, unrolled pixels. */
+    double extent_width_px;
+    /** Slopes dv/du of the bottom and top edges in the unrolled image (median of the slopes between slice
+     *  i and slice i + n/2; 0 for cascade boxes). Same meaning as LocalizerCore's wf_range_slice_measurement. */
+    double bottom_edge_slope;
+    double top_edge_slope;
     /** Intrinsics of the unrolled image (principal point moved; fx/fy swapped for +-90 degrees). */
     double unrolled_fx, unrolled_fy, unrolled_cx, unrolled_cy;
     /** Size of the unrolled image, pixels. */

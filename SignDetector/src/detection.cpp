@@ -11,8 +11,12 @@ double intersectionOverUnion(const cv::Rect2d& a, const cv::Rect2d& b) {
 }
 
 std::vector<Detection> suppressOverlaps(std::vector<Detection> detections, double iouThreshold) {
-    std::stable_sort(detections.begin(), detections.end(),
-                     [](const Detection& a, const Detection& b) { return a.score > b.score; });
+    // Best score first; ties broken by position so the order is deterministic.
+    std::sort(detections.begin(), detections.end(), [](const Detection& a, const Detection& b) {
+        if (a.score != b.score) return a.score > b.score;
+        if (a.measurement.box.y != b.measurement.box.y) return a.measurement.box.y < b.measurement.box.y;
+        return a.measurement.box.x < b.measurement.box.x;
+    });
     std::vector<Detection> kept;
     for (auto& d : detections) {
         bool overlaps = false;

@@ -134,6 +134,9 @@ wf_sign_observation makeObservation(const Detection& d, const Unrolling& unrolli
     o.median_bottom_row_px = m.medianBottomEdgePx;
     o.median_height_px = m.medianHeightPx;
     o.center_column_px = m.centerColumnPx;
+    o.extent_width_px = m.extentWidthPx;
+    o.bottom_edge_slope = m.bottomEdgeSlope;
+    o.top_edge_slope = m.topEdgeSlope;
     const Intrinsics& k = unrolling.unrolledIntrinsics();
     o.unrolled_fx = k.fx;
     o.unrolled_fy = k.fy;

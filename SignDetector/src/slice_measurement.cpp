@@ -48,6 +48,7 @@ SliceMeasurement SliceMeasurement::mapped(double scale, cv::Point2d originEdge) 
     m.medianBottomEdgePx = originEdge.y + (medianBottomEdgePx + 0.5) * scale;
     m.medianHeightPx = medianHeightPx * scale;
     m.centerColumnPx = originEdge.x + (centerColumnPx + 0.5) * scale;
+    m.extentWidthPx = extentWidthPx * scale;
     m.box = cv::Rect2d(originEdge.x + (box.x + 0.5) * scale, originEdge.y + (box.y + 0.5) * scale,
                        box.width * scale, box.height * scale);
     return m;
@@ -60,6 +61,7 @@ SliceMeasurement measureBox(const cv::Rect& box, const SliceParams& params) {
     m.medianBottomEdgePx = box.y + box.height - 0.5;
     m.medianHeightPx = box.height;
     m.centerColumnPx = box.x + 0.5 * (box.width - 1);
+    m.extentWidthPx = box.width - 1;
     m.box = cv::Rect2d(box.x - 0.5, box.y - 0.5, box.width, box.height);
     m.sliceCount = static_cast<int>(sliceColumns(box.x, box.x + box.width - 1, params).size());
     return m;
@@ -89,11 +91,13 @@ SliceMeasurement measureMask(const cv::Mat& mask, const SliceParams& params) {
         }
     }
     if (first < 0) return m;
-    std::vector<double> heights, bottoms;
+    std::vector<double> heights, bottoms, columns, tops;
     for (int c : sliceColumns(first, last, params)) {
         if (top[c] < 0) continue;
         heights.push_back(bottom[c] - top[c] + 1);
         bottoms.push_back(bottom[c] + 0.5);
+        tops.push_back(top[c] - 0.5);
+        columns.push_back(c);
     }
     if (heights.empty()) return m;
     m.valid = true;
@@ -101,7 +105,19 @@ SliceMeasurement measureMask(const cv::Mat& mask, const SliceParams& params) {
     m.medianHeightPx = median(heights);
     m.medianBottomEdgePx = median(bottoms);
     m.centerColumnPx = 0.5 * (first + last);
+    m.extentWidthPx = last - first;
     m.box = cv::Rect2d(first - 0.5, minRow - 0.5, last - first + 1, maxRow - minRow + 1);
+    const size_t n = columns.size(), half = n / 2;
+    if (half > 0) {
+        std::vector<double> bottomSlopes, topSlopes;
+        for (size_t i = 0; i + half < n; ++i) {
+            const double du = columns[i + half] - columns[i];
+            bottomSlopes.push_back((bottoms[i + half] - bottoms[i]) / du);
+            topSlopes.push_back((tops[i + half] - tops[i]) / du);
+        }
+        m.bottomEdgeSlope = median(bottomSlopes);
+        m.topEdgeSlope = median(topSlopes);
+    }
     return m;
 }
 

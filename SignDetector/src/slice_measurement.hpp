@@ -25,6 +25,12 @@ struct SliceMeasurement {
     double medianHeightPx = 0;
     /// Centre of the sign's horizontal extent, pixels.
     double centerColumnPx = 0;
+    /// Width of the extent: last sign column - first sign column, pixels.
+    double extentWidthPx = 0;
+    /// Slopes dv/du of the bottom and top edges: medians of the slopes between slice i and slice
+    /// i + n/2 (0 for a box or a single slice). Scale-invariant.
+    double bottomEdgeSlope = 0;
+    double topEdgeSlope = 0;
     /// Bounding box (edges): x, y = left/top edge, width, height.
     cv::Rect2d box;
     /// Number of slices the medians were taken over.

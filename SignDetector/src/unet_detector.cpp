@@ -140,8 +140,10 @@ std::vector<UnetCandidate> UnetDetector::coarseCandidates(const cv::Mat& rgbUnro
             candidates.push_back(cand);
         }
     }
-    std::stable_sort(candidates.begin(), candidates.end(),
-                     [](const UnetCandidate& a, const UnetCandidate& b) { return a.areaPx > b.areaPx; });
+    std::sort(candidates.begin(), candidates.end(), [](const UnetCandidate& a, const UnetCandidate& b) {
+        if (a.areaPx != b.areaPx) return a.areaPx > b.areaPx;
+        return a.boxInUnrolled.x < b.boxInUnrolled.x;
+    });
     if (params.maxCandidates > 0 && static_cast<int>(candidates.size()) > params.maxCandidates) {
         candidates.resize(params.maxCandidates);
     }

@@ -16,6 +16,8 @@ TEST(SliceMeasurement, BoxGivesItsHeightBottomEdgeAndCentre) {
     EXPECT_DOUBLE_EQ(m.centerColumnPx, 24.5);      // columns 10..39
     EXPECT_EQ(m.box, cv::Rect2d(9.5, 19.5, 30, 12));
     EXPECT_EQ(m.sliceCount, 18);                   // middle 60 % of 30 columns
+    EXPECT_DOUBLE_EQ(m.extentWidthPx, 29);
+    EXPECT_DOUBLE_EQ(m.bottomEdgeSlope, 0);
     EXPECT_FALSE(measureBox(cv::Rect(0, 0, 0, 5)).valid);
 }
 
@@ -79,6 +81,9 @@ TEST(SliceMeasurement, ShearedSignMeasuresVerticalExtentPerColumn) {
     const SliceMeasurement m = measureMask(mask);
     EXPECT_DOUBLE_EQ(m.medianHeightPx, 20);
     EXPECT_NEAR(m.medianBottomEdgePx, 30 + 5 + 19.5, 1.0);  // bottom near the centre column
+    EXPECT_NEAR(m.bottomEdgeSlope, 1.0 / 6, 0.03);
+    EXPECT_NEAR(m.topEdgeSlope, 1.0 / 6, 0.03);
+    EXPECT_DOUBLE_EQ(m.extentWidthPx, 59);
 }
 
 TEST(SliceMeasurement, MappedScalesAndShiftsBetweenPixelFrames) {
@@ -89,4 +94,5 @@ TEST(SliceMeasurement, MappedScalesAndShiftsBetweenPixelFrames) {
     EXPECT_DOUBLE_EQ(m.medianHeightPx, 10);
     EXPECT_DOUBLE_EQ(m.medianBottomEdgePx, 59.5);  // rows 50..59
     EXPECT_DOUBLE_EQ(m.centerColumnPx, 109.5);     // columns 100..119
+    EXPECT_DOUBLE_EQ(m.extentWidthPx, 18);         // 9 mask columns apart
 }

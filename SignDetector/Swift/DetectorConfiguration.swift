@@ -1,0 +1,126 @@
+import Foundation
+
+/// Which detector runs.
+public enum DetectorKind: String, Sendable, CaseIterable {
+    /// One AdaBoost cascade per sign kind; rough boxes (fast).
+    case cascade
+    /// U-Net segmentation, coarse pass + zoomed pass per candidate; masks (accurate heights).
+    case unet
+}
+
+/// A cascade model file and the sign kind it detects.
+public struct CascadeModel: Sendable, Equatable {
+    /// Kind name reported in detections ("exit", "restroom"...).
+    public var kind: String
+    /// Path of an OpenCV cascade XML file.
+    public var path: String
+
+    public init(kind: String, path: String) {
+        self.kind = kind
+        self.path = path
+    }
+}
+
+/// Everything needed to create a SignDetector. Zero numeric values mean "the C side's default" (given in
+/// each comment), so a configuration written today keeps working when defaults are tuned.
+public struct DetectorConfiguration: Sendable, Equatable {
+    /// Detector to run.
+    public var kind: DetectorKind
+    /// Cascades, one per sign kind (cascade detector).
+    public var cascades: [CascadeModel]
+    /// U-Net ONNX model path (U-Net detector).
+    public var unetPath: String?
+    /// U-Net class names, index 0 = background; empty = read classes.json next to the model.
+    public var classNames: [String]
+    /// Detections scoring below this are dropped (cascade: neighbour count; U-Net: mean probability).
+    public var minScore: Double
+    /// Cascade scale step (0 = 1.2), minimum neighbours (0 = 3), smallest window (0 = 36 x 24 pixels),
+    /// largest window as a multiple of the smallest (0 = unlimited).
+    public var cascadeScaleFactor: Double = 0
+    public var cascadeMinNeighbors: Int = 0
+    public var cascadeMinWindowWidth: Int = 0
+    public var cascadeMinWindowHeight: Int = 0
+    public var cascadeMaxWindowFactor: Double = 0
+    /// U-Net mask threshold (0 = 0.5), zoom factor (0 = 3.5), smallest crop in original pixels (0 = 64),
+    /// most candidates zoomed per frame (0 = 8).
+    public var unetMaskThreshold: Double = 0
+    public var unetZoomFactor: Double = 0
+    public var unetMinCropPx: Int = 0
+    public var unetMaxCandidates: Int = 0
+    /// Slices: 0 = every column of the middle band, N = N columns; band fraction (0 = 0.6).
+    public var sliceCount: Int = 0
+    public var sliceBandFraction: Double = 0
+    /// Rolls within this of a multiple of pi/2 are snapped to it (exact, faster); 0 = never. Radians.
+    public var rollSnapToleranceRad: Double = 0
+
+    /// The first cascade's path (the common one-kind case); setting it replaces the first cascade.
+    public var cascadePath: String? {
+        get { cascades.first?.path }
+        set {
+            if let path = newValue {
+                if cascades.isEmpty { cascades = [CascadeModel(kind: "exit", path: path)] } else { cascades[0].path = path }
+            } else if !cascades.isEmpty {
+                cascades.removeFirst()
+            }
+        }
+    }
+
+    /// A configuration with the given models; `cascadePath` becomes one cascade of kind `cascadeKind`.
+    public init(kind: DetectorKind, cascadePath: String? = nil, cascadeKind: String = "exit",
+                unetPath: String? = nil, classNames: [String] = [], minScore: Double = 0) {
+        self.kind = kind
+        self.cascades = cascadePath.map { [CascadeModel(kind: cascadeKind, path: $0)] } ?? []
+        self.unetPath = unetPath
+        self.classNames = classNames
+        self.minScore = minScore
+    }
+
+    /// File names inside a models directory (SignDetector/models).
+    public static let cascadeFileName = "exit_sign_cascade.xml"
+    public static let unetFileName = "sign_unet.onnx"
+    public static let classListFileName = "classes.json"
+
+    /// The product's models: `<modelsDirectory>/exit_sign_cascade.xml`, or `sign_unet.onnx` with the class
+    /// names of `classes.json` (when readable). Without `modelsDirectory`, the first of these that exists is
+    /// used: $WAYFINDER_MODELS_DIR, the app bundle's `models` folder, `SignDetector/models` under the package
+    /// root (found from this source file's location, then from the current directory upwards). Never
+    /// throws: a missing file is reported by SignDetector.init, naming the path.
+    public static func bundled(kind: DetectorKind, modelsDirectory: String? = nil) -> DetectorConfiguration {
+        let directory = modelsDirectory ?? locateModelsDirectory() ?? "SignDetector/models"
+        switch kind {
+        case .cascade:
+            return DetectorConfiguration(kind: .cascade, cascadePath: directory + "/" + cascadeFileName)
+        case .unet:
+            let classes = readClassNames(path: directory + "/" + classListFileName) ?? []
+            return DetectorConfiguration(kind: .unet, unetPath: directory + "/" + unetFileName, classNames: classes)
+        }
+    }
+
+    /// Class names of a classes.json ({"classes": ["background", "exit", ...]}), or nil if unreadable.
+    public static func readClassNames(path: String) -> [String]? {
+        struct ClassList: Decodable { var classes: [String] }
+        guard let data = FileManager.default.contents(atPath: path),
+              let list = try? JSONDecoder().decode(ClassList.self, from: data), list.classes.count >= 2
+        else { return nil }
+        return list.classes
+    }
+
+    static func locateModelsDirectory() -> String? {
+        let fm = FileManager.default
+        var isDirectory: ObjCBool = false
+        func exists(_ path: String) -> Bool { fm.fileExists(atPath: path, isDirectory: &isDirectory) && isDirectory.boolValue }
+        if let env = ProcessInfo.processInfo.environment["WAYFINDER_MODELS_DIR"], exists(env) { return env }
+        if let resources = Bundle.main.resourcePath, exists(resources + "/models") { return resources + "/models" }
+        // This file is <root>/SignDetector/Swift/DetectorConfiguration.swift.
+        let fromSource = URL(fileURLWithPath: #filePath).deletingLastPathComponent().deletingLastPathComponent()
+            .appendingPathComponent("models").path
+        if exists(fromSource) { return fromSource }
+        var dir = URL(fileURLWithPath: fm.currentDirectoryPath)
+        for _ in 0..<8 {
+            let candidate = dir.appendingPathComponent("SignDetector/models").path
+            if exists(candidate) { return candidate }
+            dir.deleteLastPathComponent()
+        }
+        return nil
+    }
+}

@@ -1,0 +1,147 @@
+// The only file of the SignDetection module that touches the C ABI (SignDetector/include/wf_sign_detector.h).
+import Foundation
+internal import SignDetector
+
+/// Owns a wf_detector handle; converts Swift values to C and C statuses to SignDetectorError.
+final class CDetector {
+    private var handle: OpaquePointer?
+    let kinds: [String]
+
+    /// Most observations returned per frame.
+    static let capacity = 64
+
+    init(configuration c: DetectorConfiguration) throws {
+        var opts = wf_detector_options()
+        guard wf_detector_options_init(&opts, UInt32(WF_DETECTOR_OPTIONS_VERSION)) == WF_OK else {
+            throw CDetector.error(status: WF_ERR_VERSION, message: String(cString: wf_thread_last_error()))
+        }
+        opts.kind = c.kind == .cascade ? WF_DETECTOR_CASCADE : WF_DETECTOR_UNET
+        opts.cascade_scale_factor = c.cascadeScaleFactor
+        opts.cascade_min_neighbors = Int32(clamping: c.cascadeMinNeighbors)
+        opts.cascade_min_window_width = Int32(clamping: c.cascadeMinWindowWidth)
+        opts.cascade_min_window_height = Int32(clamping: c.cascadeMinWindowHeight)
+        opts.cascade_max_window_factor = c.cascadeMaxWindowFactor
+        opts.unet_mask_threshold = c.unetMaskThreshold
+        opts.unet_zoom_factor = c.unetZoomFactor
+        opts.unet_min_crop_px = Int32(clamping: c.unetMinCropPx)
+        opts.unet_max_candidates = Int32(clamping: c.unetMaxCandidates)
+        opts.min_score = c.minScore
+        opts.slice_count = Int32(clamping: c.sliceCount)
+        opts.slice_band_fraction = c.sliceBandFraction
+        opts.roll_snap_tolerance_rad = c.rollSnapToleranceRad
+
+        // C strings live until wf_detector_create returns (the C side copies them).
+        let cascadePaths = c.cascades.map { strdup($0.path) }
+        let cascadeKinds = c.cascades.map { strdup($0.kind) }
+        let classNames = c.classNames.map { strdup($0) }
+        let unetPath = c.unetPath.map { strdup($0) } ?? nil
+        defer {
+            (cascadePaths + cascadeKinds + classNames).forEach { free($0) }
+            free(unetPath)
+        }
+        var pathPointers = cascadePaths.map { UnsafePointer<CChar>($0) }
+        var kindPointers = cascadeKinds.map { UnsafePointer<CChar>($0) }
+        var classPointers = classNames.map { UnsafePointer<CChar>($0) }
+        opts.unet_path = UnsafePointer(unetPath)
+        var created: OpaquePointer?
+        let status: Int32 = pathPointers.withUnsafeMutableBufferPointer { paths in
+            kindPointers.withUnsafeMutableBufferPointer { kinds in
+                classPointers.withUnsafeMutableBufferPointer { classes in
+                    opts.cascade_paths = UnsafePointer(paths.baseAddress)
+                    opts.cascade_kinds = UnsafePointer(kinds.baseAddress)
+                    opts.cascade_count = paths.count
+                    opts.class_names = UnsafePointer(classes.baseAddress)
+                    opts.class_count = classes.count
+                    return wf_detector_create(&created, &opts)
+                }
+            }
+        }
+        guard status == WF_OK, let created else {
+            throw CDetector.error(status: status, message: String(cString: wf_thread_last_error()))
+        }
+        handle = created
+        kinds = (0..<wf_detector_kind_count(created)).map { String(cString: wf_detector_kind_name(created, $0)) }
+    }
+
+    deinit { wf_detector_free(handle) }
+
+    func detect(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
+                rollRad: Double) throws -> DetectionOutcome {
+        var observations = [wf_sign_observation](repeating: wf_sign_observation(), count: CDetector.capacity)
+        var count = 0
+        let status: Int32 = image.data.withUnsafeBufferPointer { pixels in
+            let chroma = image.chromaData ?? []
+            return chroma.withUnsafeBufferPointer { chromaPixels in
+                var frame = wf_frame()
+                frame.image = wf_image(
+                    data: pixels.baseAddress, width: Int32(image.width), height: Int32(image.height),
+                    stride: image.bytesPerRow, format: CDetector.format(image.pixelFormat),
+                    data_uv: image.chromaData == nil ? nil : chromaPixels.baseAddress,
+                    stride_uv: image.chromaBytesPerRow)
+                frame.intrinsics = wf_intrinsics(fx: intrinsics.0, fy: intrinsics.1, cx: intrinsics.2, cy: intrinsics.3)
+                frame.pitch_rad = pitchRad
+                frame.roll_rad = rollRad
+                return observations.withUnsafeMutableBufferPointer { out in
+                    wf_detector_detect(handle, &frame, out.baseAddress, out.count, &count)
+                }
+            }
+        }
+        if status < 0 {
+            throw CDetector.error(status: status, message: String(cString: wf_detector_last_error(handle)))
+        }
+        let warning = status > 0 ? String(cString: wf_detector_last_error(handle)) : nil
+        return DetectionOutcome(detections: observations.prefix(count).map(CDetector.detection), warning: warning)
+    }
+
+    static var libraryVersion: String { String(cString: wf_sign_detector_version()) }
+
+    static func readImage(path: String, pixelFormat: PixelFormat) throws -> ImageBuffer {
+        guard pixelFormat != .nv12 else {
+            throw SignDetectorError.invalidArgument("ImageBuffer.load: pixel format must be gray8, rgb8 or bgra8")
+        }
+        var owned = wf_owned_image()
+        let status = wf_image_read(&owned, path, format(pixelFormat))
+        guard status == WF_OK else { throw error(status: status, message: String(cString: wf_thread_last_error())) }
+        defer { wf_owned_image_free(&owned) }
+        let bytes = Array(UnsafeBufferPointer(start: owned.data, count: owned.stride * Int(owned.height)))
+        return ImageBuffer(width: Int(owned.width), height: Int(owned.height), bytesPerRow: owned.stride,
+                           pixelFormat: pixelFormat, data: bytes)
+    }
+
+    private static func format(_ f: PixelFormat) -> wf_pixel_format {
+        switch f {
+        case .gray8: return WF_PIXEL_GRAY8
+        case .bgra8: return WF_PIXEL_BGRA8
+        case .rgb8: return WF_PIXEL_RGB8
+        case .nv12: return WF_PIXEL_NV12
+        }
+    }
+
+    private static func detection(_ o: wf_sign_observation) -> SignDetection {
+        let kind = withUnsafeBytes(of: o.kind) { raw in
+            String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self)
+        }
+        let m = o.unrolled_to_raw
+        return SignDetection(
+            kind: kind, kindIndex: Int(o.kind_index), score: o.score,
+            boxInUnrolled: (o.box_x, o.box_y, o.box_width, o.box_height),
+            medianBottomRowPx: o.median_bottom_row_px, medianHeightPx: o.median_height_px,
+            centerColumnPx: o.center_column_px, extentWidthPx: o.extent_width_px,
+            bottomEdgeSlope: o.bottom_edge_slope, topEdgeSlope: o.top_edge_slope,
+            unrolledFx: o.unrolled_fx, unrolledFy: o.unrolled_fy, unrolledCx: o.unrolled_cx, unrolledCy: o.unrolled_cy,
+            unrolledWidth: Int(o.unrolled_width), unrolledHeight: Int(o.unrolled_height),
+            sliceCount: Int(o.slice_count), appliedRollRad: o.applied_roll_rad,
+            unrolledToRaw: [m.0, m.1, m.2, m.3, m.4, m.5])
+    }
+
+    static func error(status: Int32, message: String) -> SignDetectorError {
+        switch status {
+        case WF_ERR_INVALID_ARGUMENT: return .invalidArgument(message)
+        case WF_ERR_VERSION: return .unsupportedVersion(message)
+        case WF_ERR_MODEL_LOAD: return .modelLoad(message)
+        case WF_ERR_BAD_FRAME: return .badFrame(message)
+        case WF_ERR_IMAGE_READ: return .imageRead(message)
+        default: return .internalFailure(message.isEmpty ? "status \(status)" : message)
+        }
+    }
+}

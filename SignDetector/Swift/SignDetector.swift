@@ -1,0 +1,58 @@
+import Foundation
+
+/// The result of one frame: detections, or the reason the frame was skipped (dark frame).
+public struct DetectionOutcome: Sendable {
+    /// Detections, highest score first.
+    public var detections: [SignDetection]
+    /// Why the frame was skipped or truncated (a warning, not an error), or nil.
+    public var warning: String?
+}
+
+/// The run-time sign detector (C++/OpenCV behind a C ABI): unrolls each frame by the camera roll, detects
+/// signs with cascades or a U-Net, and measures them by vertical slices (Fusco et al. 2020, section 3).
+///
+/// Owns its C handle (models loaded once) and frees it on deinit. Calls are serialised by an internal lock,
+/// so one instance may be shared across tasks; for parallel throughput create one per task.
+public final class SignDetector: @unchecked Sendable {
+    /// The configuration the detector was created with.
+    public let configuration: DetectorConfiguration
+    /// Kind names it reports (cascade kinds, or U-Net classes without background).
+    public let kinds: [String]
+
+    private let handle: CDetector
+    private let lock = NSLock()
+
+    /// Loads the models. Throws `SignDetectorError.modelLoad` naming a missing or unreadable file, or
+    /// `.invalidArgument` for an impossible configuration.
+    public init(configuration: DetectorConfiguration) throws {
+        self.configuration = configuration
+        self.handle = try CDetector(configuration: configuration)
+        self.kinds = handle.kinds
+    }
+
+    /// Detects signs in one frame.
+    /// - Parameters:
+    ///   - image: the raw camera image (sensor orientation, as captured).
+    ///   - fx, fy, cx, cy: pinhole intrinsics of `image`, pixels (scale them with the image).
+    ///   - pitchRad: elevation of the optical axis, radians, positive looking up.
+    ///   - rollRad: ARKit Euler roll, radians (0 = landscape upright, -pi/2 = portrait).
+    /// - Returns: detections, highest score first; [] for a skipped (dark) frame.
+    /// - Throws: `SignDetectorError.badFrame` for an empty frame, intrinsics of another resolution,
+    ///   non-finite values or pixel data shorter than described; `.internalFailure` for an OpenCV failure.
+    public func detect(image: ImageBuffer, fx: Double, fy: Double, cx: Double, cy: Double,
+                       pitchRad: Double, rollRad: Double) throws -> [SignDetection] {
+        try detectFrame(image: image, fx: fx, fy: fy, cx: cx, cy: cy, pitchRad: pitchRad, rollRad: rollRad).detections
+    }
+
+    /// As `detect`, also returning the warning of a skipped frame.
+    public func detectFrame(image: ImageBuffer, fx: Double, fy: Double, cx: Double, cy: Double,
+                            pitchRad: Double, rollRad: Double) throws -> DetectionOutcome {
+        try image.validate()
+        lock.lock()
+        defer { lock.unlock() }
+        return try handle.detect(image: image, intrinsics: (fx, fy, cx, cy), pitchRad: pitchRad, rollRad: rollRad)
+    }
+
+    /// Version of the linked C library.
+    public static var libraryVersion: String { CDetector.libraryVersion }
+}

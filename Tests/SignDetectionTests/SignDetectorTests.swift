@@ -1,0 +1,177 @@
+import Foundation
+import XCTest
+@testable import SignDetection
+
+/// Tests of the SignDetection wrapper against the real C++ detector: the reference cascade (read in place
+/// from ../shared) and the tiny committed red-pixel ONNX model (Tests/SignDetector/data).
+final class SignDetectorTests: XCTestCase {
+    private static let repoRoot = URL(fileURLWithPath: #filePath).deletingLastPathComponent()
+        .deletingLastPathComponent().deletingLastPathComponent()
+    private static let tinyUnet = repoRoot.appendingPathComponent("Tests/SignDetector/data/tiny_red_unet.onnx").path
+    private static let referenceCascade = repoRoot.deletingLastPathComponent()
+        .appendingPathComponent("shared/data/skeri_inavigate/models/exit_sign_cascade.xml").path
+
+    /// 640 x 480 RGB wall (gray 120) with a red plate covering raw columns 300..339 and rows 200..259.
+    private func redPlateFrame() -> ImageBuffer {
+        let width = 640, height = 480
+        var pixels = [UInt8](repeating: 120, count: width * height * 3)
+        for v in 200..<260 {
+            for u in 300..<340 {
+                let i = (v * width + u) * 3
+                pixels[i] = 220; pixels[i + 1] = 25; pixels[i + 2] = 25
+            }
+        }
+        return ImageBuffer(width: width, height: height, bytesPerRow: width * 3, pixelFormat: .rgb8, data: pixels)
+    }
+
+    private func unetDetector() throws -> SignDetector {
+        try SignDetector(configuration: DetectorConfiguration(kind: .unet, unetPath: Self.tinyUnet))
+    }
+
+    func testMissingModelThrowsModelLoadNamingTheFile() {
+        let config = DetectorConfiguration(kind: .cascade, cascadePath: "/nonexistent/exit.xml")
+        XCTAssertThrowsError(try SignDetector(configuration: config)) { error in
+            guard case SignDetectorError.modelLoad(let message) = error else {
+                return XCTFail("expected modelLoad, got \(error)")
+            }
+            XCTAssertTrue(message.contains("/nonexistent/exit.xml"), message)
+        }
+        XCTAssertThrowsError(try SignDetector(configuration: DetectorConfiguration(kind: .unet)))
+    }
+
+    func testReferenceCascadeLoadsAndRunsOnAPlainFrame() throws {
+        let detector = try SignDetector(configuration: DetectorConfiguration(kind: .cascade, cascadePath: Self.referenceCascade))
+        XCTAssertEqual(detector.kinds, ["exit"])
+        let frame = ImageBuffer.gray(width: 640, height: 480, pixels: [UInt8](repeating: 128, count: 640 * 480))
+        let found = try detector.detect(image: frame, fx: 534, fy: 534, cx: 319.5, cy: 239.5, pitchRad: 0, rollRad: -Double.pi / 2)
+        XCTAssertTrue(found.isEmpty)
+    }
+
+    func testTwoCascadeKindsAreReported() throws {
+        var config = DetectorConfiguration(kind: .cascade)
+        config.cascades = [CascadeModel(kind: "exit", path: Self.referenceCascade),
+                           CascadeModel(kind: "restroom", path: Self.referenceCascade)]
+        XCTAssertEqual(try SignDetector(configuration: config).kinds, ["exit", "restroom"])
+    }
+
+    func testUnetFindsThePlateInAPortraitFrameAndMeasuresIt() throws {
+        let detector = try unetDetector()
+        XCTAssertEqual(detector.kinds, ["exit"])  // from classes.json next to the model
+        let found = try detector.detect(image: redPlateFrame(), fx: 534, fy: 530, cx: 319.5, cy: 239.5,
+                                        pitchRad: 0.05, rollRad: -Double.pi / 2)
+        XCTAssertEqual(found.count, 1)
+        let sign = try XCTUnwrap(found.first)
+        XCTAssertEqual(sign.kind, "exit")
+        XCTAssertGreaterThan(sign.score, 0.9)
+        // Portrait: the raw u extent (40 px) is the unrolled height; fx and fy swap; cx' = H - 1 - cy.
+        XCTAssertEqual(sign.medianHeightPx, 40, accuracy: 1.5)
+        XCTAssertEqual(sign.unrolledFx, 530)
+        XCTAssertEqual(sign.unrolledFy, 534)
+        XCTAssertEqual(sign.unrolledCx, 479 - 239.5)
+        XCTAssertEqual(sign.unrolledCy, 319.5)
+        XCTAssertEqual(sign.unrolledWidth, 480)
+        XCTAssertEqual(sign.unrolledHeight, 640)
+        // The bottom edge in the unrolled image is the raw plate's right edge (u = 339.5).
+        XCTAssertEqual(sign.medianBottomRowPx, 339.5, accuracy: 1.5)
+        // The centre maps back to the raw plate's centre (319.5, 229.5).
+        let centre = sign.rawPoint(u: sign.centerColumnPx, v: sign.medianBottomRowPx - sign.medianHeightPx / 2)
+        XCTAssertEqual(centre.u, 319.5, accuracy: 1.5)
+        XCTAssertEqual(centre.v, 229.5, accuracy: 1.5)
+        XCTAssertEqual(sign.boxInUnrolled.width, 60, accuracy: 2)
+    }
+
+    func testBadFramesThrowBadFrame() throws {
+        let detector = try unetDetector()
+        let frame = redPlateFrame()
+        func expectBadFrame(_ fragment: String, _ body: () throws -> Void, line: UInt = #line) {
+            XCTAssertThrowsError(try body(), line: line) { error in
+                guard case SignDetectorError.badFrame(let message) = error else {
+                    return XCTFail("expected badFrame, got \(error)", line: line)
+                }
+                XCTAssertTrue(message.contains(fragment), message, line: line)
+            }
+        }
+        expectBadFrame("pitch") {
+            _ = try detector.detect(image: frame, fx: 534, fy: 534, cx: 319.5, cy: 239.5, pitchRad: .nan, rollRad: 0)
+        }
+        expectBadFrame("roll") {
+            _ = try detector.detect(image: frame, fx: 534, fy: 534, cx: 319.5, cy: 239.5, pitchRad: 0, rollRad: .infinity)
+        }
+        expectBadFrame("another resolution") {
+            _ = try detector.detect(image: frame, fx: 1602, fy: 1602, cx: 959.5, cy: 719.5, pitchRad: 0, rollRad: 0)
+        }
+        var short = frame
+        short.data.removeLast(10)
+        expectBadFrame("needs") {
+            _ = try detector.detect(image: short, fx: 534, fy: 534, cx: 319.5, cy: 239.5, pitchRad: 0, rollRad: 0)
+        }
+        expectBadFrame("empty") {
+            _ = try detector.detect(image: ImageBuffer.gray(width: 0, height: 0, pixels: []), fx: 1, fy: 1, cx: 0, cy: 0,
+                                    pitchRad: 0, rollRad: 0)
+        }
+    }
+
+    func testDarkFrameIsSkippedWithAWarning() throws {
+        let detector = try unetDetector()
+        let dark = ImageBuffer.gray(width: 640, height: 480, pixels: [UInt8](repeating: 0, count: 640 * 480))
+        let outcome = try detector.detectFrame(image: dark, fx: 534, fy: 534, cx: 319.5, cy: 239.5, pitchRad: 0, rollRad: 0)
+        XCTAssertTrue(outcome.detections.isEmpty)
+        XCTAssertTrue(outcome.warning?.contains("mean luma") ?? false, outcome.warning ?? "nil")
+    }
+
+    func testNv12LumaAndChromaPlanes() throws {
+        let detector = try unetDetector()
+        let width = 640, height = 480
+        var luma = [UInt8](repeating: 120, count: width * height)
+        var chroma = [UInt8](repeating: 128, count: width * height / 2)
+        // Full-range red plate: Y 90, Cb 100, Cr 220 over raw columns 300..339, rows 200..259.
+        for v in 200..<260 {
+            for u in 300..<340 { luma[v * width + u] = 90 }
+        }
+        for v in 100..<130 {
+            for u in 150..<170 { chroma[v * width + 2 * u] = 100; chroma[v * width + 2 * u + 1] = 220 }
+        }
+        let image = ImageBuffer(width: width, height: height, bytesPerRow: width, pixelFormat: .nv12, data: luma,
+                                chromaBytesPerRow: width, chromaData: chroma)
+        let found = try detector.detect(image: image, fx: 534, fy: 534, cx: 319.5, cy: 239.5, pitchRad: 0, rollRad: 0)
+        XCTAssertEqual(found.count, 1)
+        XCTAssertEqual(found.first?.medianHeightPx ?? 0, 60, accuracy: 1.5)
+    }
+
+    func testImageLoadReadsAFileAndNamesAMissingOne() throws {
+        // A 4 x 3 binary PGM written by hand.
+        let path = FileManager.default.temporaryDirectory.appendingPathComponent("signdetection-\(getpid()).pgm").path
+        var bytes = Array("P5\n4 3\n255\n".utf8)
+        bytes += (0..<12).map { UInt8($0 * 20) }
+        XCTAssertTrue(FileManager.default.createFile(atPath: path, contents: Data(bytes)))
+        defer { try? FileManager.default.removeItem(atPath: path) }
+        let gray = try ImageBuffer.load(path: path, pixelFormat: .gray8)
+        XCTAssertEqual(gray.width, 4)
+        XCTAssertEqual(gray.height, 3)
+        XCTAssertEqual(gray.data, (0..<12).map { UInt8($0 * 20) })
+        let rgb = try ImageBuffer.load(path: path)
+        XCTAssertEqual(rgb.bytesPerRow, 12)
+        XCTAssertEqual(Array(rgb.data[3..<6]), [20, 20, 20])
+        XCTAssertThrowsError(try ImageBuffer.load(path: "/nonexistent/frame.png")) { error in
+            XCTAssertEqual(error as? SignDetectorError,
+                           .imageRead("cannot read or decode image file /nonexistent/frame.png"))
+        }
+    }
+
+    func testBundledConfigurationUsesTheModelsDirectory() {
+        let dir = Self.repoRoot.appendingPathComponent("Tests/SignDetector/data").path
+        let cascade = DetectorConfiguration.bundled(kind: .cascade, modelsDirectory: dir)
+        XCTAssertEqual(cascade.kind, .cascade)
+        XCTAssertEqual(cascade.cascadePath, dir + "/exit_sign_cascade.xml")
+        XCTAssertEqual(cascade.cascades.first?.kind, "exit")
+        let unet = DetectorConfiguration.bundled(kind: .unet, modelsDirectory: dir)
+        XCTAssertEqual(unet.unetPath, dir + "/sign_unet.onnx")
+        XCTAssertEqual(unet.classNames, ["background", "exit"])
+    }
+
+    func testErrorsDescribeThemselves() {
+        XCTAssertEqual(SignDetectorError.badFrame("x").description, "bad frame: x")
+        XCTAssertEqual(SignDetectorError.modelLoad("m").message, "m")
+        XCTAssertFalse(SignDetector.libraryVersion.isEmpty)
+    }
+}
