@@ -97,3 +97,37 @@ final class MapLoaderTests: XCTestCase {
         XCTAssertEqual(try JSONDecoder().decode(Building.self, from: data), MapFixtures.building())
     }
 }
+
+/// The JSON Schema and the loader agree on member names.
+final class MapSchemaTests: XCTestCase {
+    static var schemaURL: URL {
+        URL(fileURLWithPath: #filePath).resolvingSymlinksInPath().deletingLastPathComponent().deletingLastPathComponent()
+            .deletingLastPathComponent().appendingPathComponent("Maps/schema/map-v1.schema.json")
+    }
+
+    /// Every member name in `value` (recursively).
+    static func memberNames(_ value: JSONValue, into names: inout Set<String>) {
+        switch value {
+        case .object(let members): for (k, v) in members { names.insert(k); memberNames(v, into: &names) }
+        case .array(let items): for v in items { memberNames(v, into: &names) }
+        default: break
+        }
+    }
+
+    func testSchemaIsDraft202012AndCoversEveryMemberTheWriterWrites() throws {
+        let schema = try JSONParser.parse([UInt8](try Data(contentsOf: Self.schemaURL)))
+        guard case .object(let top) = schema else { return XCTFail("schema is not an object") }
+        guard case .string(let dialect)? = top.first(where: { $0.key == "$schema" })?.value else { return XCTFail("no $schema") }
+        XCTAssertEqual(dialect, "https://json-schema.org/draft/2020-12/schema")
+        var schemaNames = Set<String>()
+        Self.memberNames(schema, into: &schemaNames)
+        var b = MapFixtures.building()
+        b.floors[0].signs[0].positionAdjustmentMeters = 0.1
+        b.floors[0].signs[0].placement = .projecting
+        for data in [try MapWriter.encode(b), try MapWriter.encode(OfficeBuildingGenerator.makeBuilding())] {
+            var written = Set<String>()
+            Self.memberNames(try JSONParser.parse([UInt8](data)), into: &written)
+            XCTAssertTrue(written.isSubset(of: schemaNames), "not in the schema: \(written.subtracting(schemaNames).sorted())")
+        }
+    }
+}
