@@ -44,6 +44,13 @@ public struct SnappedPosition: Sendable, Equatable {
     /// True when every edge within `maxUnobstructedSnapMeters` is behind a wall and the nearest one was
     /// used anyway.
     public var throughWall: Bool
+
+    /// Creates a snapped position (normally made by `Router.snap`; public for tools and baselines).
+    public init(edgeIndex: Int, parameter: Double, point: Point2, floorId: String, distanceMeters: Double,
+                throughWall: Bool) {
+        self.edgeIndex = edgeIndex; self.parameter = parameter; self.point = point; self.floorId = floorId
+        self.distanceMeters = distanceMeters; self.throughWall = throughWall
+    }
 }
 
 /// A shortest path from a snapped position to a node.
@@ -116,31 +123,61 @@ public final class Router {
 
     /// Dijkstra with a binary heap (lazy deletion) from the snapped point, treated as a virtual node joined
     /// to both ends of its edge, to node `destination`. Stops when the destination is settled. Nil when
-    /// the destination cannot be reached under the options.
+    /// the destination cannot be reached under the options. Scratch arrays are reused and only the nodes
+    /// touched by the previous query are reset, so a query costs O(explored log explored).
     public func shortestPath(from start: SnappedPosition, to destination: Int) -> PathResult? {
+        guard destination >= 0, destination < graph.nodeCount, start.edgeIndex >= 0, start.edgeIndex < graph.edgeCount
+        else { return nil }
         let e0 = start.edgeIndex
         let a = graph.edgeFrom[e0], b = graph.edgeTo[e0]
         let c0 = edgeCost[e0]
         guard c0.isFinite else { return nil }
-        reset()
+        // Work on local copies of the scratch state (moved out of the object, so no copy and no
+        // per-access exclusivity checks in the loop), moved back at the end.
+        var dist = self.dist, prevEdge = self.prevEdge, settled = self.settled, touched = self.touched
+        var heap = self.heap
+        self.dist = []; self.prevEdge = []; self.settled = []; self.touched = []; self.heap = MinHeap()
+        defer {
+            self.dist = dist; self.prevEdge = prevEdge; self.settled = settled; self.touched = touched; self.heap = heap
+        }
+        for v in touched { dist[v] = .infinity; prevEdge[v] = -1; settled[v] = false }
+        touched.removeAll(keepingCapacity: true)
+        heap.removeAll()
+
         // The virtual start node reaches `from` at cost t * c and `to` at (1 - t) * c (door penalty
         // included proportionally: an estimate just past the door has almost paid it).
-        relax(a, start.parameter * c0, via: -2)
-        relax(b, (1 - start.parameter) * c0, via: -2)
-        while let (d, v) = heap.pop() {
-            if settled[v] || d > dist[v] { continue }
-            settled[v] = true
-            if v == destination { break }
-            for k in graph.adjStart[v]..<graph.adjStart[v + 1] {
-                let e = Int(graph.adjEdge[k])
-                let c = edgeCost[e]
-                if !c.isFinite { continue }
-                let w = Int(graph.adjNode[k])
-                if settled[w] { continue }
-                let nd = d + c
-                if nd < dist[w] { relax(w, nd, via: Int32(e)) }
-            }
+        dist[a] = start.parameter * c0; prevEdge[a] = -2; touched.append(a); heap.push(dist[a], a)
+        let db = (1 - start.parameter) * c0
+        if db < dist[b] {
+            if !dist[b].isFinite { touched.append(b) }
+            dist[b] = db; prevEdge[b] = -2; heap.push(db, b)
         }
+        let adjStart = graph.adjStart, adjNode = graph.adjNode, adjEdge = graph.adjEdge, edgeCost = self.edgeCost
+        adjStart.withUnsafeBufferPointer { adjStart in
+        adjNode.withUnsafeBufferPointer { adjNode in
+        adjEdge.withUnsafeBufferPointer { adjEdge in
+        edgeCost.withUnsafeBufferPointer { edgeCost in
+        dist.withUnsafeMutableBufferPointer { dist in
+        prevEdge.withUnsafeMutableBufferPointer { prevEdge in
+        settled.withUnsafeMutableBufferPointer { settled in
+            while let (d, v) = heap.pop() {
+                if settled[v] || d > dist[v] { continue }
+                settled[v] = true
+                if v == destination { break }
+                for k in adjStart[v]..<adjStart[v + 1] {
+                    let w = Int(adjNode[k])
+                    if settled[w] { continue }
+                    let e = Int(adjEdge[k])
+                    let nd = d + edgeCost[e]  // +infinity for an excluded edge never improves dist
+                    if nd < dist[w] {
+                        if !dist[w].isFinite { touched.append(w) }
+                        dist[w] = nd
+                        prevEdge[w] = Int32(e)
+                        heap.push(nd, w)
+                    }
+                }
+            }
+        }}}}}}}
         guard dist[destination].isFinite else { return nil }
         var nodesRev: [Int] = [destination]
         var edgesRev: [Int] = []
@@ -155,60 +192,50 @@ public final class Router {
         return PathResult(start: start, nodeIndices: nodesRev.reversed(), edgeIndices: edgesRev.reversed(),
                           costMeters: dist[destination])
     }
-
-    @inline(__always)
-    private func relax(_ v: Int, _ d: Double, via edge: Int32) {
-        if !dist[v].isFinite && prevEdge[v] == -1 { touched.append(v) }
-        if d < dist[v] {
-            dist[v] = d
-            prevEdge[v] = edge
-            heap.push(d, v)
-        }
-    }
-
-    private func reset() {
-        for v in touched { dist[v] = .infinity; prevEdge[v] = -1; settled[v] = false }
-        touched.removeAll(keepingCapacity: true)
-        heap.removeAll()
-    }
 }
 
 /// Binary min-heap of (cost, node) in one flat array; duplicates allowed (lazy deletion in Dijkstra).
+/// Sifts move a hole instead of swapping pairs.
 struct MinHeap {
-    private var keys: [Double] = []
-    private var values: [Int32] = []
+    private struct Entry { var key: Double; var value: Int32 }
+    private var items: [Entry] = []
 
-    mutating func removeAll() { keys.removeAll(keepingCapacity: true); values.removeAll(keepingCapacity: true) }
+    mutating func removeAll() { items.removeAll(keepingCapacity: true) }
 
     mutating func push(_ key: Double, _ value: Int) {
-        keys.append(key); values.append(Int32(value))
-        var i = keys.count - 1
-        while i > 0 {
-            let p = (i - 1) >> 1
-            if keys[p] <= keys[i] { break }
-            keys.swapAt(p, i); values.swapAt(p, i)
-            i = p
+        let entry = Entry(key: key, value: Int32(value))
+        items.append(entry)
+        items.withUnsafeMutableBufferPointer { h in
+            var i = h.count - 1
+            while i > 0 {
+                let p = (i - 1) >> 1
+                if h[p].key <= key { break }
+                h[i] = h[p]
+                i = p
+            }
+            h[i] = entry
         }
     }
 
     mutating func pop() -> (Double, Int)? {
-        guard let k0 = keys.first else { return nil }
-        let v0 = Int(values[0])
-        let lastK = keys.removeLast(), lastV = values.removeLast()
-        if !keys.isEmpty {
-            keys[0] = lastK; values[0] = lastV
-            var i = 0
-            let n = keys.count
-            while true {
-                let l = 2 * i + 1, r = l + 1
-                var m = i
-                if l < n && keys[l] < keys[m] { m = l }
-                if r < n && keys[r] < keys[m] { m = r }
-                if m == i { break }
-                keys.swapAt(m, i); values.swapAt(m, i)
-                i = m
+        guard let top = items.first else { return nil }
+        let last = items.removeLast()
+        if !items.isEmpty {
+            items.withUnsafeMutableBufferPointer { h in
+                let n = h.count
+                var i = 0
+                while true {
+                    let l = 2 * i + 1
+                    if l >= n { break }
+                    var m = l
+                    if l + 1 < n && h[l + 1].key < h[l].key { m = l + 1 }
+                    if h[m].key >= last.key { break }
+                    h[i] = h[m]
+                    i = m
+                }
+                h[i] = last
             }
         }
-        return (k0, v0)
+        return (top.key, Int(top.value))
     }
 }
