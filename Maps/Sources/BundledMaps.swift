@@ -5,11 +5,22 @@ public enum BundledMaps {
     /// File name of the bundled sample office.
     public static let officeFileName = "wayfinder-office.json"
 
-    /// URL of a bundled building file, e.g. `officeFileName`; nil when not bundled.
+    /// URL of a bundled building file, e.g. `officeFileName`; nil when not bundled. Under SwiftPM the files
+    /// are the Maps module's resources (`Bundle.module`, folder `Buildings`); in the Xcode app build
+    /// (project.yml copies Maps/Buildings into the app) they are in the main bundle.
     public static func url(forFile name: String) -> URL? {
-        let url = Bundle.module.resourceURL?.appendingPathComponent("Buildings").appendingPathComponent(name)
-        guard let u = url, FileManager.default.fileExists(atPath: u.path) else { return nil }
-        return u
+        #if SWIFT_PACKAGE
+        let roots = [Bundle.module.resourceURL]
+        #else
+        let roots = [Bundle.main.resourceURL]
+        #endif
+        for root in roots.compactMap({ $0 }) {
+            for candidate in [root.appendingPathComponent("Buildings").appendingPathComponent(name), root.appendingPathComponent(name)]
+            where FileManager.default.fileExists(atPath: candidate.path) {
+                return candidate
+            }
+        }
+        return nil
     }
 
     /// Loads and validates the bundled "Wayfinder Office" (two floors, elevator and two stairwells; made
