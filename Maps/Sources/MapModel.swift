@@ -233,3 +233,50 @@ public struct GraphEdge: Codable, Hashable, Sendable {
     /// Creates an edge.
     public init(from: String, to: String, throughDoor: Bool = false) { self.from = from; self.to = to; self.throughDoor = throughDoor }
 }
+
+// Decodable with the same defaults as MapLoader for optional members (for code that uses JSONDecoder
+// directly; it does not validate: use MapLoader for files from outside).
+extension Floor {
+    /// Decodes a floor; `doors`, `signs` and `pointsOfInterest` default to empty.
+    public init(from decoder: Decoder) throws {
+        let c = try decoder.container(keyedBy: CodingKeys.self)
+        self.init(id: try c.decode(String.self, forKey: .id), name: try c.decode(String.self, forKey: .name),
+                  elevationMeters: try c.decode(Double.self, forKey: .elevationMeters), walls: try c.decode([Wall].self, forKey: .walls),
+                  doors: try c.decodeIfPresent([Door].self, forKey: .doors) ?? [],
+                  signs: try c.decodeIfPresent([Sign].self, forKey: .signs) ?? [],
+                  pointsOfInterest: try c.decodeIfPresent([PointOfInterest].self, forKey: .pointsOfInterest) ?? [])
+    }
+}
+
+extension Sign {
+    /// Decodes a sign; `doubleSided` defaults to false and `placement` to `.wall`.
+    public init(from decoder: Decoder) throws {
+        let c = try decoder.container(keyedBy: CodingKeys.self)
+        self.init(id: try c.decode(String.self, forKey: .id), kind: try c.decode(String.self, forKey: .kind),
+                  position: try c.decode(Point2.self, forKey: .position), facing: try c.decode(Point2.self, forKey: .facing),
+                  widthMeters: try c.decode(Double.self, forKey: .widthMeters), heightMeters: try c.decode(Double.self, forKey: .heightMeters),
+                  mountingHeightMeters: try c.decodeIfPresent(Double.self, forKey: .mountingHeightMeters),
+                  doubleSided: try c.decodeIfPresent(Bool.self, forKey: .doubleSided) ?? false)
+        positionAdjustmentMeters = try c.decodeIfPresent(Double.self, forKey: .positionAdjustmentMeters)
+        placement = try c.decodeIfPresent(SignPlacement.self, forKey: .placement) ?? .wall
+    }
+}
+
+extension PointOfInterest {
+    /// Decodes a point of interest; `behindDoor` defaults to false.
+    public init(from decoder: Decoder) throws {
+        let c = try decoder.container(keyedBy: CodingKeys.self)
+        self.init(id: try c.decode(String.self, forKey: .id), name: try c.decode(String.self, forKey: .name),
+                  category: try c.decode(String.self, forKey: .category), position: try c.decode(Point2.self, forKey: .position),
+                  behindDoor: try c.decodeIfPresent(Bool.self, forKey: .behindDoor) ?? false)
+    }
+}
+
+extension GraphEdge {
+    /// Decodes an edge; `throughDoor` defaults to false.
+    public init(from decoder: Decoder) throws {
+        let c = try decoder.container(keyedBy: CodingKeys.self)
+        self.init(from: try c.decode(String.self, forKey: .from), to: try c.decode(String.self, forKey: .to),
+                  throughDoor: try c.decodeIfPresent(Bool.self, forKey: .throughDoor) ?? false)
+    }
+}

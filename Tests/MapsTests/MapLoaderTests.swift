@@ -38,6 +38,8 @@ final class MapLoaderTests: XCTestCase {
         XCTAssertNil(b.floors[0].signs[0].mountingHeightMeters)
         XCTAssertEqual(b.floors[0].pointsOfInterest[0].behindDoor, false)
         XCTAssertEqual(b.graph.edges, [])
+        // JSONDecoder (no validation) applies the same defaults.
+        XCTAssertEqual(try JSONDecoder().decode(Building.self, from: Data(json.utf8)), b)
     }
 
     func testLoadFromURLNamesTheFileAndMissingFile() throws {
