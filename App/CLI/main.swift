@@ -11,6 +11,7 @@ enum Subcommands {
         RenderCommand.self,
         BenchCommand.self,
         SimulateCommand.self,
+        RangeCommand.self,
     ]
 }
 
