@@ -74,6 +74,14 @@ final class InavigateImporterTests: XCTestCase {
             while let x = stack.popLast() { for y in adj[x] ?? [] where !seen.contains(y) { seen.insert(y); stack.append(y) } }
             XCTAssertEqual(seen, ids, "floor \(f.id) graph is disconnected")
         }
+        // The graph (pixels of the graph editor) and the traced walls (pixels of the mask) line up: no
+        // same-floor edge passes through a wall (ends shrunk by 1 cm: door nodes may touch a wall face).
+        for e in b.graph.edges where !b.isVertical(e) {
+            let a = b.node(id: e.from)!.position, c = b.node(id: e.to)!.position
+            let len = a.distance(to: c), ux = (c.x - a.x) / len * 0.01, uy = (c.y - a.y) / len * 0.01
+            let f = b.floor(id: b.node(id: e.from)!.floorId)!
+            XCTAssertFalse(f.crossesWall(from: Point2(a.x + ux, a.y + uy), to: Point2(c.x - ux, c.y - uy)), "\(e.from)-\(e.to)")
+        }
         // Labelled destinations.
         XCTAssertEqual(b.pointsOfInterest(named: "Men's restroom").count, 3)
         XCTAssertEqual(b.pointsOfInterest(named: "women's restroom").count, 3)
