@@ -175,7 +175,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
             detections = cascade_.detect(unrolling.apply(gray), options_.cascade);
             detections = suppressOverlaps(std::move(detections), 0.5);
         } else {
-            detections = unet_.detect(unrolling.apply(toRgb(frame.image)), options_.unet);
+            detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet);
         }
         for (const auto& d : detections) {
             if (d.score >= options_.minScore && d.measurement.valid) {

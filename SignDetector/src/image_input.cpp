@@ -118,7 +118,7 @@ cv::Mat toRgb(const wf_image& image) {
     switch (image.format) {
         case WF_PIXEL_GRAY8: cv::cvtColor(wrap(image, CV_8UC1), rgb, cv::COLOR_GRAY2RGB); return rgb;
         case WF_PIXEL_BGRA8: cv::cvtColor(wrap(image, CV_8UC4), rgb, cv::COLOR_BGRA2RGB); return rgb;
-        case WF_PIXEL_RGB8: return wrap(image, CV_8UC3).clone();
+        case WF_PIXEL_RGB8: return wrap(image, CV_8UC3);  // read-only use: no copy
         case WF_PIXEL_NV12: {
             if (image.data_uv == nullptr) {
                 cv::cvtColor(wrap(image, CV_8UC1), rgb, cv::COLOR_GRAY2RGB);

@@ -38,7 +38,7 @@ FrameCheck checkBrightness(const cv::Mat& gray);
 /// RGB8 are converted (ITU-R BT.601 luma, cv::cvtColor).
 cv::Mat toGray(const wf_image& image);
 
-/// Converts the image to a new 8-bit RGB matrix. NV12 uses full-range BT.601 (JPEG) coefficients, as ARKit
+/// The image as 8-bit RGB: RGB8 is wrapped (no copy; treat as read-only), other formats converted. NV12 uses full-range BT.601 (JPEG) coefficients, as ARKit
 /// delivers; NV12 without chroma and GRAY8 give R = G = B = luma.
 cv::Mat toRgb(const wf_image& image);
 

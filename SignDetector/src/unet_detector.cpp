@@ -107,18 +107,52 @@ std::vector<cv::Mat> UnetDetector::probabilities(const cv::Mat& rgbSquare) {
     return channels;
 }
 
-std::vector<UnetCandidate> UnetDetector::coarseCandidates(const cv::Mat& rgbUnrolled, const UnetParams& params) {
-    CV_Assert(rgbUnrolled.type() == CV_8UC3);
+const cv::Mat& RawPyramid::level(int k, cv::Point2d* scale) {
+    while (static_cast<int>(levels_.size()) <= k) {
+        const cv::Mat& prev = levels_.back();
+        if (prev.cols < 32 || prev.rows < 32) break;
+        cv::Mat half;
+        cv::resize(prev, half, cv::Size((prev.cols + 1) / 2, (prev.rows + 1) / 2), 0, 0, cv::INTER_AREA);
+        levels_.push_back(half);
+    }
+    const cv::Mat& m = levels_[std::min<size_t>(k, levels_.size() - 1)];
+    *scale = cv::Point2d(double(m.cols) / levels_[0].cols, double(m.rows) / levels_[0].rows);
+    return m;
+}
+
+cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d originEdge, double scaleX, double scaleY,
+                       int size) {
+    // Pyramid level leaving a downscale factor in [1, 2) (or an upscale) for the final bilinear warp.
+    const double rawPerNetwork = std::max(scaleX, scaleY);
+    const int k = rawPerNetwork >= 2.0 ? static_cast<int>(std::floor(std::log2(rawPerNetwork))) : 0;
+    cv::Point2d ls;
+    const cv::Mat& src = raw.level(k, &ls);
+    // network (i, j) -> unrolled -> raw -> level: three affine maps composed (pixel-centre conventions).
+    const cv::Matx33d network(scaleX, 0, originEdge.x + 0.5 * scaleX, 0, scaleY, originEdge.y + 0.5 * scaleY, 0, 0, 1);
+    const cv::Matx23d& b = unrolling.unrolledToRawMatrix();
+    const cv::Matx33d toRaw(b(0, 0), b(0, 1), b(0, 2), b(1, 0), b(1, 1), b(1, 2), 0, 0, 1);
+    const cv::Matx33d toLevel(ls.x, 0, 0.5 * ls.x - 0.5, 0, ls.y, 0.5 * ls.y - 0.5, 0, 0, 1);
+    const cv::Matx33d m = toLevel * toRaw * network;
+    const cv::Matx23d m23(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2));
+    cv::Mat out;
+    cv::warpAffine(src, out, m23, cv::Size(size, size), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
+                   cv::Scalar::all(0));
+    return out;
+}
+
+std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const Unrolling& unrolling,
+                                                          const UnetParams& params) {
     const int s = inputSize_;
-    const double scale = double(s) / std::max(rgbUnrolled.cols, rgbUnrolled.rows);  // network px per unrolled px
-    const int w = std::max(1, static_cast<int>(std::lround(rgbUnrolled.cols * scale)));
-    const int h = std::max(1, static_cast<int>(std::lround(rgbUnrolled.rows * scale)));
+    const cv::Size unrolledSize = unrolling.unrolledSize();
+    const double scale = double(s) / std::max(unrolledSize.width, unrolledSize.height);  // network px per unrolled px
+    const int w = std::max(1, static_cast<int>(std::lround(unrolledSize.width * scale)));
+    const int h = std::max(1, static_cast<int>(std::lround(unrolledSize.height * scale)));
     const int offX = (s - w) / 2, offY = (s - h) / 2;
-    cv::Mat square = cv::Mat::zeros(s, s, CV_8UC3);
-    cv::resize(rgbUnrolled, square(cv::Rect(offX, offY, w, h)), cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    // Exact map network -> unrolled: the letterboxed content's scale is (cols / w, rows / h) unrolled px per
+    // network px, its first pixel edge at network (offX - 0.5, offY - 0.5).
+    const double sx = double(unrolledSize.width) / w, sy = double(unrolledSize.height) / h;
+    const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(-0.5 - offX * sx, -0.5 - offY * sy), sx, sy, s);
     const std::vector<cv::Mat> prob = probabilities(square);
-    // Exact map network -> unrolled: the letterboxed content's scale is (w / cols, h / rows).
-    const double sx = double(rgbUnrolled.cols) / w, sy = double(rgbUnrolled.rows) / h;
     std::vector<UnetCandidate> candidates;
     for (size_t c = 1; c < prob.size(); ++c) {
         cv::Mat mask = prob[c] > params.maskThreshold;
@@ -150,8 +184,8 @@ std::vector<UnetCandidate> UnetDetector::coarseCandidates(const cv::Mat& rgbUnro
     return candidates;
 }
 
-bool UnetDetector::refine(const cv::Mat& rgbUnrolled, const UnetCandidate& candidate, const UnetParams& params,
-                          Detection* out) {
+bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const UnetCandidate& candidate,
+                          const UnetParams& params, Detection* out) {
     const int s = inputSize_;
     cv::Rect2d target = candidate.boxInUnrolled;
     // When the mask reaches the crop border the sign is larger than the coarse blob suggested (e.g. the
@@ -165,12 +199,11 @@ bool UnetDetector::refine(const cv::Mat& rgbUnrolled, const UnetCandidate& candi
         const int c0 = static_cast<int>(std::lround(centreX - 0.5 * (sideI - 1)));
         const int r0 = static_cast<int>(std::lround(centreY - 0.5 * (sideI - 1)));
         const cv::Rect cropRect(c0, r0, sideI, sideI);
-        const cv::Rect inside = cropRect & cv::Rect(0, 0, rgbUnrolled.cols, rgbUnrolled.rows);
+        const cv::Rect inside = cropRect & cv::Rect(cv::Point(0, 0), unrolling.unrolledSize());
         if (inside.area() == 0) return false;
-        cv::Mat crop = cv::Mat::zeros(sideI, sideI, CV_8UC3);
-        rgbUnrolled(inside).copyTo(crop(cv::Rect(inside.x - c0, inside.y - r0, inside.width, inside.height)));
-        cv::Mat square;
-        cv::resize(crop, square, cv::Size(s, s), 0, 0, sideI > s ? cv::INTER_AREA : cv::INTER_LINEAR);
+        // Crop pixels c0 .. c0+side-1: top-left edge (c0 - 0.5, r0 - 0.5), side/S unrolled px per network px.
+        const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(c0 - 0.5, r0 - 0.5), double(sideI) / s,
+                                              double(sideI) / s, s);
         const std::vector<cv::Mat> prob = probabilities(square);
         const cv::Mat& p = prob[candidate.classIndex];
         const cv::Mat mask = p > params.maskThreshold;
@@ -223,11 +256,13 @@ bool UnetDetector::refine(const cv::Mat& rgbUnrolled, const UnetCandidate& candi
     return false;
 }
 
-std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbUnrolled, const UnetParams& params) {
+std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params) {
+    CV_Assert(rgbRaw.type() == CV_8UC3 && rgbRaw.size() == unrolling.rawSize());
+    RawPyramid raw(rgbRaw);
     std::vector<Detection> detections;
-    for (const auto& candidate : coarseCandidates(rgbUnrolled, params)) {
+    for (const auto& candidate : coarseCandidates(raw, unrolling, params)) {
         Detection d;
-        if (refine(rgbUnrolled, candidate, params, &d)) detections.push_back(std::move(d));
+        if (refine(raw, unrolling, candidate, params, &d)) detections.push_back(std::move(d));
     }
     return suppressOverlaps(std::move(detections), 0.3);
 }

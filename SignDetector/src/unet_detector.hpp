@@ -5,6 +5,7 @@
 #pragma once
 
 #include "detection.hpp"
+#include "unroll.hpp"
 
 #include <opencv2/dnn.hpp>
 
@@ -37,6 +38,26 @@ struct UnetCandidate {
     double meanProbability = 0;
 };
 
+/// The raw RGB frame and its halvings (INTER_AREA), built on demand, so that network inputs can be sampled
+/// straight from raw pixels through the unrolling map without materialising the full-resolution unrolled
+/// image (a 1920 x 1440 RGB warp costs more than the network's coarse pass).
+class RawPyramid {
+public:
+    explicit RawPyramid(cv::Mat rgbRaw) { levels_.push_back(std::move(rgbRaw)); }
+    /// Level k: the raw image downscaled about 2^k times; `scale` receives its exact (x, y) scale to raw.
+    const cv::Mat& level(int k, cv::Point2d* scale);
+
+private:
+    std::vector<cv::Mat> levels_;
+};
+
+/// Samples an SxS network input whose pixel (i, j) (pixel centre) shows the unrolled point
+/// (originEdge.x + (i + 0.5) * scaleX, originEdge.y + (j + 0.5) * scaleY), i.e. an unrolled region whose
+/// top-left pixel edge is `originEdge`, `scaleX` unrolled pixels per network pixel. One cv::warpAffine from
+/// the pyramid level that leaves at most a 2x downscale; outside the frame is black.
+cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d originEdge, double scaleX, double scaleY,
+                       int size);
+
 /// Runs an ONNX U-Net: input "image" 1x3xSxS float32 RGB in [0, 1]; output 1xKxSxS logits, class 0 =
 /// background. Not thread-safe (cv::dnn::Net keeps state).
 class UnetDetector {
@@ -51,16 +72,19 @@ public:
     /// Raw logits of a 1x3xSxS float blob (for parity checks): a 1xKxSxS CV_32F blob.
     cv::Mat forwardBlob(const cv::Mat& blob);
 
-    /// Coarse pass: letterboxes the unrolled RGB frame to SxS and returns the candidate blobs.
-    std::vector<UnetCandidate> coarseCandidates(const cv::Mat& rgbUnrolled, const UnetParams& params);
+    /// Coarse pass: the whole unrolled frame letterboxed to SxS (sampled from the raw pyramid); returns the
+    /// candidate blobs in unrolled pixels.
+    std::vector<UnetCandidate> coarseCandidates(RawPyramid& raw, const Unrolling& unrolling, const UnetParams& params);
 
     /// Zoomed pass on one candidate: a square crop (zoomFactor x blob, >= minCropPx; out-of-frame parts
     /// black) resized to SxS; the mask component of the candidate's class nearest the crop centre is
     /// sliced and mapped back to unrolled pixels. Returns false when the zoomed pass finds nothing.
-    bool refine(const cv::Mat& rgbUnrolled, const UnetCandidate& candidate, const UnetParams& params, Detection* out);
+    bool refine(RawPyramid& raw, const Unrolling& unrolling, const UnetCandidate& candidate, const UnetParams& params,
+                Detection* out);
 
-    /// Full multi-scale detection on an unrolled RGB frame (CV_8UC3), overlaps suppressed.
-    std::vector<Detection> detect(const cv::Mat& rgbUnrolled, const UnetParams& params);
+    /// Full multi-scale detection on a raw RGB frame (CV_8UC3) seen through `unrolling`; detections are in
+    /// unrolled pixels, overlaps suppressed.
+    std::vector<Detection> detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params);
 
     /// Class names, index 0 = background.
     const std::vector<std::string>& classNames() const { return classNames_; }

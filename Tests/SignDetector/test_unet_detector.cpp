@@ -27,7 +27,7 @@ struct Scene {
     synthetic::Camera camera;
     synthetic::RenderedSign truth;
     Unrolling unrolling;
-    cv::Mat rgbUnrolled;
+    cv::Mat rgbRaw;
 };
 
 /// A portrait 1920 x 1440 frame with a red-plate Exit sign at `rangeMeters`, unrolled.
@@ -41,9 +41,7 @@ Scene portraitScene(double rangeMeters, double bearingRad, double pitchRad, uint
     sign.style = synthetic::SignStyle::WhiteLettersOnRed;
     s.truth = synthetic::drawSign(bgr, s.camera, sign);
     s.unrolling = Unrolling::forRoll(s.camera.rollRad, {s.camera.fx, s.camera.fy, s.camera.cx, s.camera.cy}, bgr.size());
-    cv::Mat rgb;
-    cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-    s.rgbUnrolled = s.unrolling.apply(rgb);
+    cv::cvtColor(bgr, s.rgbRaw, cv::COLOR_BGR2RGB);
     return s;
 }
 
@@ -90,7 +88,8 @@ TEST(UnetDetector, CoarseCandidateMapsBackToTheSign) {
     UnetDetector d = loadTiny();
     const Scene s = portraitScene(4.0, 0.1, 0.05, 5);
     ASSERT_TRUE(s.truth.visible);
-    const std::vector<UnetCandidate> c = d.coarseCandidates(s.rgbUnrolled, UnetParams{});
+    RawPyramid raw(s.rgbRaw);
+    const std::vector<UnetCandidate> c = d.coarseCandidates(raw, s.unrolling, UnetParams{});
     ASSERT_EQ(c.size(), 1u);
     EXPECT_EQ(c[0].classIndex, 1);
     // The truth box in unrolled pixels; the coarse box agrees within two network pixels (~17 px).
@@ -113,7 +112,7 @@ TEST_P(UnetRange, ZoomedMaskGivesRangeWithinThreePercent) {
     UnetDetector d = loadTiny();
     const Scene s = portraitScene(rangeMeters, 0.0, pitch, 17);
     ASSERT_TRUE(s.truth.visible);
-    const std::vector<Detection> found = d.detect(s.rgbUnrolled, UnetParams{});
+    const std::vector<Detection> found = d.detect(s.rgbRaw, s.unrolling, UnetParams{});
     ASSERT_EQ(found.size(), 1u) << "range " << rangeMeters;
     const Detection& det = found[0];
     EXPECT_EQ(det.kind, "exit");
@@ -133,7 +132,8 @@ TEST(UnetDetector, SignFreeFrameGivesNothing) {
     synthetic::Camera cam;
     cv::Mat rgb;
     cv::cvtColor(synthetic::renderBackground(cam, 3), rgb, cv::COLOR_BGR2RGB);
-    EXPECT_TRUE(d.detect(rgb, UnetParams{}).empty());
+    const Unrolling u = Unrolling::forRoll(cam.rollRad, {cam.fx, cam.fy, cam.cx, cam.cy}, rgb.size());
+    EXPECT_TRUE(d.detect(rgb, u, UnetParams{}).empty());
 }
 
 TEST(UnetDetector, TwoSignsGiveTwoDetections) {
@@ -151,10 +151,32 @@ TEST(UnetDetector, TwoSignsGiveTwoDetections) {
     ASSERT_TRUE(synthetic::drawSign(bgr, cam, b).visible);
     cv::Mat rgb;
     cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
-    const std::vector<Detection> found = d.detect(rgb, UnetParams{});
+    const Unrolling upright = Unrolling::forRoll(0.0, {cam.fx, cam.fy, cam.cx, cam.cy}, rgb.size());
+    const std::vector<Detection> found = d.detect(rgb, upright, UnetParams{});
     ASSERT_EQ(found.size(), 2u);
     // The nearer sign (left, bearing +0.3 => smaller u) is the taller one.
     const Detection& left = found[0].measurement.centerColumnPx < found[1].measurement.centerColumnPx ? found[0] : found[1];
     const Detection& right = &left == &found[0] ? found[1] : found[0];
     EXPECT_GT(left.measurement.medianHeightPx, right.measurement.medianHeightPx * 1.5);
+}
+
+TEST(UnetDetector, SamplingFromRawEqualsUnrollingThenCropping) {
+    // A smooth raw image; a 224 x 224 sample of the unrolled region starting at unrolled pixel (100, 200),
+    // one unrolled pixel per network pixel, equals the explicitly unrolled image's crop (bilinear, +-2).
+    cv::Mat raw(480, 640, CV_8UC3);
+    for (int v = 0; v < raw.rows; ++v)
+        for (int c = 0; c < raw.cols; ++c)
+            raw.at<cv::Vec3b>(v, c) = cv::Vec3b(cv::saturate_cast<uchar>(128 + 100 * std::sin(c / 25.0)),
+                                                cv::saturate_cast<uchar>(128 + 100 * std::cos(v / 30.0)), 60);
+    for (double roll : {-1.5707963267948966, 0.4}) {
+        const Unrolling u = Unrolling::forRoll(roll, {500, 500, 319.5, 239.5}, raw.size());
+        const cv::Mat unrolled = u.apply(raw);
+        RawPyramid pyramid(raw);
+        const cv::Mat sample = sampleUnrolled(pyramid, u, {99.5, 199.5}, 1.0, 1.0, 224);
+        cv::Mat diff;
+        cv::absdiff(sample(cv::Rect(2, 2, 220, 220)), unrolled(cv::Rect(102, 202, 220, 220)), diff);
+        double maxDiff;
+        cv::minMaxLoc(diff.reshape(1), nullptr, &maxDiff);
+        EXPECT_LE(maxDiff, 2.0) << "roll " << roll;
+    }
 }

@@ -1,0 +1,150 @@
+#include "bench_support.hpp"
+
+#include "range_formula.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <fstream>
+#include <sstream>
+
+namespace wf::sign::bench {
+
+bool fileExists(const std::string& path) { return std::ifstream(path).good(); }
+
+std::string productModelsDir() { return std::string(WF_REPO_ROOT) + "/SignDetector/models"; }
+std::string referenceCascadePath() {
+    return std::string(WF_SHARED_DIR) + "/data/skeri_inavigate/models/exit_sign_cascade.xml";
+}
+std::string tinyUnetPath() { return std::string(WF_REPO_ROOT) + "/Tests/SignDetector/data/tiny_red_unet.onnx"; }
+
+bool readLabels(const std::string& dir, std::vector<LabelledFrame>* frames, std::string* error) {
+    const std::string path = dir + "/labels.jsonl";
+    std::ifstream in(path);
+    if (!in) {
+        *error = "cannot open " + path + " (render a test set with SignDetector/training/render_signs.py)";
+        return false;
+    }
+    std::string line;
+    int lineNumber = 0;
+    frames->clear();
+    while (std::getline(in, line)) {
+        ++lineNumber;
+        if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
+        try {
+            cv::FileStorage fs(line, cv::FileStorage::READ | cv::FileStorage::MEMORY | cv::FileStorage::FORMAT_JSON);
+            LabelledFrame f;
+            f.imagePath = dir + "/" + static_cast<std::string>(fs["image"]);
+            const cv::FileNode k = fs["intrinsics"];
+            f.fx = k["fx"].real();
+            f.fy = k["fy"].real();
+            f.cx = k["cx"].real();
+            f.cy = k["cy"].real();
+            f.width = static_cast<int>(k["width"].real());
+            f.height = static_cast<int>(k["height"].real());
+            f.pitchRad = fs["pitchRad"].real();
+            f.rollRad = fs["rollRad"].real();
+            for (const auto& s : fs["signs"]) {
+                LabelledSign sign;
+                sign.kind = s["kind"].empty() ? "exit" : static_cast<std::string>(s["kind"]);
+                const cv::FileNode corners = s["cornersRaw"];
+                if (corners.size() != 4) throw std::runtime_error("cornersRaw needs 4 corners");
+                for (int i = 0; i < 4; ++i) sign.cornersRaw[i] = {corners[i][0].real(), corners[i][1].real()};
+                sign.rangeMeters = s["rangeMeters"].real();
+                sign.bearingRad = s["bearingRad"].real();
+                if (!s["heightMeters"].empty()) sign.heightMeters = s["heightMeters"].real();
+                if (!s["widthMeters"].empty()) sign.widthMeters = s["widthMeters"].real();
+                f.signs.push_back(sign);
+            }
+            if (f.width <= 0 || f.height <= 0 || f.fx <= 0) throw std::runtime_error("missing intrinsics");
+            frames->push_back(std::move(f));
+        } catch (const std::exception& e) {
+            *error = path + ":" + std::to_string(lineNumber) + ": " + e.what();
+            return false;
+        }
+    }
+    return true;
+}
+
+std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFrame& labels, cv::Size size) {
+    auto p = std::make_unique<PreparedFrame>();
+    cv::Mat resized;
+    if (bgr.size() == size) {
+        resized = bgr;
+    } else {
+        cv::resize(bgr, resized, size, 0, 0, size.width < bgr.cols ? cv::INTER_AREA : cv::INTER_LINEAR);
+    }
+    cv::cvtColor(resized, p->rgb, cv::COLOR_BGR2RGB);
+    // The labels describe the image as stored (bgr's size); scale them to the working size.
+    const double sx = double(size.width) / bgr.cols, sy = double(size.height) / bgr.rows;
+    const double lx = double(bgr.cols) / labels.width, ly = double(bgr.rows) / labels.height;
+    p->labels = labels;
+    LabelledFrame& l = p->labels;
+    l.fx = labels.fx * lx * sx;
+    l.fy = labels.fy * ly * sy;
+    l.cx = ((labels.cx + 0.5) * lx) * sx - 0.5;
+    l.cy = ((labels.cy + 0.5) * ly) * sy - 0.5;
+    l.width = size.width;
+    l.height = size.height;
+    for (auto& s : l.signs) {
+        for (auto& c : s.cornersRaw) c = {((c.x + 0.5) * lx) * sx - 0.5, ((c.y + 0.5) * ly) * sy - 0.5};
+    }
+    p->frame.image = wf_image{p->rgb.data, p->rgb.cols, p->rgb.rows, p->rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    p->frame.intrinsics = wf_intrinsics{l.fx, l.fy, l.cx, l.cy};
+    p->frame.pitch_rad = l.pitchRad;
+    p->frame.roll_rad = l.rollRad;
+    return p;
+}
+
+std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth, int minWindowHeight) {
+    auto d = std::make_unique<DetectorHandle>();
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.kind = WF_DETECTOR_CASCADE;
+    const char* paths[] = {path.c_str()};
+    opts.cascade_paths = paths;
+    opts.cascade_count = 1;
+    opts.cascade_min_window_width = minWindowWidth;
+    opts.cascade_min_window_height = minWindowHeight;
+    if (wf_detector_create(&d->handle, &opts) != WF_OK) d->error = wf_thread_last_error();
+    return d;
+}
+
+std::unique_ptr<DetectorHandle> makeUnet(const std::string& path) {
+    auto d = std::make_unique<DetectorHandle>();
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.kind = WF_DETECTOR_UNET;
+    opts.unet_path = path.c_str();
+    if (wf_detector_create(&d->handle, &opts) != WF_OK) d->error = wf_thread_last_error();
+    return d;
+}
+
+int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_sign_observation>* observations) {
+    observations->resize(64);
+    size_t count = 0;
+    const int status = wf_detector_detect(detector.handle, &frame.frame, observations->data(), observations->size(), &count);
+    observations->resize(count);
+    return status;
+}
+
+double observationRangeMeters(const wf_sign_observation& o, double signHeightMeters, double pitchRad) {
+    return rangeFromApparentHeight(signHeightMeters, o.median_bottom_row_px, o.median_height_px, o.unrolled_fy,
+                                   o.unrolled_cy, pitchRad);
+}
+
+bool matches(const wf_sign_observation& o, const LabelledSign& sign) {
+    const double* m = o.unrolled_to_raw;
+    cv::Matx23d toRaw(m[0], m[1], m[2], m[3], m[4], m[5]), toUnrolled;
+    cv::invertAffineTransform(toRaw, toUnrolled);
+    double minX = 1e300, maxX = -1e300, minY = 1e300, maxY = -1e300;
+    for (const auto& c : sign.cornersRaw) {
+        const double x = toUnrolled(0, 0) * c.x + toUnrolled(0, 1) * c.y + toUnrolled(0, 2);
+        const double y = toUnrolled(1, 0) * c.x + toUnrolled(1, 1) * c.y + toUnrolled(1, 2);
+        minX = std::min(minX, x); maxX = std::max(maxX, x);
+        minY = std::min(minY, y); maxY = std::max(maxY, y);
+    }
+    const double cxObs = o.box_x + 0.5 * o.box_width, cyObs = o.box_y + 0.5 * o.box_height;
+    const double truthHeight = maxY - minY;
+    return cxObs >= minX && cxObs <= maxX && cyObs >= minY && cyObs <= maxY && o.median_height_px > 0.5 * truthHeight &&
+           o.median_height_px < 2.0 * truthHeight;
+}
+
+}  // namespace wf::sign::bench

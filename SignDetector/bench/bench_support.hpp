@@ -1,0 +1,82 @@
+// Shared by the benchmark and the evaluation tool: the rendered test-set format (labels.jsonl, written by
+// SignDetector/training/render_signs.py), frames at a chosen resolution, detector handles through the C ABI,
+// and matching of detections to labelled signs.
+#pragma once
+
+#include "wf_sign_detector.h"
+
+#include <opencv2/core.hpp>
+
+#include <array>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace wf::sign::bench {
+
+/// One labelled sign of a test frame.
+struct LabelledSign {
+    std::string kind;
+    /// Corners in raw pixels of the labelled image: top-left, top-right, bottom-right, bottom-left.
+    std::array<cv::Point2d, 4> cornersRaw;
+    /// Truth: horizontal range (m), bearing (rad, positive left), face size (m).
+    double rangeMeters = 0, bearingRad = 0, heightMeters = 0.21, widthMeters = 0.30;
+};
+
+/// One line of labels.jsonl: {"image", "intrinsics": {fx, fy, cx, cy, width, height}, "pitchRad", "rollRad",
+/// "signs": [{"kind", "cornersRaw", "rangeMeters", "bearingRad", "heightMeters", "widthMeters"}]}.
+struct LabelledFrame {
+    std::string imagePath;
+    double fx = 0, fy = 0, cx = 0, cy = 0;
+    int width = 0, height = 0;
+    double pitchRad = 0, rollRad = 0;
+    std::vector<LabelledSign> signs;
+};
+
+/// Reads `<dir>/labels.jsonl`. Returns false with `error` naming the file and line on failure.
+bool readLabels(const std::string& dir, std::vector<LabelledFrame>* frames, std::string* error);
+
+/// A frame resized to a working resolution, with its intrinsics and labels scaled (pixel-centre
+/// convention: u' = (u + 0.5) s - 0.5). Owns its pixels; `frame` points into `rgb`.
+struct PreparedFrame {
+    cv::Mat rgb;
+    wf_frame frame{};
+    LabelledFrame labels;
+};
+
+/// Resizes `bgr` (the labelled image) to `size` (INTER_AREA down, INTER_LINEAR up) and fills a wf_frame.
+std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFrame& labels, cv::Size size);
+
+/// Owning wrapper of a wf_detector handle.
+struct DetectorHandle {
+    wf_detector* handle = nullptr;
+    std::string error;
+    ~DetectorHandle() { wf_detector_free(handle); }
+    explicit operator bool() const { return handle != nullptr; }
+};
+
+/// Creates a cascade detector for one Exit cascade with the given smallest window (the reference app: 36 x 24).
+std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 36, int minWindowHeight = 24);
+/// Creates a U-Net detector (class names from classes.json next to the model).
+std::unique_ptr<DetectorHandle> makeUnet(const std::string& path);
+
+/// Runs a detector on a prepared frame; returns the status and fills `observations`.
+int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_sign_observation>* observations);
+
+/// Default locations: SignDetector/models in this checkout, the reference cascade in ../shared, and the
+/// tiny test model.
+std::string productModelsDir();
+std::string referenceCascadePath();
+std::string tinyUnetPath();
+bool fileExists(const std::string& path);
+
+/// Range (m) from an observation and the sign's face height: the paper's equation 3 on the unrolled
+/// image (bench/range_formula.hpp).
+double observationRangeMeters(const wf_sign_observation& o, double signHeightMeters, double pitchRad);
+
+/// Whether an observation matches a labelled sign: the observation's centre lies in the sign's unrolled
+/// bounding box (corners mapped with the observation's own unrolled<->raw map) and its height is within a
+/// factor 2 of the sign's.
+bool matches(const wf_sign_observation& o, const LabelledSign& sign);
+
+}  // namespace wf::sign::bench

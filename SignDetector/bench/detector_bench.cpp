@@ -1,0 +1,192 @@
+// wf_detector_bench: per-frame cost of the whole detector pipeline through the C ABI (validation, unrolling,
+// detection, slice measurement), one OpenCV thread (cv::setNumThreads(1)).
+//
+//   wf_detector_bench [--benchmark_filter=...]        (Google Benchmark flags)
+//
+// Frames: 8 synthetic portrait frames (bench/synthetic_scene: an Exit sign at 2..9 m, roll -1.58 rad as in a
+// real recording), or the first 16 frames of a rendered test set when WF_BENCH_TESTSET=DIR is set.
+// Benchmarks (each iteration = one frame, frames cycled):
+//   cascade_ours/VGA, cascade_ours/HR       SignDetector/models/exit_sign_cascade.xml (skipped if absent)
+//   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
+//   unet_coarse_zoom/HR                     SignDetector/models/sign_unet.onnx, or the tiny test model
+//   unroll/VGA_roll-1.58, unroll/HR_roll-1.58, unroll/HR_portrait_exact   unrolling alone
+// After the run, ratios ours / reference are printed.
+#include "bench_support.hpp"
+#include "synthetic_scene.hpp"
+#include "unroll.hpp"
+
+#include <benchmark/benchmark.h>
+#include <opencv2/core/utility.hpp>
+#include <opencv2/imgcodecs.hpp>
+#include <opencv2/imgproc.hpp>
+
+#include <cstdlib>
+#include <iostream>
+#include <map>
+
+using namespace wf::sign;
+using namespace wf::sign::bench;
+
+namespace {
+
+/// Source frames (BGR) with labels, at their stored resolution.
+struct Source {
+    cv::Mat bgr;
+    LabelledFrame labels;
+};
+
+std::vector<Source> loadSources(std::string* description) {
+    std::vector<Source> sources;
+    if (const char* dir = std::getenv("WF_BENCH_TESTSET")) {
+        std::vector<LabelledFrame> frames;
+        std::string error;
+        if (!readLabels(dir, &frames, &error)) {
+            std::cerr << "wf_detector_bench: " << error << "\n";
+            std::exit(1);
+        }
+        for (const auto& f : frames) {
+            if (sources.size() >= 16) break;
+            Source s{cv::imread(f.imagePath, cv::IMREAD_COLOR), f};
+            if (!s.bgr.empty()) sources.push_back(std::move(s));
+        }
+        *description = std::string("first ") + std::to_string(sources.size()) + " frames of " + dir;
+        return sources;
+    }
+    for (int i = 0; i < 8; ++i) {
+        synthetic::Camera cam;
+        cam.rollRad = -1.58;
+        cam.pitchRad = 0.1;
+        cv::Mat bgr = synthetic::renderBackground(cam, 100 + i);
+        synthetic::SignPlacement sign;
+        sign.rangeMeters = 2 + i;
+        sign.bearingRad = 0.2 * ((i % 3) - 1);
+        sign.style = i % 2 ? synthetic::SignStyle::WhiteLettersOnRed : synthetic::SignStyle::RedLettersOnWhite;
+        const synthetic::RenderedSign truth = synthetic::drawSign(bgr, cam, sign);
+        LabelledFrame l;
+        l.fx = cam.fx;
+        l.fy = cam.fy;
+        l.cx = cam.cx;
+        l.cy = cam.cy;
+        l.width = cam.size.width;
+        l.height = cam.size.height;
+        l.pitchRad = cam.pitchRad;
+        l.rollRad = cam.rollRad;
+        sources.push_back({bgr, l});
+        (void)truth;
+    }
+    *description = "8 synthetic 1920x1440 portrait frames (roll -1.58 rad), signs at 2..9 m";
+    return sources;
+}
+
+std::vector<std::unique_ptr<PreparedFrame>> prepareAll(const std::vector<Source>& sources, cv::Size size) {
+    std::vector<std::unique_ptr<PreparedFrame>> out;
+    for (const auto& s : sources) out.push_back(prepareFrame(s.bgr, s.labels, size));
+    return out;
+}
+
+void runPipeline(benchmark::State& state, DetectorHandle* detector, const std::vector<std::unique_ptr<PreparedFrame>>* frames) {
+    std::vector<wf_sign_observation> observations;
+    size_t i = 0, found = 0;
+    for (auto _ : state) {
+        const int status = detect(*detector, *(*frames)[i % frames->size()], &observations);
+        if (status < 0) {
+            state.SkipWithError(wf_detector_last_error(detector->handle));
+            return;
+        }
+        found += observations.size();
+        benchmark::DoNotOptimize(observations.data());
+        ++i;
+    }
+    state.counters["signs_per_frame"] = benchmark::Counter(double(found) / double(std::max<size_t>(1, i)));
+}
+
+void runUnroll(benchmark::State& state, const std::vector<std::unique_ptr<PreparedFrame>>* frames, double roll) {
+    const PreparedFrame& f = *(*frames)[0];
+    cv::Mat gray;
+    cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
+    const Intrinsics k{f.labels.fx, f.labels.fy, f.labels.cx, f.labels.cy};
+    for (auto _ : state) {
+        const Unrolling u = Unrolling::forRoll(roll, k, gray.size());
+        cv::Mat out = u.apply(gray);
+        benchmark::DoNotOptimize(out.data);
+    }
+}
+
+/// Console output plus, at the end, time ratios of our detectors to the reference cascade.
+class RatioReporter : public benchmark::ConsoleReporter {
+public:
+    void ReportRuns(const std::vector<Run>& runs) override {
+        for (const auto& r : runs) {
+            if (!r.error_occurred && r.run_type == Run::RT_Iteration) times_[r.benchmark_name()] = r.GetAdjustedRealTime();
+        }
+        ConsoleReporter::ReportRuns(runs);
+    }
+    void Finalize() override {
+        ConsoleReporter::Finalize();
+        auto ratio = [&](const std::string& a, const std::string& b) {
+            const auto ia = find(a), ib = find(b);
+            if (ia < 0 || ib < 0) return;
+            std::printf("ratio %-28s / %-28s = %.2f\n", a.c_str(), b.c_str(), ia / ib);
+        };
+        std::printf("\n");
+        ratio("cascade_ours/VGA", "cascade_reference/VGA");
+        ratio("cascade_ours/HR", "cascade_reference/HR");
+        ratio("unet_coarse_zoom/HR", "cascade_reference/VGA");
+        ratio("unet_coarse_zoom/HR", "cascade_ours/VGA");
+    }
+
+private:
+    double find(const std::string& prefix) const {
+        for (const auto& [name, t] : times_) {
+            if (name.rfind(prefix, 0) == 0) return t;
+        }
+        return -1;
+    }
+    std::map<std::string, double> times_;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    cv::setNumThreads(1);
+    benchmark::Initialize(&argc, argv);
+    std::string description;
+    static const std::vector<Source> sources = loadSources(&description);
+    static const auto vga = prepareAll(sources, {640, 480});
+    static const auto hr = prepareAll(sources, {1920, 1440});
+
+    const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
+    static std::unique_ptr<DetectorHandle> oursCascade, refCascade, unet;
+    if (fileExists(ours)) oursCascade = makeCascade(ours);
+    refCascade = makeCascade(referenceCascadePath(), 36, 24);
+    const std::string unetModel = fileExists(productModelsDir() + "/sign_unet.onnx")
+                                      ? productModelsDir() + "/sign_unet.onnx" : tinyUnetPath();
+    unet = makeUnet(unetModel);
+
+    std::printf("frames: %s\nour cascade: %s\nreference cascade: %s\nU-Net: %s\nOpenCV threads: %d\n\n",
+                description.c_str(), oursCascade && *oursCascade ? ours.c_str() : "(absent: SignDetector/models/exit_sign_cascade.xml)",
+                refCascade && *refCascade ? referenceCascadePath().c_str() : refCascade->error.c_str(), unetModel.c_str(),
+                cv::getNumThreads());
+
+    if (oursCascade && *oursCascade) {
+        benchmark::RegisterBenchmark("cascade_ours/VGA", runPipeline, oursCascade.get(), &vga)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark("cascade_ours/HR", runPipeline, oursCascade.get(), &hr)->Unit(benchmark::kMillisecond);
+    }
+    if (refCascade && *refCascade) {
+        benchmark::RegisterBenchmark("cascade_reference/VGA", runPipeline, refCascade.get(), &vga)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark("cascade_reference/HR", runPipeline, refCascade.get(), &hr)->Unit(benchmark::kMillisecond);
+    }
+    if (unet && *unet) {
+        benchmark::RegisterBenchmark("unet_coarse_zoom/HR", runPipeline, unet.get(), &hr)->Unit(benchmark::kMillisecond);
+    } else {
+        std::fprintf(stderr, "U-Net not benchmarked: %s\n", unet->error.c_str());
+    }
+    benchmark::RegisterBenchmark("unroll/VGA_roll-1.58", runUnroll, &vga, -1.58)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("unroll/HR_roll-1.58", runUnroll, &hr, -1.58)->Unit(benchmark::kMillisecond);
+    benchmark::RegisterBenchmark("unroll/HR_portrait_exact", runUnroll, &hr, -1.5707963267948966)->Unit(benchmark::kMillisecond);
+
+    RatioReporter reporter;
+    benchmark::RunSpecifiedBenchmarks(&reporter);
+    benchmark::Shutdown();
+    return 0;
+}
