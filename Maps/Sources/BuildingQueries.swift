@@ -1,3 +1,5 @@
+import Foundation
+
 // Look-ups and derived values on a Building: nodes and points of interest by id or name, and derived
 // edge lengths. Linear scans: buildings have at most a few thousand nodes; callers on a hot path should
 // build their own index (e.g. a dictionary from `graph.nodes`).
@@ -79,5 +81,3 @@ extension Building {
         s.trimmingCharacters(in: .whitespacesAndNewlines).lowercased()
     }
 }
-
-import Foundation

@@ -1,3 +1,5 @@
+import Foundation
+
 // Consistency rules of map format v1 beyond JSON types (docs/map-format.md, "Validation rules").
 // MapLoader runs them on every file; importers and generators run them on the buildings they make.
 
@@ -237,5 +239,3 @@ public enum MapValidator {
         }
     }
 }
-
-import Foundation
