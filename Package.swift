@@ -24,7 +24,7 @@ let package = Package(
             path: "LocalizerCore",
             sources: ["src"],
             publicHeadersPath: "include",
-            cxxSettings: cxxCoreFlags,
+            cxxSettings: cxxCoreFlags + [.headerSearchPath("src")],
             linkerSettings: openCVLibraries
         ),
         // Swift wrapper over LocalizerCore (no C type in its public API).
@@ -35,7 +35,7 @@ let package = Package(
             path: "SignDetector",
             sources: ["src"],
             publicHeadersPath: "include",
-            cxxSettings: cxxCoreFlags,
+            cxxSettings: cxxCoreFlags + [.headerSearchPath("src")],
             linkerSettings: openCVLibraries
         ),
         // Swift wrapper over SignDetector.
