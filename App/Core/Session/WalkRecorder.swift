@@ -27,7 +27,7 @@ public final class WalkRecorder {
     /// Appends one frame (and its JPEG, if given). Frames without a finite pose, or out of time order,
     /// are skipped rather than written: the bundle must stay readable.
     public func append(frame: PipelineFrame, jpeg: Data?) throws {
-        guard frame.t > lastT else { return }
+        guard frame.t > lastT, frame.cameraPose != nil else { return }
         var imageName: String?
         if let jpeg {
             imageCount += 1
