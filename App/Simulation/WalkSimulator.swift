@@ -127,7 +127,7 @@ public enum WalkSimulator {
             .build(waypoints: waypoints, rng: &walkerRng)
         var startHeading = 0.0
         if case .leg(let l)? = segments.first { var h = 0; startHeading = l.tangent(at: 0, hint: &h) }
-        let body = WalkerModel(parameters: parameters.walker, geometry: geometry, elevations: elevations, dt: dt)
+        let body = WalkerModel(parameters: parameters.walker, geometry: geometry, elevations: elevations, rateHz: scenario.rateHz)
             .run(segments: segments, startHeading: startHeading, rng: &walkerRng)
         try verifyNoWallCrossing(body, geometry: geometry)
 
@@ -222,7 +222,8 @@ public enum WalkSimulator {
             mapToVIOYawRad: thetas, vio: events, observationTruth: obsTruth, visibleSigns: visible,
             processedFrameIndices: processed, barometerDriftMetersPerSecond: baroDrift, mapNorthOffsetDeg: northOffset,
             compassDisturbanceDeg: disturbances, altitudesMeters: states.map(\.altitudeMeters))
-        let renderer = imageMode ? SceneRenderer(floors: floorsById, geometry: geometry, states: states, intrinsics: intrinsics) : nil
+        let renderer = imageMode ? SceneRenderer(floors: floorsById, geometry: geometry, states: states, intrinsics: intrinsics,
+                                                 seed: scenario.seed) : nil
         return SimulatedWalk(scenario: scenario, info: info, frames: frames, observations: observations, truth: truth,
                              expected: [], diagnostics: diagnostics, renderer: renderer, imageFrameIndices: imageIndices)
     }

@@ -46,7 +46,10 @@ struct WalkerModel {
     let geometry: [String: FloorGeometry]
     /// Elevation of each floor, meters.
     let elevations: [String: Double]
-    let dt: Double
+    /// Frame rate, Hz.
+    let rateHz: Double
+    /// Frame period, seconds.
+    var dt: Double { 1 / rateHz }
 
     func run(segments: [WalkSegment], startHeading: Double, rng: inout SeededRandom) -> [BodyState] {
         let p = parameters
@@ -63,7 +66,7 @@ struct WalkerModel {
         var lastPosition: Point2?
 
         func emit(_ floorId: String, _ pos: Point2, _ elev: Double, _ v: Double, _ phase: WalkPhase) {
-            t = Double(states.count) * dt   // from the frame index: no accumulated rounding
+            t = Double(states.count) / rateHz   // from the frame index: no accumulated rounding
             states.append(BodyState(t: t, floorId: floorId, position: pos, floorElevation: elev, headingRad: heading,
                                     speed: v, stepPhaseRad: stepPhase, phase: phase))
             lastPosition = pos
