@@ -55,8 +55,10 @@ struct DetectorHandle {
     explicit operator bool() const { return handle != nullptr; }
 };
 
-/// Creates a cascade detector for one Exit cascade with the given smallest window (the reference app: 36 x 24).
-std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 36, int minWindowHeight = 24);
+/// Creates a cascade detector for one Exit cascade with the given smallest window and largest-window factor
+/// (the reference app's exit_sign_config.yaml: 36 x 24, factor 5; 0 = unlimited).
+std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 36, int minWindowHeight = 24,
+                                            double maxWindowFactor = 0);
 /// Creates a U-Net detector (class names from classes.json next to the model).
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path);
 

@@ -8,11 +8,14 @@
 // Benchmarks (each iteration = one frame, frames cycled):
 //   cascade_ours/VGA, cascade_ours/HR       SignDetector/models/exit_sign_cascade.xml (skipped if absent)
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
-//   unet_coarse_zoom/HR                     SignDetector/models/sign_unet.onnx, or the tiny test model
+//   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
+//                                           tiny test model (then it times only the pipeline around the net)
+//   unet_forward/224                        one 224 x 224 forward pass + softmax of that model
 //   unroll/VGA_roll-1.58, unroll/HR_roll-1.58, unroll/HR_portrait_exact   unrolling alone
 // After the run, ratios ours / reference are printed.
 #include "bench_support.hpp"
 #include "synthetic_scene.hpp"
+#include "unet_detector.hpp"
 #include "unroll.hpp"
 
 #include <benchmark/benchmark.h>
@@ -100,6 +103,21 @@ void runPipeline(benchmark::State& state, DetectorHandle* detector, const std::v
     state.counters["signs_per_frame"] = benchmark::Counter(double(found) / double(std::max<size_t>(1, i)));
 }
 
+void runForward(benchmark::State& state, const std::string* modelPath) {
+    UnetDetector net;
+    std::string error;
+    if (!net.load(*modelPath, {}, 224, &error)) {
+        state.SkipWithError(error.c_str());
+        return;
+    }
+    cv::Mat rgb(224, 224, CV_8UC3);
+    cv::RNG(5).fill(rgb, cv::RNG::UNIFORM, 0, 256);
+    for (auto _ : state) {
+        std::vector<cv::Mat> p = net.probabilities(rgb);
+        benchmark::DoNotOptimize(p.data());
+    }
+}
+
 void runUnroll(benchmark::State& state, const std::vector<std::unique_ptr<PreparedFrame>>* frames, double roll) {
     const PreparedFrame& f = *(*frames)[0];
     cv::Mat gray;
@@ -158,9 +176,11 @@ int main(int argc, char** argv) {
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
     static std::unique_ptr<DetectorHandle> oursCascade, refCascade, unet;
     if (fileExists(ours)) oursCascade = makeCascade(ours);
-    refCascade = makeCascade(referenceCascadePath(), 36, 24);
-    const std::string unetModel = fileExists(productModelsDir() + "/sign_unet.onnx")
-                                      ? productModelsDir() + "/sign_unet.onnx" : tinyUnetPath();
+    refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0);
+    const char* unetOverride = std::getenv("WF_BENCH_UNET");
+    const std::string unetModel = unetOverride ? std::string(unetOverride)
+                                  : fileExists(productModelsDir() + "/sign_unet.onnx") ? productModelsDir() + "/sign_unet.onnx"
+                                                                                       : tinyUnetPath();
     unet = makeUnet(unetModel);
 
     std::printf("frames: %s\nour cascade: %s\nreference cascade: %s\nU-Net: %s\nOpenCV threads: %d\n\n",
@@ -176,8 +196,10 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark("cascade_reference/VGA", runPipeline, refCascade.get(), &vga)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark("cascade_reference/HR", runPipeline, refCascade.get(), &hr)->Unit(benchmark::kMillisecond);
     }
+    static const std::string unetModelPath = unetModel;
     if (unet && *unet) {
         benchmark::RegisterBenchmark("unet_coarse_zoom/HR", runPipeline, unet.get(), &hr)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark("unet_forward/224", runForward, &unetModelPath)->Unit(benchmark::kMillisecond);
     } else {
         std::fprintf(stderr, "U-Net not benchmarked: %s\n", unet->error.c_str());
     }

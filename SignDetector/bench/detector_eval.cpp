@@ -121,7 +121,7 @@ int main(int argc, char** argv) {
             model = reference;
             r.size = cv::Size(640, 480);
             r.title = "Reference cascade (iNavigate), VGA";
-            if (fileExists(model)) r.detector = makeCascade(model, 36, 24);
+            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0);
         } else {
             std::cerr << "wf_detector_eval: unknown row " << id << "\n";
             return 2;
@@ -227,9 +227,11 @@ int main(int argc, char** argv) {
                                   ? double(r.truePositives) / double(r.truePositives + r.falseNegatives) : std::nan("");
         const double fpPerThousand = r.signFreeFrames ? 1000.0 * double(r.signFreeFalsePositives) / double(r.signFreeFrames)
                                                       : std::nan("");
-        std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %.0f (%ld frames) | %.1f | %ld |\n", r.title.c_str(),
-                      precision, recall, fpPerThousand, r.signFreeFrames, r.frames ? 1000.0 * r.seconds / r.frames : 0.0,
-                      r.rejected);
+        char fp[64];
+        if (r.signFreeFrames) std::snprintf(fp, sizeof fp, "%.0f (%ld frames)", fpPerThousand, r.signFreeFrames);
+        else std::snprintf(fp, sizeof fp, "n/a (no sign-free frames)");
+        std::snprintf(line, sizeof line, "| %s | %.3f | %.3f | %s | %.1f | %ld |\n", r.title.c_str(), precision, recall, fp,
+                      r.frames ? 1000.0 * r.seconds / r.frames : 0.0, r.rejected);
         std::cout << line;
     }
     return 0;
