@@ -124,14 +124,17 @@ inline wf_range_observation observation(const Scene &s, const std::array<wf_rang
 }
 
 /// Per-column edges of the sign's mask in the unrolled image: the corners unrolled, the convex polygon cut
-/// by vertical lines at integer columns. Optional per-column Gaussian noise (sigma px) on both edges and
-/// rounding of the edges to the pixel grid (edges at integer + 0.5, as a binary mask gives).
+/// by vertical lines at integer columns. Optional per-column Gaussian noise (sigma px) on both edges, an
+/// optional whole-edge offset (one Gaussian draw of edgeBiasSigmaPx per edge, as a blurred or dilated mask
+/// shifts a whole edge) and rounding of the edges to the pixel grid (edges at integer + 0.5, as a binary
+/// mask gives).
 struct Slices {
     std::vector<double> columnU, topRow, bottomRow;
 };
 
 inline Slices maskSlices(const wf_range_unroll_map &map, const std::array<wf_range_point, 4> &rawCorners,
-                         double noiseSigmaPx = 0, bool quantize = false, std::mt19937_64 *rng = nullptr) {
+                         double noiseSigmaPx = 0, bool quantize = false, std::mt19937_64 *rng = nullptr,
+                         double edgeBiasSigmaPx = 0) {
     std::array<Eigen::Vector2d, 4> p;
     for (std::size_t i = 0; i < 4; ++i) {
         wf_range_point q{};
@@ -142,6 +145,11 @@ inline Slices maskSlices(const wf_range_unroll_map &map, const std::array<wf_ran
     for (const auto &q : p) minU = std::min(minU, q.x()), maxU = std::max(maxU, q.x());
     Slices s;
     std::normal_distribution<double> noise(0.0, 1.0);
+    double topBias = 0, bottomBias = 0;
+    if (edgeBiasSigmaPx > 0 && rng) {
+        topBias = edgeBiasSigmaPx * noise(*rng);
+        bottomBias = edgeBiasSigmaPx * noise(*rng);
+    }
     for (double u = std::ceil(minU); u <= std::floor(maxU); u += 1.0) {
         double top = 1e300, bottom = -1e300;
         for (std::size_t i = 0; i < 4; ++i) {
@@ -154,6 +162,8 @@ inline Slices maskSlices(const wf_range_unroll_map &map, const std::array<wf_ran
             bottom = std::max(bottom, v);
         }
         if (!(bottom > top)) continue;
+        top += topBias;
+        bottom += bottomBias;
         if (noiseSigmaPx > 0 && rng) {
             top += noiseSigmaPx * noise(*rng);
             bottom += noiseSigmaPx * noise(*rng);
