@@ -90,6 +90,7 @@ public final class AnnouncementPolicy {
         var submittedAt: Double
         var requested: Bool
         var sequence: Int
+        var key: String
     }
 
     /// Tunables.
@@ -115,18 +116,28 @@ public final class AnnouncementPolicy {
     }
 
     /// Queues a message. `requested` marks an answer to the traveler ("Where am I", "Repeat"): it
-    /// interrupts like a cue and is exempt from repeat suppression and spacing.
-    public func submit(_ text: String, priority: AnnouncementPriority, t: Double, requested: Bool = false) {
-        pending.append(Pending(text: text, priority: priority, submittedAt: t, requested: requested, sequence: sequence))
+    /// interrupts like a cue and is exempt from repeat suppression and spacing. `repeatKey` identifies the
+    /// message for repeat suppression (default: its text); give distinct keys to equal texts that say
+    /// different things, e.g. two different doors' "Go through the door now."
+    public func submit(_ text: String, priority: AnnouncementPriority, t: Double, requested: Bool = false,
+                       repeatKey: String? = nil) {
+        pending.append(Pending(text: text, priority: priority, submittedAt: t, requested: requested, sequence: sequence,
+                               key: repeatKey ?? text))
         sequence += 1
     }
 
     /// Queues a haptic pattern; it is emitted at the next `flush`, whatever the speech channel is doing.
     public func submitHaptic(_ pattern: HapticPattern) { haptics.append(pattern) }
 
-    /// Drops every queued message (e.g. when a new route replaces the old one's alerts).
+    /// Drops every queued message below `priority` except requests (e.g. when a new route replaces the
+    /// old one's alerts).
     public func discardPending(below priority: AnnouncementPriority) {
         pending.removeAll { $0.priority < priority && !$0.requested }
+    }
+
+    /// Drops queued messages whose repeat key starts with `prefix` (e.g. an alert made moot by its cue).
+    public func discardPending(repeatKeyPrefix prefix: String) {
+        pending.removeAll { $0.key.hasPrefix(prefix) }
     }
 
     private func maxAge(_ p: Pending) -> Double {
@@ -146,9 +157,11 @@ public final class AnnouncementPolicy {
     /// 1. stale messages are dropped (cue > 1.5 s, alert > 4 s, safety > 3 s, information > 8 s old);
     /// 2. the most important message goes first (safety > cue > alert > information; requests rank as
     ///    cues; oldest first within a rank);
-    /// 3. a text spoken within the last 10 s is dropped unless requested;
-    /// 4. while speech is estimated to be playing, only a message of cue rank or above whose rank is at
-    ///    least the current one's is spoken (with `interrupt: true`); the others wait;
+    /// 3. a message whose repeat key (default: text) was spoken within the last 10 s is dropped unless
+    ///    requested;
+    /// 4. while speech is estimated to be playing, only a message of cue rank or above whose rank is
+    ///    higher than the current one's (or equal, for a request) is spoken (with `interrupt: true`); the
+    ///    others wait;
     /// 5. an informational message also waits for `informationSpacingSeconds` of silence after the
     ///    previous informational one.
     public func flush(t: Double) -> [TimedGuidanceEvent] {
@@ -165,14 +178,16 @@ public final class AnnouncementPolicy {
                 if ka > kb { best = i }
             }
             let c = pending[best]
-            if !c.requested, let last = lastSpoken[c.text], t - last < config.repeatSuppressionSeconds {
+            if !c.requested, let last = lastSpoken[c.key], t - last < config.repeatSuppressionSeconds {
                 pending.remove(at: best)
                 continue
             }
             let rank = interruptRank(c)
             let mayInterrupt = rank >= .cue
             if t < speakingUntil {
-                guard mayInterrupt && rank >= speakingPriority else { break }
+                // Only a more important message cuts one off; an equal one waits (two cues in a row are
+                // both heard in full, the second dropped if it would come 1.5 s late).
+                guard mayInterrupt && (rank > speakingPriority || (c.requested && rank >= speakingPriority)) else { break }
             } else if c.priority == .information && !c.requested
                         && t < lastInformationEnd + config.informationSpacingSeconds {
                 break
@@ -183,7 +198,7 @@ public final class AnnouncementPolicy {
             speakingUntil = end
             speakingPriority = rank
             lastUtteranceWasRequested = c.requested
-            lastSpoken[c.text] = t
+            lastSpoken[c.key] = t
             if c.priority == .information { lastInformationEnd = end }
             break  // one utterance per tick: the next waits for it (or interrupts it on a later tick)
         }

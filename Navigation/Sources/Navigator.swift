@@ -317,13 +317,23 @@ public final class Navigator {
         let dir = ahead - here
         let orientation: DepartOrientation = dir.length > 1e-6
             ? DepartOrientation.classify(relativeBearingRad: dir.angleRad - input.headingRad) : .ahead
-        let next = route.maneuvers.count > 1 ? route.maneuvers[1] : route.maneuvers[0]
+        // Turns and doors within the look-ahead of the start are covered by the first instruction, whose
+        // direction already points past them (e.g. out of a room's door into the corridor): not cued.
+        var first = 1
+        while first < route.maneuvers.count - 1,
+              route.maneuvers[first].kind.isTurn || route.maneuvers[first].kind == .goThroughDoor,
+              route.maneuvers[first].distanceFromStartMeters - progressMeters < options.lookAheadMeters {
+            alertIssued[first] = true
+            cueIssued[first] = true
+            first += 1
+        }
+        let next = route.maneuvers[min(first, route.maneuvers.count - 1)]
         let toNext = next.distanceFromStartMeters - progressMeters
         if next.kind != .arrive || toNext > options.arrivalRadiusMeters {
             // Alert rank: it must precede the alert of the next maneuver, which it makes redundant when
             // that one is already within the alert distance ("Turn left, then go 5 meters." then the cue).
             say(narrative.depart(orientation, distanceMeters: toNext), .alert, input.t)
-            if route.maneuvers.count > 1 && toNext <= options.alertDistanceMeters { alertIssued[1] = true }
+            if first < route.maneuvers.count && toNext <= options.alertDistanceMeters { alertIssued[first] = true }
         }
     }
 
@@ -511,7 +521,7 @@ public final class Navigator {
                    m.distanceFromStartMeters - s <= options.alertDistanceMeters {
                     alertIssued[i] = true
                     if let text = narrative.alert(m, distanceMeters: m.distanceFromStartMeters - s, destinationName: destinationName) {
-                        say(text, .alert, t)
+                        say(text, .alert, t, about: m, variant: "alert")
                     }
                 }
                 break
@@ -519,7 +529,8 @@ public final class Navigator {
             if m.kind == .continue {
                 if u >= m.polylinePosition - 1e-9 {
                     if !cueIssued[i], let text = narrative.cue(m, floorName: floorName(m.floorId)) {
-                        say(text, .cue, t)
+                        // Alert rank: orientation after a ride; a turn cue right after it may cut it off.
+                        say(text, .alert, t, about: m, variant: "cue")
                         // The phrase gives the distance to the next maneuver: no separate early alert.
                         if i + 1 < r.maneuvers.count && m.distanceToNextMeters <= options.alertDistanceMeters {
                             alertIssued[i + 1] = true
@@ -535,6 +546,9 @@ public final class Navigator {
             let passed = u > m.polylinePosition + 1e-9
             if passed {
                 if m.kind.isTurn || m.kind == .goThroughDoor { continuationDue = i }
+                // Anything about it still waiting to be said would now be wrong.
+                policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "cue"))
+                policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "alert"))
                 nextManeuver += 1
                 continue
             }
@@ -544,13 +558,17 @@ public final class Navigator {
                 alertIssued[i] = true
                 if let text = narrative.cue(m, floorName: floorName(m.floorId)) {
                     if m.kind.isTurn { policy.submitHaptic(.turnCue) }
-                    say(text, .cue, t)
+                    // Doors rank as alerts: a door is met anyway; it must not delay or cut off the cue of
+                    // a turn or a ride a metre or two away, which it would as a cue.
+                    say(text, m.kind == .goThroughDoor ? .alert : .cue, t, about: m, variant: "cue")
                 }
             } else if !alertIssued[i] && d <= options.alertDistanceMeters
                         && d > options.cueDistanceMeters + options.alertCueGapMeters {
                 alertIssued[i] = true
                 continuationDue = nil
-                if let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) { say(text, .alert, t) }
+                if let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) {
+                    say(text, .alert, t, about: m, variant: "alert")
+                }
             }
             break
         }
@@ -603,8 +621,16 @@ public final class Navigator {
 
     // MARK: - Output
 
-    private func say(_ text: String, _ priority: AnnouncementPriority, _ t: Double) {
-        policy.submit(text, priority: priority, t: t)
+    private func say(_ text: String, _ priority: AnnouncementPriority, _ t: Double, about m: Maneuver? = nil,
+                     variant: String = "") {
+        // Alerts and cues are keyed by the maneuver (kind, place, floor) so that two doors' identical
+        // "Go through the door now." are both said, while the same maneuver is not repeated after a re-route.
+        if variant == "cue", let m { policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "alert")) }
+        policy.submit(text, priority: priority, t: t, repeatKey: m.map { maneuverKey($0, variant: variant) + text })
+    }
+
+    private func maneuverKey(_ m: Maneuver, variant: String) -> String {
+        "\(variant):\(m.kind.rawValue)@\(m.floorId):\(Int((m.position.x * 10).rounded())),\(Int((m.position.y * 10).rounded())):"
     }
 
     private func emit(_ t: Double) -> [TimedGuidanceEvent] {

@@ -33,6 +33,26 @@ final class AnnouncementPolicyTests: XCTestCase {
         XCTAssertEqual(texts(p.flush(t: 3.7)), [], "stale cue dropped, not spoken late")
     }
 
+    func testACueDoesNotCutOffAnotherCue() {
+        let p = AnnouncementPolicy()
+        p.submit("Turn right now.", priority: .cue, t: 0)  // 1.2 s
+        XCTAssertEqual(texts(p.flush(t: 0)), ["Turn right now."])
+        p.submit("Go through the door now.", priority: .cue, t: 0.4)
+        XCTAssertEqual(texts(p.flush(t: 0.4)), [], "waits for the first cue to end")
+        XCTAssertEqual(p.flush(t: 1.2), [TimedGuidanceEvent(t: 1.2, event: .speak(text: "Go through the door now.", priority: .cue, interrupt: true))])
+        // Equal texts with different repeat keys are both said; the same key is suppressed.
+        p.submit("Go through the door now.", priority: .cue, t: 5, repeatKey: "door B")
+        XCTAssertEqual(texts(p.flush(t: 5)), ["Go through the door now."])
+        p.submit("Go through the door now.", priority: .cue, t: 7, repeatKey: "door B")
+        XCTAssertEqual(texts(p.flush(t: 7)), [])
+        // A queued message is withdrawn by key prefix.
+        p.submit("A long message to keep the channel busy for a while now.", priority: .safety, t: 20)
+        _ = p.flush(t: 20)
+        p.submit("In 2 meters, take the stairs.", priority: .alert, t: 20.1, repeatKey: "alert:stairs")
+        p.discardPending(repeatKeyPrefix: "alert:")
+        XCTAssertEqual(texts(p.flush(t: 30)), [])
+    }
+
     func testHighestPriorityFirstWhenSubmittedTogether() {
         let p = AnnouncementPolicy()
         p.submit("Start walking.", priority: .information, t: 0)

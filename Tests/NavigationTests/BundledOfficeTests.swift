@@ -1,0 +1,108 @@
+// Routes on the bundled two-floor "Wayfinder Office" (Maps/Buildings/wayfinder-office.json), walked end to
+// end at 1.2 m/s with 10 Hz updates.
+import Foundation
+import Maps
+import XCTest
+@testable import Navigation
+
+/// Walk steps that follow a route's polyline, riding between floors (3 s wait, then the floor changes).
+func walkSteps(along route: Route) -> [WalkStep] {
+    var steps: [WalkStep] = []
+    var floor = route.points.first?.floorId
+    for p in route.points.dropFirst() {
+        if p.floorId != floor {
+            steps += [.wait(seconds: 3), .changeFloor(to: p.floorId)]
+            floor = p.floorId
+        } else {
+            steps.append(.walk(to: p.position))
+        }
+    }
+    return steps
+}
+
+/// Walks `nav` from `start` along the route it adopts and checks the cue rules: every turn (at a control
+/// point) and every ride gets exactly one cue, spoken 0.5-1.5 m before its point. Door cues rank as alerts
+/// and may be dropped when a turn or ride phrase occupies the speech channel, but are never said more than
+/// 0.5 m past the door. Turns and doors within the first 1.5 m are covered by the first instruction and get
+/// none. Returns the walker for further checks.
+@discardableResult
+func walkRouteCheckingCues(_ nav: Navigator, start: Point2, floorId: String, file: StaticString = #filePath,
+                           line: UInt = #line) throws -> Walker {
+    var w = Walker(start: start, floorId: floorId)
+    w.run(nav, [.wait(seconds: 0.1)])
+    let route = try XCTUnwrap(nav.currentRoute, file: file, line: line)
+    w.run(nav, walkSteps(along: route))
+    XCTAssertTrue(nav.hasArrived, "arrived", file: file, line: line)
+    XCTAssertEqual(nav.routeCount, 1, "no re-route while on the route", file: file, line: line)
+    let lookAhead = nav.options.lookAheadMeters
+    for (k, m) in route.maneuvers.enumerated() {
+        let isPoint = m.kind.isTurn || m.kind == .takeElevator || m.kind == .takeStairs
+        guard isPoint || m.kind == .goThroughDoor else { continue }
+        if m.kind != .takeElevator && m.kind != .takeStairs && m.distanceFromStartMeters < lookAhead { continue }
+        guard let text = nav.narrative.cue(m, floorName: "") else { continue }
+        // Records between the previous maneuver and the next one where this cue was spoken.
+        let lo = k > 0 ? route.maneuvers[k - 1].distanceFromStartMeters : -1
+        let hi = m.distanceFromStartMeters + 0.5
+        let said = w.records.filter { r in
+            r.progressMeters >= lo - 1e-9 && r.progressMeters <= hi && r.events.contains { $0.spokenText == text }
+        }
+        if isPoint {
+            XCTAssertEqual(said.count, 1, "one cue for \(m.kind) at \(m.distanceFromStartMeters) m: \(w.spoken)",
+                           file: file, line: line)
+        } else {
+            XCTAssertLessThanOrEqual(said.count, 1, "door at \(m.distanceFromStartMeters) m: \(w.spoken)", file: file, line: line)
+        }
+        for r in said {
+            let before = m.distanceFromStartMeters - r.progressMeters
+            if isPoint {
+                XCTAssertGreaterThanOrEqual(before, 0.5, "\(m.kind) cue late", file: file, line: line)
+                XCTAssertLessThanOrEqual(before, 1.5, "\(m.kind) cue early", file: file, line: line)
+            } else {
+                XCTAssertGreaterThanOrEqual(before, -0.5, "door cue after the door", file: file, line: line)
+            }
+        }
+    }
+    return w
+}
+
+final class BundledOfficeTests: XCTestCase {
+    func testRoomToRoomAcrossFloors() throws {
+        let office = try BundledMaps.office()
+        let nav = try Navigator(building: office, destinationId: "room-215")
+        let startNode = try XCTUnwrap(office.graph.nodes.first { $0.pointOfInterestId == "room-101" })
+        let w = try walkRouteCheckingCues(nav, start: startNode.position, floorId: startNode.floorId)
+        let kinds = kindsList(nav.lastManeuvers)
+        XCTAssertTrue(kinds.hasPrefix("depart,goThroughDoor"), kinds)  // out of Room 101
+        XCTAssertTrue(kinds.contains("takeStairs") || kinds.contains("takeElevator"), kinds)
+        XCTAssertTrue(kinds.hasSuffix("continue") == false && kinds.hasSuffix("arrive"), kinds)
+        let arrival = try XCTUnwrap(w.spoken.last)
+        XCTAssertTrue(arrival.hasPrefix("Arrived. Room 215 is "), arrival)
+        XCTAssertTrue(arrival.hasSuffix(", behind a door."), arrival)
+    }
+
+    func testAvoidStairsTakesTheElevator() throws {
+        let office = try BundledMaps.office()
+        var options = NavigatorOptions()
+        options.avoidStairs = true
+        let nav = try Navigator(building: office, destinationId: "room-215", options: options)
+        let startNode = try XCTUnwrap(office.graph.nodes.first { $0.pointOfInterestId == "room-101" })
+        try walkRouteCheckingCues(nav, start: startNode.position, floorId: startNode.floorId)
+        let kinds = kindsList(nav.lastManeuvers)
+        XCTAssertTrue(kinds.contains("takeElevator"), kinds)
+        XCTAssertFalse(kinds.contains("takeStairs"), kinds)
+    }
+
+    func testEveryPointOfInterestIsReachableFromTheMainEntrance() throws {
+        let office = try BundledMaps.office()
+        let start = try XCTUnwrap(office.graph.nodes.first { $0.pointOfInterestId == "exit-main-entrance" })
+        for floor in office.floors {
+            for poi in floor.pointsOfInterest where poi.id != "exit-main-entrance" {
+                let nav = try Navigator(building: office, destinationId: poi.id)
+                let route = nav.routeFrom(start.position, floorId: start.floorId)
+                XCTAssertNotNil(route, poi.id)
+                XCTAssertEqual(route?.maneuvers.first?.kind, .depart, poi.id)
+                XCTAssertEqual(route?.maneuvers.last?.kind, .arrive, poi.id)
+            }
+        }
+    }
+}
