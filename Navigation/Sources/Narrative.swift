@@ -30,11 +30,17 @@ public struct PhraseBook: Sendable {
     /// Placeholders the code fills; any other `{...}` in a template is an error.
     public static let knownPlaceholders: Set<String> = ["distance", "count", "floor", "destination", "place", "from", "to"]
 
-    /// Loads `Navigation/Locales/<language>.json` from the module's resources.
+    /// Loads `Navigation/Locales/<language>.json` from the module's resources (SwiftPM: `Bundle.module`;
+    /// the Xcode app build must copy `Navigation/Locales` into the app bundle, where it is looked up).
     public static func load(language: String) throws -> PhraseBook {
-        guard language.allSatisfy({ $0.isLetter || $0 == "-" || $0 == "_" }),
-              let url = Bundle.module.url(forResource: language, withExtension: "json", subdirectory: "Locales")
-                ?? Bundle.module.url(forResource: language, withExtension: "json")
+        #if SWIFT_PACKAGE
+        let bundle = Bundle.module
+        #else
+        let bundle = Bundle.main
+        #endif
+        guard !language.isEmpty, language.allSatisfy({ $0.isLetter || $0 == "-" || $0 == "_" }),
+              let url = bundle.url(forResource: language, withExtension: "json", subdirectory: "Locales")
+                ?? bundle.url(forResource: language, withExtension: "json")
         else { throw NavigationError.unknownLanguage(language) }
         let data: Data
         do { data = try Data(contentsOf: url) } catch {

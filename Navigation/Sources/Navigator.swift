@@ -72,6 +72,9 @@ public struct NavigatorOptions: Sendable {
     public var continuationMarginMeters = 2.0
     /// "Start walking" is repeated this often while not localized.
     public var startWalkingRepeatSeconds = 15.0
+    /// After localization is lost during a route, "Start walking" is said only once the loss has lasted
+    /// this long.
+    public var relocalizationGraceSeconds = 3.0
     /// Route direction used for wrong-way detection and the first instruction: from the position on the
     /// route to the route point this far ahead.
     public var lookAheadMeters = 1.5
@@ -139,6 +142,7 @@ public final class Navigator {
     private var lastRerouteCheckT = -Double.infinity
     private var noRouteAnnounced = false
     private var offRouteLatched = false
+    private var unlocalizedSince: Double? = nil
 
     /// Creates a navigator to `destinationId`: a point-of-interest id (routed to the graph node that
     /// references it, else to the nearest node on its floor) or a graph node id. Throws
@@ -193,8 +197,13 @@ public final class Navigator {
         if hasArrived { return emit(t) }
         guard input.isLocalized else {
             // Paper section 4: "the app issues no directions other than 'start walking' until it is able
-            // to estimate the user's location".
-            if lastStartWalkingT.map({ t - $0 >= options.startWalkingRepeatSeconds - 1e-6 }) ?? true {
+            // to estimate the user's location". After a loss of localization mid-route, only once the loss
+            // has lasted `relocalizationGraceSeconds` (a flicker of the localizer says nothing).
+            let since = unlocalizedSince ?? t
+            unlocalizedSince = since
+            let due = lastStartWalkingT.map { t - $0 >= options.startWalkingRepeatSeconds - 1e-6 } ?? true
+            let graceOver = currentRoute == nil || t - since >= options.relocalizationGraceSeconds - 1e-6
+            if due && graceOver {
                 say(narrative.phrases.phrase("startWalking"), .information, t)
                 lastStartWalkingT = t
             }
@@ -203,6 +212,7 @@ public final class Navigator {
             wrongWaySince = nil
             return emit(t)
         }
+        unlocalizedSince = nil
         lastInput = input
         let p = Vec2(input.positionInMap)
         history.append((t, p, input.floorId))
@@ -310,6 +320,9 @@ public final class Navigator {
         wrongWaySince = nil
         policy.discardPending(below: .safety)
         trackProgress(Vec2(input.positionInMap), floorId: input.floorId)
+        // A route adopted far from every edge (open area) is not "off route" until the traveler has
+        // been within the distance once.
+        offRouteLatched = distanceFromRouteMeters > options.offRouteDistanceMeters
 
         // First instruction: direction of the route relative to the heading, distance to the next maneuver.
         let ahead = route.point(atDistance: progressMeters + options.lookAheadMeters, fromSegment: 0).point

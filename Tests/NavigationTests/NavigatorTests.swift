@@ -32,6 +32,26 @@ final class NavigatorTests: XCTestCase {
         XCTAssertNotNil(nav.currentRoute)
     }
 
+    func testLossOfLocalizationMidRoute() throws {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a-------------------b").build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var w = Walker(start: Point2(x: 0, y: 0), floorId: "1")
+        w.run(nav, [.walk(to: Point2(x: 3, y: 0))])
+        XCTAssertEqual(w.spoken, ["Go straight ahead, 20 meters."])
+        w.unlocalized(nav, seconds: 1)  // a flicker: nothing
+        XCTAssertEqual(w.spoken.count, 1)
+        w.run(nav, [.walk(to: Point2(x: 4, y: 0))])
+        w.unlocalized(nav, seconds: 4)  // a real loss: "Start walking." once, after 3 s
+        XCTAssertEqual(w.spoken.count, 2)
+        XCTAssertEqual(w.spoken.last, "Start walking.")
+        let said = try XCTUnwrap(w.records.last { $0.events.contains { $0.spokenText == "Start walking." } })
+        XCTAssertEqual(said.input.t - w.records.first { !$0.input.isLocalized && $0.input.t > 3.5 }!.input.t, 3.0, accuracy: 0.05)
+        // Back on track: the same route goes on, no re-route.
+        w.run(nav, [.walk(to: Point2(x: 20, y: 0))])
+        XCTAssertTrue(nav.hasArrived)
+        XCTAssertEqual(nav.routeCount, 1)
+    }
+
     func testCuesBetweenHalfAndOneAndAHalfMetersBeforeEachControlPoint() throws {
         let nav = try Navigator(building: zigzag, destinationId: "e")
         var w = Walker(start: zigzag.nodePosition("a"), floorId: "1", headingRad: 0)
