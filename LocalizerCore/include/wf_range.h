@@ -11,7 +11,8 @@
  *         bottom-centre and the full camera rotation, Z = h0 / (tan(e_top) - tan(e_bottom)), where e is the
  *         elevation of a ray above the horizontal plane. Exact for any roll and pitch.
  *   - horizon (older baseline): Z = (sign centre height - camera height) / tan(elevation of sign centre);
- *   - PnP: OpenCV solvePnP (IPPE, planar) on the four corners with the sign's width and height.
+ *   - PnP: OpenCV solvePnP (IPPE and SQPnP candidates, LM refinement) on the four corners with the sign's
+ *     width and height.
  *
  * Conventions (App/SessionFormat/CameraPose.swift, ../shared/reference/arkit-frames.md):
  *   - world: gravity aligned, y up, x and z horizontal (ARKit); only the rotation of a pose is used;
@@ -200,12 +201,12 @@ typedef struct wf_range_slice_measurement {
 typedef enum wf_range_slice_model {
     /** Elevations of two points of one world vertical: the bottom point B on the bottom edge line (median
      * bottom row at the extent's middle, slope bottom_edge_slope) at the sign's centre column (see
-     * extent_width_px), and the top point where the image of the world vertical through B (world verticals converge to
-     * (cx, cy - fy / tan(pitch)) in the unrolled image) meets the top edge (the line of slope
-     * top_edge_slope through (center column, median bottom row - median height)). Equals the paper's formula at the centre
-     * column of a level sign; off-axis it also corrects what the planar formula gets wrong: that it gives
-     * the depth in the optical axis's vertical plane (about range * cos(bearing)), and that under pitch the
-     * column's top point is not above its bottom point in the world. The default. */
+     * extent_width_px), and the top point where the image of the world vertical through B meets the top
+     * edge line (slope top_edge_slope through (center column, median bottom row - median height)); world
+     * verticals converge to (cx, cy - fy / tan(pitch)) in the unrolled image. Equals the paper's formula at
+     * the centre column of a level sign; off-axis it also corrects what the planar formula gets wrong: that
+     * it gives the depth in the optical axis's vertical plane (about range * cos(bearing)), and that under
+     * pitch the column's top point is not above its bottom point in the world. The default. */
     WF_RANGE_SLICE_MODEL_RAY_ELEVATION = 0,
     /** The paper's equation (3) verbatim: alpha = atan((cy - v_bottom) / fy), alpha + delta =
      * atan((cy - v_top) / fy), the column and slopes ignored for the range. */
