@@ -35,6 +35,22 @@ final class ImporterPartsTests: XCTestCase {
         }
     }
 
+    /// Never a crash: 2,000 corrupted copies of a valid BMP (fixed-seed bytes in the headers and pixels,
+    /// random truncation) either decode or throw BMPError.
+    func testCorruptedBMPsNeverCrash() {
+        let base = [UInt8](BMPReader.encodeGray(GrayImage(width: 7, height: 5, pixels: (0..<35).map { UInt8($0 * 7) })))
+        var state: UInt64 = 0x9E37_79B9_7F4A_7C15
+        func next() -> Int { state = state &* 6364136223846793005 &+ 1442695040888963407; return Int(state >> 33) }
+        var thrown = 0
+        for _ in 0..<2000 {
+            var b = base
+            for _ in 0..<(1 + next() % 4) { b[next() % 60] = UInt8(next() % 256) }
+            if next() % 3 == 0 { b = Array(b.prefix(next() % b.count)) }
+            do { _ = try BMPReader.decode(Data(b), file: "fuzz.bmp") } catch is BMPError { thrown += 1 } catch { XCTFail("\(error)") }
+        }
+        XCTAssertGreaterThan(thrown, 500)
+    }
+
     func testYAMLWithTabsAndBothListStyles() throws {
         let text = "%YAML:1.0\nmap_feature:\n\tid: 0\n\ttype: exit_sign\n\tposition: [9.3103   17.4138]\n    normal: [1, 0]\n    height: 2.38\nmap_feature:\n    id: 1\n    position: [31.1207, 5.1724]\nbuilding_name: SKERI # comment\n"
         let y = try SimpleYAML(text: text, file: "f.yml")
