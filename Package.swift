@@ -90,6 +90,7 @@ let package = Package(
                     path: "Tests/SimulationTests"),
         .testTarget(name: "EvaluationTests", dependencies: ["Evaluation", "Simulation", "Maps", "SessionFormat"],
                     path: "Tests/EvaluationTests"),
+        .testTarget(name: "CLITests", dependencies: ["WayfinderCLI"], path: "Tests/CLITests"),
     ],
     cxxLanguageStandard: .cxx17
 )
