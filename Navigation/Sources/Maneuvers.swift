@@ -104,6 +104,11 @@ public struct Maneuver: Sendable, Equatable {
     public var toFloorName: String?
     /// Spoken label of the place: door label, node label, destination name.
     public var label: String?
+    /// True when this maneuver follows the previous one so closely (less than 3 m, see
+    /// `RouteBuilder.chainMeters`) after a turn or ride that it cannot get a cue of its own without the two phrases overlapping
+    /// at walking speed: it is announced right after the previous cue ("Turn right now." "Then take the
+    /// elevator to Floor 4.") and gets no alert or cue of its own (valhalla's "verbal multi-cue").
+    public var announcedWithPrevious = false
     /// Continuous position on the route polyline: point index + fraction of the following segment.
     /// Internal bookkeeping for progress tracking.
     var polylinePosition: Double

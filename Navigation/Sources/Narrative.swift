@@ -16,11 +16,13 @@ public struct PhraseBook: Sendable {
         var keys = ["distance.one", "distance.other", "startWalking", "noRoute",
                     "depart.ahead", "depart.left", "depart.right", "depart.turnAround",
                     "continuation", "safety.wrongWay", "safety.offRoute",
-                    "whereAmI.between", "whereAmI.near", "whereAmI.unknown", "repeat.none", "cue.continue"]
+                    "whereAmI.between", "whereAmI.near", "whereAmI.unknown", "repeat.none", "cue.continue",
+                    "cue.continue.short"]
         let alerted: [ManeuverKind] = [.turnLeft, .turnRight, .slightLeft, .slightRight, .sharpLeft, .sharpRight,
                                        .uTurn, .takeElevator, .takeStairs, .goThroughDoor]
         keys += alerted.map { "alert.\($0.rawValue)" } + ["alert.arrive"]
         keys += alerted.map { "cue.\($0.rawValue)" }
+        keys += alerted.map { "then.\($0.rawValue)" }
         for side in ArrivalSide.allCases {
             keys += ["arrival.\(side.rawValue)", "arrival.\(side.rawValue).door"]
         }
@@ -176,9 +178,22 @@ public struct Narrative: Sendable {
         switch m.kind {
         case .depart, .arrive: return nil
         case .continue:
+            // With the next maneuver only steps away, just the floor: its own cue follows at once.
+            if m.distanceToNextMeters < RouteBuilder.chainMeters {
+                return phrases.phrase("cue.continue.short", ["floor": floorName])
+            }
             return phrases.phrase("cue.continue", ["floor": floorName, "distance": phrases.distance(m.distanceToNextMeters)])
         default:
             return phrases.phrase("cue.\(m.kind.rawValue)", ["floor": m.toFloorName ?? ""])
+        }
+    }
+
+    /// A maneuver announced right after the previous one's cue: "Then turn left." Nil for kinds that are
+    /// never chained.
+    public func then(_ m: Maneuver) -> String? {
+        switch m.kind {
+        case .depart, .continue, .arrive: return nil
+        default: return phrases.phrase("then.\(m.kind.rawValue)", ["floor": m.toFloorName ?? ""])
         }
     }
 

@@ -544,6 +544,7 @@ public final class Navigator {
                     if !cueIssued[i], let text = narrative.cue(m, floorName: floorName(m.floorId)) {
                         // Alert rank: orientation after a ride; a turn cue right after it may cut it off.
                         say(text, .alert, t, about: m, variant: "cue")
+                        sayChained(after: i, route: r, t: t)
                         // The phrase gives the distance to the next maneuver: no separate early alert.
                         if i + 1 < r.maneuvers.count && m.distanceToNextMeters <= options.alertDistanceMeters {
                             alertIssued[i + 1] = true
@@ -574,6 +575,7 @@ public final class Navigator {
                     // Doors rank as alerts: a door is met anyway; it must not delay or cut off the cue of
                     // a turn or a ride a metre or two away, which it would as a cue.
                     say(text, m.kind == .goThroughDoor ? .alert : .cue, t, about: m, variant: "cue")
+                    sayChained(after: i, route: r, t: t)
                 }
             } else if !alertIssued[i] && d <= options.alertDistanceMeters
                         && d > options.cueDistanceMeters + options.alertCueGapMeters {
@@ -600,6 +602,17 @@ public final class Navigator {
     }
 
     private func floorName(_ id: String) -> String { graph.building.floor(id: id)?.name ?? id }
+
+    /// Announces the maneuver chained to maneuver `i` ("Then turn left.") right after its cue, at alert
+    /// rank so that it waits for the cue to end and a later cue may cut it off; the chained maneuver
+    /// gets no alert or cue of its own.
+    private func sayChained(after i: Int, route r: Route, t: Double) {
+        let j = i + 1
+        guard j < r.maneuvers.count, r.maneuvers[j].announcedWithPrevious, !cueIssued[j] else { return }
+        cueIssued[j] = true
+        alertIssued[j] = true
+        if let text = narrative.then(r.maneuvers[j]) { say(text, .alert, t, about: r.maneuvers[j], variant: "cue") }
+    }
 
     /// Follows the corridor from `start` (arrived from `cameFrom`) while it goes on within 45 deg of
     /// straight, up to 40 nodes, and returns the first spoken name met other than `skipping`.

@@ -66,6 +66,10 @@ struct RouteBuilder {
     var jogMaxMeters = 1.5
     /// A door is matched to a door edge when within this distance of the segment, meters.
     var doorMatchMeters = 1.5
+    /// A turn, ride or door this close after a turn, ride or landing is announced with it, meters: the
+    /// cue is said 0.75 m before its point and lasts up to 1.6 s (4 words at 2.5 words/s), 1.9 m at
+    /// 1.2 m/s, so a second cue within about 2.7 m would have to cut it off or come late.
+    static let chainMeters = 3.0
 
     /// - Parameter destinationBehindDoor: when true, a door on the last segment is announced by the
     ///   arrival phrase ("..., behind a door") instead of a separate maneuver.
@@ -181,6 +185,20 @@ struct RouteBuilder {
         for i in sorted.indices {
             sorted[i].distanceToNextMeters = i + 1 < sorted.count
                 ? sorted[i + 1].distanceFromStartMeters - sorted[i].distanceFromStartMeters : 0
+        }
+        // Chaining: only onto a maneuver that has a cue of its own (not itself chained, not a door, whose
+        // cue ranks lower and may be dropped), and only a turn, ride or door.
+        for j in sorted.indices.dropFirst(2) {
+            let i = j - 1
+            // Not after a landing: its phrase is long and the traveler just stepped out; what follows
+            // gets its own cue (the landing phrase is shortened instead, see `Narrative.cue`).
+            let leader = sorted[i].kind.isTurn || sorted[i].kind == .takeElevator || sorted[i].kind == .takeStairs
+            let follower = sorted[j].kind.isTurn || sorted[j].kind == .takeElevator || sorted[j].kind == .takeStairs
+                || sorted[j].kind == .goThroughDoor
+            if leader && follower && !sorted[i].announcedWithPrevious
+                && sorted[i].distanceToNextMeters < Self.chainMeters {
+                sorted[j].announcedWithPrevious = true
+            }
         }
         return sorted
     }

@@ -162,6 +162,8 @@ enum WalkStep {
     case wait(seconds: Double)
     /// Arrive on another floor (after a ride), same x, y.
     case changeFloor(to: String)
+    /// Arrive on another floor at a given point (landings need not be above one another).
+    case appear(at: Point2, floorId: String)
     /// Face a direction (radians, map frame) without moving.
     case face(headingRad: Double)
 }
@@ -223,6 +225,10 @@ struct Walker {
             case .wait(let seconds):
                 for _ in 0..<Int((seconds * updatesPerSecond).rounded()) { tick(nav) }
             case .changeFloor(let f):
+                floorId = f
+                tick(nav)
+            case .appear(let p, let f):
+                position = p
                 floorId = f
                 tick(nav)
             case .face(let h):
