@@ -54,8 +54,6 @@ struct WalkerModel {
     func run(segments: [WalkSegment], startHeading: Double, rng: inout SeededRandom) -> [BodyState] {
         let p = parameters
         var states: [BodyState] = []
-        var t = 0.0
-        _ = t
         var heading = startHeading
         var stepPhase = 0.0
         let preferred = rng.uniform(p.preferredSpeedRange.lowerBound, p.preferredSpeedRange.upperBound)
@@ -66,7 +64,7 @@ struct WalkerModel {
         var lastPosition: Point2?
 
         func emit(_ floorId: String, _ pos: Point2, _ elev: Double, _ v: Double, _ phase: WalkPhase) {
-            t = Double(states.count) / rateHz   // from the frame index: no accumulated rounding
+            let t = Double(states.count) / rateHz   // from the frame index: no accumulated rounding
             states.append(BodyState(t: t, floorId: floorId, position: pos, floorElevation: elev, headingRad: heading,
                                     speed: v, stepPhaseRad: stepPhase, phase: phase))
             lastPosition = pos
@@ -166,7 +164,9 @@ struct WalkerModel {
                     let centre = leg.position(at: s, hint: &hint)
                     let tang = leg.tangent(at: s, hint: &hint)
                     let fade = min(1, s / 1.0, (length - s) / 1.0)
-                    let offset = fade * (wander.step(dt: dt, rng: &rng) + p.swayAmplitudeMeters * sin(stepPhase / 2))
+                    // The wander only evolves while walking: a person standing still does not drift sideways.
+                    let lateral = v > 0.1 ? wander.step(dt: dt, rng: &rng) : wander.value
+                    let offset = fade * (lateral + p.swayAmplitudeMeters * sin(stepPhase / 2))
                     let n = Point2(-sin(tang), cos(tang))
                     var pos = centre
                     for scale in [1.0, 0.5, 0.25] {
