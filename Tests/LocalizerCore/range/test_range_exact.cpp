@@ -62,6 +62,45 @@ TEST(RangeOrientation, PitchRollRoundTripMatchesCameraPoseDefinitions) {
         }
 }
 
+// Bearing convention, independent of the synthetic helper: camera at the origin looking along world -z
+// (yaw-free), sign centre at world (-1, 0.5, -3): 1 m to the LEFT at 3 m ahead, so bearing +atan(1/3).
+TEST(RangeOrientation, SignToTheLeftHasPositiveBearingInLandscapeAndPortrait) {
+    const wf_range_intrinsics k = iphone8();
+    for (double roll : {0.0, -kPi / 2}) {
+        double m[16];
+        ASSERT_EQ(wf_range_camera_to_world_from_pitch_roll(m, 0.0, roll), WF_RANGE_OK);
+        // Corners of a 0.4 x 0.2 m sign facing +z at x = -1, z = -3, centre height 0.5 m.
+        const double xs[4] = {-1.2, -0.8, -0.8, -1.2}, ys[4] = {0.6, 0.6, 0.4, 0.4};
+        wf_range_point corners[4];
+        for (int i = 0; i < 4; ++i) {
+            // World -> camera: R^T p, with R's columns in m[0..2], m[4..6], m[8..10].
+            const double p[3] = {xs[i], ys[i], -3.0};
+            const double cx = m[0] * p[0] + m[1] * p[1] + m[2] * p[2];
+            const double cy = m[4] * p[0] + m[5] * p[1] + m[6] * p[2];
+            const double cz = m[8] * p[0] + m[9] * p[1] + m[10] * p[2];
+            corners[i] = {k.cx + k.fx * cx / -cz, k.cy - k.fy * cy / -cz};
+        }
+        if (roll == 0.0) {
+            EXPECT_LT(corners[0].u, k.cx);  // landscape: left of the image centre
+        } else {
+            EXPECT_GT(corners[0].v, k.cy);  // portrait: world left is raw +v (camera -y)
+        }
+        wf_range_observation o = WF_RANGE_OBSERVATION_INIT;
+        for (int i = 0; i < 4; ++i) o.corners[i] = corners[i];
+        o.intrinsics = k;
+        std::copy(m, m + 16, o.camera_to_world);
+        o.sign_height_m = 0.2;
+        o.sign_width_m = 0.4;
+        for (auto method : {WF_RANGE_METHOD_APPARENT_HEIGHT, WF_RANGE_METHOD_PNP}) {
+            wf_range_result r{};
+            ASSERT_EQ(wf_range_estimate(&r, method, &o), WF_RANGE_OK);
+            EXPECT_NEAR(r.bearing_rad, std::atan(1.0 / 3.0), 1e-9);
+            EXPECT_NEAR(r.range_m, std::sqrt(10.0), 1e-9);
+            EXPECT_NEAR(r.center_height_above_camera_m, 0.5, 1e-9);
+        }
+    }
+}
+
 TEST(RangeUnroll, PortraitCanvasIsTheRotatedImage) {
     const wf_range_intrinsics k = iphone8();
     wf_range_unroll_map map{};
