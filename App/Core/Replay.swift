@@ -161,7 +161,7 @@ public enum Replay {
             if i % 200 == 0 { progress?(Double(i) / Double(max(n, 1))) }
         }
         if let route = pipeline.currentRoute {
-            result.routePolyline = route.polyline.map { ($0.floorId, $0.point) }
+            result.routePolyline = route.points.map { ($0.floorId, $0.position) }
         }
         progress?(1)
         return result
