@@ -50,7 +50,8 @@ final class SignSightingSource {
             var sightings: [SignSighting] = []
             for d in detections {
                 let measurement = SignImageMeasurement(medianBottomRowPx: d.medianBottomRowPx, medianHeightPx: d.medianHeightPx,
-                                                       centerColumnPx: d.centerColumnPx)
+                                                       centerColumnPx: d.centerColumnPx, bottomEdgeSlope: d.bottomEdgeSlope,
+                                                       topEdgeSlope: d.topEdgeSlope, extentWidthPx: d.extentWidthPx)
                 let camera = UnrolledCamera(fx: d.unrolledFx, fy: d.unrolledFy, cx: d.unrolledCx, cy: d.unrolledCy,
                                             pitchRad: pose.pitchRad, rollRad: pose.rollRad)
                 if let r = try? RangeEstimator.apparentHeight(measurement, camera: camera,
