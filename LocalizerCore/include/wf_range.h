@@ -228,9 +228,10 @@ int wf_range_apparent_height_slices(wf_range_result *out, const wf_range_unrolle
 
 /** Slice medians from per-column edges of a segmentation in the unrolled image: column_u[i], top_row[i]
  * and bottom_row[i] (continuous edge rows, top < bottom) for count >= 1 columns, in increasing column
- * order. The centre column is the midpoint of min and max column_u, the extent width max - min; the edge
- * slopes are the medians of the slopes between columns i and i + count / 2 (0 for a single column).
- * Non-finite values are an error. */
+ * order. The centre column is the midpoint of min and max column_u, the extent width max - min. Medians and
+ * slopes use the columns of the central 60 % of the extent only (the SignDetector's default slice band):
+ * near the ends a column's top or bottom is a slanted side edge. The edge slopes are the medians of the
+ * slopes between band columns j and j + n / 2 (0 for a single column). Non-finite values are an error. */
 int wf_range_slice_measurement_from_columns(wf_range_slice_measurement *out, const double *column_u,
                                             const double *top_row, const double *bottom_row, size_t count);
 

@@ -13,6 +13,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
+/// Fraction of the extent, centred, whose columns give the medians and slopes (the SignDetector's default
+/// slice band is the same 0.6).
+constexpr double kSliceBandFraction = 0.6;
+
 /// Wraps an angle to (-pi, pi].
 double wrapAngle(double a) {
     a = std::remainder(a, 2 * kPi);
@@ -159,6 +163,55 @@ Status paperEquation3(double pitchRad, double alphaRad, double deltaRad, double 
     return WF_RANGE_OK;
 }
 
+namespace {
+
+/// Reconstructs the sign's corners TL, TR, BR, BL in the unrolled image from a slice measurement: the top
+/// and bottom edge lines (medians at the extent's middle and slopes), the extent's ends, and the side edges,
+/// which are images of world verticals and so pass through the vertical vanishing point
+/// (cx, cy - fy / tan(pitch)) (at infinity, straight down, for pitch 0). Each extent end is a corner on the
+/// top or the bottom edge: the right one is the choice whose side line leaves the other corner inside the
+/// extent. False when degenerate (then the caller falls back to the centre-column construction).
+bool cornersFromSlices(const wf_range_unrolled_camera &camera, const wf_range_slice_measurement &m,
+                       Corners *out) {
+    const double middle = m.center_column_px;
+    const double left = middle - 0.5 * m.extent_width_px, right = middle + 0.5 * m.extent_width_px;
+    // Edge line v = v0 + slope (u - middle) as homogeneous (a, b, c) with a u + b v + c = 0.
+    auto edgeLine = [&](double v0, double slope) { return Eigen::Vector3d(slope, -1.0, v0 - slope * middle); };
+    const Eigen::Vector3d bottom = edgeLine(m.median_bottom_row_px, m.bottom_edge_slope);
+    const Eigen::Vector3d top = edgeLine(m.median_bottom_row_px - m.median_height_px, m.top_edge_slope);
+    const double tanPitch = std::tan(camera.pitch_rad);
+    const Eigen::Vector3d vanishing(camera.cx * tanPitch, camera.cy * tanPitch - camera.fy, tanPitch);
+    auto meet = [](const Eigen::Vector3d &a, const Eigen::Vector3d &b, Eigen::Vector2d *p) {
+        const Eigen::Vector3d h = a.cross(b);
+        if (!(std::abs(h.z()) > 1e-12 * h.head<2>().norm())) return false;
+        *p = h.head<2>() / h.z();
+        return p->allFinite();
+    };
+    auto sideLine = [&](double u, bool isLeft, Eigen::Vector3d *line) {
+        const double tolerance = 1e-6 * (1.0 + m.extent_width_px);
+        for (int onTop = 1; onTop >= 0; --onTop) {
+            const Eigen::Vector3d &edge = onTop ? top : bottom;
+            const Eigen::Vector3d &other = onTop ? bottom : top;
+            const Eigen::Vector3d corner(u, edge.x() * u + edge.z(), 1.0);  // v = a u + c on the edge
+            const Eigen::Vector3d candidate = vanishing.cross(corner);
+            Eigen::Vector2d q;
+            if (!meet(candidate, other, &q)) continue;
+            if (isLeft ? q.x() >= u - tolerance : q.x() <= u + tolerance) {
+                *line = candidate;
+                return true;
+            }
+        }
+        return false;
+    };
+    Eigen::Vector3d leftLine, rightLine;
+    if (!sideLine(left, true, &leftLine) || !sideLine(right, false, &rightLine)) return false;
+    Corners c;
+    return meet(leftLine, top, &c[0]) && meet(rightLine, top, &c[1]) && meet(rightLine, bottom, &c[2]) &&
+           meet(leftLine, bottom, &c[3]) && (*out = c, true);
+}
+
+}  // namespace
+
 Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_range_slice_measurement &m,
                             double signHeightMeters, wf_range_slice_model model, RangeBearing *out) {
     const double v[12] = {camera.fx, camera.fy, camera.cx, camera.cy, camera.pitch_rad,
@@ -175,47 +228,47 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
     // The unrolled image is a camera with roll 0: R' = Rx(pitch) (yaw irrelevant).
     const Eigen::Matrix3d r = rotationFromPitchRoll(camera.pitch_rad, 0.0);
     const Intrinsics intrinsics{camera.fx, camera.fy, camera.cx, camera.cy};
-    // Centre line of a sign not facing the camera: the 3-D midpoint of a segment whose ends have depths
-    // z_l, z_r projects at the fraction z_r / (z_l + z_r) of the image segment from its left end; apparent
-    // heights being inversely proportional to depth, that is h_l / (h_l + h_r).
-    double column = m.center_column_px;
-    if (m.extent_width_px > 0) {
-        const double halfWidth = 0.5 * m.extent_width_px;
-        const double heightSlope = m.bottom_edge_slope - m.top_edge_slope;
-        const double heightLeft = m.median_height_px - heightSlope * halfWidth;
-        const double heightRight = m.median_height_px + heightSlope * halfWidth;
-        if (heightLeft > 0 && heightRight > 0)
-            column = m.center_column_px - halfWidth + m.extent_width_px * heightLeft / (heightLeft + heightRight);
-    }
-    const double bottomRow = m.median_bottom_row_px + m.bottom_edge_slope * (column - m.center_column_px);
-    const double topRow =
-        m.median_bottom_row_px - m.median_height_px + m.top_edge_slope * (column - m.center_column_px);
 
-    // World verticals converge in the unrolled image of a pitched camera, to the vanishing point
-    // (cx, cy - fy / tan(pitch)) (camera coordinates of world up: (0, cos p, -sin p)). The image of the
-    // world vertical through the bottom point B = (column, bottomRow) is u = column + k (v - bottomRow) with
-    // k = (column - cx) tan p / ((bottomRow - cy) tan p + fy). The top point is where it meets the top edge
-    // v = topRow + topSlope (u - column): without this, the column's own top point lies beside the sign's
-    // centre line, a 1-3 % range error at 30 degrees of pitch and 12 of bearing.
-    const double tanPitch = std::tan(camera.pitch_rad);
-    const double toVanishing = (bottomRow - camera.cy) * tanPitch + camera.fy;
-    if (!(std::abs(toVanishing) > 1e-9 * camera.fy)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
-    const double k = (column - camera.cx) * tanPitch / toVanishing;
-    const double topSlope = m.top_edge_slope;
-    const double denominator = 1.0 - topSlope * k;
-    if (!(std::abs(denominator) > 1e-9)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
-    const double topPointRow = (topRow - topSlope * k * bottomRow) / denominator;
-    const double topColumn = column + k * (topPointRow - bottomRow);
+    // Two points of the sign's vertical centre line: exactly from the reconstructed corners when the
+    // extent is known, else on the image of the world vertical through the bottom point at the centre column.
+    Eigen::Vector2d topPoint, bottomPoint;
+    Corners corners;
+    Eigen::Vector2d center;
+    if (!(m.extent_width_px > 0 && cornersFromSlices(camera, m, &corners) &&
+          signCenterPoints(corners, &center, &topPoint, &bottomPoint) == WF_RANGE_OK)) {
+        const double column = m.center_column_px;
+        const double bottomRow = m.median_bottom_row_px;
+        const double topRow = m.median_bottom_row_px - m.median_height_px;
+        // World verticals converge in the unrolled image of a pitched camera, to the vanishing point
+        // (cx, cy - fy / tan(pitch)) (camera coordinates of world up: (0, cos p, -sin p)). The image of the
+        // world vertical through B = (column, bottomRow) is u = column + k (v - bottomRow) with
+        // k = (column - cx) tan p / ((bottomRow - cy) tan p + fy); the top point is where it meets the top edge
+        // v = topRow + topSlope (u - column). Without this the column's own top point lies beside the sign's
+        // centre line: a 1-3 % range error at 30 degrees of pitch and 12 of bearing.
+        const double tanPitch = std::tan(camera.pitch_rad);
+        const double toVanishing = (bottomRow - camera.cy) * tanPitch + camera.fy;
+        if (!(std::abs(toVanishing) > 1e-9 * camera.fy)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+        const double k = (column - camera.cx) * tanPitch / toVanishing;
+        const double topSlope = m.top_edge_slope;
+        const double denominator = 1.0 - topSlope * k;
+        if (!(std::abs(denominator) > 1e-9)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+        const double topPointRow = (topRow - topSlope * k * bottomRow) / denominator;
+        topPoint = {column + k * (topPointRow - bottomRow), topPointRow};
+        bottomPoint = {column, bottomRow};
+    }
 
     RangeBearing result;
-    if (const Status s = apparentHeightFromRays(r, rayInWorld(r, intrinsics, topColumn, topPointRow),
-                                                rayInWorld(r, intrinsics, column, bottomRow), signHeightMeters, &result);
+    if (const Status s = apparentHeightFromRays(r, rayInWorld(r, intrinsics, topPoint.x(), topPoint.y()),
+                                                rayInWorld(r, intrinsics, bottomPoint.x(), bottomPoint.y()),
+                                                signHeightMeters, &result);
         s != WF_RANGE_OK)
         return s;
     if (model == WF_RANGE_SLICE_MODEL_PAPER_PLANAR) {
-        // Paper: alpha = angle of the bottom pixel above the optical axis, delta = angle subtended.
-        const double alpha = std::atan((camera.cy - bottomRow) / camera.fy);
-        const double alphaPlusDelta = std::atan((camera.cy - topRow) / camera.fy);
+        // Paper, verbatim on the medians: alpha = angle of the bottom row above the optical axis, delta =
+        // angle subtended by the median height. (The bearing stays the ray model's.)
+        const double alpha = std::atan((camera.cy - m.median_bottom_row_px) / camera.fy);
+        const double alphaPlusDelta =
+            std::atan((camera.cy - (m.median_bottom_row_px - m.median_height_px)) / camera.fy);
         double range = 0;
         const Status s = paperEquation3(camera.pitch_rad, alpha, alphaPlusDelta - alpha, signHeightMeters, &range);
         if (s != WF_RANGE_OK) return s;
@@ -230,31 +283,42 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
 Status sliceMeasurementFromColumns(const double *columnU, const double *topRow, const double *bottomRow,
                                    std::size_t count, wf_range_slice_measurement *out) {
     if (count == 0) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
-    std::vector<double> bottoms(count), heights(count);
     double minU = columnU[0], maxU = columnU[0];
     for (std::size_t i = 0; i < count; ++i) {
         if (!std::isfinite(columnU[i]) || !std::isfinite(topRow[i]) || !std::isfinite(bottomRow[i]))
             return WF_RANGE_ERR_NOT_FINITE;
-        bottoms[i] = bottomRow[i];
-        heights[i] = bottomRow[i] - topRow[i];
         minU = std::min(minU, columnU[i]);
         maxU = std::max(maxU, columnU[i]);
     }
     wf_range_slice_measurement m{};
-    m.median_bottom_row_px = median(bottoms);
-    m.median_height_px = median(heights);
     m.center_column_px = 0.5 * (minU + maxU);
     m.extent_width_px = maxU - minU;
-    // Robust edge slopes: median of the slopes between columns half the extent apart (a Theil-Sen estimate
-    // on n/2 pairs); the columns at the sign's ends, whose edges are the side edges, are outvoted.
-    const std::size_t half = count / 2;
+    // Medians and slopes over the central band of the extent only: near the sign's ends a column's top or
+    // bottom is a side edge, slanted under pitch and perspective, not the top or bottom edge.
+    const double halfBand = 0.5 * kSliceBandFraction * m.extent_width_px;
+    std::vector<std::size_t> band;
+    for (std::size_t i = 0; i < count; ++i)
+        if (std::abs(columnU[i] - m.center_column_px) <= halfBand) band.push_back(i);
+    if (band.empty())
+        for (std::size_t i = 0; i < count; ++i) band.push_back(i);
+    std::vector<double> bottoms, heights;
+    for (std::size_t i : band) {
+        bottoms.push_back(bottomRow[i]);
+        heights.push_back(bottomRow[i] - topRow[i]);
+    }
+    m.median_bottom_row_px = median(bottoms);
+    m.median_height_px = median(heights);
+    // Robust edge slopes: median of the slopes between band columns half the band apart (a Theil-Sen
+    // estimate on n/2 pairs).
+    const std::size_t n = band.size(), half = n / 2;
     if (half > 0) {
         std::vector<double> bottomSlopes, topSlopes;
-        for (std::size_t i = 0; i + half < count; ++i) {
-            const double du = columnU[i + half] - columnU[i];
+        for (std::size_t j = 0; j + half < n; ++j) {
+            const std::size_t i = band[j], k = band[j + half];
+            const double du = columnU[k] - columnU[i];
             if (!(std::abs(du) > 0)) continue;
-            bottomSlopes.push_back((bottomRow[i + half] - bottomRow[i]) / du);
-            topSlopes.push_back((topRow[i + half] - topRow[i]) / du);
+            bottomSlopes.push_back((bottomRow[k] - bottomRow[i]) / du);
+            topSlopes.push_back((topRow[k] - topRow[i]) / du);
         }
         if (!bottomSlopes.empty()) {
             m.bottom_edge_slope = median(bottomSlopes);
