@@ -61,6 +61,7 @@ final class CommandLineUsageTests: XCTestCase {
         try assertUsageError(["replay", bundle], names: "--map")
         try assertUsageError(["render", bundle, "-o", "/tmp/never-written.html"], names: "--map")
         try assertUsageError(["eval", bundle], names: "--map")
+        try assertUsageError(["render", bundle, "--map", map], names: "-o")
         try assertUsageError(["range"], names: "--input")
         try assertUsageError(["replay", "--map", map], names: "BUNDLE")
         try assertUsageError(["simulate", "--to", "room-103", "--seed", "1", "-o", "/tmp/never"], names: "--from")

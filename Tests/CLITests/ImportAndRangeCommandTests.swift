@@ -81,7 +81,8 @@ final class ImportAndRangeCommandTests: XCTestCase {
         XCTAssertEqual(lines.count - 1, dataRows * 3, "one line per observation and method: \(all)")
         all.assertStderr(contains: "apparent-height: median error")
 
-        // Apparent height is exact for any roll on this synthetic fixture (corners rounded to 1/1000 px).
+        // Apparent height is exact for any roll: lines 2-9 are exact projections printed to 0.001 px, later lines
+        // carry 1.5 px of corner noise (docs/range-estimation.md; same tolerances as RangeEstimatorCSVTests).
         let one = try CLI.run(["range", "--input", fixture, "--method", "apparent-height"])
         one.assertExit(0)
         let rows = one.stdoutLines.dropFirst().map { $0.split(separator: ",", omittingEmptySubsequences: false).map(String.init) }
@@ -91,7 +92,8 @@ final class ImportAndRangeCommandTests: XCTestCase {
             XCTAssertEqual(row.last, "ok", "\(row)")
             XCTAssertEqual(row[1], "apparent-height")
             let range = try XCTUnwrap(Double(row[2])), truth = try XCTUnwrap(Double(row[5]))
-            XCTAssertEqual(range, truth, accuracy: 0.05 * truth, "line \(row[0])")
+            let exact = (Int(row[0]) ?? 99) <= 9
+            XCTAssertEqual(range, truth, accuracy: (exact ? 2e-4 : 0.15) * truth, "line \(row[0])")
         }
     }
 
