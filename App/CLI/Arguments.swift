@@ -29,7 +29,7 @@ struct ArgumentList {
             items.remove(at: i)
             return v
         }
-        guard let i = items.firstIndex(of: "--\(name)") else { return nil }
+        guard let i = items.firstIndex(where: { $0 == "--\(name)" || (name.count == 1 && $0 == "-\(name)") }) else { return nil }
         guard i + 1 < items.count, !items[i + 1].hasPrefix("--") else { throw CLIError.usage("--\(name) needs a value") }
         let v = items[i + 1]
         items.removeSubrange(i...(i + 1))
