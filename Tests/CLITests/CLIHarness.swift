@@ -154,3 +154,13 @@ extension CLIResult {
         }
     }
 }
+
+/// A JSON number from `JSONSerialization` as a Double, whether it was written as an integer or not.
+func jsonNumber(_ value: Any?) -> Double? {
+    switch value {
+    case let d as Double: return d
+    case let i as Int: return Double(i)
+    case let n as NSNumber: return n.doubleValue
+    default: return nil
+    }
+}

@@ -52,7 +52,7 @@ final class InspectCommandTests: XCTestCase {
         XCTAssertEqual(object["observationCount"] as? Int, observationCount)
         XCTAssertEqual(object["hasTruth"] as? Bool, true)
         XCTAssertEqual((object["warnings"] as? [Any])?.count, 0)
-        let rate = try XCTUnwrap(object["frameRateHz"] as? Double)
+        let rate = try XCTUnwrap(jsonNumber(object["frameRateHz"]))
         XCTAssertGreaterThan(rate, 1)
     }
 

@@ -84,10 +84,10 @@ final class ReplayCommandTests: XCTestCase {
                 XCTFail("trace line \(i + 1) is not a JSON object: \(line)"); continue
             }
             XCTAssertEqual(Set(object.keys), documented, "trace line \(i + 1)")
-            let t = try XCTUnwrap(object["t"] as? Double, "line \(i + 1)")
+            let t = try XCTUnwrap(jsonNumber(object["t"]), "line \(i + 1)")
             XCTAssertGreaterThan(t, previousT, "trace time does not increase at line \(i + 1)")
             previousT = t
-            let confidence = try XCTUnwrap(object["confidence"] as? Double)
+            let confidence = try XCTUnwrap(jsonNumber(object["confidence"]))
             XCTAssertTrue((0...1).contains(confidence), "confidence \(confidence) at line \(i + 1)")
             XCTAssertNotNil(object["localized"] as? Bool)
             spoken += (object["announcements"] as? [Any])?.count ?? 0
