@@ -380,8 +380,8 @@ TEST(RangeArkitFacts, PortraitShotAtTwoMetersGivesTwoMeters) {
     wf_range_result sliced{};
     ASSERT_EQ(wf_range_apparent_height_slices(&sliced, &cam, &meas, 0.21, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
               WF_RANGE_OK);
-    EXPECT_NEAR(sliced.range_m, 2.0, 0.01);
-    EXPECT_NEAR(sliced.bearing_rad, deg(3), deg(0.2));
+    EXPECT_NEAR(sliced.range_m, 2.0, 0.001);
+    EXPECT_NEAR(sliced.bearing_rad, deg(3), deg(0.05));
     // The same shot with a 0.195 m face assumed (the reference app's constant) reads 7 % short.
     wf_range_result shortFace{};
     ASSERT_EQ(wf_range_apparent_height_slices(&shortFace, &cam, &meas, 0.195, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
