@@ -135,6 +135,13 @@ typedef struct wf_localizer_options {
     /* --- resampling and recovery --- */
     /** Resample (systematic, PR Table 4.4) when ESS < this fraction of N. Default 0.5. */
     double resample_ess_fraction;
+    /** Hypothesis-preserving resampling (the mixture particle filter of Vermaak, Doucet & Perez 2003, with
+     *  clusters as mixture components): resampling happens within each cluster holding >= 1 % of the
+     *  weight, the cluster keeps its total weight exactly, and this fraction of the particles is shared
+     *  equally among clusters (the rest in proportion to weight). A light hypothesis thus keeps enough
+     *  particles to be tracked as well as a heavy one, instead of fading by resampling noise ("rich get
+     *  richer") while it is still as likely. 0 = plain systematic resampling. Default 0.5. */
+    double hypothesis_particle_share;
     /** Nonzero: augmented MCL random-particle injection (PR Table 8.3). Default 1. */
     int32_t recovery;
     /** PR Table 8.3 alpha_slow, alpha_fast. Defaults 0.001 and 0.1. */
@@ -143,17 +150,20 @@ typedef struct wf_localizer_options {
     /** Cap on the fraction of particles injected at one resampling. Default 0.1. */
     double recovery_max_fraction;
 
-    /* --- motion model (VIO deltas) --- */
-    /** Std of position noise per meter walked (isotropic), m/m. Default 0.04. */
-    double position_noise_per_meter;
-    /** Std of position noise per radian turned, m/rad. Default 0.02. */
-    double position_noise_per_rad;
-    /** Std of yaw-offset random walk per meter walked, rad/m. Default 0.01. */
-    double yaw_noise_per_meter;
-    /** Std of yaw-offset random walk per radian of VIO turn, rad/rad. Default 0.03. */
-    double yaw_noise_per_rad;
-    /** Std of scale-factor random walk per meter walked, 1/m. Default 0.002. */
-    double scale_noise_per_meter;
+    /* --- motion model (VIO deltas) ---
+     * Noise is a random walk: its VARIANCE grows linearly with the distance walked and the angle turned
+     * (std = k * sqrt(distance) per frame), so the spread after a walk does not depend on the frame rate. */
+    /** Position std per sqrt(meter walked), m/sqrt(m) (isotropic). Default 0.15 (15 cm after 1 m, 47 cm after
+     *  10 m): wider than VIO drift alone, it keeps each hypothesis diverse enough to be weighed fairly. */
+    double position_noise_per_sqrt_meter;
+    /** Position std per sqrt(radian turned), m/sqrt(rad). Default 0.03. */
+    double position_noise_per_sqrt_rad;
+    /** Yaw-offset std per sqrt(meter walked), rad/sqrt(m) (VIO heading drift). Default 0.02. */
+    double yaw_noise_per_sqrt_meter;
+    /** Yaw-offset std per sqrt(radian of VIO turn), rad/sqrt(rad). Default 0.04. */
+    double yaw_noise_per_sqrt_rad;
+    /** Scale-factor std per sqrt(meter walked), 1/sqrt(m). Default 0.003. */
+    double scale_noise_per_sqrt_meter;
     /** Std of the initial scale factor around 1. Default 0.03. Scale is clamped to [scale_min, scale_max]. */
     double initial_scale_sigma;
     double scale_min;
@@ -185,6 +195,12 @@ typedef struct wf_localizer_options {
     double bearing_sigma_rad;
     /** Probability that a sighting is clutter / a false positive (PR z_rand). Default 0.1. */
     double clutter_probability;
+    /** Likelihood tempering (annealing, Deutscher et al. 2000; adaptive exponent as in SMC samplers): each
+     *  sign update multiplies the weights by L^beta with the largest beta <= 1 that keeps the effective
+     *  sample size >= this fraction of N (0 disables). It stops a sparse cloud from collapsing on the few
+     *  particles that happen to sit in a sharp likelihood peak, which would decide between mirror-image
+     *  hypotheses by chance. Default 0.2. */
+    double tempering_min_ess_fraction;
     /** Nonzero: plainly visible signs that were not detected lower the weight. Default 1. */
     int32_t negative_information;
     /** "Plainly visible": closer than this (m) and within this fraction of the half FOV. Defaults 5 m, 0.6. */
@@ -216,6 +232,15 @@ typedef struct wf_localizer_options {
      *  Defaults 0.5 and 2 m. */
     double unlocalize_weight;
     double unlocalize_std_m;
+    /** Ambiguity guard. A rival cluster holding >= rival_min_weight blocks localization unless the evidence
+     *  has refuted it: its recent sign log-likelihood (exponentially forgotten with time constant
+     *  evidence_time_constant_s) is at least rival_refute_nats below the dominant cluster's. In a
+     *  symmetric building the mirror hypothesis explains every sighting as well as the true one, so it is
+     *  never refuted, however its weight drifts (particle-filter Monte Carlo noise). A localized filter
+     *  drops the flag when an unrefuted rival reaches 0.2. Defaults 0.001, 4 nats, 5 s. */
+    double rival_min_weight;
+    double rival_refute_nats;
+    double evidence_time_constant_s;
 
     /* --- floors --- */
     /** Relative-altitude change from the last settled altitude that means a floor change, m. Default 2. */
@@ -233,11 +258,11 @@ typedef struct wf_localizer_options {
 /** Same defaults as wf_localizer_options_init(); a test checks they agree. */
 #define WF_LOCALIZER_OPTIONS_INIT { WF_LOCALIZER_OPTIONS_VERSION, \
     20000, 2000, 100000, 1, 0.05, 2.326, 0.5, 0.17453292519943295, \
-    0.5, 1, 0.001, 0.1, 0.1, \
-    0.04, 0.02, 0.01, 0.03, 0.002, 0.03, 0.8, 1.25, 3.0, 1.5, 0.7853981633974483, 0.5, 0.2, 0.7, 1e-3, \
-    0.8377580409572781, 12.0, 0.1, 0.12, 0.05235987755982988, 0.1, 1, 5.0, 0.6, 0.8, \
+    0.5, 0.5, 1, 0.001, 0.1, 0.1, \
+    0.15, 0.03, 0.02, 0.04, 0.003, 0.03, 0.8, 1.25, 3.0, 1.5, 0.7853981633974483, 0.5, 0.2, 0.7, 1e-3, \
+    0.8377580409572781, 12.0, 0.1, 0.12, 0.05235987755982988, 0.1, 0.2, 1, 5.0, 0.6, 0.8, \
     0.25, 1.0, 0.2, \
-    1.0, 0.7853981633974483, 0.05, 0.8, 1.0, 1.0, 0.5, 2.0, \
+    1.0, 0.7853981633974483, 0.05, 0.8, 1.0, 1.0, 0.5, 2.0, 0.001, 4.0, 5.0, \
     2.0, 0.3, 1.5, 3.0, 0.05 }
 
 /** One VIO sample (one ARKit frame). */

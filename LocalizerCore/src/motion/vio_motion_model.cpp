@@ -14,15 +14,16 @@ constexpr double kMaxWalkSpeedMps = 2.0;
 constexpr double kMaxTurnRateRadps = 3.0;
 // Cap on the position noise injected after tracking was unavailable for a long time, meters.
 constexpr double kMaxLostPositionSigmaM = 5.0;
+inline float sq(float v) { return v * v; }
 }  // namespace
 
 MotionNoise MotionNoise::from_options(const wf_localizer_options &o) {
     MotionNoise n;
-    n.position_per_meter = static_cast<float>(o.position_noise_per_meter);
-    n.position_per_rad = static_cast<float>(o.position_noise_per_rad);
-    n.yaw_per_meter = static_cast<float>(o.yaw_noise_per_meter);
-    n.yaw_per_rad = static_cast<float>(o.yaw_noise_per_rad);
-    n.scale_per_meter = static_cast<float>(o.scale_noise_per_meter);
+    n.position_per_sqrt_meter = static_cast<float>(o.position_noise_per_sqrt_meter);
+    n.position_per_sqrt_rad = static_cast<float>(o.position_noise_per_sqrt_rad);
+    n.yaw_per_sqrt_meter = static_cast<float>(o.yaw_noise_per_sqrt_meter);
+    n.yaw_per_sqrt_rad = static_cast<float>(o.yaw_noise_per_sqrt_rad);
+    n.scale_per_sqrt_meter = static_cast<float>(o.scale_noise_per_sqrt_meter);
     n.scale_min = static_cast<float>(o.scale_min);
     n.scale_max = static_cast<float>(o.scale_max);
     n.wall_crossing_weight = static_cast<float>(o.wall_crossing_weight);
@@ -121,9 +122,11 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
     const float dist = std::sqrt(de * de + dn * dn);
     const float turn = std::fabs(delta.d_yaw);
     const float k = delta.noise_factor;
-    const float sigma_pos = k * (noise.position_per_meter * dist + noise.position_per_rad * turn);
-    const float sigma_yaw = k * (noise.yaw_per_meter * dist + noise.yaw_per_rad * turn);
-    const float sigma_scale = k * noise.scale_per_meter * dist;
+    // Random-walk noise: variances add over frames, std = k * sqrt(distance or turn) per frame.
+    const float sd = std::sqrt(dist), st = std::sqrt(turn);
+    const float sigma_pos = k * std::sqrt(sq(noise.position_per_sqrt_meter * sd) + sq(noise.position_per_sqrt_rad * st));
+    const float sigma_yaw = k * std::sqrt(sq(noise.yaw_per_sqrt_meter * sd) + sq(noise.yaw_per_sqrt_rad * st));
+    const float sigma_scale = k * noise.scale_per_sqrt_meter * sd;
     const float smin = noise.scale_min, smax = noise.scale_max;
     float wsum = 0;  // float partial sums in blocks keep the loop cheap; flushed to double
     for (size_t i = 0; i < n; ++i) {

@@ -6,7 +6,8 @@
 //    unavailable), which is skipped while the particles' uncertainty is inflated instead.
 //  - apply_motion moves every particle: the VIO displacement is rotated by the particle's yaw offset and
 //    scaled by its scale factor; noise grows with distance walked and angle turned (the odometry model of
-//    Probabilistic Robotics Table 5.6 / section 5.4 in spirit: error proportional to motion, not to time),
+//    Probabilistic Robotics section 5.4 in spirit: error driven by motion, not by time), as a random walk
+//    whose variance is proportional to distance and turn so the result is independent of the frame rate,
 //    and a move that crosses a wall multiplies the particle's weight by `wall_crossing_weight`.
 #pragma once
 
@@ -21,14 +22,14 @@ namespace wf::loc {
 
 /// Noise parameters of the motion model (wf_localizer_options fields of the same names).
 struct MotionNoise {
-    /// Isotropic position std per meter walked (m/m) and per radian turned (m/rad).
-    float position_per_meter = 0.04f;
-    float position_per_rad = 0.02f;
-    /// Yaw-offset random walk std per meter walked (rad/m) and per radian turned (rad/rad).
-    float yaw_per_meter = 0.01f;
-    float yaw_per_rad = 0.03f;
-    /// Scale random walk std per meter walked (1/m).
-    float scale_per_meter = 0.002f;
+    /// Isotropic position std per sqrt(meter walked) (m/sqrt(m)) and per sqrt(radian turned) (m/sqrt(rad)).
+    float position_per_sqrt_meter = 0.15f;
+    float position_per_sqrt_rad = 0.03f;
+    /// Yaw-offset random-walk std per sqrt(meter walked) (rad/sqrt(m)) and per sqrt(radian turned).
+    float yaw_per_sqrt_meter = 0.02f;
+    float yaw_per_sqrt_rad = 0.04f;
+    /// Scale random-walk std per sqrt(meter walked) (1/sqrt(m)).
+    float scale_per_sqrt_meter = 0.003f;
     float scale_min = 0.8f, scale_max = 1.25f;
     /// Weight factor of a particle whose move crosses a wall.
     float wall_crossing_weight = 1e-3f;

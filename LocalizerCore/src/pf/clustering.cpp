@@ -18,6 +18,7 @@ int32_t ParticleClusterer::find(int32_t a) {
 const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
                                                           const ClusterParams &params) {
     clusters_.clear();
+    particle_cluster_.clear();
     const size_t n = p.size();
     if (n == 0) return clusters_;
     const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::lround(2.0 * kPiD / params.yaw_bin_rad)));
@@ -65,7 +66,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     }
     cluster_of_cell_.assign(cells, -1);
     struct Acc {
-        double w = 0, wx = 0, wy = 0, hc = 0, hs = 0, oc = 0, os = 0, sc = 0;
+        double w = 0, wx = 0, wy = 0, hc = 0, hs = 0, oc = 0, os = 0, sc = 0, ev = 0;
         int16_t floor = 0;
         size_t count = 0;
     };
@@ -79,6 +80,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         }
         cluster_of_cell_[c] = cluster_of_cell_[r];
     }
+    const bool has_evidence = p.evidence.size() == n;
     for (size_t i = 0; i < n; ++i) {
         const int32_t cl = cluster_of_cell_[cell_of_[i]];
         if (cl < 0) continue;
@@ -93,6 +95,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         a.oc += w * std::cos(static_cast<double>(p.yaw_offset[i]));
         a.os += w * std::sin(static_cast<double>(p.yaw_offset[i]));
         a.sc += w * p.scale[i];
+        if (has_evidence) a.ev += w * p.evidence[i];
         a.floor = p.floor[i];
         ++a.count;
     }
@@ -111,6 +114,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             s.heading_std = rlen > 1e-12 ? std::sqrt(std::max(0.0, -2.0 * std::log(rlen))) : kPiD;
             s.yaw_offset = std::atan2(a.os, a.oc);
             s.scale = a.sc / a.w;
+            s.evidence = a.ev / a.w;
         } else {
             // Weightless cluster (all weights zero): plain means.
             s.heading_std = kPiD;
@@ -127,8 +131,23 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         s.cov_xy += w * dx * dy;
         s.cov_yy += w * dy * dy;
     }
-    std::sort(clusters_.begin(), clusters_.end(),
-              [](const ClusterSummary &a, const ClusterSummary &b) { return a.weight > b.weight; });
+    // Sort heaviest first and remap the per-particle cluster ids to the sorted order.
+    std::vector<int32_t> order(clusters_.size());
+    for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int32_t>(k);
+    std::stable_sort(order.begin(), order.end(),
+                     [&](int32_t a, int32_t b) { return clusters_[a].weight > clusters_[b].weight; });
+    std::vector<int32_t> rank(order.size());
+    std::vector<ClusterSummary> sorted(order.size());
+    for (size_t k = 0; k < order.size(); ++k) {
+        rank[order[k]] = static_cast<int32_t>(k);
+        sorted[k] = clusters_[order[k]];
+    }
+    clusters_.swap(sorted);
+    particle_cluster_.resize(n);
+    for (size_t i = 0; i < n; ++i) {
+        const int32_t cl = cluster_of_cell_[cell_of_[i]];
+        particle_cluster_[i] = cl < 0 ? -1 : rank[cl];
+    }
     return clusters_;
 }
 

@@ -24,6 +24,8 @@ struct ClusterSummary {
     /// Circular mean of the yaw offset, radians; weighted mean scale.
     double yaw_offset = 0, scale = 1;
     size_t particle_count = 0;
+    /// Weighted mean of the particles' recent evidence (nats, relative; 0 when the set carries none).
+    double evidence = 0;
 };
 
 struct ClusterParams {
@@ -40,6 +42,9 @@ public:
     /// heaviest first; empty only for an empty set.
     const std::vector<ClusterSummary> &run(const ParticleSet &p, float vio_yaw, const ClusterParams &params);
 
+    /// For each particle of the last run: index into the sorted clusters, or -1 (bin too light to join).
+    const std::vector<int32_t> &particle_clusters() const { return particle_cluster_; }
+
 private:
     int32_t find(int32_t a);
     BinCounter bins_;
@@ -49,6 +54,7 @@ private:
     std::vector<int32_t> parent_;
     std::vector<int32_t> cluster_of_cell_;
     std::vector<ClusterSummary> clusters_;
+    std::vector<int32_t> particle_cluster_;
 };
 
 }  // namespace wf::loc

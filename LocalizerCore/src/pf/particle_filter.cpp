@@ -35,14 +35,15 @@ int validate_options(const wf_localizer_options &o, std::string &error) {
         {"kld_bin_m", o.kld_bin_m, 1e-3, 100},
         {"kld_bin_yaw_rad", o.kld_bin_yaw_rad, 1e-3, 2 * kPiD},
         {"resample_ess_fraction", o.resample_ess_fraction, 0, 1},
+        {"hypothesis_particle_share", o.hypothesis_particle_share, 0, 1},
         {"recovery_alpha_slow", o.recovery_alpha_slow, 0, 1},
         {"recovery_alpha_fast", o.recovery_alpha_fast, 0, 1},
         {"recovery_max_fraction", o.recovery_max_fraction, 0, 1},
-        {"position_noise_per_meter", o.position_noise_per_meter, 0, 10},
-        {"position_noise_per_rad", o.position_noise_per_rad, 0, 10},
-        {"yaw_noise_per_meter", o.yaw_noise_per_meter, 0, 10},
-        {"yaw_noise_per_rad", o.yaw_noise_per_rad, 0, 10},
-        {"scale_noise_per_meter", o.scale_noise_per_meter, 0, 10},
+        {"position_noise_per_sqrt_meter", o.position_noise_per_sqrt_meter, 0, 10},
+        {"position_noise_per_sqrt_rad", o.position_noise_per_sqrt_rad, 0, 10},
+        {"yaw_noise_per_sqrt_meter", o.yaw_noise_per_sqrt_meter, 0, 10},
+        {"yaw_noise_per_sqrt_rad", o.yaw_noise_per_sqrt_rad, 0, 10},
+        {"scale_noise_per_sqrt_meter", o.scale_noise_per_sqrt_meter, 0, 10},
         {"initial_scale_sigma", o.initial_scale_sigma, 0, 1},
         {"scale_min", o.scale_min, 1e-3, 1},
         {"scale_max", o.scale_max, 1, 100},
@@ -59,6 +60,7 @@ int validate_options(const wf_localizer_options &o, std::string &error) {
         {"range_sigma_per_meter", o.range_sigma_per_meter, 0, 10},
         {"bearing_sigma_rad", o.bearing_sigma_rad, 1e-4, kPiD},
         {"clutter_probability", o.clutter_probability, 1e-6, 1},
+        {"tempering_min_ess_fraction", o.tempering_min_ess_fraction, 0, 1},
         {"negative_info_max_range_m", o.negative_info_max_range_m, 0, 1000},
         {"negative_info_fov_fraction", o.negative_info_fov_fraction, 0, 1},
         {"negative_info_miss_weight", o.negative_info_miss_weight, 1e-6, 1},
@@ -73,6 +75,9 @@ int validate_options(const wf_localizer_options &o, std::string &error) {
         {"localize_hold_s", o.localize_hold_s, 0, big},
         {"unlocalize_weight", o.unlocalize_weight, 0, 1},
         {"unlocalize_std_m", o.unlocalize_std_m, 0, big},
+        {"rival_min_weight", o.rival_min_weight, 0, 1},
+        {"rival_refute_nats", o.rival_refute_nats, 0, 1e6},
+        {"evidence_time_constant_s", o.evidence_time_constant_s, 1e-3, 1e6},
         {"storey_threshold_m", o.storey_threshold_m, 0.1, 1000},
         {"altitude_settle_tolerance_m", o.altitude_settle_tolerance_m, 0, 1000},
         {"altitude_settle_s", o.altitude_settle_s, 0, big},
@@ -131,9 +136,43 @@ float ParticleFilter::sample_yaw_offset() {
     return static_cast<float>(rng_.uniform(-kPiD, kPiD));
 }
 
+bool ParticleFilter::sample_from_sighting(int16_t floor, float &x, float &y, float &yaw_offset) {
+    if (last_sightings_.empty()) return false;
+    const FloorData &f = map_.floors[floor];
+    const PreparedSighting &z = last_sightings_[rng_.below(static_cast<uint32_t>(last_sightings_.size()))];
+    // A random sign of the sighted kind on this floor (reservoir choice).
+    int32_t chosen = -1;
+    uint32_t seen = 0;
+    for (size_t j = 0; j < f.signs.size(); ++j) {
+        if (f.signs.kind[j] != z.kind) continue;
+        if (rng_.below(++seen) == 0) chosen = static_cast<int32_t>(j);
+    }
+    if (chosen < 0) return false;
+    const double sx = f.signs.x[chosen], sy = f.signs.y[chosen];
+    const double facing = std::atan2(f.signs.facing_y[chosen], f.signs.facing_x[chosen]);
+    for (int attempt = 0; attempt < 8; ++attempt) {
+        // Direction sign -> camera: in front of the face (within 80 deg of its normal) unless double-sided.
+        const double phi = f.signs.double_sided[chosen] ? rng_.uniform(-kPiD, kPiD)
+                                                        : facing + rng_.uniform(-1.396, 1.396);
+        const double r = z.range_m * (1.0 + 0.1 * rng_.normal());
+        const float cx = static_cast<float>(sx + r * std::cos(phi)), cy = static_cast<float>(sy + r * std::sin(phi));
+        if (!f.is_walkable(cx, cy)) continue;
+        const uint64_t *vis = f.visibility_at(cx, cy);
+        if (!vis || !((vis[chosen / 64] >> (chosen % 64)) & 1u)) continue;
+        // The camera looks at the sign, turned by the sighting's bearing: heading = (phi + pi) - bearing.
+        const double heading = phi + kPiD - z.bearing_rad + opts_.bearing_sigma_rad * rng_.normal();
+        x = cx;
+        y = cy;
+        yaw_offset = static_cast<float>(wrap_angle(heading - vio_yaw_));
+        return true;
+    }
+    return false;
+}
+
 void ParticleFilter::reset_filter_state() {
     initialized_ = true;
     w_slow_ = w_fast_ = 0;
+    has_evidence_t_ = false;
     localized_ = false;
     has_candidate_ = false;
     estimate_dirty_ = true;
@@ -163,6 +202,7 @@ int ParticleFilter::init_floor_only(int32_t floor) {
                                  motion_.scale_min, motion_.scale_max);
         p_.floor[i] = f16;
         p_.weight[i] = w;
+        p_.evidence[i] = 0;
     }
     init_floor_ = f16;
     reset_filter_state();
@@ -214,6 +254,7 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
                                  motion_.scale_min, motion_.scale_max);
         p_.floor[i] = f16;
         p_.weight[i] = w;
+        p_.evidence[i] = 0;
     }
     init_floor_ = f16;
     reset_filter_state();
@@ -295,13 +336,28 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         log_likelihood_.resize(n);
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
                                                  log_likelihood_.data());
-        // w_i <- w_i * L_i / sum_j w_j L_j, in the log domain relative to the best particle (no underflow).
-        double s = 0;
+        if (!z.empty()) {
+            // Recent evidence per particle: exponentially forgotten sum of (ll - max ll) over sign frames.
+            const double dt = has_evidence_t_ ? std::max(0.0, t - evidence_t_) : 0.0;
+            const float decay = static_cast<float>(std::exp(-dt / opts_.evidence_time_constant_s));
+            float *ev = p_.evidence.data();
+            const float *llp = log_likelihood_.data();
+            for (size_t i = 0; i < n; ++i) ev[i] = decay * ev[i] + std::max(llp[i] - max_ll, -50.0f);
+            evidence_t_ = t;
+            has_evidence_t_ = true;
+        }
+        const double beta = tempering_exponent(max_ll);
+        last_beta_ = beta;
+        // w_i <- w_i * L_i^beta / sum_j w_j L_j^beta, in the log domain relative to the best particle (no
+        // underflow). s_full = sum w_i L_i / L_max (untempered) feeds the recovery averages.
+        double s = 0, s_full = 0;
         float *w = p_.weight.data();
         const float *ll = log_likelihood_.data();
+        const float fb = static_cast<float>(beta);
         for (size_t i = 0; i < n; ++i) {
-            const float f = std::exp(ll[i] - max_ll);
-            w[i] *= f;
+            const float d = ll[i] - max_ll;
+            s_full += w[i] * std::exp(d);
+            w[i] *= std::exp(fb * d);
             s += w[i];
         }
         if (s > 0 && std::isfinite(s) && std::isfinite(max_ll)) {
@@ -309,7 +365,8 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
             if (!z.empty() && opts_.recovery) {
                 // PR Table 8.3 lines 8-10: w_avg = sum w_i L_i (prior weights normalised) = exp(max) * s,
                 // taken per sighting (geometric mean) so frames with 1 or 3 sightings are comparable.
-                const double log_avg = (static_cast<double>(max_ll) + std::log(s)) / static_cast<double>(z.size());
+                const double log_avg = (static_cast<double>(max_ll) + std::log(std::max(s_full, 1e-300))) /
+                                       static_cast<double>(z.size());
                 const double w_avg = std::exp(std::clamp(log_avg, -700.0, 700.0));
                 if (w_slow_ == 0 && w_fast_ == 0) {
                     w_slow_ = w_fast_ = w_avg;  // start both at the first value (no spurious injection)
@@ -318,7 +375,9 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
                     w_fast_ += opts_.recovery_alpha_fast * (w_avg - w_fast_);
                 }
             }
+            last_sightings_ = z;
             maybe_resample(!z.empty());
+            last_sightings_.clear();
         } else {
             normalize(0);
         }
@@ -330,6 +389,36 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
                     std::to_string(bad) + " sighting(s) with a non-finite or negative value were ignored");
     }
     return WF_LOC_OK;
+}
+
+double ParticleFilter::tempering_exponent(float max_ll) {
+    const double target = opts_.tempering_min_ess_fraction;
+    const size_t n = p_.size();
+    if (target <= 0 || n == 0) return 1.0;
+    // ESS fraction of w * L^beta, estimated on an even subsample of at most 8192 particles (the exponent
+    // only needs to be roughly right, and this keeps the bisection cheap for 100k particles).
+    const size_t stride = std::max<size_t>(1, n / 8192);
+    const float *w = p_.weight.data();
+    const float *ll = log_likelihood_.data();
+    auto ess_fraction = [&](double beta) {
+        double s = 0, s2 = 0;
+        size_t m = 0;
+        for (size_t i = 0; i < n; i += stride, ++m) {
+            const double v = w[i] * std::exp(beta * (ll[i] - max_ll));
+            s += v;
+            s2 += v * v;
+        }
+        return s2 > 0 ? (s * s / s2) / static_cast<double>(m) : 1.0;
+    };
+    // Compare with the ESS before the update (the prior weights may already be uneven).
+    const double goal = std::min(target, ess_fraction(0.0));
+    if (ess_fraction(1.0) >= goal) return 1.0;
+    double lo = 0.0, hi = 1.0;
+    for (int it = 0; it < 12; ++it) {
+        const double mid = 0.5 * (lo + hi);
+        (ess_fraction(mid) >= goal ? lo : hi) = mid;
+    }
+    return std::max(lo, 1e-3);
 }
 
 void ParticleFilter::maybe_resample(bool after_measurement) {
@@ -360,26 +449,95 @@ void ParticleFilter::resample(double inject_fraction) {
     size_t n_inject = static_cast<size_t>(std::lround(inject_fraction * static_cast<double>(target)));
     if (map_.floors[inject_floor].walkable_cells.empty()) n_inject = 0;
     const size_t n_keep = target - n_inject;
-    systematic_resample(p_.weight.data(), n, n_keep, rng_.uniform(), indices_);
+    const double kept_mass = n_inject > 0 ? 1.0 - static_cast<double>(n_inject) / static_cast<double>(target) : 1.0;
     scratch_.resize(target);
-    for (size_t k = 0; k < n_keep; ++k) {
-        const uint32_t i = indices_[k];
-        scratch_.x[k] = p_.x[i];
-        scratch_.y[k] = p_.y[i];
-        scratch_.yaw_offset[k] = p_.yaw_offset[i];
-        scratch_.scale[k] = p_.scale[i];
-        scratch_.floor[k] = p_.floor[i];
+    size_t out = 0;
+    auto copy_particle = [&](uint32_t i, float w) {
+        scratch_.x[out] = p_.x[i];
+        scratch_.y[out] = p_.y[i];
+        scratch_.yaw_offset[out] = p_.yaw_offset[i];
+        scratch_.scale[out] = p_.scale[i];
+        scratch_.floor[out] = p_.floor[i];
+        scratch_.evidence[out] = p_.evidence[i];
+        scratch_.weight[out] = w;
+        ++out;
+    };
+    const double share = opts_.hypothesis_particle_share;
+    bool grouped = false;
+    if (share > 0) {
+        // Groups = clusters holding >= 1 % of the weight, plus one group for every other particle.
+        ClusterParams cp;
+        cp.cell_m = static_cast<float>(opts_.cluster_cell_m);
+        cp.yaw_bin_rad = static_cast<float>(opts_.cluster_yaw_bin_rad);
+        const std::vector<ClusterSummary> &clusters = clusterer_.run(p_, static_cast<float>(vio_yaw_), cp);
+        const std::vector<int32_t> &cluster_of = clusterer_.particle_clusters();
+        int32_t significant = 0;
+        while (significant < static_cast<int32_t>(clusters.size()) && clusters[significant].weight >= 0.01) ++significant;
+        if (significant >= 2 || (significant == 1 && clusters[0].weight < 0.99)) {
+            grouped = true;
+            const int32_t groups = significant + 1;  // last group: the rest
+            group_members_.assign(groups, {});
+            std::vector<double> mass(groups, 0.0);
+            for (size_t i = 0; i < n; ++i) {
+                const int32_t c = cluster_of[i];
+                const int32_t g = (c >= 0 && c < significant) ? c : significant;
+                group_members_[g].push_back(static_cast<uint32_t>(i));
+                mass[g] += p_.weight[i];
+            }
+            double total = 0;
+            int32_t nonempty = 0;
+            for (int32_t g = 0; g < groups; ++g) {
+                total += mass[g];
+                nonempty += mass[g] > 0 ? 1 : 0;
+            }
+            for (int32_t g = 0; g < groups; ++g) {
+                if (!(mass[g] > 0) || !(total > 0)) continue;
+                const double wg = mass[g] / total;
+                if (out >= n_keep) break;
+                const size_t remaining = n_keep - out;
+                size_t ng = static_cast<size_t>(std::lround(static_cast<double>(n_keep) *
+                                                            ((1.0 - share) * wg + share / nonempty)));
+                ng = std::clamp<size_t>(ng, 1, std::max<size_t>(1, remaining));
+                if (g == groups - 1 || out + ng > n_keep) ng = std::max<size_t>(1, remaining);
+                group_weights_.resize(group_members_[g].size());
+                for (size_t k = 0; k < group_members_[g].size(); ++k) group_weights_[k] = p_.weight[group_members_[g][k]];
+                systematic_resample(group_weights_.data(), group_weights_.size(), ng, rng_.uniform(), indices_);
+                const float w = static_cast<float>(kept_mass * wg / static_cast<double>(ng));
+                for (uint32_t k : indices_) copy_particle(group_members_[g][k], w);
+                if (out >= n_keep) break;
+            }
+        }
     }
-    for (size_t k = n_keep; k < target; ++k) {
-        // Augmented MCL: a random particle from the walkable space ("kidnapped traveler" recovery).
-        sample_walkable(inject_floor, scratch_.x[k], scratch_.y[k]);
-        scratch_.yaw_offset[k] = sample_yaw_offset();
+    if (!grouped) {
+        systematic_resample(p_.weight.data(), n, n_keep, rng_.uniform(), indices_);
+        const float w = static_cast<float>(kept_mass / static_cast<double>(std::max<size_t>(1, n_keep)));
+        for (uint32_t i : indices_) copy_particle(i, w);
+    }
+    const size_t kept = out;
+    const size_t total_out = kept + n_inject;
+    scratch_.resize(total_out);
+    const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
+    // Injected particles start with the worst evidence present: a fresh guess is not a proven hypothesis.
+    float worst_evidence = 0;
+    for (float e : p_.evidence) worst_evidence = std::min(worst_evidence, e);
+    for (size_t k = kept; k < total_out; ++k) {
+        // Augmented MCL: a random particle ("kidnapped traveler" recovery). Every other one is drawn from
+        // the current sightings when there are some (sensor resetting, Lenser & Veloso 2000), the rest
+        // uniformly over the walkable space.
+        if (!(k % 2 == 0 && sample_from_sighting(inject_floor, scratch_.x[k], scratch_.y[k], scratch_.yaw_offset[k]))) {
+            sample_walkable(inject_floor, scratch_.x[k], scratch_.y[k]);
+            scratch_.yaw_offset[k] = sample_yaw_offset();
+        }
         scratch_.scale[k] = std::clamp(1.0f + static_cast<float>(opts_.initial_scale_sigma) * rng_.normal(),
                                        motion_.scale_min, motion_.scale_max);
         scratch_.floor[k] = inject_floor;
+        scratch_.weight[k] = inject_w;
+        scratch_.evidence[k] = worst_evidence;
     }
-    std::fill(scratch_.weight.begin(), scratch_.weight.end(), 1.0f / static_cast<float>(target));
     p_.swap(scratch_);
+    double sum = 0;
+    for (float w : p_.weight) sum += w;
+    normalize(sum);
     ++resample_count_;
     injected_count_ += n_inject;
     estimate_dirty_ = true;
@@ -484,14 +642,23 @@ void ParticleFilter::compute_estimate() {
     e.position_std_m = std_m;
     e.confidence = e.dominant_weight / (1.0 + std_m * std_m);
     e.hypothesis_count = hyps;
-    // Localized flag with hysteresis: on after the dominant cluster stays heavy and tight for
-    // localize_hold_s; off as soon as it gets light or wide. Two mirrored clusters (~0.5 each) keep it off.
+    // Ambiguity: the heaviest rival that the recent evidence has not refuted.
+    double unrefuted_rival = 0;
+    for (size_t k = 1; k < clusters.size(); ++k) {
+        const ClusterSummary &r = clusters[k];
+        if (r.weight < opts_.rival_min_weight) break;  // sorted by weight
+        if (d.evidence - r.evidence < opts_.rival_refute_nats) unrefuted_rival = std::max(unrefuted_rival, r.weight);
+    }
+    const bool ambiguous = unrefuted_rival > 0;
+    // Localized flag with hysteresis: on after the dominant cluster stays heavy and tight, with every rival
+    // refuted, for localize_hold_s; off as soon as it gets light or wide or an unrefuted rival grows.
+    // Two mirrored clusters keep it off whatever their weights.
     if (localized_) {
-        if (e.dominant_weight < opts_.unlocalize_weight || std_m > opts_.unlocalize_std_m) {
+        if (e.dominant_weight < opts_.unlocalize_weight || std_m > opts_.unlocalize_std_m || unrefuted_rival >= 0.2) {
             localized_ = false;
             has_candidate_ = false;
         }
-    } else if (e.dominant_weight > opts_.localize_weight && std_m < opts_.localize_std_m) {
+    } else if (e.dominant_weight > opts_.localize_weight && std_m < opts_.localize_std_m && !ambiguous) {
         if (!has_candidate_) {
             has_candidate_ = true;
             candidate_since_t_ = t_last_;

@@ -51,16 +51,20 @@ public:
     /// Number of resamplings so far and particles injected by recovery in total (diagnostics, tests).
     size_t resample_count() const { return resample_count_; }
     size_t injected_count() const { return injected_count_; }
+    /// Likelihood exponent used by the last sign update (1 = no tempering).
+    double last_tempering_exponent() const { return last_beta_; }
 
 private:
     int fail(int status, std::string message);
     bool sample_walkable(int16_t floor, float &x, float &y);
     float sample_yaw_offset();
+    bool sample_from_sighting(int16_t floor, float &x, float &y, float &yaw_offset);
     void reset_filter_state();
     void normalize(double sum);
     void maybe_resample(bool after_measurement);
     void resample(double inject_fraction);
     void apply_compass_reweight();
+    double tempering_exponent(float max_ll);
     void apply_floor_change(double delta_m);
     void compute_estimate();
 
@@ -72,7 +76,10 @@ private:
     VioDeltaTracker tracker_;
     ParticleSet p_, scratch_;
     std::vector<float> log_likelihood_;
+    std::vector<PreparedSighting> last_sightings_;  // sightings of the update being resampled
     std::vector<uint32_t> indices_;
+    std::vector<std::vector<uint32_t>> group_members_;
+    std::vector<float> group_weights_;
     BinCounter kld_bins_;
     ParticleClusterer clusterer_;
     std::string error_;
@@ -87,6 +94,9 @@ private:
     double compass_heading_ = 0, compass_sigma_ = 0;
 
     double w_slow_ = 0, w_fast_ = 0;
+    double last_beta_ = 1;
+    double evidence_t_ = 0;
+    bool has_evidence_t_ = false;
     size_t resample_count_ = 0, injected_count_ = 0;
 
     bool has_altitude_ = false;

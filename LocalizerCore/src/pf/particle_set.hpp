@@ -5,7 +5,9 @@
 //   yaw_offset[i]    map yaw minus VIO yaw, radians (heading in map = VIO yaw + yaw_offset);
 //   scale[i]         VIO scale factor (map meters per VIO meter);
 //   floor[i]         floor index;
-//   weight[i]        importance weight (normalised to sum 1 after every update).
+//   weight[i]        importance weight (normalised to sum 1 after every update);
+//   evidence[i]      recent sign log-likelihood of the particle's history, exponentially forgotten (nats,
+//                    relative): used to tell a refuted hypothesis from one that is merely lighter.
 #pragma once
 
 #include <cstddef>
@@ -15,19 +17,21 @@
 namespace wf::loc {
 
 struct ParticleSet {
-    std::vector<float> x, y, yaw_offset, scale, weight;
+    std::vector<float> x, y, yaw_offset, scale, weight, evidence;
     std::vector<int16_t> floor;
 
     size_t size() const { return x.size(); }
     void resize(size_t n) {
-        x.resize(n); y.resize(n); yaw_offset.resize(n); scale.resize(n); weight.resize(n); floor.resize(n);
+        x.resize(n); y.resize(n); yaw_offset.resize(n); scale.resize(n); weight.resize(n); evidence.resize(n);
+        floor.resize(n);
     }
     void swap(ParticleSet &o) {
         x.swap(o.x); y.swap(o.y); yaw_offset.swap(o.yaw_offset); scale.swap(o.scale); weight.swap(o.weight);
+        evidence.swap(o.evidence);
         floor.swap(o.floor);
     }
     /// Bytes of state per particle (one copy).
-    static constexpr size_t kBytesPerParticle = 5 * sizeof(float) + sizeof(int16_t);
+    static constexpr size_t kBytesPerParticle = 6 * sizeof(float) + sizeof(int16_t);
 };
 
 }  // namespace wf::loc

@@ -22,7 +22,7 @@ ParticleSet make_particles(size_t n, float x, float y, float off, float scale) {
 
 MotionNoise zero_noise() {
     MotionNoise m;
-    m.position_per_meter = m.position_per_rad = m.yaw_per_meter = m.yaw_per_rad = m.scale_per_meter = 0;
+    m.position_per_sqrt_meter = m.position_per_sqrt_rad = m.yaw_per_sqrt_meter = m.yaw_per_sqrt_rad = m.scale_per_sqrt_meter = 0;
     return m;
 }
 
@@ -100,7 +100,7 @@ TEST(VioMotionModel, JumpKeepsMapHeadingAndSkipsDisplacement) {
     EXPECT_FLOAT_EQ(p.y[0], 1);
 }
 
-// Statistics of the noise: 20k particles moved 1 m east with heading noise off, position noise 0.04 m/m:
+// Statistics of the noise: 20k particles moved 1 m east with heading noise off, position noise 0.04 m/sqrt(m):
 // mean displacement 1 m (standard error 0.0003 m), spread 0.04 m (+-5 %).
 TEST(VioMotionModel, NoiseMeanAndSpread) {
     wf::test::World world;
@@ -109,7 +109,7 @@ TEST(VioMotionModel, NoiseMeanAndSpread) {
     const auto map = wf::test::build_map(world, wf::test::default_options());
     const size_t n = 20000;
     MotionNoise m = zero_noise();
-    m.position_per_meter = 0.04f;
+    m.position_per_sqrt_meter = 0.04f;
     ParticleSet p = make_particles(n, 0, 0, 0, 1);
     Rng rng(99);
     apply_motion(p, move(1, 0), m, map, rng);
@@ -123,10 +123,10 @@ TEST(VioMotionModel, NoiseMeanAndSpread) {
     EXPECT_NEAR(std::sqrt(sxx / n - mx * mx), 0.04, 0.002);
     EXPECT_NEAR(std::sqrt(syy / n - my * my), 0.04, 0.002);
 
-    // Yaw-offset noise alone: a 1 m move with 0.1 rad/m spreads the offset by 0.1 rad (+-5 %) and the
+    // Yaw-offset noise alone: a 1 m move with 0.1 rad/sqrt(m) spreads the offset by 0.1 rad (+-5 %) and the
     // endpoint laterally by about sin(0.1) ~ 0.1 m.
     MotionNoise y = zero_noise();
-    y.yaw_per_meter = 0.1f;
+    y.yaw_per_sqrt_meter = 0.1f;
     ParticleSet q = make_particles(n, 0, 0, 0, 1);
     apply_motion(q, move(1, 0), y, map, rng);
     double so = 0, soo = 0;
@@ -145,17 +145,32 @@ TEST(VioMotionModel, NoiseMeanAndSpread) {
 }
 
 // Noise grows with the turn even without translation (turning in place blurs the yaw offset).
+// Random walk: 100 steps of 1 cm spread as much as one step of 1 m (frame-rate independence).
+TEST(VioMotionModel, SpreadIndependentOfStepCount) {
+    wf::test::World world;
+    world.floors.emplace_back();
+    const auto map = wf::test::build_map(world, wf::test::default_options());
+    MotionNoise m = zero_noise();
+    m.position_per_sqrt_meter = 0.05f;
+    ParticleSet p = make_particles(20000, 0, 0, 0, 1);
+    Rng rng(21);
+    for (int k = 0; k < 100; ++k) apply_motion(p, move(0.01f, 0), m, map, rng);
+    double syy = 0;
+    for (size_t i = 0; i < p.size(); ++i) syy += p.y[i] * p.y[i];
+    EXPECT_NEAR(std::sqrt(syy / p.size()), 0.05, 0.0025);
+}
+
 TEST(VioMotionModel, TurnInPlaceAddsYawNoiseOnly) {
     wf::test::World world;
     world.floors.emplace_back();
     const auto map = wf::test::build_map(world, wf::test::default_options());
     MotionNoise m = zero_noise();
-    m.yaw_per_rad = 0.05f;
+    m.yaw_per_sqrt_rad = 0.05f;
     ParticleSet p = make_particles(20000, 0, 0, 0, 1);
     Rng rng(5);
-    apply_motion(p, move(0, 0, 2.0f), m, map, rng);  // turn 2 rad
+    apply_motion(p, move(0, 0, 2.0f), m, map, rng);  // turn 2 rad: std 0.05 * sqrt(2)
     double soo = 0;
     for (size_t i = 0; i < p.size(); ++i) soo += p.yaw_offset[i] * p.yaw_offset[i];
-    EXPECT_NEAR(std::sqrt(soo / p.size()), 0.1, 0.005);
+    EXPECT_NEAR(std::sqrt(soo / p.size()), 0.0707, 0.0035);
     EXPECT_FLOAT_EQ(p.x[0], 0);
 }

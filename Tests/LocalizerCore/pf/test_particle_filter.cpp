@@ -1,0 +1,394 @@
+// Tests for pf/particle_filter.hpp on synthetic buildings with generated walks (fixed seeds): convergence
+// and tracking, symmetric ambiguity kept unlocalized, kidnapped recovery, VIO jumps, floor changes, compass
+// prior, determinism and non-finite input.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "pf/particle_filter.hpp"
+#include "support/filter_fixtures.hpp"
+
+using namespace wf::loc;
+using wf::test::WalkFrame;
+
+namespace {
+
+wf_localizer_options test_options() {
+    auto o = wf::test::default_options();
+    o.particle_count = 10000;
+    o.min_particles = 2000;
+    o.max_particles = 40000;
+    return o;
+}
+
+struct RunStats {
+    std::vector<double> errors_when_localized;
+    int first_localized = -1;
+    int localized_frames = 0;
+    bool any_nan = false;
+    wf_localizer_estimate last{};
+    size_t max_particles = 0;
+};
+
+double position_error(const wf_localizer_estimate &e, const WalkFrame &f) {
+    return std::hypot(e.x - f.true_x, e.y - f.true_y);
+}
+
+RunStats run(ParticleFilter &pf, const std::vector<WalkFrame> &frames, int start_frame = 0) {
+    RunStats s;
+    for (size_t k = 0; k < frames.size(); ++k) {
+        const WalkFrame &f = frames[k];
+        EXPECT_EQ(pf.predict(f.vio), WF_LOC_OK);
+        EXPECT_EQ(pf.update_signs(f.sightings.data(), f.sightings.size(), f.vio.t), WF_LOC_OK);
+        const wf_localizer_estimate &e = pf.estimate();
+        s.any_nan |= !std::isfinite(e.x) || !std::isfinite(e.y) || !std::isfinite(e.heading_rad) ||
+                     !std::isfinite(e.confidence);
+        s.max_particles = std::max(s.max_particles, pf.particles().size());
+        if (e.localized) {
+            if (s.first_localized < 0) s.first_localized = start_frame + static_cast<int>(k);
+            ++s.localized_frames;
+            s.errors_when_localized.push_back(position_error(e, f));
+        }
+        s.last = e;
+    }
+    return s;
+}
+
+double median(std::vector<double> v) {
+    if (v.empty()) return 1e9;
+    std::nth_element(v.begin(), v.begin() + v.size() / 2, v.end());
+    return v[v.size() / 2];
+}
+
+std::vector<WalkFrame> l_walk(const wf::test::World &w, uint64_t seed = 7) {
+    wf::test::WalkParams wp;
+    wp.seed = seed;
+    return wf::test::make_walk(w.floors[0], {{2, 1.25}, {28.75, 1.25}, {28.75, 23}, {28.75, 6}}, 0.0, wp);
+}
+
+}  // namespace
+
+class ConvergenceTest : public ::testing::TestWithParam<bool> {};
+
+// Floor-only start on the L-shaped corridor: localizes within the walk, then tracks to < 0.5 m median.
+TEST_P(ConvergenceTest, ConvergesAndTracksOnLShapedCorridor) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    o.negative_information = GetParam() ? 1 : 0;
+    ParticleFilter pf(wf::test::build_map(world, o), o, 1);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    const auto frames = l_walk(world);
+    const RunStats s = run(pf, frames);
+    EXPECT_FALSE(s.any_nan);
+    ASSERT_GE(s.first_localized, 0) << "never localized";
+    EXPECT_LT(s.first_localized, static_cast<int>(frames.size()) / 2);
+    EXPECT_LT(median(s.errors_when_localized), 0.5);
+    const auto &e = s.last;
+    EXPECT_TRUE(e.localized);
+    EXPECT_LT(position_error(e, frames.back()), 0.75);
+    EXPECT_LT(std::fabs(wf::test::wrap(e.heading_rad - frames.back().true_heading)), 0.1);
+    EXPECT_NEAR(e.scale, 1.03, 0.04);  // the walk's VIO scale
+    EXPECT_EQ(e.hypothesis_count, 1);
+    // KLD-sampling: a converged cloud needs far fewer particles than the spread-out start.
+    EXPECT_LT(pf.particles().size(), s.max_particles / 2);
+}
+
+INSTANTIATE_TEST_SUITE_P(NegativeInformation, ConvergenceTest, ::testing::Values(true, false),
+                         [](const ::testing::TestParamInfo<bool> &i) { return i.param ? "On" : "Off"; });
+
+// In a corridor whose signs are point-symmetric, a walker and its mirror image see the same sightings:
+// the filter must keep two hypotheses and never claim to be localized (never confidently wrong).
+TEST(ParticleFilter, SymmetricCorridorStaysUnlocalized) {
+    auto world = wf::test::symmetric_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 3);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    wf::test::WalkParams wp;
+    const auto frames = wf::test::make_walk(world.floors[0], {{15, 1}, {25, 1}, {5, 1}, {25, 1}, {12, 1}}, 0.0, wp);
+    const RunStats s = run(pf, frames);
+    EXPECT_EQ(s.localized_frames, 0);
+    EXPECT_FALSE(s.any_nan);
+    EXPECT_LT(s.last.dominant_weight, 0.8);
+    EXPECT_GE(s.last.hypothesis_count, 2);
+    // The two heaviest hypotheses are the truth and its mirror image.
+    ParticleClusterer c;
+    ClusterParams cp;
+    const auto &cl = c.run(pf.particles(), pf.vio_yaw(), cp);
+    ASSERT_GE(cl.size(), 2u);
+    const auto &t = frames.back();
+    const double d0 = std::hypot(cl[0].x - t.true_x, cl[0].y - t.true_y);
+    const double d0m = std::hypot(cl[0].x - (30 - t.true_x), cl[0].y - (2 - t.true_y));
+    const double d1 = std::hypot(cl[1].x - t.true_x, cl[1].y - t.true_y);
+    const double d1m = std::hypot(cl[1].x - (30 - t.true_x), cl[1].y - (2 - t.true_y));
+    EXPECT_LT(std::min(d0 + d1m, d0m + d1), 2.0);
+    EXPECT_GT(cl[1].weight, 0.2);
+}
+
+// Kidnapped traveler: after converging, the walker is carried elsewhere while VIO reports a continuous
+// path. Augmented MCL must notice (w_fast drops below w_slow), inject random and sighting-driven particles
+// (sensor resetting) and end up on the truth again. (The east-west corridor has a locally point-symmetric
+// pair of signs, so the filter may follow the mirror image for a while; see docs/localizer.md.)
+TEST(ParticleFilter, RecoversFromKidnapping) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 5);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    wf::test::WalkParams wp;
+    const auto first = wf::test::make_walk(world.floors[0], {{2, 1.25}, {28.75, 1.25}, {28.75, 20}}, 0.0, wp);
+    const RunStats a = run(pf, first);
+    ASSERT_TRUE(a.last.localized);
+    // Carried to the west part of the corridor, same heading (north), VIO continuous.
+    wp.seed = 8;
+    auto second = wf::test::make_walk(world.floors[0], {{4, 1.25}, {26, 1.25}, {28.75, 1.25}, {28.75, 23}},
+                                      wf::test::kPi / 2, wp, first.back().vio.t + 0.1);
+    const double oe = first.back().vio.east_m - second.front().vio.east_m;
+    const double on = first.back().vio.north_m - second.front().vio.north_m;
+    for (auto &f : second) {
+        f.vio.east_m += oe;
+        f.vio.north_m += on;
+    }
+    const size_t injected_before = pf.injected_count();
+    const RunStats b = run(pf, second, static_cast<int>(first.size()));
+    EXPECT_GT(pf.injected_count(), injected_before);
+    EXPECT_FALSE(b.any_nan);
+    EXPECT_LT(position_error(b.last, second.back()), 1.0);
+    EXPECT_GT(b.last.dominant_weight, 0.5);
+}
+
+// A VIO relocalization (origin and yaw reset mid-walk) must not lose a converged estimate.
+TEST(ParticleFilter, SurvivesVioOriginReset) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 9);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    auto frames = l_walk(world, 11);
+    const size_t seam = frames.size() * 2 / 3;
+    const double phi = 1.1;  // the VIO world frame rotates by 63 deg and moves 4 m at the seam
+    for (size_t k = seam; k < frames.size(); ++k) {
+        auto &v = frames[k].vio;
+        const double e = std::cos(phi) * v.east_m - std::sin(phi) * v.north_m + 4;
+        const double n = std::sin(phi) * v.east_m + std::cos(phi) * v.north_m - 2;
+        v.east_m = e;
+        v.north_m = n;
+        v.yaw_rad = wf::test::wrap(v.yaw_rad + phi);
+    }
+    std::vector<WalkFrame> before(frames.begin(), frames.begin() + seam), after(frames.begin() + seam, frames.end());
+    const RunStats a = run(pf, before);
+    ASSERT_TRUE(a.last.localized);
+    const RunStats b = run(pf, after);
+    EXPECT_LT(position_error(b.last, after.back()), 0.75);
+    EXPECT_TRUE(b.last.localized);
+    EXPECT_LT(std::fabs(wf::test::wrap(b.last.heading_rad - after.back().true_heading)), 0.15);
+}
+
+TEST(ParticleFilter, NonFiniteInputIsRejectedAndNeverPropagates) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 2);
+    EXPECT_EQ(pf.update_signs(nullptr, 0, 0.0), WF_LOC_ERR_NOT_INITIALIZED);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    const auto frames = l_walk(world);
+    for (size_t k = 0; k < 200; ++k) {
+        const WalkFrame &f = frames[k];
+        ASSERT_EQ(pf.predict(f.vio), WF_LOC_OK);
+        if (k % 10 == 3) {
+            wf_vio_sample bad = f.vio;
+            bad.east_m = NAN;
+            EXPECT_EQ(pf.predict(bad), WF_LOC_ERR_NON_FINITE_INPUT);
+            bad = f.vio;
+            bad.yaw_rad = INFINITY;
+            EXPECT_EQ(pf.predict(bad), WF_LOC_ERR_NON_FINITE_INPUT);
+            bad.yaw_rad = 0;
+            bad.tracking = 17;
+            EXPECT_EQ(pf.predict(bad), WF_LOC_ERR_INVALID_ARGUMENT);
+            std::vector<wf_sign_observation> z = f.sightings;
+            z.push_back({0, NAN, 0.0, 1.0});
+            z.push_back({0, 3.0, -INFINITY, 1.0});
+            z.push_back({0, 3.0, 0.1, NAN});
+            z.push_back({42, 3.0, 0.1, 1.0});  // a kind the map does not have
+            EXPECT_EQ(pf.update_signs(z.data(), z.size(), f.vio.t), WF_LOC_ERR_NON_FINITE_INPUT);
+            EXPECT_EQ(pf.update_altitude(NAN, f.vio.t), WF_LOC_ERR_NON_FINITE_INPUT);
+            EXPECT_EQ(pf.update_signs(f.sightings.data(), f.sightings.size(), NAN), WF_LOC_ERR_NON_FINITE_INPUT);
+        } else {
+            ASSERT_EQ(pf.update_signs(f.sightings.data(), f.sightings.size(), f.vio.t), WF_LOC_OK);
+        }
+        const auto &p = pf.particles();
+        for (size_t i = 0; i < p.size(); ++i) {
+            ASSERT_TRUE(std::isfinite(p.x[i]) && std::isfinite(p.y[i]) && std::isfinite(p.yaw_offset[i]) &&
+                        std::isfinite(p.scale[i]) && std::isfinite(p.weight[i]))
+                << "particle " << i << " frame " << k;
+        }
+        const auto &e = pf.estimate();
+        ASSERT_TRUE(std::isfinite(e.x) && std::isfinite(e.y) && std::isfinite(e.heading_rad) &&
+                    std::isfinite(e.cov_xx) && std::isfinite(e.confidence));
+    }
+}
+
+// Every particle crossing a wall at once (all weights ~0) must not produce NaN weights.
+TEST(ParticleFilter, AllParticlesKilledKeepsFiniteWeights) {
+    auto world = wf::test::corridor_world();
+    auto o = test_options();
+    o.wall_crossing_weight = 0;
+    o.adaptive_particle_count = 0;
+    o.particle_count = 500;
+    ParticleFilter pf(wf::test::build_map(world, o), o, 4);
+    ASSERT_EQ(pf.init_start_point(0, 10, 1, 0.3), WF_LOC_OK);
+    ASSERT_EQ(pf.predict({0, 0, 0, 0, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);
+    // Every yaw offset moves 1.4 m: at least the north/south walls 1 m away are crossed by most, and with a
+    // 0 factor those die; the remaining weight is renormalised, or reset to uniform if nothing survives.
+    ASSERT_EQ(pf.predict({0.5, 0, 1.4, 0, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);
+    double sum = 0;
+    for (float w : pf.particles().weight) {
+        ASSERT_TRUE(std::isfinite(w));
+        sum += w;
+    }
+    EXPECT_NEAR(sum, 1.0, 1e-3);
+}
+
+TEST(ParticleFilter, DeterministicForASeed) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    const auto frames = l_walk(world);
+    std::vector<double> xs[3];
+    const uint64_t seeds[3] = {77, 77, 78};
+    for (int r = 0; r < 3; ++r) {
+        ParticleFilter pf(wf::test::build_map(world, o), o, seeds[r]);
+        ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+        for (size_t k = 0; k < 120; ++k) {
+            pf.predict(frames[k].vio);
+            pf.update_signs(frames[k].sightings.data(), frames[k].sightings.size(), frames[k].vio.t);
+            xs[r].push_back(pf.estimate().x);
+        }
+    }
+    EXPECT_EQ(xs[0], xs[1]);
+    EXPECT_NE(xs[0], xs[2]);
+}
+
+TEST(ParticleFilter, StartPointAndCompassPrior) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 6);
+    ASSERT_EQ(pf.predict({0, 3, 4, 0.4, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);  // VIO yaw known: 0.4 rad
+    ASSERT_EQ(pf.set_compass_prior(1.0, 0.1), WF_LOC_OK);
+    ASSERT_EQ(pf.init_start_point(0, 10, 1.25, 1.0), WF_LOC_OK);
+    const auto &e = pf.estimate();
+    EXPECT_NEAR(e.x, 10, 0.1);
+    EXPECT_NEAR(e.y, 1.25, 0.1);
+    EXPECT_NEAR(e.heading_rad, 1.0, 0.02);
+    EXPECT_NEAR(e.heading_std_rad, 0.1, 0.01);
+    EXPECT_NEAR(e.yaw_offset_rad, 0.6, 0.02);
+    // Disc of radius 1 m (std 0.5 m per axis) clipped by the corridor walls (y in [0, 2.5]).
+    EXPECT_NEAR(std::sqrt(e.cov_xx), 0.5, 0.03);
+    EXPECT_FALSE(e.localized);
+    for (size_t i = 0; i < pf.particles().size(); ++i) {
+        ASSERT_GE(pf.particles().y[i], 0.0f);
+        ASSERT_LE(pf.particles().y[i], 2.5f);
+    }
+    // Bad arguments.
+    EXPECT_EQ(pf.init_start_point(3, 0, 0, 1), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(pf.init_start_point(0, 500, 0, 1), WF_LOC_ERR_NO_WALKABLE_SPACE);
+    EXPECT_EQ(pf.init_start_point(0, 5, 1, -1), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(pf.set_compass_prior(1.0, 0.0), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(pf.init_floor_only(-1), WF_LOC_ERR_INVALID_ARGUMENT);
+}
+
+// A compass prior set before any VIO sample is applied at the first predict (reweighting).
+TEST(ParticleFilter, CompassPriorAppliedAtFirstPredict) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 6);
+    ASSERT_EQ(pf.set_compass_prior(-2.0, 0.15), WF_LOC_OK);
+    ASSERT_EQ(pf.init_start_point(0, 10, 1.25, 0.5), WF_LOC_OK);
+    EXPECT_GT(pf.estimate().heading_std_rad, 1.0);  // uniform yaw so far
+    ASSERT_EQ(pf.predict({0, 0, 0, 0.5, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);
+    const auto &e = pf.estimate();
+    EXPECT_NEAR(e.heading_rad, -2.0, 0.05);
+    EXPECT_LT(e.heading_std_rad, 0.3);
+}
+
+namespace {
+wf::test::World two_storey_world() {
+    wf::test::World w;
+    for (int f = 0; f < 2; ++f) {
+        wf::test::FloorSpec fs;
+        fs.elevation_m = 4.0 * f;
+        fs.box(0, 0, 20, 10).seed(5, 5).seed(15, 5).link(2, 2).sign(wf::test::kExit, 20, 5, -1, 0);
+        w.floors.push_back(fs);
+    }
+    return w;
+}
+
+void ride(ParticleFilter &pf, double from_m, double to_m, double t0) {
+    // 5 s ride, then 3 s at rest, at 10 Hz.
+    for (int k = 0; k <= 80; ++k) {
+        const double a = k <= 50 ? from_m + (to_m - from_m) * k / 50.0 : to_m;
+        ASSERT_EQ(pf.update_altitude(a, t0 + 0.1 * k), WF_LOC_OK);
+    }
+}
+}  // namespace
+
+TEST(ParticleFilter, AltitudeChangeNearLinkMovesToMatchingFloor) {
+    auto world = two_storey_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 12);
+    ASSERT_EQ(pf.init_start_point(0, 2.5, 2.5, 0.8), WF_LOC_OK);  // at the elevator
+    ride(pf, 10.0, 14.1, 0.0);                                      // barometer up ~one storey
+    EXPECT_EQ(pf.estimate().floor_index, 1);
+    for (int16_t f : pf.particles().floor) ASSERT_EQ(f, 1);
+    ride(pf, 14.1, 10.2, 10.0);                                     // and back down
+    EXPECT_EQ(pf.estimate().floor_index, 0);
+    // Small pressure noise (< storey threshold) changes nothing.
+    ride(pf, 10.2, 11.0, 20.0);
+    EXPECT_EQ(pf.estimate().floor_index, 0);
+}
+
+TEST(ParticleFilter, AltitudeChangeFarFromLinkKeepsFloorAndLosesWeight) {
+    auto world = two_storey_world();
+    auto o = test_options();
+    o.adaptive_particle_count = 0;
+    o.particle_count = 4000;
+    o.resample_ess_fraction = 0;  // look at the weights before any resampling
+    ParticleFilter pf(wf::test::build_map(world, o), o, 13);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    ride(pf, 0.0, 4.0, 0.0);
+    // Only particles within 3 m of the link moved up and kept their weight; the others stayed and were
+    // multiplied by 0.05. With a fraction f moved, the floor-1 weight is f / (f + 0.05 (1 - f)).
+    double up_weight = 0;
+    size_t up = 0;
+    for (size_t i = 0; i < pf.particles().size(); ++i) {
+        if (pf.particles().floor[i] == 1) {
+            ++up;
+            up_weight += pf.particles().weight[i];
+        }
+    }
+    EXPECT_GT(up, 0u);
+    EXPECT_LT(up, pf.particles().size() / 4);  // a quarter disc of radius 3 m in a 20 m x 10 m room
+    const double f = double(up) / pf.particles().size();
+    EXPECT_NEAR(up_weight, f / (f + 0.05 * (1 - f)), 1e-3);
+}
+
+TEST(ParticleFilter, ZeroAreaFloorAndFloorWithoutSigns) {
+    wf::test::World w;
+    wf::test::FloorSpec empty;
+    empty.wall(1, 1, 1, 1);      // zero-area: a degenerate wall, no seed inside any room
+    empty.seed(50, 50);          // seed outside: the fill covers the padded box only
+    w.floors.push_back(empty);
+    wf::test::FloorSpec no_signs;
+    no_signs.box(0, 0, 10, 10).seed(5, 5);
+    w.floors.push_back(no_signs);
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(w, o), o, 1);
+    ASSERT_EQ(pf.init_floor_only(1), WF_LOC_OK);
+    const wf_sign_observation z[] = {{0, 3.0, 0.1, 0.9}, {1, 2.0, -0.1, 0.8}};
+    for (int k = 0; k < 30; ++k) {
+        ASSERT_EQ(pf.predict({0.1 * k, 0.05 * k, 0, 0, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);
+        ASSERT_EQ(pf.update_signs(z, 2, 0.1 * k), WF_LOC_OK);
+        ASSERT_EQ(pf.update_signs(nullptr, 0, 0.1 * k), WF_LOC_OK);
+    }
+    const auto &e = pf.estimate();
+    EXPECT_TRUE(std::isfinite(e.x));
+    EXPECT_FALSE(e.localized);
+    EXPECT_EQ(e.floor_index, 1);
+}
