@@ -48,6 +48,15 @@ final class ImportAndRangeCommandTests: XCTestCase {
         r.assertStderr(contains: "no-such-inavigate")
     }
 
+    func testImportInavigateToAnUnwritablePlaceExitsOneNamingIt() throws {
+        let source = try sharedData("skeri_inavigate")
+        let out = directory.appendingPathComponent("no-such-folder/skeri.json").path
+        let r = try CLI.run(["import-inavigate", source.path, "-o", out])
+        r.assertExit(1)
+        r.assertStderr(contains: "wayfinder import-inavigate: ", out)
+        XCTAssertFalse(r.stdout.contains("wrote"), "\(r)")
+    }
+
     func testImportOccamWritesABundleThatInspectReads() throws {
         let file = try sharedData("occamlab_invisible_map_arkit").appendingPathComponent("floor_2_straight_uncleaned.json")
         guard FileManager.default.fileExists(atPath: file.path) else { throw XCTSkip("\(file.path) is not present") }

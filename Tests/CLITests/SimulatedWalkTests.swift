@@ -152,6 +152,21 @@ final class SimulatedWalkTests: XCTestCase {
         }
     }
 
+    func testBenchReportsRowsWithBaselines() throws {
+        let bundle = try walk()
+        let r = try CLI.run(["bench", "--iterations", "5", "--bundle", bundle, "--map", CLI.officeMapPath, "--json"],
+                            timeoutSeconds: 180)
+        r.assertExit(0)
+        let rows = try XCTUnwrap(try JSONSerialization.jsonObject(with: Data(r.stdout.utf8)) as? [[String: Any]], "\(r)")
+        let names = rows.compactMap { $0["name"] as? String }
+        XCTAssertTrue(names.contains { $0.hasPrefix("navigation.") }, "\(names)")
+        XCTAssertTrue(names.contains { $0.hasPrefix("pipeline.frame") }, "\(names)")
+        for row in rows {
+            let ns = try XCTUnwrap(jsonNumber(row["nanosecondsPerOp"]), "\(row)")
+            XCTAssertTrue(ns.isFinite && ns > 0, "\(row)")
+        }
+    }
+
     /// True when a chromium executable is on PATH (the render command's --png needs one).
     private static func chromiumOnPath() -> Bool {
         let path = ProcessInfo.processInfo.environment["PATH"] ?? "/usr/bin:/bin"
