@@ -16,9 +16,7 @@ public enum EdgeKind: Sendable, Equatable {
 
 /// The building's navigation graph in routing form (paper section 4: "the walkable area ... is described
 /// by a graph whose nodes are either points of interest or control points"), plus vertical links.
-public final class RoutingGraph: @unchecked Sendable {
-    // @unchecked: every stored property is a `let` of value types; nothing mutates after init.
-
+public final class RoutingGraph: Sendable {
     /// The building this graph was compiled from.
     public let building: Building
     /// Node records in index order (same order as `building.graph.nodes`).

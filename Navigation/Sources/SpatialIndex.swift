@@ -121,7 +121,7 @@ struct FloorSpatialIndex: Sendable {
     /// square rings of cells around `p` until the ring cannot hold anything nearer. When nothing
     /// unobstructed lies within `maxClearSearchMeters`, returns the nearest edge regardless of walls, flagged
     /// `obstructed`. Nil only when the floor has no edges.
-    func nearestEdge(to p: Vec2, maxClearSearchMeters: Double, filter: ((Int) -> Bool)? = nil) -> SegmentHit? {
+    func nearestEdge(to p: Vec2, maxClearSearchMeters: Double) -> SegmentHit? {
         let g = edgesGrid
         guard !g.segments.isEmpty else { return nil }
         let fx = (p.x - g.originX) / g.cellMeters, fy = (p.y - g.originY) / g.cellMeters
@@ -153,7 +153,6 @@ struct FloorSpatialIndex: Sendable {
                         let c = y * g.nx + x
                         for k in g.cellStart[c]..<g.cellStart[c + 1] {
                             let s = Int(g.items[k])
-                            if let filter, !filter(edgeIds[s]) { continue }
                             let (a, b) = g.segments[s]
                             let pr = projectOntoSegment(p, a, b)
                             if bestAny == nil || pr.distance < bestAny!.distance {
