@@ -212,3 +212,27 @@ public struct CompassParameters: Codable, Sendable, Equatable {
     /// The defaults.
     public init() {}
 }
+
+extension SimulationParameters {
+    /// Checks that the parameters the models divide by or loop on are usable; throws
+    /// `SimulationError.invalidScenario` naming the first bad one.
+    public func validate() throws {
+        func bad(_ s: String) -> SimulationError { .invalidScenario("parameters: \(s)") }
+        let w = walker
+        guard w.minSpeedMetersPerSecond > 0, w.maxSpeedMetersPerSecond >= w.minSpeedMetersPerSecond else {
+            throw bad("walker speeds must satisfy 0 < min <= max")
+        }
+        guard w.accelerationMetersPerSecond2 > 0, w.decelerationMetersPerSecond2 > 0 else { throw bad("walker acceleration and deceleration must be positive") }
+        guard w.maxTurnRateRadPerSecond > 0 else { throw bad("walker maxTurnRateRadPerSecond must be positive") }
+        guard w.stepFrequencyHz > 0 else { throw bad("walker stepFrequencyHz must be positive") }
+        guard w.pausesPerMeter >= 0, w.pauseSecondsRange.lowerBound >= 0 else { throw bad("walker pauses must be non-negative") }
+        guard w.elevatorSeconds > 0, w.stairsVerticalMetersPerSecond > 0 else { throw bad("walker elevator and stairs timings must be positive") }
+        guard w.wallClearanceMeters >= 0 else { throw bad("walker wallClearanceMeters must be non-negative") }
+        guard detector.maxRangeMeters > detector.minRangeMeters, detector.rangeLogSigma >= 0, detector.bearingSigmaDeg >= 0 else {
+            throw bad("detector ranges must satisfy min < max and noise must be non-negative")
+        }
+        guard (0...1).contains(detector.falsePositivesPerFrame) else { throw bad("detector falsePositivesPerFrame must be in 0...1") }
+        guard barometer.updateRateHz > 0 else { throw bad("barometer updateRateHz must be positive") }
+        guard vio.darkSpellsPerSecond >= 0, vio.relocalizationsPerSecond >= 0 else { throw bad("VIO event rates must be non-negative") }
+    }
+}

@@ -95,6 +95,7 @@ public enum WalkSimulator {
     public static func simulate(building: Building, scenario: SimulationScenario,
                                 parameters: SimulationParameters = .standard) throws -> SimulatedWalk {
         try scenario.validate()
+        try parameters.validate()
         let dt = 1 / scenario.rateHz
         let planner = RoutePlanner(building: building)
         let start = try planner.resolve(scenario.from)
@@ -129,6 +130,9 @@ public enum WalkSimulator {
         if case .leg(let l)? = segments.first { var h = 0; startHeading = l.tangent(at: 0, hint: &h) }
         let body = WalkerModel(parameters: parameters.walker, geometry: geometry, elevations: elevations, rateHz: scenario.rateHz)
             .run(segments: segments, startHeading: startHeading, rng: &walkerRng)
+        guard body.count < WalkerModel.maxFrames(rateHz: scenario.rateHz) else {
+            throw SimulationError.invalidScenario("\(scenario.name): the walk did not finish within 4 hours of simulated time")
+        }
         try verifyNoWallCrossing(body, geometry: geometry)
 
         // Phone on the body.

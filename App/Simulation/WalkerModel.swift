@@ -51,6 +51,10 @@ struct WalkerModel {
     /// Frame period, seconds.
     var dt: Double { 1 / rateHz }
 
+    /// Safety cap on the number of frames of one walk (4 hours): the walk stops there and the simulator reports
+    /// an error instead of looping forever on a degenerate map or parameters.
+    static func maxFrames(rateHz: Double) -> Int { Int(4 * 3600 * rateHz) }
+
     func run(segments: [WalkSegment], startHeading: Double, rng: inout SeededRandom) -> [BodyState] {
         let p = parameters
         var states: [BodyState] = []
@@ -59,6 +63,7 @@ struct WalkerModel {
         let preferred = rng.uniform(p.preferredSpeedRange.lowerBound, p.preferredSpeedRange.upperBound)
         var speedOU = OrnsteinUhlenbeck(sigma: p.speedVariationSigma, tauSeconds: p.speedVariationTauSeconds, rng: &rng)
         var wander = OrnsteinUhlenbeck(sigma: p.lateralWanderSigmaMeters, tauSeconds: p.lateralWanderTauSeconds, rng: &rng)
+        let cap = Self.maxFrames(rateHz: rateHz)
         var nextPauseAt = rng.exponential(ratePerSecond: p.pausesPerMeter)   // meters walked
         var walked = 0.0
         var lastPosition: Point2?
@@ -115,14 +120,14 @@ struct WalkerModel {
                 var s = 0.0, v = 0.0
                 // Turn in place towards the leg's direction first.
                 let initial = leg.tangent(at: 0, hint: &hint)
-                while abs(wrapAngle(initial - heading)) > radians(25) {
+                while abs(wrapAngle(initial - heading)) > radians(25) && states.count < cap {
                     _ = turnTowards(initial)
                     emit(leg.floorId, lastPosition ?? leg.points[0], currentElevation, 0, .turning)
                 }
                 var pauseLeft = 0.0
                 var pausing = false
                 let length = leg.length
-                while s < length {
+                while s < length && states.count < cap {
                     let vPref = max(p.minSpeedMetersPerSecond, min(p.maxSpeedMetersPerSecond,
                                                                   preferred + speedOU.step(dt: dt, rng: &rng)))
                     var target = vPref

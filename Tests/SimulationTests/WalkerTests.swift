@@ -140,5 +140,20 @@ final class WalkerTests: XCTestCase {
         }
         XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office,
                                                         scenario: SimulationScenario(name: "x", from: "room-101", to: "room-101", seed: 1)))
+        var p = SimulationParameters(); p.walker.maxTurnRateRadPerSecond = 0
+        XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office, scenario: Fixtures.scenario(), parameters: p)) {
+            XCTAssertTrue("\($0)".contains("maxTurnRateRadPerSecond"))
+        }
+    }
+
+    func testRouteThroughAWallIsRefused() throws {
+        // A map whose graph edge crosses a wall: the simulator refuses rather than walk through it.
+        var b = Fixtures.office
+        b.floors[0].walls.append(Wall(from: Point2(10, 6.2), to: Point2(10, 7.8)))   // across the south corridor
+        XCTAssertThrowsError(try WalkSimulator.simulate(building: b, scenario: SimulationScenario(
+            name: "wall", from: "room-101", to: "room-106", seed: 1))) {
+            guard case .routeCrossesWall(let m)? = $0 as? SimulationError else { return XCTFail("\($0)") }
+            XCTAssertTrue(m.contains("floor 1"))
+        }
     }
 }
