@@ -191,22 +191,22 @@ typedef struct wf_range_slice_measurement {
     /** Slope dv/du of the top edge, as bottom_edge_slope. */
     double top_edge_slope;
     /** Width of the columns' extent (max - min column), pixels; 0 = unknown. With the slopes it locates the
-     * image of the sign's centre line, off the extent's middle for a sign not facing the camera (the nearer
-     * half looks wider): from the heights h_l, h_r of the edge lines at the extent's ends, the centre column
-     * is left + width * h_l / (h_l + h_r). */
+     * sign's corners, hence its centre line, which is off the extent's middle for a sign not facing the
+     * camera (the nearer half looks wider). */
     double extent_width_px;
 } wf_range_slice_measurement;
 
 /** How a slice measurement becomes two elevations. */
 typedef enum wf_range_slice_model {
-    /** Elevations of two points of one world vertical: the bottom point B on the bottom edge line (median
-     * bottom row at the extent's middle, slope bottom_edge_slope) at the sign's centre column (see
-     * extent_width_px), and the top point where the image of the world vertical through B meets the top
-     * edge line (slope top_edge_slope through (center column, median bottom row - median height)); world
-     * verticals converge to (cx, cy - fy / tan(pitch)) in the unrolled image. Equals the paper's formula at
-     * the centre column of a level sign; off-axis it also corrects what the planar formula gets wrong: that
-     * it gives the depth in the optical axis's vertical plane (about range * cos(bearing)), and that under
-     * pitch the column's top point is not above its bottom point in the world. The default. */
+    /** Elevations of two points of the sign's vertical centre line. The corners are reconstructed in the
+     * unrolled image: edge lines from the medians (at the extent's middle) and slopes; side edges through
+     * the vertical vanishing point (cx, cy - fy / tan(pitch)) and the extent's ends; then the centre line's
+     * top and bottom points by the construction of wf_range_sign_center_points. Without an extent (or if that
+     * degenerates): the bottom point (center column, median bottom row) and the top point where the image
+     * of the world vertical through it meets the top edge line. Equals the paper's formula at the centre
+     * column of a level sign; off-axis it also corrects what the planar formula gets wrong: that it gives
+     * the depth in the optical axis's vertical plane (about range * cos(bearing)), and that under pitch
+     * world verticals slant in the image. Exact on exact masks up to the column sampling. The default. */
     WF_RANGE_SLICE_MODEL_RAY_ELEVATION = 0,
     /** The paper's equation (3) verbatim: alpha = atan((cy - v_bottom) / fy), alpha + delta =
      * atan((cy - v_top) / fy), the column and slopes ignored for the range. */
