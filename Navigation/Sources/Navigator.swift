@@ -70,6 +70,8 @@ public struct NavigatorOptions: Sendable {
     /// "Continue N meters" after a maneuver only when the next one is farther than the alert distance
     /// plus this margin, and once the traveler is this far past the maneuver.
     public var continuationMarginMeters = 2.0
+    /// With no route to the destination, a new search is made this often, seconds.
+    public var noRouteRetrySeconds = 5.0
     /// "Start walking" is repeated this often while not localized.
     public var startWalkingRepeatSeconds = 15.0
     /// After localization is lost during a route, "Start walking" is said only once the loss has lasted
@@ -143,6 +145,7 @@ public final class Navigator {
     private var noRouteAnnounced = false
     private var offRouteLatched = false
     private var unlocalizedSince: Double? = nil
+    private var lastNoRouteT: Double? = nil
 
     /// Creates a navigator to `destinationId`: a point-of-interest id (routed to the graph node that
     /// references it, else to the nearest node on its floor) or a graph node id. Throws
@@ -222,7 +225,11 @@ public final class Navigator {
         lastSnap = snap
 
         if currentRoute == nil {
-            adoptRoute(from: snap, input: input)
+            // With no route possible (e.g. stairs avoided and no elevator), retry only now and then.
+            if lastNoRouteT.map({ t - $0 >= options.noRouteRetrySeconds }) ?? true {
+                adoptRoute(from: snap, input: input)
+                lastNoRouteT = currentRoute == nil ? t : nil
+            }
         } else {
             trackProgress(p, floorId: input.floorId)
             checkDeviation(input: input, snap: snap)

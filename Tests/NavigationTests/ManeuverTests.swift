@@ -150,6 +150,10 @@ final class ManeuverTests: XCTestCase {
         neither.avoidElevators = true
         let blocked = try Navigator(building: b, destinationId: "b", options: neither)
         XCTAssertNil(blocked.routeFrom(b.nodePosition("a"), floorId: "1"))
+        let blockedWalk = try Navigator(building: b, destinationId: "b", options: neither)
+        var w = Walker(start: b.nodePosition("a"), floorId: "1")
+        w.run(blockedWalk, [.wait(seconds: 12)])
+        XCTAssertEqual(w.spoken, ["No route to b."], "said once, not on every update")
     }
 
     func testThreeFloorRideIsOneManeuver() throws {
