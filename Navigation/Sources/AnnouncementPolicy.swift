@@ -57,6 +57,21 @@ public struct TimedGuidanceEvent: Sendable, Equatable {
     }
 }
 
+extension TimedGuidanceEvent: CustomStringConvertible {
+    /// One line for logs and the command line, e.g. `12.30 s  speak cue!  Turn left now.` (`!` =
+    /// interrupt) or `12.30 s  haptic     turnCue`.
+    public var description: String {
+        let time = String(format: "%.2f s", t)
+        switch event {
+        case .speak(let text, let priority, let interrupt):
+            let tag = "\(priority)" + (interrupt ? "!" : "")
+            return "\(time)  speak \(tag.padding(toLength: 12, withPad: " ", startingAt: 0)) \(text)"
+        case .haptic(let pattern):
+            return "\(time)  haptic \(pattern.rawValue)"
+        }
+    }
+}
+
 /// Tunables of `AnnouncementPolicy`, seconds unless named otherwise.
 public struct AnnouncementPolicyConfig: Sendable, Equatable {
     /// Speaking rate used to estimate how long an utterance lasts. 2.5 words/s (150 words per minute,

@@ -5,6 +5,12 @@ import XCTest
 final class AnnouncementPolicyTests: XCTestCase {
     private func texts(_ e: [TimedGuidanceEvent]) -> [String] { e.compactMap(\.spokenText) }
 
+    func testEventDescription() {
+        XCTAssertEqual(TimedGuidanceEvent(t: 12.3, event: .speak(text: "Turn left now.", priority: .cue, interrupt: true)).description,
+                       "12.30 s  speak cue!         Turn left now.")
+        XCTAssertEqual(TimedGuidanceEvent(t: 1, event: .haptic(.wrongWay)).description, "1.00 s  haptic wrongWay")
+    }
+
     func testDurationFromWordCount() {
         let p = AnnouncementPolicy()
         XCTAssertEqual(p.estimatedDurationSeconds("In 8 meters, turn left."), 5 / 2.5, accuracy: 1e-12)
