@@ -32,6 +32,26 @@ final class NavigatorTests: XCTestCase {
         XCTAssertNotNil(nav.currentRoute)
     }
 
+    func testFirstInstructionIsRelativeToTheHeading() throws {
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: """
+            a--------------------b
+                      |
+                      |
+                      c
+            """).build()
+        // Mid-corridor at x = 12 (snapped between a and b): the route to a leaves the virtual start node
+        // westward, whatever the heading; the phrase depends on the heading.
+        let cases: [(Double, String)] = [(0, "Turn around, then go 10 meters."), (.pi, "Go straight ahead, 10 meters."),
+                                         (.pi / 2, "Turn left, then go 10 meters."), (-.pi / 2, "Turn right, then go 10 meters.")]
+        for (heading, expected) in cases {
+            let nav = try Navigator(building: b, destinationId: "a")
+            let events = nav.update(NavigationInput(t: 0, positionInMap: Point2(x: 12, y: 3), floorId: "1",
+                                                    headingRad: heading, isLocalized: true))
+            XCTAssertEqual(events.compactMap(\.spokenText), [expected], "heading \(heading)")
+            XCTAssertEqual(nav.currentRoute?.nodeIds, ["a"])
+        }
+    }
+
     func testLossOfLocalizationMidRoute() throws {
         let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a-------------------b").build()
         let nav = try Navigator(building: b, destinationId: "b")
