@@ -1,0 +1,184 @@
+import Maps
+
+// Public value types of the particle-filter localizer (module Localizer). Frames and units: map frame x east,
+// y north, meters, angles radians counter-clockwise from +x (Maps/Sources/MapModel.swift); VIO plane
+// (east, north) = (x_w, -z_w) of the ARKit world (App/SessionFormat/CameraPose.swift). The algorithm is
+// described in docs/localizer.md; the C core is LocalizerCore/include/wf_localizer.h.
+
+/// One sign detection in one camera frame.
+public struct SignSighting: Sendable {
+    /// Sign class, the same string as `Sign.kind` in the map (e.g. "exit"). Kinds the map lacks are ignored.
+    public var kind: String
+    /// Horizontal distance from the camera to the sign, meters (> 0).
+    public var rangeMeters: Double
+    /// Horizontal angle from camera forward to the sign, radians, positive to the LEFT (counter-clockwise).
+    public var bearingRad: Double
+    /// Detector confidence in [0, 1]; a low score makes the sighting count more like clutter.
+    public var score: Double
+    /// Creates a sighting.
+    public init(kind: String, rangeMeters: Double, bearingRad: Double, score: Double) {
+        self.kind = kind; self.rangeMeters = rangeMeters; self.bearingRad = bearingRad; self.score = score
+    }
+}
+
+/// ARKit tracking state of a frame (`ARCamera.TrackingState`).
+public enum VIOTracking: Sendable {
+    /// Normal tracking.
+    case normal
+    /// Limited tracking: poses are used with heavier motion noise.
+    case limited
+    /// No tracking: the pose is ignored; when tracking returns the jump is skipped and uncertainty grows.
+    case notAvailable
+}
+
+/// One VIO (ARKit) pose, reduced to the floor plane.
+public struct VIOSample: Sendable {
+    /// Timestamp, seconds (monotonic).
+    public var t: Double
+    /// Camera position on the VIO plane, meters: east = x_w.
+    public var east: Double
+    /// Camera position on the VIO plane, meters: north = -z_w.
+    public var north: Double
+    /// Camera forward yaw on the VIO plane, radians CCW from VIO east (`CameraPose.yawInVIOPlaneRad`).
+    public var yawRad: Double
+    /// Tracking state of this frame.
+    public var tracking: VIOTracking
+    /// Creates a sample.
+    public init(t: Double, east: Double, north: Double, yawRad: Double, tracking: VIOTracking) {
+        self.t = t; self.east = east; self.north = north; self.yawRad = yawRad; self.tracking = tracking
+    }
+}
+
+/// What is known about the traveler's pose when the filter (re)starts.
+public enum LocalizerPrior: Sendable {
+    /// Only the floor: particles spread over its walkable space (flood fill from its graph nodes), any heading.
+    case floorOnly(floorId: String)
+    /// A start point (meters, map frame) within `radiusMeters`, any heading.
+    case startPoint(floorId: String, position: Point2, radiusMeters: Double)
+}
+
+/// Filter options. Defaults come from the C core (`wf_localizer_options_init`); docs/localizer.md gives the
+/// reasoning and textbook source of each.
+public struct LocalizerOptions: Sendable {
+    /// Particles after a reset (the fixed count when `adaptiveParticleCount` is false). Default 20,000.
+    public var particleCount: Int
+    /// Bounds for KLD-sampling (Fox 2003). Defaults 2,000 and 100,000.
+    public var minParticles: Int
+    public var maxParticles: Int
+    /// Horizontal field of view of the camera, radians. Default 48 degrees (portrait iPhone).
+    public var horizontalFieldOfViewRad: Double
+    /// Signs farther than this are never expected to be seen, meters. Default 12.
+    public var maxSignRangeMeters: Double
+    /// Plainly visible but undetected signs lower a particle's weight. Default true.
+    public var negativeInformation: Bool
+    /// Augmented-MCL random-particle injection (Probabilistic Robotics Table 8.3). Default true.
+    public var recovery: Bool
+    /// KLD-sampling adapts the particle count at each resampling. Default true.
+    public var adaptiveParticleCount: Bool
+    /// Range noise: std = rangeSigmaBaseMeters + rangeSigmaPerMeter * range. Defaults 0.1 m and 0.12.
+    public var rangeSigmaBaseMeters: Double
+    public var rangeSigmaPerMeter: Double
+    /// Bearing noise std, radians. Default 3 degrees.
+    public var bearingSigmaRad: Double
+    /// Probability that a sighting is a false positive. Default 0.1.
+    public var clutterProbability: Double
+    /// Walkable cells keep this distance from walls, meters. Default 0.2.
+    public var wallClearanceMeters: Double
+    /// Cell of the visibility / walkable grids, meters. Default 0.25.
+    public var gridCellMeters: Double
+
+    /// The defaults of the C core.
+    public init() {
+        self = LocalizerBridge.defaultOptions()
+    }
+
+    init(particleCount: Int, minParticles: Int, maxParticles: Int, horizontalFieldOfViewRad: Double,
+         maxSignRangeMeters: Double, negativeInformation: Bool, recovery: Bool, adaptiveParticleCount: Bool,
+         rangeSigmaBaseMeters: Double, rangeSigmaPerMeter: Double, bearingSigmaRad: Double,
+         clutterProbability: Double, wallClearanceMeters: Double, gridCellMeters: Double) {
+        self.particleCount = particleCount; self.minParticles = minParticles; self.maxParticles = maxParticles
+        self.horizontalFieldOfViewRad = horizontalFieldOfViewRad; self.maxSignRangeMeters = maxSignRangeMeters
+        self.negativeInformation = negativeInformation; self.recovery = recovery
+        self.adaptiveParticleCount = adaptiveParticleCount; self.rangeSigmaBaseMeters = rangeSigmaBaseMeters
+        self.rangeSigmaPerMeter = rangeSigmaPerMeter; self.bearingSigmaRad = bearingSigmaRad
+        self.clutterProbability = clutterProbability; self.wallClearanceMeters = wallClearanceMeters
+        self.gridCellMeters = gridCellMeters
+    }
+}
+
+/// The filter's current answer.
+public struct LocalizationEstimate: Sendable {
+    /// Time of the last input, seconds.
+    public var t: Double
+    /// Weighted mean position of the dominant hypothesis, meters, map frame.
+    public var positionInMap: Point2
+    /// Floor of the dominant hypothesis ("" before the first reset).
+    public var floorId: String
+    /// Camera forward heading in the map frame, radians CCW from +x.
+    public var headingRad: Double
+    /// Position covariance of the dominant hypothesis, square meters.
+    public var covarianceXX: Double
+    public var covarianceXY: Double
+    public var covarianceYY: Double
+    /// Circular standard deviation of the heading, radians.
+    public var headingStdRad: Double
+    /// 0...1: weight of the dominant hypothesis, reduced by its spread.
+    public var confidence: Double
+    /// True when the navigator may guide: one hypothesis, heavy and tight for about a second, every rival
+    /// refuted by the evidence (hysteresis). Stays false while mirror-image hypotheses survive.
+    public var isLocalized: Bool
+    /// Hypotheses (clusters) holding more than 5 % of the weight.
+    public var hypothesisCount: Int
+    /// Current number of particles.
+    public var particleCount: Int
+}
+
+/// One particle, for drawing.
+public struct ParticleSample: Sendable {
+    /// Position, meters, map frame.
+    public var position: Point2
+    /// Camera heading in the map frame, radians.
+    public var headingRad: Double
+    /// Floor the particle is on.
+    public var floorId: String
+    /// Normalised weight (over all particles).
+    public var weight: Double
+}
+
+/// Every failure of the localizer, one case per C status (LocalizerCore/include/wf_localizer.h), each with
+/// the core's message naming the problem.
+public enum LocalizerError: Error, Equatable, Sendable, CustomStringConvertible {
+    /// A bad argument or option value (the message names it).
+    case invalidArgument(String)
+    /// Memory could not be allocated.
+    case outOfMemory(String)
+    /// The C core does not know the struct version (a build mismatch).
+    case unsupportedVersion(String)
+    /// The building cannot be used (non-finite coordinates, no floor...).
+    case invalidMap(String)
+    /// The floor or start point has no walkable space.
+    case noWalkableSpace(String)
+    /// The filter has not been reset with a prior yet.
+    case notInitialized(String)
+    /// A NaN or infinite input was ignored.
+    case nonFiniteInput(String)
+    /// A floor id that the building does not have.
+    case unknownFloor(String)
+    /// An internal failure of the core (a bug).
+    case internalFailure(String)
+
+    /// Human-readable description.
+    public var description: String {
+        switch self {
+        case .invalidArgument(let m): return "invalid argument: \(m)"
+        case .outOfMemory(let m): return "out of memory: \(m)"
+        case .unsupportedVersion(let m): return "unsupported version: \(m)"
+        case .invalidMap(let m): return "invalid map: \(m)"
+        case .noWalkableSpace(let m): return "no walkable space: \(m)"
+        case .notInitialized(let m): return "not initialized: \(m)"
+        case .nonFiniteInput(let m): return "non-finite input: \(m)"
+        case .unknownFloor(let id): return "unknown floor '\(id)'"
+        case .internalFailure(let m): return "internal failure: \(m)"
+        }
+    }
+}

@@ -1,0 +1,86 @@
+import Maps
+
+/// Particle-filter localizer over one building: fuses ARKit VIO with sign sightings, walls and barometric
+/// altitude (Fusco & Coughlan 2020; algorithm in docs/localizer.md). Owns a handle of the C++ core and frees
+/// it when deallocated. Not thread-safe: use one instance from one thread (or actor) at a time.
+public final class ParticleLocalizer {
+    private let handle: LocalizerBridge.Handle
+    private let floorIds: [String]
+    private let floorIndexById: [String: Int32]
+    private let kindIds: [String: Int32]
+
+    /// The last input (predict / update / compass) that was rejected, e.g. NaN; nil after a good one.
+    public private(set) var lastInputError: LocalizerError?
+
+    /// Builds the filter's map from `building` (walls, signs, vertical-link nodes, graph nodes as flood-fill
+    /// seeds per floor) and precomputes its grids. Throws `LocalizerError.invalidMap` / `.invalidArgument`.
+    public init(building: Building, options: LocalizerOptions = LocalizerOptions(), seed: UInt64 = 1) throws {
+        floorIds = building.floors.map(\.id)
+        var byId: [String: Int32] = [:]
+        for (i, f) in building.floors.enumerated() { byId[f.id] = Int32(i) }
+        floorIndexById = byId
+        let kinds = Set(building.floors.flatMap { $0.signs.map(\.kind) }).sorted()
+        var kindIds: [String: Int32] = [:]
+        for (i, k) in kinds.enumerated() { kindIds[k] = Int32(i) }
+        self.kindIds = kindIds
+        handle = try LocalizerBridge.create(building: building, kindIds: kindIds, options: options, seed: seed)
+    }
+
+    /// Restarts the filter from `prior`. Throws `.unknownFloor`, `.noWalkableSpace`, `.invalidArgument`.
+    public func reset(prior: LocalizerPrior) throws {
+        switch prior {
+        case .floorOnly(let floorId):
+            guard let f = floorIndexById[floorId] else { throw LocalizerError.unknownFloor(floorId) }
+            try handle.initFloorOnly(floor: f)
+        case .startPoint(let floorId, let position, let radiusMeters):
+            guard let f = floorIndexById[floorId] else { throw LocalizerError.unknownFloor(floorId) }
+            try handle.initStartPoint(floor: f, x: position.x, y: position.y, radiusMeters: radiusMeters)
+        }
+        lastInputError = nil
+    }
+
+    /// Compass prior: camera heading in the map `headingInMapRad` +- `sigmaRad`. Applied at the next reset
+    /// (or, when no VIO yaw is known yet or the filter runs already, as a reweighting at the next predict).
+    /// Invalid values are ignored and reported in `lastInputError`.
+    public func setCompassPrior(headingInMapRad: Double, sigmaRad: Double) {
+        record { try handle.setCompassPrior(headingInMapRad: headingInMapRad, sigmaRad: sigmaRad) }
+    }
+
+    /// Motion update from one VIO sample. Non-finite samples are ignored (`lastInputError`).
+    public func predict(_ sample: VIOSample) {
+        record { try handle.predict(sample) }
+    }
+
+    /// Measurement update with the sightings of one frame at time `t` (seconds). An empty array is a frame
+    /// without detections (negative information). Before a reset this does nothing (`lastInputError`).
+    public func update(sightings: [SignSighting], t: Double) {
+        record { try handle.updateSigns(sightings, kindIds: kindIds, t: t) }
+    }
+
+    /// Barometric relative altitude (meters, any origin) at time `t`: a settled change of about a storey
+    /// near an elevator or stairs moves the hypotheses to the floor of matching elevation.
+    public func updateAltitude(relativeAltitudeMeters: Double, t: Double) {
+        record { try handle.updateAltitude(relativeAltitudeMeters, t: t) }
+    }
+
+    /// The current estimate (dominant hypothesis, confidence, localized flag).
+    public var estimate: LocalizationEstimate {
+        handle.estimate(floorIds: floorIds)
+    }
+
+    /// Up to `maxCount` particles (an even subsample when there are more), for drawing.
+    public func particleSnapshot(maxCount: Int) -> [ParticleSample] {
+        handle.particles(maxCount: max(0, maxCount), floorIds: floorIds)
+    }
+
+    private func record(_ body: () throws -> Void) {
+        do {
+            try body()
+            lastInputError = nil
+        } catch let e as LocalizerError {
+            lastInputError = e
+        } catch {
+            lastInputError = .internalFailure("\(error)")
+        }
+    }
+}
