@@ -78,6 +78,8 @@ TEST(CascadeDetector, ReferenceCascadeRunsOnADrawnSign) {
     for (const auto& det : found) hits += (det.measurement.box & truthBox).area() > 0;
     RecordProperty("reference_cascade_detections", static_cast<int>(found.size()));
     RecordProperty("reference_cascade_hits_on_sign", hits);
+    // On this seeded scene it does find the drawn sign (a regression guard for the cascade call itself).
+    EXPECT_GE(hits, 1);
 }
 
 TEST(CascadeDetector, EveryKindHasItsOwnCascade) {

@@ -234,6 +234,47 @@ TEST(CApi, EveryPixelFormatFindsThePortraitSign) {
     wf_detector_free(d);
 }
 
+TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
+    // Portrait VGA gray frame: the sign is on its side in the raw image; unrolling stands it up for the cascade.
+    synthetic::Camera cam;
+    cam.rollRad = -kPi / 2;
+    cam = cam.resized({640, 480});
+    cv::Mat bgr = synthetic::renderBackground(cam, 11);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = 2.5;
+    sign.bottomAboveCameraMeters = 0.3;
+    const synthetic::RenderedSign truth = synthetic::drawSign(bgr, cam, sign);
+    ASSERT_TRUE(truth.visible);
+    cv::Mat gray;
+    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    const std::string path = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {path.c_str()};
+    opts.cascade_paths = paths;
+    opts.cascade_count = 1;
+    opts.cascade_min_neighbors = 1;
+    wf_detector* d = nullptr;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    wf_frame frame{};
+    frame.image = wf_image{gray.data, gray.cols, gray.rows, gray.step, WF_PIXEL_GRAY8, nullptr, 0};
+    frame.intrinsics = wf_intrinsics{cam.fx, cam.fy, cam.cx, cam.cy};
+    frame.roll_rad = cam.rollRad;
+    wf_sign_observation obs[8];
+    size_t count = 0;
+    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
+    ASSERT_GE(count, 1u);
+    // The best box, mapped back to raw pixels, covers the drawn sign's centre.
+    cv::Point2d centre(0, 0);
+    for (const auto& p : truth.cornersRaw) centre += 0.25 * p;
+    const double* m = obs[0].unrolled_to_raw;
+    const double uc = obs[0].box_x + 0.5 * obs[0].box_width, vc = obs[0].box_y + 0.5 * obs[0].box_height;
+    EXPECT_NEAR(m[0] * uc + m[1] * vc + m[2], centre.x, 0.5 * obs[0].box_height);
+    EXPECT_NEAR(m[3] * uc + m[4] * vc + m[5], centre.y, 0.5 * obs[0].box_width);
+    EXPECT_STREQ(obs[0].kind, "exit");
+    EXPECT_EQ(obs[0].bottom_edge_slope, 0.0);
+    wf_detector_free(d);
+}
+
 TEST(CApi, CapacityTooSmallTruncates) {
     wf_detector* d = makeUnet();
     ASSERT_NE(d, nullptr);
