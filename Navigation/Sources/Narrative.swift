@@ -34,7 +34,18 @@ public struct PhraseBook: Sendable {
 
     /// Loads `Navigation/Locales/<language>.json` from the module's resources (SwiftPM: `Bundle.module`;
     /// the Xcode app build must copy `Navigation/Locales` into the app bundle, where it is looked up).
+    /// A regional code without its own file falls back to the language ("en-GB" -> "en").
     public static func load(language: String) throws -> PhraseBook {
+        do {
+            return try loadExactly(language: language)
+        } catch NavigationError.unknownLanguage(_) where language.contains(where: { $0 == "-" || $0 == "_" }) {
+            let base = String(language.prefix { $0 != "-" && $0 != "_" })
+            guard let book = try? loadExactly(language: base) else { throw NavigationError.unknownLanguage(language) }
+            return book
+        }
+    }
+
+    private static func loadExactly(language: String) throws -> PhraseBook {
         #if SWIFT_PACKAGE
         let bundle = Bundle.module
         #else

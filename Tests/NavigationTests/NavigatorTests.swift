@@ -286,6 +286,13 @@ final class NavigatorTests: XCTestCase {
         XCTAssertThrowsError(try Navigator(building: zigzag, destinationId: "e", options: options)) {
             XCTAssertEqual($0 as? NavigationError, .unknownLanguage("xx"))
         }
+        XCTAssertEqual(try PhraseBook.load(language: "en-GB").language, "en", "regional code falls back")
+        XCTAssertThrowsError(try PhraseBook.load(language: "xx-YY")) {
+            XCTAssertEqual($0 as? NavigationError, .unknownLanguage("xx-YY"))
+        }
+        XCTAssertThrowsError(try PhraseBook.load(language: "../en")) {
+            XCTAssertEqual($0 as? NavigationError, .unknownLanguage("../en"))
+        }
         let missing = Data(#"{"language": "en", "phrases": {"startWalking": "Go."}}"#.utf8)
         XCTAssertThrowsError(try PhraseBook(language: "en", json: missing, sourceName: "test.json")) {
             XCTAssertTrue("\($0)".contains("test.json: missing key"), "\($0)")
