@@ -131,6 +131,16 @@ public struct LocalizationEstimate: Sendable {
     public var hypothesisCount: Int
     /// Current number of particles.
     public var particleCount: Int
+
+    /// Creates an estimate (for fakes and replays; the localizer makes its own).
+    public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, covarianceXX: Double,
+                covarianceXY: Double, covarianceYY: Double, headingStdRad: Double, confidence: Double,
+                isLocalized: Bool, hypothesisCount: Int, particleCount: Int) {
+        self.t = t; self.positionInMap = positionInMap; self.floorId = floorId; self.headingRad = headingRad
+        self.covarianceXX = covarianceXX; self.covarianceXY = covarianceXY; self.covarianceYY = covarianceYY
+        self.headingStdRad = headingStdRad; self.confidence = confidence; self.isLocalized = isLocalized
+        self.hypothesisCount = hypothesisCount; self.particleCount = particleCount
+    }
 }
 
 /// One particle, for drawing.
@@ -143,6 +153,11 @@ public struct ParticleSample: Sendable {
     public var floorId: String
     /// Normalised weight (over all particles).
     public var weight: Double
+
+    /// Creates a particle sample.
+    public init(position: Point2, headingRad: Double, floorId: String, weight: Double) {
+        self.position = position; self.headingRad = headingRad; self.floorId = floorId; self.weight = weight
+    }
 }
 
 /// Every failure of the localizer, one case per C status (LocalizerCore/include/wf_localizer.h), each with
