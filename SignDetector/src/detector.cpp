@@ -20,11 +20,12 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
         return WF_ERR_VERSION;
     }
     ResolvedOptions r;
-    if (opts.kind != WF_DETECTOR_CASCADE && opts.kind != WF_DETECTOR_UNET) {
-        *error = "unknown detector kind " + std::to_string(static_cast<int>(opts.kind));
+    const int kind = enumValue(opts.kind);
+    if (kind != WF_DETECTOR_CASCADE && kind != WF_DETECTOR_UNET) {
+        *error = "unknown detector kind " + std::to_string(kind);
         return WF_ERR_INVALID_ARGUMENT;
     }
-    r.kind = opts.kind;
+    r.kind = static_cast<wf_detector_kind>(kind);
     if (opts.cascade_count > 0 && opts.cascade_paths == nullptr) {
         *error = "cascade_count is " + std::to_string(opts.cascade_count) + " but cascade_paths is NULL";
         return WF_ERR_INVALID_ARGUMENT;

@@ -8,7 +8,7 @@
 
 namespace wf::sign {
 
-int bytesPerPixel(wf_pixel_format format) {
+int bytesPerPixel(int format) {
     switch (format) {
         case WF_PIXEL_GRAY8: return 1;
         case WF_PIXEL_BGRA8: return 4;
@@ -20,9 +20,10 @@ int bytesPerPixel(wf_pixel_format format) {
 
 FrameCheck checkImage(const wf_image& image) {
     std::ostringstream msg;
-    const int bpp = bytesPerPixel(image.format);
+    const int format = enumValue(image.format);
+    const int bpp = bytesPerPixel(format);
     if (bpp == 0) {
-        msg << "unknown pixel format " << static_cast<int>(image.format);
+        msg << "unknown pixel format " << format;
         return {WF_ERR_INVALID_ARGUMENT, msg.str()};
     }
     if (image.data == nullptr || image.width <= 0 || image.height <= 0) {
@@ -35,7 +36,7 @@ FrameCheck checkImage(const wf_image& image) {
             << " bytes per pixel";
         return {WF_ERR_BAD_FRAME, msg.str()};
     }
-    if (image.format == WF_PIXEL_NV12 && image.data_uv != nullptr) {
+    if (format == WF_PIXEL_NV12 && image.data_uv != nullptr) {
         const size_t need = 2 * static_cast<size_t>((image.width + 1) / 2);
         if (image.stride_uv < need) {
             msg << "NV12 chroma stride " << image.stride_uv << " bytes is smaller than " << need;
@@ -104,7 +105,7 @@ inline uint8_t clamp8(double v) { return static_cast<uint8_t>(std::min(255.0, st
 
 cv::Mat toGray(const wf_image& image) {
     cv::Mat gray;
-    switch (image.format) {
+    switch (enumValue(image.format)) {
         case WF_PIXEL_GRAY8:
         case WF_PIXEL_NV12: return wrap(image, CV_8UC1);
         case WF_PIXEL_BGRA8: cv::cvtColor(wrap(image, CV_8UC4), gray, cv::COLOR_BGRA2GRAY); return gray;
@@ -115,7 +116,7 @@ cv::Mat toGray(const wf_image& image) {
 
 cv::Mat toRgb(const wf_image& image) {
     cv::Mat rgb;
-    switch (image.format) {
+    switch (enumValue(image.format)) {
         case WF_PIXEL_GRAY8: cv::cvtColor(wrap(image, CV_8UC1), rgb, cv::COLOR_GRAY2RGB); return rgb;
         case WF_PIXEL_BGRA8: cv::cvtColor(wrap(image, CV_8UC4), rgb, cv::COLOR_BGRA2RGB); return rgb;
         case WF_PIXEL_RGB8: return wrap(image, CV_8UC3);  // read-only use: no copy

@@ -6,6 +6,7 @@
 
 #include <opencv2/core.hpp>
 
+#include <cstring>
 #include <string>
 
 namespace wf::sign {
@@ -42,7 +43,18 @@ cv::Mat toGray(const wf_image& image);
 /// delivers; NV12 without chroma and GRAY8 give R = G = B = luma.
 cv::Mat toRgb(const wf_image& image);
 
-/// Bytes per pixel of the first plane of `format`, or 0 if unknown.
-int bytesPerPixel(wf_pixel_format format);
+/// Bytes per pixel of the first plane of `format` (a wf_pixel_format value), or 0 if unknown.
+int bytesPerPixel(int format);
+
+/// The integer a C caller stored in an enum-typed field or argument. C allows any int there; reading an
+/// out-of-range value through the C++ enum type is undefined behaviour, so values from the C side are read
+/// as int before they are checked.
+template <class E>
+int enumValue(const E& e) {
+    static_assert(sizeof(E) == sizeof(int), "C enums are int-sized on supported ABIs");
+    int v;
+    std::memcpy(&v, &e, sizeof v);
+    return v;
+}
 
 }  // namespace wf::sign

@@ -9,6 +9,10 @@
 namespace wf::sign {
 
 bool readClassList(const std::string& path, std::vector<std::string>* classes, std::string* error) {
+    if (!std::ifstream(path).good()) {
+        *error = "cannot open class list " + path;
+        return false;
+    }
     try {
         cv::FileStorage fs(path, cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
         if (!fs.isOpened()) {

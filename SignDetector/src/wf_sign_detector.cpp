@@ -122,7 +122,7 @@ int wf_image_read(wf_owned_image* out, const char* path, wf_pixel_format format)
     if (path == nullptr) return fail(WF_ERR_INVALID_ARGUMENT, "wf_image_read: path is NULL");
     int conversion;
     int channels;
-    switch (format) {
+    switch (wf::sign::enumValue(format)) {
         case WF_PIXEL_GRAY8: conversion = -1; channels = 1; break;
         case WF_PIXEL_RGB8: conversion = cv::COLOR_BGR2RGB; channels = 3; break;
         case WF_PIXEL_BGRA8: conversion = cv::COLOR_BGR2BGRA; channels = 4; break;

@@ -5,6 +5,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <vector>
 
@@ -48,7 +49,8 @@ TEST(FrameCheck, RejectsEmptyFrames) {
     f.frame.image.stride = 100;
     EXPECT_NE(checkFrame(f.frame).message.find("stride"), std::string::npos);
     f = grayFrame();
-    f.frame.image.format = static_cast<wf_pixel_format>(42);
+    const int bogus = 42;  // what a C caller may store in the enum field
+    std::memcpy(&f.frame.image.format, &bogus, sizeof bogus);
     EXPECT_EQ(checkFrame(f.frame).status, WF_ERR_INVALID_ARGUMENT);
 }
 

@@ -11,6 +11,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <limits>
 #include <string>
 #include <vector>
@@ -112,6 +113,11 @@ TEST(CApi, CreateErrorsLeaveNoHandleAndAMessage) {
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);
     EXPECT_NE(std::string(wf_detector_last_error(nullptr)).find("sign_unet.onnx"), std::string::npos);
     wf_detector_free(nullptr);  // no-op
+    wf_detector_options badKind = WF_DETECTOR_OPTIONS_INIT;
+    int bogus = 9;
+    std::memcpy(&badKind.kind, &bogus, sizeof bogus);  // what a C caller may store
+    EXPECT_EQ(wf_detector_create(&d, &badKind), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("unknown detector kind 9"), std::string::npos);
 }
 
 TEST(CApi, CascadeHandleReportsItsKinds) {
