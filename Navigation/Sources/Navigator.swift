@@ -72,6 +72,12 @@ public struct NavigatorOptions: Sendable {
     public var continuationMarginMeters = 2.0
     /// With no route to the destination, a new search is made this often, seconds.
     public var noRouteRetrySeconds = 5.0
+    /// A turn or door counts as passed once the estimate is this far beyond it along the route (until
+    /// then its cue may still be said, late rather than never), meters.
+    public var passedMarginMeters = 0.5
+    /// A turn whose cue was not said before the estimate passed it (a jump near a corner) is still cued
+    /// when the estimate is at most this far past it, meters.
+    public var lateCueMeters = 1.5
     /// "Start walking" is repeated this often while not localized.
     public var startWalkingRepeatSeconds = 15.0
     /// After localization is lost during a route, "Start walking" is said only once the loss has lasted
@@ -528,52 +534,79 @@ public final class Navigator {
         return true
     }
 
+    private func isRide(_ m: Maneuver) -> Bool { m.kind == .takeElevator || m.kind == .takeStairs }
+
+    /// A ride is passed on reaching the next floor. A turn or door is passed once the traveler is beyond
+    /// it by `passedMarginMeters` (or past the next route point): an estimate that merely projects onto
+    /// the outgoing segment near a corner (localizer noise) still gets the cue, late rather than never.
+    private func isPassed(_ m: Maneuver, u: Double, s: Double) -> Bool {
+        let beyond = u > m.polylinePosition + 1e-9
+        if isRide(m) { return beyond }
+        return beyond && (s - m.distanceFromStartMeters > options.passedMarginMeters
+                          || u >= m.polylinePosition.rounded(.down) + 1 + 1e-9)
+    }
+
     private func announceManeuvers(input: NavigationInput) {
         guard let r = currentRoute else { return }
         let t = input.t
         let u = polylinePosition
         let s = progressMeters
+        // 1. Move past the maneuvers left behind (and say the landing phrase on reaching a landing).
         while nextManeuver < r.maneuvers.count {
             let i = nextManeuver
             let m = r.maneuvers[i]
+            if m.kind == .arrive { break }
+            if m.kind == .continue {
+                guard u >= m.polylinePosition - 1e-9 else { break }
+                if !cueIssued[i], let text = narrative.cue(m, floorName: floorName(m.floorId)) {
+                    // Alert rank: orientation after a ride; a turn cue right after it may cut it off.
+                    say(text, .alert, t, about: m, variant: "cue")
+                    sayChained(after: i, route: r, t: t)
+                    // The phrase gives the distance to the next maneuver: no separate early alert.
+                    if i + 1 < r.maneuvers.count && m.distanceToNextMeters <= options.alertDistanceMeters {
+                        alertIssued[i + 1] = true
+                    }
+                }
+                cueIssued[i] = true
+                nextManeuver += 1
+                continue
+            }
+            guard isPassed(m, u: u, s: s) else { break }
+            // Anything about it still waiting to be said would now be wrong.
+            policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "cue"))
+            policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "alert"))
+            if m.kind.isTurn && !cueIssued[i] && s - m.distanceFromStartMeters <= options.lateCueMeters {
+                // The estimate jumped past the turn before its cue (noise near a corner): the traveler is
+                // most likely right at it, so say it now rather than never.
+                cueIssued[i] = true
+                alertIssued[i] = true
+                if let text = narrative.cue(m, floorName: floorName(m.floorId)) {
+                    policy.submitHaptic(.turnCue)
+                    say(text, .cue, t, about: m, variant: "cue")
+                }
+            }
+            if m.kind.isTurn || m.kind == .goThroughDoor { continuationDue = i }
+            nextManeuver += 1
+        }
+        // 2. Alert and cue the next maneuver. When its cue is already out (the traveler is at the turn, not
+        //    yet past it), the cue of the one after it is also due at its distance; never beyond a ride:
+        //    nothing after a ride is announced before the ride.
+        var i = nextManeuver
+        var lookingAhead = false
+        while i < r.maneuvers.count {
+            let m = r.maneuvers[i]
+            let d = m.distanceFromStartMeters - s
             if m.kind == .arrive {
-                if !alertIssued[i], s < m.distanceFromStartMeters - options.arrivalRadiusMeters - options.alertCueGapMeters,
-                   m.distanceFromStartMeters - s <= options.alertDistanceMeters {
+                if !lookingAhead, !alertIssued[i], d > options.arrivalRadiusMeters + options.alertCueGapMeters,
+                   d <= options.alertDistanceMeters {
                     alertIssued[i] = true
-                    if let text = narrative.alert(m, distanceMeters: m.distanceFromStartMeters - s, destinationName: destinationName) {
+                    if let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) {
                         say(text, .alert, t, about: m, variant: "alert")
                     }
                 }
                 break
             }
-            if m.kind == .continue {
-                if u >= m.polylinePosition - 1e-9 {
-                    if !cueIssued[i], let text = narrative.cue(m, floorName: floorName(m.floorId)) {
-                        // Alert rank: orientation after a ride; a turn cue right after it may cut it off.
-                        say(text, .alert, t, about: m, variant: "cue")
-                        sayChained(after: i, route: r, t: t)
-                        // The phrase gives the distance to the next maneuver: no separate early alert.
-                        if i + 1 < r.maneuvers.count && m.distanceToNextMeters <= options.alertDistanceMeters {
-                            alertIssued[i + 1] = true
-                        }
-                    }
-                    cueIssued[i] = true
-                    nextManeuver += 1
-                    continue
-                }
-                break
-            }
-            // A point maneuver is passed once the traveler is beyond it on the polyline.
-            let passed = u > m.polylinePosition + 1e-9
-            if passed {
-                if m.kind.isTurn || m.kind == .goThroughDoor { continuationDue = i }
-                // Anything about it still waiting to be said would now be wrong.
-                policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "cue"))
-                policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "alert"))
-                nextManeuver += 1
-                continue
-            }
-            let d = m.distanceFromStartMeters - s
+            if m.kind == .continue { break }
             if !cueIssued[i] && d <= options.cueDistanceMeters {
                 cueIssued[i] = true
                 alertIssued[i] = true
@@ -584,7 +617,7 @@ public final class Navigator {
                     say(text, m.kind == .goThroughDoor ? .alert : .cue, t, about: m, variant: "cue")
                     sayChained(after: i, route: r, t: t)
                 }
-            } else if !alertIssued[i] && d <= options.alertDistanceMeters
+            } else if !lookingAhead && !alertIssued[i] && d <= options.alertDistanceMeters
                         && d > options.cueDistanceMeters + options.alertCueGapMeters {
                 alertIssued[i] = true
                 continuationDue = nil
@@ -592,7 +625,9 @@ public final class Navigator {
                     say(text, .alert, t, about: m, variant: "alert")
                 }
             }
-            break
+            guard cueIssued[i], !isRide(m) else { break }
+            lookingAhead = true
+            i += 1
         }
         // Post-maneuver continuation on a long leg.
         if let c = continuationDue, c + 1 < r.maneuvers.count {

@@ -188,13 +188,29 @@ struct Walker {
     var floorId: String
     var headingRad: Double
     var records: [WalkRecord] = []
+    /// Localizer noise added to each input (not to the true walk): independent Gaussian errors of this
+    /// standard deviation on x and y (meters) and on the heading (radians), from a seeded generator.
+    var positionNoiseMeters = 0.0
+    var headingNoiseRad = 0.0
+    var rng = SplitMix64(seed: 1)
+
+    private mutating func gaussian() -> Double {
+        // Box-Muller.
+        let u1 = max(rng.unit(), 1e-300), u2 = rng.unit()
+        return (-2 * log(u1)).squareRoot() * cos(2 * Double.pi * u2)
+    }
 
     init(start: Point2, floorId: String, headingRad: Double = 0, t: Double = 0) {
         position = start; self.floorId = floorId; self.headingRad = headingRad; startT = t
     }
 
     private mutating func tick(_ nav: Navigator, localized: Bool = true) {
-        let input = NavigationInput(t: t, positionInMap: position, floorId: floorId, headingRad: headingRad,
+        var estimate = position, heading = headingRad
+        if positionNoiseMeters > 0 {
+            estimate = Point2(x: position.x + positionNoiseMeters * gaussian(), y: position.y + positionNoiseMeters * gaussian())
+        }
+        if headingNoiseRad > 0 { heading += headingNoiseRad * gaussian() }
+        let input = NavigationInput(t: t, positionInMap: estimate, floorId: floorId, headingRad: heading,
                                     isLocalized: localized, confidence: 1)
         let events = nav.update(input)
         var nextTurn: Double? = nil

@@ -93,14 +93,60 @@ final class NavigatorTests: XCTestCase {
             "Go straight ahead, 15 meters.",  // 16 m to b, rounded to 5 m above 10 m
             "In 8 meters, turn right.",
             "Turn right now.",
-            "In 4 meters, turn left.",  // b-c is 4 m: the next alert right after the cue
+            "In 3 meters, turn left.",  // b-c is 4 m: the next alert once 0.5 m past b
             "Turn left now.",
             "Continue 20 meters.",
             "In 8 meters, turn right.",
             "Turn right now.",
-            "In 4 meters, arrive at e.",
+            "In 3 meters, arrive at e.",
             "Arrived. e is ahead.",
         ])
+    }
+
+    func testNoisyEstimatesDoNotFlapOrRaiseFalseAlarms() throws {
+        // Localizer noise of 0.3 m and 10 deg (seeded), walking the zigzag: one route, no corrections,
+        // every turn cued once, within 0.2-2 m of its control point (true position).
+        for seed in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] as [UInt64] {
+            let nav = try Navigator(building: zigzag, destinationId: "e")
+            var w = Walker(start: zigzag.nodePosition("a"), floorId: "1")
+            w.positionNoiseMeters = 0.3
+            w.headingNoiseRad = 10 * .pi / 180
+            w.rng = SplitMix64(seed: seed)
+            w.run(nav, [.wait(seconds: 0.1)])
+            let route = try XCTUnwrap(nav.currentRoute)
+            w.run(nav, route.points.dropFirst().map { .walk(to: $0.position) } + [.wait(seconds: 2)])
+            XCTAssertTrue(nav.hasArrived, "seed \(seed)")
+            XCTAssertEqual(nav.routeCount, 1, "seed \(seed): \(w.spoken)")
+            XCTAssertFalse(w.haptics.contains(.wrongWay) || w.haptics.contains(.offRoute), "seed \(seed)")
+            let cues = w.records.filter { r in r.events.contains { $0.spokenText?.hasSuffix(" now.") ?? false } }
+            XCTAssertEqual(cues.count, 3, "seed \(seed): \(w.spoken)")
+            let turns = route.maneuvers.filter(\.kind.isTurn)
+            for (r, m) in zip(cues, turns) {
+                let p = r.input.positionInMap  // noisy; compare the true walked distance instead
+                _ = p
+                let k = w.records.firstIndex { $0.input.t == r.input.t }!
+                let truth = trueDistanceAlong(route, walkedUpdates: k)
+                let before = m.distanceFromStartMeters - truth
+                XCTAssertGreaterThanOrEqual(before, 0.2, "seed \(seed) \(m.kind)")
+                XCTAssertLessThanOrEqual(before, 2.0, "seed \(seed) \(m.kind)")
+            }
+        }
+    }
+
+    /// Distance walked along `route` after `walkedUpdates` updates at 1.2 m/s (the first update stands
+    /// at the start).
+    private func trueDistanceAlong(_ route: Route, walkedUpdates k: Int) -> Double {
+        // The walker moves in steps of at most 0.12 m, one per update, per segment; recompute them.
+        var s = 0.0
+        var count = 1
+        for i in 1..<route.points.count {
+            let len = route.cumulativeMeters[i] - route.cumulativeMeters[i - 1]
+            let n = Int((len / 0.12).rounded(.up))
+            if count + n > k { return s + len * Double(k - count) / Double(n) }
+            count += n
+            s += len
+        }
+        return s
     }
 
     func testWrongWayAfterTwoSecondsOfWalkingAgainstTheRoute() throws {
