@@ -25,7 +25,7 @@ struct CLIResult: CustomStringConvertible {
 /// paths such as SignDetector/models resolve as they do for a user running it from a checkout).
 enum CLI {
     /// Repository root: this file is Tests/CLITests/CLIHarness.swift.
-    static let repositoryRoot: URL = URL(fileURLWithPath: #filePath)
+    static let repositoryRoot: URL = URL(fileURLWithPath: #filePath).resolvingSymlinksInPath()
         .deletingLastPathComponent().deletingLastPathComponent().deletingLastPathComponent()
 
     /// The bundled office map, as a path relative to the repository root.
