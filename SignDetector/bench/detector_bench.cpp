@@ -10,11 +10,14 @@
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
 //                                           tiny test model (then it times only the pipeline around the net)
+//   detectMultiScale_only_reference/VGA     the cascade call alone on pre-unrolled frames (pipeline overhead =
+//                                           cascade_reference/VGA minus this)
 //   unet_forward/224                        one 224 x 224 forward pass + softmax of that model
 //   unroll/VGA_roll-1.58, unroll/HR_roll-1.58, unroll/HR_portrait_exact   unrolling alone
 // After the run, ratios ours / reference are printed.
 #include "bench_support.hpp"
 #include "synthetic_scene.hpp"
+#include "cascade_detector.hpp"
 #include "unet_detector.hpp"
 #include "unroll.hpp"
 
@@ -101,6 +104,30 @@ void runPipeline(benchmark::State& state, DetectorHandle* detector, const std::v
         ++i;
     }
     state.counters["signs_per_frame"] = benchmark::Counter(double(found) / double(std::max<size_t>(1, i)));
+}
+
+/// detectMultiScale alone on pre-unrolled gray frames: the pipeline's overhead is the difference.
+void runCascadeOnly(benchmark::State& state, const std::string* path, const std::vector<std::unique_ptr<PreparedFrame>>* frames) {
+    CascadeDetector cascade;
+    std::string error;
+    if (!cascade.load({*path}, {"exit"}, &error)) {
+        state.SkipWithError(error.c_str());
+        return;
+    }
+    std::vector<cv::Mat> unrolled;
+    for (const auto& f : *frames) {
+        cv::Mat gray;
+        cv::cvtColor(f->rgb, gray, cv::COLOR_RGB2GRAY);
+        const Intrinsics k{f->labels.fx, f->labels.fy, f->labels.cx, f->labels.cy};
+        unrolled.push_back(Unrolling::forRoll(f->labels.rollRad, k, gray.size()).apply(gray).clone());
+    }
+    CascadeParams params;
+    params.maxWindowFactor = 5.0;
+    size_t i = 0;
+    for (auto _ : state) {
+        auto d = cascade.detect(unrolled[i++ % unrolled.size()], params);
+        benchmark::DoNotOptimize(d.data());
+    }
 }
 
 void runForward(benchmark::State& state, const std::string* modelPath) {
@@ -195,6 +222,9 @@ int main(int argc, char** argv) {
     if (refCascade && *refCascade) {
         benchmark::RegisterBenchmark("cascade_reference/VGA", runPipeline, refCascade.get(), &vga)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark("cascade_reference/HR", runPipeline, refCascade.get(), &hr)->Unit(benchmark::kMillisecond);
+        static const std::string refPath = referenceCascadePath();
+        benchmark::RegisterBenchmark("detectMultiScale_only_reference/VGA", runCascadeOnly, &refPath, &vga)
+            ->Unit(benchmark::kMillisecond);
     }
     static const std::string unetModelPath = unetModel;
     if (unet && *unet) {

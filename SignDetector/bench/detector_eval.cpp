@@ -1,6 +1,6 @@
 // wf_detector_eval: the paper's Table 1 on a rendered test set, for every detector we have.
 //
-//   wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N] [--rows a,b,...]
+//   wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N] [--every K] [--rows a,b,...]
 //
 // DIR holds labels.jsonl and the images (SignDetector/training/render_signs.py --split test). Rows:
 //   cascade-vga  our cascade (models/exit_sign_cascade.xml), frames resized to 640 x 480
@@ -58,7 +58,9 @@ std::string percent(double value) {
 
 void usage() {
     std::cerr << "usage: wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N]\n"
-                 "                        [--rows cascade-vga,cascade-hr,unet,reference] [--threads N]\n";
+                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference] [--threads N]\n"
+                 "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
+                 "  --limit N   use the first N frames (after --every)\n";
 }
 
 }  // namespace
@@ -66,7 +68,7 @@ void usage() {
 int main(int argc, char** argv) {
     std::string testset, models = productModelsDir(), reference = referenceCascadePath();
     std::string rowsArg = "cascade-vga,cascade-hr,unet,reference";
-    long limit = -1;
+    long limit = -1, every = 1;
     int threads = 1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -82,6 +84,7 @@ int main(int argc, char** argv) {
         else if (a == "--reference") reference = next();
         else if (a == "--limit") limit = std::stol(next());
         else if (a == "--rows") rowsArg = next();
+        else if (a == "--every") every = std::max(1L, std::stol(next()));
         else if (a == "--threads") threads = std::stoi(next());
         else {
             usage();
@@ -98,6 +101,11 @@ int main(int argc, char** argv) {
     if (!readLabels(testset, &frames, &error)) {
         std::cerr << "wf_detector_eval: " << error << "\n";
         return 1;
+    }
+    if (every > 1) {
+        std::vector<LabelledFrame> kept;
+        for (size_t i = 0; i < frames.size(); i += static_cast<size_t>(every)) kept.push_back(frames[i]);
+        frames.swap(kept);
     }
     if (limit >= 0 && static_cast<long>(frames.size()) > limit) frames.resize(limit);
 
