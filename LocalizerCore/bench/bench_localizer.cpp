@@ -133,6 +133,7 @@ void BM_MotionUpdate(benchmark::State &state) {
     MotionNoise noise = MotionNoise::from_options(bench_options());
     noise.wall_crossing_weight = 1.0f;  // keep weights normal-range over millions of iterations (no denormals)
     Rng rng(2);
+    MotionNoiseAccumulator acc;
     VioDelta d;
     d.kind = DeltaKind::kMove;
     d.d_yaw = 0.01f;
@@ -140,7 +141,7 @@ void BM_MotionUpdate(benchmark::State &state) {
     for (auto _ : state) {
         d.d_east = 0.04f * sign;  // back and forth so particles stay in the building
         sign = -sign;
-        benchmark::DoNotOptimize(apply_motion(p, d, noise, office_map(), rng));
+        benchmark::DoNotOptimize(apply_motion(p, d, noise, office_map(), rng, &acc));
     }
     set_counters(state, n, 2 * ParticleSet::kBytesPerParticle);
 }

@@ -27,8 +27,9 @@ inline float wrap_angle_f(float a) {
 /// sin and cos of x (radians, |x| < 1e5), max abs error ~2e-7 for |x| < 100: quadrant reduction by
 /// pi/2 (Cody-Waite two-constant split) and Taylor polynomials of degree 7/8 on [-pi/4, pi/4].
 inline void fast_sincos(float x, float &s, float &c) {
-    const float q = std::nearbyint(x * 0.63661977236758134f);  // x * 2/pi
-    const int32_t qi = static_cast<int32_t>(q);
+    const float t = x * 0.63661977236758134f;  // x * 2/pi
+    const int32_t qi = static_cast<int32_t>(t + (t >= 0.0f ? 0.5f : -0.5f));  // round half away from zero
+    const float q = static_cast<float>(qi);
     float r = x - q * 1.5707963705062866f;
     r = r - q * -4.37113900018624e-08f;
     const float r2 = r * r;

@@ -35,13 +35,20 @@ struct FloorGrid {
         if (!(fx >= 0.0f && fy >= 0.0f && fx < static_cast<float>(nx) && fy < static_cast<float>(ny))) return -1;
         return static_cast<int32_t>(fy) * nx + static_cast<int32_t>(fx);
     }
-    /// Column of x clamped into the grid.
-    inline int32_t clamp_ix(float x) const { return clampi(static_cast<int32_t>(std::floor((x - x0) * inv_cell)), nx); }
-    inline int32_t clamp_iy(float y) const { return clampi(static_cast<int32_t>(std::floor((y - y0) * inv_cell)), ny); }
+    /// Column of x clamped into the grid. Truncation equals floor here: the only values where they differ
+    /// are negative, and those clamp to 0 either way (and it avoids a libm call without SSE4.1).
+    inline int32_t clamp_ix(float x) const { return clampi(to_int((x - x0) * inv_cell), nx); }
+    inline int32_t clamp_iy(float y) const { return clampi(to_int((y - y0) * inv_cell), ny); }
     float center_x(int32_t ix) const { return x0 + (static_cast<float>(ix) + 0.5f) * cell_m; }
     float center_y(int32_t iy) const { return y0 + (static_cast<float>(iy) + 0.5f) * cell_m; }
 
 private:
+    static inline int32_t to_int(float v) {
+        // Saturate before converting (NaN and huge values map to the low end, then clamp to 0).
+        if (!(v > -1e9f)) return -1;
+        if (v > 1e9f) return 1000000000;
+        return static_cast<int32_t>(v);
+    }
     static inline int32_t clampi(int32_t v, int32_t n) { return v < 0 ? 0 : (v >= n ? n - 1 : v); }
 };
 

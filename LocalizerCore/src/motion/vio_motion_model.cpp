@@ -88,7 +88,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
 }
 
 double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &noise, const LocalizerMap &map,
-                    Rng &rng) {
+                    Rng &rng, MotionNoiseAccumulator *acc) {
     const size_t n = p.size();
     float *const xs = p.x.data();
     float *const ys = p.y.data();
@@ -121,36 +121,32 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
     const float de = delta.d_east, dn = delta.d_north;
     const float dist = std::sqrt(de * de + dn * dn);
     const float turn = std::fabs(delta.d_yaw);
-    const float k = delta.noise_factor;
-    // Random-walk noise: variances add over frames, std = k * sqrt(distance or turn) per frame.
-    const float sd = std::sqrt(dist), st = std::sqrt(turn);
-    const float sigma_pos = k * std::sqrt(sq(noise.position_per_sqrt_meter * sd) + sq(noise.position_per_sqrt_rad * st));
-    const float sigma_yaw = k * std::sqrt(sq(noise.yaw_per_sqrt_meter * sd) + sq(noise.yaw_per_sqrt_rad * st));
-    const float sigma_scale = k * noise.scale_per_sqrt_meter * sd;
-    const float smin = noise.scale_min, smax = noise.scale_max;
-    float wsum = 0;  // float partial sums in blocks keep the loop cheap; flushed to double
+    const float k2 = delta.noise_factor * delta.noise_factor;
+    // Random-walk noise: variances add over frames (std = k * sqrt(distance or turn) per frame).
+    MotionNoiseAccumulator local;
+    MotionNoiseAccumulator &a = acc ? *acc : local;
+    a.var_position += k2 * (sq(noise.position_per_sqrt_meter) * dist + sq(noise.position_per_sqrt_rad) * turn);
+    a.var_yaw += k2 * (sq(noise.yaw_per_sqrt_meter) * dist + sq(noise.yaw_per_sqrt_rad) * turn);
+    a.var_scale += k2 * sq(noise.scale_per_sqrt_meter) * dist;
+    a.distance_m += dist;
+    a.turn_rad += turn;
+    ++a.frames;
+    const bool inject = !acc || a.due();
+
+    // Deterministic part: rotate by the yaw offset, scale, test the wall grid.
+    float wsum = 0;
     for (size_t i = 0; i < n; ++i) {
-        float off = offs[i];
-        if (sigma_yaw > 0) off += sigma_yaw * rng.normal();
-        float sc = scales[i];
-        if (sigma_scale > 0) sc = std::min(smax, std::max(smin, sc + sigma_scale * rng.normal()));
         float s, c;
-        fast_sincos(off, s, c);
-        float mx = sc * (c * de - s * dn);
-        float my = sc * (s * de + c * dn);
-        if (sigma_pos > 0) {
-            mx += sigma_pos * rng.normal();
-            my += sigma_pos * rng.normal();
-        }
+        fast_sincos(offs[i], s, c);
+        const float sc = scales[i];
         const float x0 = xs[i], y0 = ys[i];
-        const float x1 = x0 + mx, y1 = y0 + my;
+        const float x1 = x0 + sc * (c * de - s * dn);
+        const float y1 = y0 + sc * (s * de + c * dn);
         float w = ws[i];
         if (fl[floors[i]].walls.crosses(x0, y0, x1, y1)) w *= kill;
         ws[i] = w;
         xs[i] = x1;
         ys[i] = y1;
-        offs[i] = off;
-        scales[i] = sc;
         wsum += w;
         if ((i & 1023) == 1023) {
             weight_sum += wsum;
@@ -158,9 +154,35 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
         }
     }
     weight_sum += wsum;
-    // Keep yaw offsets bounded (the fast sincos is exact only for moderate angles).
-    for (size_t i = 0; i < n; ++i) offs[i] = wrap_angle_f(offs[i]);
-    return weight_sum;
+    if (!inject) return weight_sum;
+
+    // Stochastic part, every ~0.25 m: yaw offset, scale and position random walks (and their wall test).
+    const float sigma_pos = static_cast<float>(std::sqrt(a.var_position));
+    const float sigma_yaw = static_cast<float>(std::sqrt(a.var_yaw));
+    const float sigma_scale = static_cast<float>(std::sqrt(a.var_scale));
+    a.clear();
+    const float smin = noise.scale_min, smax = noise.scale_max;
+    weight_sum = 0;
+    wsum = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (sigma_yaw > 0) offs[i] = wrap_angle_f(offs[i] + sigma_yaw * rng.normal());
+        if (sigma_scale > 0) scales[i] = std::min(smax, std::max(smin, scales[i] + sigma_scale * rng.normal()));
+        float w = ws[i];
+        if (sigma_pos > 0) {
+            const float x0 = xs[i], y0 = ys[i];
+            const float x1 = x0 + sigma_pos * rng.normal(), y1 = y0 + sigma_pos * rng.normal();
+            if (fl[floors[i]].walls.crosses(x0, y0, x1, y1)) w *= kill;
+            xs[i] = x1;
+            ys[i] = y1;
+        }
+        ws[i] = w;
+        wsum += w;
+        if ((i & 1023) == 1023) {
+            weight_sum += wsum;
+            wsum = 0;
+        }
+    }
+    return weight_sum + wsum;
 }
 
 }  // namespace wf::loc

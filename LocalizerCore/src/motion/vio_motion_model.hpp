@@ -77,9 +77,22 @@ private:
     double lost_since_ = -1;
 };
 
+/// Motion noise not yet applied. The noise is a random walk, so the variances of consecutive frames add up:
+/// instead of drawing four normals per particle at every 30 Hz frame, the variance is accumulated and
+/// injected in one draw once 0.25 m or 0.25 rad of motion (or 10 frames) has built up. The distribution
+/// after each injection is the same; between injections it lags by at most that much motion.
+struct MotionNoiseAccumulator {
+    double var_position = 0, var_yaw = 0, var_scale = 0;
+    double distance_m = 0, turn_rad = 0;
+    int frames = 0;
+    bool due() const { return distance_m >= 0.25 - 1e-9 || turn_rad >= 0.25 - 1e-9 || frames >= 10; }
+    void clear() { *this = MotionNoiseAccumulator{}; }
+};
+
 /// Moves all particles by `delta` (kMove or kJump), sampling noise from `rng`, and down-weights particles
-/// whose move crosses a wall of their floor. Returns the sum of the weights afterwards (not normalised).
+/// whose move crosses a wall of their floor. `acc` carries noise not yet injected (nullptr: inject every
+/// frame). Returns the sum of the weights afterwards (not normalised).
 double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &noise, const LocalizerMap &map,
-                    Rng &rng);
+                    Rng &rng, MotionNoiseAccumulator *acc = nullptr);
 
 }  // namespace wf::loc

@@ -173,6 +173,7 @@ void ParticleFilter::reset_filter_state() {
     initialized_ = true;
     w_slow_ = w_fast_ = 0;
     has_evidence_t_ = false;
+    motion_acc_.clear();
     localized_ = false;
     has_candidate_ = false;
     estimate_dirty_ = true;
@@ -316,7 +317,7 @@ int ParticleFilter::predict(const wf_vio_sample &s) {
     if (!initialized_) return WF_LOC_OK;
     if (compass_pending_ && tracker_.has_yaw()) apply_compass_reweight();
     if (d.kind != DeltaKind::kNone) {
-        const double sum = apply_motion(p_, d, motion_, map_, rng_);
+        const double sum = apply_motion(p_, d, motion_, map_, rng_, &motion_acc_);
         normalize(sum);
         maybe_resample(false);
     }

@@ -74,6 +74,7 @@ private:
     SignModelParams sign_model_;
     Rng rng_;
     VioDeltaTracker tracker_;
+    MotionNoiseAccumulator motion_acc_;
     ParticleSet p_, scratch_;
     std::vector<float> log_likelihood_;
     std::vector<PreparedSighting> last_sightings_;  // sightings of the update being resampled
