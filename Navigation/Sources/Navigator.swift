@@ -312,7 +312,7 @@ public final class Navigator {
         routeEdges = Set(route.segmentEdges)
         var cc: [Double] = [0]
         for (i, e) in route.segmentEdges.enumerated() {
-            let full = router.cost(ofEdge: e)
+            let full = router.cost(ofEdge: e, continuingRide: i > 0 && route.segmentVertical[i - 1])
             let segCost: Double
             if i == 0 {
                 let len = graph.edgeLength[e]

@@ -73,11 +73,20 @@ public final class Router {
     public let graph: RoutingGraph
     /// Costs and restrictions in force.
     public let options: RoutingOptions
-    /// Cost of each edge under `options`; +infinity for an excluded edge.
+    /// Cost of each edge walked on its own under `options` (a ride including its fixed penalty);
+    /// +infinity for an excluded edge.
     let edgeCost: [Double]
+    /// Vertical edges: the per-rise part of the cost (the fixed penalty is paid once per ride, on
+    /// boarding, however many floors the ride spans); +infinity when excluded. Horizontal edges: unused.
+    let rideCost: [Double]
+    /// Vertical edges: the fixed penalty paid on boarding.
+    let boardingPenalty: [Double]
 
+    // Dijkstra runs on states 2v (at node v on its floor) and 2v + 1 (at v inside a ride, i.e. arrived
+    // by a vertical edge), so that a ride over several floors pays the elevator/stairs penalty once.
     private var dist: [Double]
     private var prevEdge: [Int32]
+    private var prevState: [Int32]
     private var settled: [Bool]
     private var touched: [Int] = []
     private var heap = MinHeap()
@@ -87,26 +96,41 @@ public final class Router {
         self.graph = graph
         self.options = options
         var cost = [Double](repeating: 0, count: graph.edgeCount)
+        var ride = [Double](repeating: .infinity, count: graph.edgeCount)
+        var penalty = [Double](repeating: 0, count: graph.edgeCount)
         for e in 0..<graph.edgeCount {
             let len = graph.edgeLength[e]
             switch graph.edgeKind[e] {
-            case .horizontal: cost[e] = len + (graph.edgeDoor[e] ? options.doorPenaltyMeters : 0)
+            case .horizontal:
+                cost[e] = len + (graph.edgeDoor[e] ? options.doorPenaltyMeters : 0)
             case .elevator:
-                cost[e] = options.avoidElevators ? .infinity
-                    : options.elevatorPenaltyMeters + options.elevatorMetersPerMeterOfRise * len
+                ride[e] = options.avoidElevators ? .infinity : options.elevatorMetersPerMeterOfRise * len
+                penalty[e] = options.elevatorPenaltyMeters
+                cost[e] = ride[e] + penalty[e]
             case .stairs:
-                cost[e] = options.avoidStairs ? .infinity
-                    : options.stairsPenaltyMeters + options.stairsMetersPerMeterOfRise * len
+                ride[e] = options.avoidStairs ? .infinity : options.stairsMetersPerMeterOfRise * len
+                penalty[e] = options.stairsPenaltyMeters
+                cost[e] = ride[e] + penalty[e]
             }
         }
         edgeCost = cost
-        dist = [Double](repeating: .infinity, count: graph.nodeCount)
-        prevEdge = [Int32](repeating: -1, count: graph.nodeCount)
-        settled = [Bool](repeating: false, count: graph.nodeCount)
+        rideCost = ride
+        boardingPenalty = penalty
+        dist = [Double](repeating: .infinity, count: 2 * graph.nodeCount)
+        prevEdge = [Int32](repeating: -1, count: 2 * graph.nodeCount)
+        prevState = [Int32](repeating: -1, count: 2 * graph.nodeCount)
+        settled = [Bool](repeating: false, count: 2 * graph.nodeCount)
     }
 
-    /// Cost of edge `index` under this router's options (meters; +infinity when excluded).
+    /// Cost of edge `index` walked on its own under this router's options (meters; a ride includes its
+    /// fixed penalty; +infinity when excluded).
     public func cost(ofEdge index: Int) -> Double { edgeCost[index] }
+
+    /// Cost of edge `index` as part of a route: a vertical edge that continues a ride (the previous edge
+    /// was vertical too) does not pay the boarding penalty again.
+    public func cost(ofEdge index: Int, continuingRide: Bool) -> Double {
+        graph.edgeKind[index] != .horizontal && continuingRide ? rideCost[index] : edgeCost[index]
+    }
 
     /// Snaps a location estimate to the nearest point of a horizontal edge on `floorId` that can be reached
     /// in a straight line without crossing a wall (falling back to the nearest edge at all, flagged
@@ -123,74 +147,91 @@ public final class Router {
 
     /// Dijkstra with a binary heap (lazy deletion) from the snapped point, treated as a virtual node joined
     /// to both ends of its edge, to node `destination`. Stops when the destination is settled. Nil when
-    /// the destination cannot be reached under the options. Scratch arrays are reused and only the nodes
-    /// touched by the previous query are reset, so a query costs O(explored log explored).
+    /// the destination cannot be reached under the options. A ride over several floors pays its boarding
+    /// penalty once (search states: at a node, or at a node inside a ride). Scratch arrays are reused and
+    /// only the states touched by the previous query are reset, so a query costs O(explored log explored).
     public func shortestPath(from start: SnappedPosition, to destination: Int) -> PathResult? {
         guard destination >= 0, destination < graph.nodeCount, start.edgeIndex >= 0, start.edgeIndex < graph.edgeCount
         else { return nil }
         let e0 = start.edgeIndex
         let a = graph.edgeFrom[e0], b = graph.edgeTo[e0]
         let c0 = edgeCost[e0]
-        guard c0.isFinite else { return nil }
+        guard c0.isFinite, graph.edgeKind[e0] == .horizontal else { return nil }
         // Work on local copies of the scratch state (moved out of the object, so no copy and no
         // per-access exclusivity checks in the loop), moved back at the end.
-        var dist = self.dist, prevEdge = self.prevEdge, settled = self.settled, touched = self.touched
-        var heap = self.heap
-        self.dist = []; self.prevEdge = []; self.settled = []; self.touched = []; self.heap = MinHeap()
+        var dist = self.dist, prevEdge = self.prevEdge, prevState = self.prevState, settled = self.settled
+        var touched = self.touched, heap = self.heap
+        self.dist = []; self.prevEdge = []; self.prevState = []; self.settled = []; self.touched = []
+        self.heap = MinHeap()
         defer {
-            self.dist = dist; self.prevEdge = prevEdge; self.settled = settled; self.touched = touched; self.heap = heap
+            self.dist = dist; self.prevEdge = prevEdge; self.prevState = prevState; self.settled = settled
+            self.touched = touched; self.heap = heap
         }
-        for v in touched { dist[v] = .infinity; prevEdge[v] = -1; settled[v] = false }
+        for st in touched { dist[st] = .infinity; prevEdge[st] = -1; prevState[st] = -1; settled[st] = false }
         touched.removeAll(keepingCapacity: true)
         heap.removeAll()
 
         // The virtual start node reaches `from` at cost t * c and `to` at (1 - t) * c (door penalty
         // included proportionally: an estimate just past the door has almost paid it).
-        dist[a] = start.parameter * c0; prevEdge[a] = -2; touched.append(a); heap.push(dist[a], a)
-        let db = (1 - start.parameter) * c0
-        if db < dist[b] {
-            if !dist[b].isFinite { touched.append(b) }
-            dist[b] = db; prevEdge[b] = -2; heap.push(db, b)
+        for (v, d) in [(a, start.parameter * c0), (b, (1 - start.parameter) * c0)] where d < dist[2 * v] {
+            if !dist[2 * v].isFinite { touched.append(2 * v) }
+            dist[2 * v] = d; prevEdge[2 * v] = Int32(e0); prevState[2 * v] = -2
+            heap.push(d, 2 * v)
         }
-        let adjStart = graph.adjStart, adjNode = graph.adjNode, adjEdge = graph.adjEdge, edgeCost = self.edgeCost
+        var reached = -1
+        let adjStart = graph.adjStart, adjNode = graph.adjNode, adjEdge = graph.adjEdge, edgeKind = graph.edgeKind
+        let edgeCost = self.edgeCost, rideCost = self.rideCost, boardingPenalty = self.boardingPenalty
         adjStart.withUnsafeBufferPointer { adjStart in
         adjNode.withUnsafeBufferPointer { adjNode in
         adjEdge.withUnsafeBufferPointer { adjEdge in
         edgeCost.withUnsafeBufferPointer { edgeCost in
+        rideCost.withUnsafeBufferPointer { rideCost in
+        boardingPenalty.withUnsafeBufferPointer { boardingPenalty in
+        edgeKind.withUnsafeBufferPointer { edgeKind in
         dist.withUnsafeMutableBufferPointer { dist in
         prevEdge.withUnsafeMutableBufferPointer { prevEdge in
+        prevState.withUnsafeMutableBufferPointer { prevState in
         settled.withUnsafeMutableBufferPointer { settled in
-            while let (d, v) = heap.pop() {
-                if settled[v] || d > dist[v] { continue }
-                settled[v] = true
-                if v == destination { break }
+            while let (d, st) = heap.pop() {
+                if settled[st] || d > dist[st] { continue }
+                settled[st] = true
+                let v = st >> 1
+                if v == destination { reached = st; break }
+                let inRide = (st & 1) == 1
                 for k in adjStart[v]..<adjStart[v + 1] {
-                    let w = Int(adjNode[k])
-                    if settled[w] { continue }
                     let e = Int(adjEdge[k])
-                    let nd = d + edgeCost[e]  // +infinity for an excluded edge never improves dist
-                    if nd < dist[w] {
-                        if !dist[w].isFinite { touched.append(w) }
-                        dist[w] = nd
-                        prevEdge[w] = Int32(e)
-                        heap.push(nd, w)
+                    let w = Int(adjNode[k])
+                    let nd: Double
+                    let ns: Int
+                    if edgeKind[e] == .horizontal {
+                        nd = d + edgeCost[e]
+                        ns = 2 * w
+                    } else {
+                        nd = d + rideCost[e] + (inRide ? 0 : boardingPenalty[e])  // +infinity when excluded
+                        ns = 2 * w + 1
+                    }
+                    if settled[ns] { continue }
+                    if nd < dist[ns] {
+                        if !dist[ns].isFinite { touched.append(ns) }
+                        dist[ns] = nd
+                        prevEdge[ns] = Int32(e)
+                        prevState[ns] = Int32(st)
+                        heap.push(nd, ns)
                     }
                 }
             }
-        }}}}}}}
-        guard dist[destination].isFinite else { return nil }
-        var nodesRev: [Int] = [destination]
+        }}}}}}}}}}}
+        guard reached >= 0 else { return nil }
+        var nodesRev: [Int] = []
         var edgesRev: [Int] = []
-        var v = destination
-        while prevEdge[v] >= 0 {
-            let e = Int(prevEdge[v])
-            edgesRev.append(e)
-            v = graph.otherEnd(ofEdge: e, from: v)
-            nodesRev.append(v)
+        var st = reached
+        while st >= 0 {
+            nodesRev.append(st >> 1)
+            edgesRev.append(Int(prevEdge[st]))  // the last one is the snapped edge, from the virtual start
+            st = Int(prevState[st])
         }
-        edgesRev.append(e0)  // from the virtual start to the first node, along the snapped edge
         return PathResult(start: start, nodeIndices: nodesRev.reversed(), edgeIndices: edgesRev.reversed(),
-                          costMeters: dist[destination])
+                          costMeters: dist[reached])
     }
 }
 

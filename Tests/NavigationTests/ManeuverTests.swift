@@ -156,15 +156,26 @@ final class ManeuverTests: XCTestCase {
         XCTAssertEqual(w.spoken, ["No route to b."], "said once, not on every update")
     }
 
-    func testThreeFloorRideIsOneManeuver() throws {
+    func testThreeFloorRideIsOneManeuverAndPaysOnePenalty() throws {
         let b = FloorPlanFixture(gridMeters: 2)
-            .floor("1", map: "a---E")
-            .floor("2", map: "    E")
-            .floor("3", map: "    E---b")
+            .floor("1", map: "S---a---E")
+            .floor("2", map: "S       E")
+            .floor("3", map: "S---b---E")
             .build()
+        // Two floors up (8 m rise): elevator 20 + 8 = 28 m, stairs 5 + 32 = 37 m, each paid once per ride
+        // (per floor the stairs would win: 2 x 21 = 42 < 2 x 24 = 48).
         try assertTable(b, [("a", "b", "depart,takeElevator,continue,arrive")])
-        let r = try XCTUnwrap(try Navigator(building: b, destinationId: "b").routeFrom(b.nodePosition("a"), floorId: "1"))
+        let nav = try Navigator(building: b, destinationId: "b")
+        let r = try XCTUnwrap(nav.routeFrom(b.nodePosition("a"), floorId: "1"))
         XCTAssertEqual(r.maneuvers[1].toFloorId, "3")
+        XCTAssertEqual(r.nodeIds, ["a", "E1", "E2", "E3", "b"])
+        XCTAssertEqual(r.costMeters, 8 + 28 + 8, accuracy: 1e-9)
+        // One floor up: stairs 21 m beat the elevator's 24 m.
+        let one = FloorPlanFixture(gridMeters: 2)
+            .floor("1", map: "S---a---E")
+            .floor("2", map: "S---b---E")
+            .build()
+        try assertTable(one, [("a", "b", "depart,takeStairs,continue,arrive")])
     }
 
     func testManeuverDistances() throws {
