@@ -4,7 +4,7 @@ import SessionFormat
 @testable import Simulation
 
 /// The committed sample session (App/Samples/office-walk) is exactly what docs/simulator.md's command makes:
-/// `wayfinder simulate --map Maps/Buildings/wayfinder-office.json --from room-103 --to room-110 --seed 7
+/// `wayfinder simulate --map Maps/Buildings/wayfinder-office.json --from room-111 --to room-102 --seed 7
 /// --rate 10 --floor-only-start -o App/Samples/office-walk`.
 final class SampleSessionTests: XCTestCase {
     static let sample = ScenarioSuiteTests.repoRoot.appendingPathComponent("App/Samples/office-walk")
@@ -13,7 +13,7 @@ final class SampleSessionTests: XCTestCase {
         let mapPath = "Maps/Buildings/wayfinder-office.json"
         let building = try MapLoader.load(contentsOf: ScenarioSuiteTests.repoRoot.appendingPathComponent(mapPath))
         // What SimulateCommand builds from those flags.
-        let scenario = SimulationScenario(name: "cli", map: mapPath, from: "room-103", to: "room-110", seed: 7,
+        let scenario = SimulationScenario(name: "cli", map: mapPath, from: "room-111", to: "room-102", seed: 7,
                                           startKnown: false, rateHz: 10)
         let walk = try WalkSimulator.simulate(building: building, scenario: scenario)
         let dir = FileManager.default.temporaryDirectory.appendingPathComponent("wf-sample-\(getpid())-\(UUID().uuidString)")
@@ -30,7 +30,7 @@ final class SampleSessionTests: XCTestCase {
         let bundle = try SessionBundle.read(from: Self.sample)
         XCTAssertNil(bundle.info.start, "floor-only start")
         XCTAssertEqual(bundle.info.floorId, "1")
-        XCTAssertEqual(bundle.info.destination, "room-110")
+        XCTAssertEqual(bundle.info.destination, "room-102")
         XCTAssertEqual(bundle.frames.count, bundle.truth.count)
         XCTAssertEqual(bundle.frames[1].t - bundle.frames[0].t, 0.1, accuracy: 1e-9)
         var size = 0
