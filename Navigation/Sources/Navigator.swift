@@ -200,6 +200,7 @@ public final class Navigator {
     /// Processes one location update; returns what to render now (already through the policy).
     public func update(_ input: NavigationInput) -> [TimedGuidanceEvent] {
         let t = input.t
+        guard t.isFinite else { return [] }
         guard input.positionInMap.x.isFinite, input.positionInMap.y.isFinite, input.headingRad.isFinite else {
             return emit(t)
         }

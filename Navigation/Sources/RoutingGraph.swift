@@ -60,6 +60,9 @@ public final class RoutingGraph: Sendable {
     /// - Parameter gridCellMeters: cell size of the per-floor uniform grids used for snapping (2 m: about one
     ///   corridor width, so a query touches a handful of edges).
     public init(building: Building, gridCellMeters: Double = 2.0) throws {
+        guard gridCellMeters.isFinite, gridCellMeters > 0 else {
+            throw NavigationError.invalidGraph("grid cell size must be a positive number of meters, got \(gridCellMeters)")
+        }
         self.building = building
         nodes = building.graph.nodes
         edges = building.graph.edges
@@ -140,7 +143,9 @@ public final class RoutingGraph: Sendable {
             for e in 0..<from.count where kind[e] == .horizontal && nodeFloor[from[e]] == fi {
                 segs.append((positions[from[e]], positions[to[e]])); ids.append(e)
             }
-            let walls = floor.walls.map { (Vec2($0.from), Vec2($0.to)) }
+            // Walls with a non-finite end cannot block anything measurable: left out.
+            let walls = floor.walls.filter { $0.from.x.isFinite && $0.from.y.isFinite && $0.to.x.isFinite && $0.to.y.isFinite }
+                .map { (Vec2($0.from), Vec2($0.to)) }
             indices.append(FloorSpatialIndex(edgeSegments: segs, edgeIds: ids, walls: walls, cellMeters: gridCellMeters))
         }
         floorIndices = indices

@@ -13,15 +13,21 @@ struct SegmentGrid: Sendable {
     let cellStart: [Int]
     let items: [Int32]
 
-    init(segments: [(Vec2, Vec2)], cellMeters: Double) {
+    /// At most this many cells: a map with far-flung coordinates gets coarser cells instead of running out
+    /// of memory.
+    static let maxCells = 1 << 22
+
+    init(segments: [(Vec2, Vec2)], cellMeters requestedCellMeters: Double) {
         self.segments = segments
-        self.cellMeters = cellMeters
         var minX = Double.infinity, minY = Double.infinity, maxX = -Double.infinity, maxY = -Double.infinity
         for (a, b) in segments {
             minX = min(minX, a.x, b.x); minY = min(minY, a.y, b.y)
             maxX = max(maxX, a.x, b.x); maxY = max(maxY, a.y, b.y)
         }
         if segments.isEmpty { minX = 0; minY = 0; maxX = 0; maxY = 0 }
+        let area = (maxX - minX + requestedCellMeters) * (maxY - minY + requestedCellMeters)
+        let cellMeters = max(requestedCellMeters, (area / Double(Self.maxCells)).squareRoot() * 1.01)
+        self.cellMeters = cellMeters
         originX = minX; originY = minY
         nx = max(1, Int(((maxX - minX) / cellMeters).rounded(.down)) + 1)
         ny = max(1, Int(((maxY - minY) / cellMeters).rounded(.down)) + 1)

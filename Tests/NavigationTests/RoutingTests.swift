@@ -192,6 +192,26 @@ final class RoutingTests: XCTestCase {
         }
     }
 
+    func testFarFlungCoordinatesAndBadInputDoNotCrash() throws {
+        // Two corridors 10,000 km apart: the grid coarsens instead of allocating 10^13 cells.
+        let nodes = [GraphNode(id: "a", kind: .control, floorId: "1", position: Point2(0, 0)),
+                     GraphNode(id: "b", kind: .control, floorId: "1", position: Point2(10, 0)),
+                     GraphNode(id: "c", kind: .control, floorId: "1", position: Point2(1e7, 1e7)),
+                     GraphNode(id: "d", kind: .control, floorId: "1", position: Point2(1e7 + 10, 1e7))]
+        let b = Building(id: "far", name: "Far", floors: [Floor(id: "1", name: "F1", elevationMeters: 0, walls: [])],
+                         graph: NavigationGraph(nodes: nodes, edges: [GraphEdge(from: "a", to: "b"), GraphEdge(from: "c", to: "d")]))
+        let router = Router(graph: try RoutingGraph(building: b))
+        XCTAssertEqual(router.snap(Point2(5, 1), floorId: "1")?.point, Point2(5, 0))
+        XCTAssertThrowsError(try RoutingGraph(building: b, gridCellMeters: 0))
+        let nav = try Navigator(building: b, destinationId: "b")
+        XCTAssertEqual(nav.update(NavigationInput(t: .nan, positionInMap: Point2(1, 0), floorId: "1", headingRad: 0, isLocalized: true)), [])
+        XCTAssertEqual(nav.update(NavigationInput(t: 0, positionInMap: Point2(.infinity, 0), floorId: "1", headingRad: 0,
+                                                  isLocalized: true)), [])
+        XCTAssertNil(nav.currentRoute)
+        XCTAssertEqual(nav.update(NavigationInput(t: 0.1, positionInMap: Point2(1, 0), floorId: "nowhere", headingRad: 0,
+                                                  isLocalized: true)), [])
+    }
+
     func testDestinationByPointOfInterestId() throws {
         let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a---b---c")
             .pointOfInterest(node: "c", id: "poi-312", name: "Room 312").build()
