@@ -28,6 +28,14 @@ public struct TraceRecord: Codable, Sendable, Equatable {
     public var announcements: [String]
     /// Haptic patterns played on this frame.
     public var haptics: [String]
+
+    /// Creates a trace record.
+    public init(t: Double, x: Double, y: Double, floorId: String, headingRad: Double, confidence: Double, localized: Bool,
+                hypotheses: Int, sightings: Int, announcements: [String], haptics: [String]) {
+        self.t = t; self.x = x; self.y = y; self.floorId = floorId; self.headingRad = headingRad
+        self.confidence = confidence; self.localized = localized; self.hypotheses = hypotheses
+        self.sightings = sightings; self.announcements = announcements; self.haptics = haptics
+    }
 }
 
 /// A sign sighting drawn as a ray from the estimated camera position, for the trainer's picture.
