@@ -1,0 +1,67 @@
+import XCTest
+import Maps
+import SessionFormat
+import Simulation
+import WayfinderCore
+@testable import Evaluation
+
+/// The trainer's picture: a simulated SKERI walk rendered to HTML and, through headless Chromium, to PNG.
+final class WalkReportTests: XCTestCase {
+    static let root = URL(fileURLWithPath: #filePath).deletingLastPathComponent().deletingLastPathComponent().deletingLastPathComponent()
+
+    func scenario() throws -> SimulationScenario {
+        try SimulationScenario.load(contentsOf: Self.root.appendingPathComponent("Tests/Scenarios/skeri-3-corridor.json"))
+    }
+
+    func testSkeriWalkRendersHTMLAndPNG() throws {
+        let shared = Self.root.appendingPathComponent("../shared/data").standardizedFileURL
+        guard FileManager.default.fileExists(atPath: shared.appendingPathComponent("skeri_inavigate").path) else {
+            throw XCTSkip("../shared/data/skeri_inavigate is not present")
+        }
+        var s = try scenario()
+        s.rateHz = 10
+        var options = PipelineOptions()
+        options.localizer.particleCount = 5000
+        let (score, result, building, bundle) = try ScenarioRunner.score(s, sharedData: shared, options: options)
+        let html = WalkReport.html(title: "SKERI walk", building: building, result: result, truth: bundle.truth, score: score)
+        XCTAssertTrue(html.hasPrefix("<!DOCTYPE html>"))
+        XCTAssertTrue(html.contains("<polyline"), "paths are drawn")
+        XCTAssertTrue(html.contains("Exit") || html.contains("exit sign"), "signs are drawn")
+        XCTAssertTrue(html.contains("<h2>Announcements</h2>"))
+        XCTAssertFalse(html.contains("http://") && html.contains("<script src"), "self-contained")
+        for a in result.announcements.prefix(5) { XCTAssertTrue(html.contains(WalkReport.escape(a.text))) }
+
+        guard ChromiumScreenshot.executable() != nil else { throw XCTSkip("chromium not installed") }
+        let dir = FileManager.default.temporaryDirectory.appendingPathComponent("wf-render-\(getpid())")
+        try FileManager.default.createDirectory(at: dir, withIntermediateDirectories: true)
+        defer { try? FileManager.default.removeItem(at: dir) }
+        let htmlURL = dir.appendingPathComponent("walk.html"), pngURL = dir.appendingPathComponent("walk.png")
+        try Data(html.utf8).write(to: htmlURL)
+        try ChromiumScreenshot.capture(html: htmlURL, png: pngURL, width: 1400, height: 1100)
+        let size = try XCTUnwrap(ChromiumScreenshot.pngSize(pngURL))
+        XCTAssertEqual(size.width, 1400)
+        XCTAssertEqual(size.height, 1100)
+        let bytes = try FileManager.default.attributesOfItem(atPath: pngURL.path)[.size] as! Int
+        XCTAssertGreaterThan(bytes, 40_000, "a blank page compresses to a few KB; the plan and paths do not")
+    }
+
+    func testTrueTurnsOnAnLShapedPath() {
+        // Walk east 10 m then north 10 m at 1 m/s, passing a control node at the corner.
+        var truth: [TruthRecord] = []
+        for i in 0...100 { truth.append(TruthRecord(t: Double(i) / 10, x: Double(i) / 10, y: 0, floorId: "1", headingRad: 0)) }
+        for i in 1...100 { truth.append(TruthRecord(t: 10 + Double(i) / 10, x: 10, y: Double(i) / 10, floorId: "1", headingRad: .pi / 2)) }
+        let graph = NavigationGraph(nodes: [GraphNode(id: "c", kind: .control, floorId: "1", position: Point2(10, 0))], edges: [])
+        let building = Building(id: "b", name: "b", floors: [], graph: graph)
+        let turns = NavigationScore.trueTurns(truth: TruthTrack(truth), building: building)
+        XCTAssertEqual(turns.count, 1)
+        XCTAssertEqual(turns[0].direction, "left")
+        XCTAssertEqual(turns[0].angleDeg, 90, accuracy: 1)
+        // A cue 1 m before the corner counts; a right cue is wrong.
+        let score = NavigationScore(announcements: [(9.0, "Turn left now"), (15, "Turn right now")], truth: TruthTrack(truth),
+                                    building: building, destination: nil, convergenceT: 0)
+        XCTAssertEqual(score.cueDistancesBeforeMeters.count, 1)
+        XCTAssertEqual(score.cueDistancesBeforeMeters[0], 1.0, accuracy: 0.05)
+        XCTAssertEqual(score.missingInstructions, 0)
+        XCTAssertEqual(score.wrongInstructions, 1)
+    }
+}
