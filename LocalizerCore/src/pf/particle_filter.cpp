@@ -384,7 +384,7 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         }
         estimate_dirty_ = true;
     }
-    compute_estimate();
+    // The estimate (clustering) is computed when it is read: estimate() after each frame.
     if (bad > 0) {
         return fail(WF_LOC_ERR_NON_FINITE_INPUT,
                     std::to_string(bad) + " sighting(s) with a non-finite or negative value were ignored");

@@ -34,7 +34,8 @@ public:
     int update_signs(const wf_sign_observation *obs, size_t count, double t);
     int update_altitude(double relative_altitude_m, double t);
 
-    /// Current estimate (recomputed when particles changed since the last call).
+    /// Current estimate, recomputed (clustering) when particles changed since the last call. The localized
+    /// flag's hysteresis advances on these reads, with the time of the last input: read it once per frame.
     const wf_localizer_estimate &estimate();
 
     bool initialized() const { return initialized_; }
