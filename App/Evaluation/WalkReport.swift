@@ -86,9 +86,9 @@ public enum WalkReport {
         <span><i class="sw" style="background:#2a9d3f"></i>estimate &lt; 0.5 m</span>\
         <span><i class="sw" style="background:#e0b000"></i>&lt; 1.5 m</span>\
         <span><i class="sw" style="background:#d22"></i>worse</span>\
-        <span><i class="sw" style="background:#aaa"></i>not localized</span>\
+        <span><i class="sw" style="background:#aaa"></i>not localized (dots)</span>\
         <span><i class="sw" style="background:#c060c0"></i>sign sighting</span>\
-        <span>▲ Exit sign (facing)</span><span>● particles</span><span>① announcement</span></p>
+        <span><i class="sw" style="background:#0a0;height:8px;width:10px"></i>Exit sign (line: facing)</span><span>● particles</span><span>① announcement</span></p>
 
         """
     }
@@ -160,8 +160,15 @@ public enum WalkReport {
         if !truthPoints.isEmpty {
             s += "<polyline points=\"\(truthPoints.joined(separator: " "))\" fill=\"none\" stroke=\"#1f4e9c\" stroke-width=\"3\" stroke-opacity=\"0.7\"/>"
         }
-        // Estimate coloured by error
-        let est = result.trace.filter { $0.floorId == floor.id }
+        // Estimate coloured by error; while not localized the estimate jumps between hypotheses, so it is
+        // drawn as faint dots rather than a line.
+        let allEstimates = result.trace.filter { $0.floorId == floor.id }
+        s += "<g fill=\"#999\" fill-opacity=\"0.5\"><title>estimate while not localized</title>"
+        for (k, r) in allEstimates.enumerated() where !r.localized && k % 3 == 0 {
+            s += "<circle cx=\"\(X(r.x))\" cy=\"\(Y(r.y))\" r=\"1.5\"/>"
+        }
+        s += "</g>"
+        let est = allEstimates.filter(\.localized)
         var i = 0
         while i + 1 < est.count {
             let color = errorColor(est[i], track)
