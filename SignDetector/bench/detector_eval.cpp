@@ -60,7 +60,8 @@ void usage() {
     std::cerr << "usage: wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N]\n"
                  "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference] [--threads N]\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
-                 "  --limit N   use the first N frames (after --every)\n";
+                 "  --limit N   use the first N frames (after --every)\n"
+                 "  --min-elevation RAD  our cascade rows search only rows at least RAD above the horizon\n";
 }
 
 }  // namespace
@@ -69,6 +70,7 @@ int main(int argc, char** argv) {
     std::string testset, models = productModelsDir(), reference = referenceCascadePath();
     std::string rowsArg = "cascade-vga,cascade-hr,unet,reference";
     long limit = -1, every = 1;
+    double minElevation = std::nan("");
     int threads = 1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -85,6 +87,7 @@ int main(int argc, char** argv) {
         else if (a == "--limit") limit = std::stol(next());
         else if (a == "--rows") rowsArg = next();
         else if (a == "--every") every = std::max(1L, std::stol(next()));
+        else if (a == "--min-elevation") minElevation = std::stod(next());
         else if (a == "--threads") threads = std::stoi(next());
         else {
             usage();
@@ -119,7 +122,8 @@ int main(int argc, char** argv) {
             model = models + "/exit_sign_cascade.xml";
             r.size = id == "cascade-vga" ? cv::Size(640, 480) : cv::Size(1920, 1440);
             r.title = id == "cascade-vga" ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
-            if (fileExists(model)) r.detector = makeCascade(model);
+            if (!std::isnan(minElevation)) r.title += ", rows above " + std::to_string(minElevation).substr(0, 5) + " rad";
+            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 0, minElevation);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);

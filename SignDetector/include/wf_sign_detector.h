@@ -173,6 +173,12 @@ typedef struct wf_detector_options {
     int cascade_min_window_height;
     /** Largest window as a multiple of the smallest; 0 = no limit. */
     double cascade_max_window_factor;
+    /** 1 = search only the unrolled rows whose ray elevation (pitch + atan((cy' - v) / fy')) is at least
+     *  cascade_min_elevation_rad: signs mounted above eye level never appear far below the horizon, and the
+     *  floor and door panels there are where false alarms come from. 0 = search the whole frame. */
+    int cascade_search_above_elevation;
+    /** Lowest elevation searched when cascade_search_above_elevation is 1, radians (e.g. -0.15). */
+    double cascade_min_elevation_rad;
 
     /* U-Net detector. */
     /** Path of the ONNX model: input "image" 1x3xSxS float RGB in [0,1], output "logits" 1xKxSxS. */

@@ -1,5 +1,7 @@
 #include "cascade_detector.hpp"
 
+#include <algorithm>
+#include <cmath>
 #include <fstream>
 
 namespace wf::sign {
@@ -39,9 +41,20 @@ cv::Size CascadeDetector::trainedWindow(size_t index) const {
     return index < cascades_.size() ? cascades_[index]->getOriginalWindowSize() : cv::Size();
 }
 
-std::vector<Detection> CascadeDetector::detect(const cv::Mat& grayUnrolled, const CascadeParams& params) {
-    CV_Assert(grayUnrolled.type() == CV_8UC1);
+int CascadeDetector::searchRowLimit(double minElevationRad, double pitchRad, double fyPx, double cyPx, int rows) {
+    const double angle = minElevationRad - pitchRad;
+    if (angle <= -1.5) return rows;  // the limit is below any row of a forward-looking camera
+    if (angle >= 1.5) return 0;
+    const double v = cyPx - fyPx * std::tan(angle);  // elevation(v) >= min  <=>  v <= cy - fy tan(min - pitch)
+    return static_cast<int>(std::clamp(std::floor(v) + 1.0, 0.0, double(rows)));
+}
+
+std::vector<Detection> CascadeDetector::detect(const cv::Mat& grayUnrolledFull, const CascadeParams& params, int lastRow) {
+    CV_Assert(grayUnrolledFull.type() == CV_8UC1);
     std::vector<Detection> detections;
+    const int rows = lastRow < 0 ? grayUnrolledFull.rows : std::min(lastRow, grayUnrolledFull.rows);
+    if (rows <= 0) return detections;
+    const cv::Mat grayUnrolled = grayUnrolledFull.rowRange(0, rows);  // a view: same pixel coordinates
     for (size_t i = 0; i < cascades_.size(); ++i) {
         std::vector<cv::Rect> boxes;
         std::vector<int> neighbours;

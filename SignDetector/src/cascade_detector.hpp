@@ -23,6 +23,9 @@ struct CascadeParams {
     cv::Size minWindow{36, 24};
     /// Largest window as a multiple of minWindow; 0 = unlimited.
     double maxWindowFactor = 0;
+    /// When set, only rows whose ray elevation is >= minElevationRad are searched (Detector computes the row).
+    bool searchAboveElevation = false;
+    double minElevationRad = -0.15;
     /// How the box is sliced (a box gives the same height in every slice).
     SliceParams slices;
 };
@@ -33,8 +36,13 @@ public:
     /// Loads one cascade XML per kind. Returns false and sets `error` (naming the file) on failure.
     bool load(const std::vector<std::string>& paths, const std::vector<std::string>& kinds, std::string* error);
 
-    /// Detects every kind on `grayUnrolled` (CV_8UC1). Detections carry box measurements in its pixels.
-    std::vector<Detection> detect(const cv::Mat& grayUnrolled, const CascadeParams& params);
+    /// Detects every kind on `grayUnrolled` (CV_8UC1), searching rows 0 .. lastRow - 1 only (-1 = all).
+    /// Detections carry box measurements in its pixels.
+    std::vector<Detection> detect(const cv::Mat& grayUnrolled, const CascadeParams& params, int lastRow = -1);
+
+    /// First unrolled row below the search region: rows v with pitch + atan((cy - v) / fy) >= minElevationRad,
+    /// clamped to [0, rows].
+    static int searchRowLimit(double minElevationRad, double pitchRad, double fyPx, double cyPx, int rows);
 
     /// Kind names, in load order.
     const std::vector<std::string>& kinds() const { return kinds_; }

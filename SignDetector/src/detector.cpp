@@ -1,6 +1,7 @@
 #include "detector.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <fstream>
 
@@ -72,6 +73,12 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
     r.cascade.minWindow = cv::Size(opts.cascade_min_window_width > 0 ? opts.cascade_min_window_width : 36,
                                    opts.cascade_min_window_height > 0 ? opts.cascade_min_window_height : 24);
     r.cascade.maxWindowFactor = positiveOr(opts.cascade_max_window_factor, 0);
+    r.cascade.searchAboveElevation = opts.cascade_search_above_elevation != 0;
+    r.cascade.minElevationRad = opts.cascade_min_elevation_rad;
+    if (r.cascade.searchAboveElevation && !(std::abs(r.cascade.minElevationRad) < 1.5)) {
+        *error = "cascade_min_elevation_rad must be finite and within (-1.5, 1.5) rad";
+        return WF_ERR_INVALID_ARGUMENT;
+    }
     r.unetInputSize = opts.unet_input_size > 0 ? opts.unet_input_size : 224;
     r.unet.maskThreshold = positiveOr(opts.unet_mask_threshold, 0.5);
     if (r.unet.maskThreshold >= 1.0) {
@@ -173,7 +180,14 @@ FrameResult Detector::detect(const wf_frame& frame) {
             Unrolling::forRoll(frame.roll_rad, k, gray.size(), options_.rollSnapToleranceRad);
         std::vector<Detection> detections;
         if (options_.kind == WF_DETECTOR_CASCADE) {
-            detections = cascade_.detect(unrolling.apply(gray), options_.cascade);
+            const cv::Mat grayUnrolled = unrolling.apply(gray);
+            int lastRow = -1;
+            if (options_.cascade.searchAboveElevation) {
+                const Intrinsics& ku = unrolling.unrolledIntrinsics();
+                lastRow = CascadeDetector::searchRowLimit(options_.cascade.minElevationRad, frame.pitch_rad, ku.fy, ku.cy,
+                                                          grayUnrolled.rows);
+            }
+            detections = cascade_.detect(grayUnrolled, options_.cascade, lastRow);
             detections = suppressOverlaps(std::move(detections), 0.5);
         } else {
             detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet);

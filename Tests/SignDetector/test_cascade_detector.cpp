@@ -6,6 +6,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <cmath>
 #include <fstream>
 
 using namespace wf::sign;
@@ -111,4 +112,28 @@ TEST(CascadeDetector, BlankFrameGivesNothing) {
     std::string error;
     ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
     EXPECT_TRUE(d.detect(cv::Mat(480, 640, CV_8UC1, cv::Scalar(128)), CascadeParams{}).empty());
+}
+
+TEST(CascadeDetector, SearchRowLimitFollowsTheElevation) {
+    // Elevation of row v: pitch + atan((cy - v) / fy); rows with elevation >= the minimum are searched.
+    EXPECT_EQ(CascadeDetector::searchRowLimit(0.0, 0.0, 500, 239.5, 480), 240);  // rows 0..239 (v <= 239.5)
+    const int limit = CascadeDetector::searchRowLimit(-0.15, 0.1, 534, 319.5, 640);
+    EXPECT_EQ(limit, static_cast<int>(std::floor(319.5 + 534 * std::tan(0.25))) + 1);
+    EXPECT_EQ(CascadeDetector::searchRowLimit(-0.15, 1.4, 534, 319.5, 640), 640);  // looking up: all rows
+    EXPECT_EQ(CascadeDetector::searchRowLimit(0.2, -1.2, 534, 319.5, 640), 0);     // looking down: none
+}
+
+TEST(CascadeDetector, RowLimitExcludesSignsBelowIt) {
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    synthetic::RenderedSign truth;
+    const cv::Mat gray = uprightSignFrame(2.5, &truth);
+    CascadeParams params;
+    params.minNeighbors = 1;
+    double top = 1e9;
+    for (const auto& c : truth.cornersRaw) top = std::min(top, c.y);
+    EXPECT_FALSE(d.detect(gray, params).empty());
+    EXPECT_TRUE(d.detect(gray, params, static_cast<int>(top) - 1).empty());  // everything above the sign only
+    EXPECT_TRUE(d.detect(gray, params, 0).empty());
 }

@@ -279,6 +279,24 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
     EXPECT_STREQ(obs[0].kind, "exit");
     EXPECT_EQ(obs[0].bottom_edge_slope, 0.0);
     wf_detector_free(d);
+
+    // Searching only above -0.15 rad of elevation keeps the sign (0.3 m above the camera at 2.5 m).
+    opts.cascade_search_above_elevation = 1;
+    opts.cascade_min_elevation_rad = -0.15;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    size_t restricted = 0;
+    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &restricted), WF_OK);
+    EXPECT_GE(restricted, 1u);
+    EXPECT_LE(restricted, count);
+    // ... and 0.3 rad above the horizon (the sign is at about 0.12 rad) loses it.
+    wf_detector_free(d);
+    opts.cascade_min_elevation_rad = 0.3;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK);
+    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &restricted), WF_OK);
+    EXPECT_EQ(restricted, 0u);
+    wf_detector_free(d);
+    opts.cascade_min_elevation_rad = 2.0;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_INVALID_ARGUMENT);
 }
 
 TEST(CApi, CapacityTooSmallTruncates) {
