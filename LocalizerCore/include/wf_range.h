@@ -210,7 +210,10 @@ typedef enum wf_range_slice_model {
     WF_RANGE_SLICE_MODEL_RAY_ELEVATION = 0,
     /** The paper's equation (3) verbatim: alpha = atan((cy - v_bottom) / fy), alpha + delta =
      * atan((cy - v_top) / fy), the column and slopes ignored for the range. */
-    WF_RANGE_SLICE_MODEL_PAPER_PLANAR = 1
+    WF_RANGE_SLICE_MODEL_PAPER_PLANAR = 1,
+    /** Not a model: makes the enum int-sized, so that any int a C caller passes is a valid value in C++
+     * (and is rejected with WF_RANGE_ERR_MISSING_INPUT rather than being undefined behaviour). */
+    WF_RANGE_SLICE_MODEL_MAX_ENUM = 0x7FFFFFFF
 } wf_range_slice_model;
 
 /** Paper equation (3): out_range_m = h0 / (tan(pitch + alpha + delta) - tan(pitch + alpha)). Both angle
@@ -278,7 +281,9 @@ typedef enum wf_range_method {
     /** wf_range_horizon on the centre point from the corners. */
     WF_RANGE_METHOD_HORIZON = 1,
     /** wf_range_pnp on the corners. */
-    WF_RANGE_METHOD_PNP = 2
+    WF_RANGE_METHOD_PNP = 2,
+    /** Not a method: makes the enum int-sized (see WF_RANGE_SLICE_MODEL_MAX_ENUM). */
+    WF_RANGE_METHOD_MAX_ENUM = 0x7FFFFFFF
 } wf_range_method;
 
 /** Current version of wf_range_observation. */
