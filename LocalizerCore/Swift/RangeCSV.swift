@@ -4,8 +4,9 @@ import Foundation
 public struct RangeObservationRow: Sendable {
     /// 1-based line number in the file (the header is line 1).
     public var lineNumber: Int
-    /// Raw image size, pixels.
+    /// Raw image width, pixels.
     public var imageWidthPx: Int
+    /// Raw image height, pixels.
     public var imageHeightPx: Int
     /// Raw-image intrinsics, pixels.
     public var intrinsics: RangeEstimator.Intrinsics
@@ -24,7 +25,8 @@ public struct RangeObservationRow: Sendable {
     /// Measured (true) range, meters, when given: the CLI reports the percent error against it.
     public var trueRangeMeters: Double?
 
-    /// The unrolled camera of this row (for slice measurements taken on the unrolled image).
+    /// The raw <-> unrolled pixel mapping of this row's camera roll (for slice measurements taken on the
+    /// unrolled image).
     public func unrollMapping() throws -> UnrollMapping {
         try UnrollMapping(intrinsics: intrinsics, rollRad: try orientation.pitchAndRoll().rollRad,
                           imageWidthPx: Double(imageWidthPx), imageHeightPx: Double(imageHeightPx))

@@ -78,11 +78,13 @@ public struct SignImageMeasurement: Sendable, Hashable {
 /// A camera described in the unrolled image: its intrinsics (pixels; the principal point is the rotated one)
 /// and the pitch of the optical axis. `rollRad` is the raw camera's roll that was undone (for reference).
 public struct UnrolledCamera: Sendable, Hashable {
-    /// Focal lengths of the unrolled image, pixels.
+    /// Focal length along u of the unrolled image, pixels.
     public var fx: Double
+    /// Focal length along v of the unrolled image, pixels.
     public var fy: Double
-    /// Principal point in the unrolled image, pixels.
+    /// Principal point u in the unrolled image, pixels.
     public var cx: Double
+    /// Principal point v in the unrolled image, pixels.
     public var cy: Double
     /// Elevation of the optical axis, radians, positive up.
     public var pitchRad: Double
@@ -98,9 +100,19 @@ public struct UnrolledCamera: Sendable, Hashable {
 /// A range estimate: `rangeMeters` (horizontal, > 0), `bearingRad` (positive left, (-pi, pi]) and the sign
 /// centre's height above the camera in meters as the method sees it.
 public struct RangeEstimate: Sendable, Hashable {
+    /// Horizontal distance from the camera centre to the sign's vertical centre line, meters.
     public var rangeMeters: Double
+    /// Horizontal angle of the sign centre from the camera's forward direction, radians, positive left.
     public var bearingRad: Double
+    /// Height of the sign centre above the camera centre, meters (negative below).
     public var centerHeightAboveCameraMeters: Double
+
+    /// Creates an estimate.
+    public init(rangeMeters: Double, bearingRad: Double, centerHeightAboveCameraMeters: Double) {
+        self.rangeMeters = rangeMeters
+        self.bearingRad = bearingRad
+        self.centerHeightAboveCameraMeters = centerHeightAboveCameraMeters
+    }
 }
 
 /// Why a range could not be estimated (the C core's status codes, plus Swift-side shape checks).
@@ -161,9 +173,13 @@ public enum RangeEstimationError: Error, Equatable, Sendable, CustomStringConver
 public enum RangeEstimator {
     /// Pinhole intrinsics of an image, pixels (no distortion). fx and fy may differ.
     public struct Intrinsics: Sendable, Hashable {
+        /// Focal length along u, pixels.
         public var fx: Double
+        /// Focal length along v, pixels.
         public var fy: Double
+        /// Principal point u, pixels.
         public var cx: Double
+        /// Principal point v, pixels.
         public var cy: Double
         /// Creates intrinsics.
         public init(fx: Double, fy: Double, cx: Double, cy: Double) {
