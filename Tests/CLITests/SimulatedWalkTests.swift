@@ -130,6 +130,14 @@ final class SimulatedWalkTests: XCTestCase {
         r.assertStderr(contains: copy.path)
     }
 
+    func testEvalOfAMissingScenarioFolderExitsOneNamingIt() throws {
+        let missing = directory.appendingPathComponent("no-scenarios-here").path
+        let r = try CLI.run(["eval", "--scenarios", missing])
+        r.assertExit(1)
+        r.assertStderr(contains: "wayfinder eval: ", "no-scenarios-here")
+        XCTAssertTrue(r.stdout.isEmpty, "\(r)")
+    }
+
     func testRenderWritesHTMLAndPNG() throws {
         let bundle = try walk()
         let html = directory.appendingPathComponent("walk.html")
