@@ -29,14 +29,25 @@ enum EvalCommand: Subcommand {
         let skeriDir = try arguments.option("skeri")
         let mapPath = try arguments.option("map")
         var pipeline = PipelineOptions()
-        if let seed = try arguments.intOption("seed") { pipeline.seed = UInt64(max(0, seed)) }
+        if let seed = try arguments.intOption("seed") {
+            guard seed >= 0 else { throw CLIError.usage("--seed must be >= 0") }
+            pipeline.seed = UInt64(seed)
+        }
         let bundles = try arguments.positionals()
 
         var scores: [WalkScore] = []
         if let scenariosDir {
-            scores = try ScenarioRunner.scoreAll(directory: URL(fileURLWithPath: scenariosDir),
-                                                 skeriDirectory: skeriDir.map { URL(fileURLWithPath: $0) },
-                                                 options: pipeline, progress: progress)
+            var isDirectory: ObjCBool = false
+            guard FileManager.default.fileExists(atPath: scenariosDir, isDirectory: &isDirectory), isDirectory.boolValue else {
+                throw CLIError.failure("\(scenariosDir): no such scenario folder")
+            }
+            do {
+                scores = try ScenarioRunner.scoreAll(directory: URL(fileURLWithPath: scenariosDir),
+                                                     skeriDirectory: skeriDir.map { URL(fileURLWithPath: $0) },
+                                                     options: pipeline, progress: progress)
+            } catch {
+                throw CLIError.failure("\(scenariosDir): \(error)")
+            }
         } else {
             guard !bundles.isEmpty else { throw CLIError.usage("give BUNDLE directories or --scenarios DIR") }
             guard let mapPath else { throw CLIError.usage("missing --map") }
@@ -62,7 +73,9 @@ enum EvalCommand: Subcommand {
             print(ScoreTable.render(scores, aggregate: aggregate), terminator: "")
         }
         if let writeBaselinePath {
-            try RegressionBaseline(aggregate: aggregate).write(to: URL(fileURLWithPath: writeBaselinePath))
+            do { try RegressionBaseline(aggregate: aggregate).write(to: URL(fileURLWithPath: writeBaselinePath)) } catch {
+                throw CLIError.failure("cannot write baseline \(writeBaselinePath): \(error.localizedDescription)")
+            }
             progress("eval: baseline written to \(writeBaselinePath)")
         }
         if let baselinePath {

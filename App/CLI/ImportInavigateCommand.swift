@@ -40,7 +40,9 @@ enum ImportInavigateCommand: Subcommand {
         guard let out = output else { throw CLIError.usage("missing -o OUT.json") }
         do {
             let (building, report) = try InavigateImporter.importBuilding(from: URL(fileURLWithPath: dir), options: options)
-            try MapWriter.write(building, to: URL(fileURLWithPath: out))
+            do { try MapWriter.write(building, to: URL(fileURLWithPath: out)) } catch let e as MapError { throw e } catch {
+                throw CLIError.failure("cannot write \(out): \(error.localizedDescription)")
+            }
             for r in report {
                 let wallSigns = building.floor(id: r.floorId)?.signs.filter { $0.placement == .wall }.count ?? 0
                 let moved = r.signAdjustmentsMeters.max() ?? 0

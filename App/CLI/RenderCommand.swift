@@ -22,7 +22,10 @@ enum RenderCommand: Subcommand {
         let png = try arguments.option("png")
         var pipeline = PipelineOptions()
         pipeline.destinationId = try arguments.option("to")
-        if let seed = try arguments.intOption("seed") { pipeline.seed = UInt64(max(0, seed)) }
+        if let seed = try arguments.intOption("seed") {
+            guard seed >= 0 else { throw CLIError.usage("--seed must be >= 0") }
+            pipeline.seed = UInt64(seed)
+        }
         var times: [Double] = []
         if let at = try arguments.option("at") {
             for part in at.split(separator: ",") {

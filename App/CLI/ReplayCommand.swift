@@ -32,7 +32,10 @@ enum ReplayCommand: Subcommand {
         pipeline.startPointOfInterestId = try arguments.option("from")
         pipeline.floorId = try arguments.option("floor")
         pipeline.modelsDirectory = try arguments.option("models")
-        if let seed = try arguments.intOption("seed") { pipeline.seed = UInt64(max(0, seed)) }
+        if let seed = try arguments.intOption("seed") {
+            guard seed >= 0 else { throw CLIError.usage("--seed must be >= 0") }
+            pipeline.seed = UInt64(seed)
+        }
         if let d = try arguments.option("detector") {
             guard let source = SightingSource(rawValue: d == "auto" ? "automatic" : d) else {
                 throw CLIError.usage("--detector must be recorded, cascade, unet or auto")
@@ -46,6 +49,9 @@ enum ReplayCommand: Subcommand {
         let building = try loadMap(mapPath)
         let bundle = try loadBundle(positionals[0])
         for w in bundle.warnings { progress("warning: \(w)") }
+        if [.cascade, .unet].contains(pipeline.sightingSource), !bundle.frames.contains(where: { $0.image != nil }) {
+            progress("warning: --detector \(pipeline.sightingSource.rawValue) but \(positionals[0]) has no images: no sign sightings")
+        }
         var options = Replay.Options(pipeline: Replay.options(for: bundle, overriding: pipeline))
         options.snapshotParticleCount = 0
         let result: ReplayResult
