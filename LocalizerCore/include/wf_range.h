@@ -78,16 +78,22 @@ const char *wf_range_status_string(int status);
 /** A point in image pixels (u right, v down, continuous coordinates: the same ones as the principal
  * point). */
 typedef struct wf_range_point {
+    /** Column coordinate, pixels (right). */
     double u;
+    /** Row coordinate, pixels (down). */
     double v;
 } wf_range_point;
 
 /** Pinhole intrinsics of the raw (sensor-orientation) image, pixels. No lens distortion (ARKit images are
  * rectified enough for this use). fx and fy may differ. */
 typedef struct wf_range_intrinsics {
+    /** Focal length along u, pixels (> 0). */
     double fx;
+    /** Focal length along v, pixels (> 0). */
     double fy;
+    /** Principal point u, pixels. */
     double cx;
+    /** Principal point v, pixels. */
     double cy;
 } wf_range_intrinsics;
 
@@ -142,8 +148,9 @@ typedef struct wf_range_unroll_map {
     /** Unrolled intrinsics: square pixels of focal f' = sqrt(fx * fy) and the principal point (cx', cy') in
      * the unrolled canvas; unrolled.fx == unrolled.fy. */
     wf_range_intrinsics unrolled;
-    /** Size of the unrolled canvas (bounding box of the raw image's mapped corners), pixels. */
+    /** Width of the unrolled canvas (bounding box of the raw image's mapped corners), pixels. */
     double unrolled_width_px;
+    /** Height of the unrolled canvas, pixels. */
     double unrolled_height_px;
 } wf_range_unroll_map;
 
@@ -166,11 +173,17 @@ int wf_range_reroll_point(wf_range_point *out_raw, const wf_range_unroll_map *ma
 /** A camera described in the unrolled image: intrinsics of the unrolled image (pixels), the pitch of the
  * optical axis and, for reference only, the raw camera's roll that was undone. */
 typedef struct wf_range_unrolled_camera {
+    /** Focal length along u of the unrolled image, pixels. */
     double fx;
+    /** Focal length along v of the unrolled image, pixels. */
     double fy;
+    /** Principal point u in the unrolled image, pixels. */
     double cx;
+    /** Principal point v in the unrolled image, pixels. */
     double cy;
+    /** Elevation of the optical axis, radians, positive up, |pitch| < pi/2. */
     double pitch_rad;
+    /** Roll of the raw camera that the unrolling removed, radians (not used by the computation). */
     double roll_rad;
 } wf_range_unrolled_camera;
 
