@@ -160,4 +160,28 @@ final class VIOModelTests: XCTestCase {
         let w = try Fixtures.walk(SimulationScenario(name: "turn", from: "room-116", to: "room-103", seed: 5, wrongTurn: true))
         XCTAssertTrue(w.frames.contains { $0.trackingReason == .excessiveMotion }, "turning around in place is fast")
     }
+
+    func testDarkSpellAndRelocalizationRatesMatchParameters() throws {
+        // Dark spells at 0.1/s lasting 1-3 s (mean 2): a renewal process in which 0.1 * 2 / (1 + 0.1 * 2) = 1/6 of
+        // the time is dark. Relocalizations at 0.05/s: the count over the walked time is Poisson.
+        var p = SimulationParameters()
+        p.vio.darkSpellsPerSecond = 0.1
+        p.vio.relocalizationsPerSecond = 0.05
+        p.vio.excessiveMotionTurnRateDegPerSecond = 10_000
+        var dark = 0, eligible = 0, relocs = 0
+        var seconds = 0.0
+        for seed: UInt64 in 1...8 {
+            let w = try Fixtures.walk(SimulationScenario(name: "events", from: "room-101", to: "room-109", seed: seed), parameters: p)
+            for f in w.frames where f.trackingReason != .initializing && f.trackingReason != .relocalizing {
+                eligible += 1
+                if f.trackingReason == .insufficientFeatures { dark += 1 }
+            }
+            relocs += w.diagnostics.vio.relocalizationTimes.count
+            seconds += w.truth.last!.t
+        }
+        XCTAssertEqual(Double(dark) / Double(eligible), 1.0 / 6, accuracy: 0.06)
+        // Expected count: rate * time / (1 + rate * mean spell 1.5 s); allow 3 Poisson standard deviations.
+        let expected = 0.05 * seconds / (1 + 0.05 * 1.5)
+        XCTAssertEqual(Double(relocs), expected, accuracy: 3 * expected.squareRoot())
+    }
 }
