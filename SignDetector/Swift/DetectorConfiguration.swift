@@ -34,8 +34,8 @@ public struct DetectorConfiguration: Sendable, Equatable {
     public var classNames: [String]
     /// Detections scoring below this are dropped (cascade: neighbour count; U-Net: mean probability).
     public var minScore: Double
-    /// Cascade scale step (0 = 1.2), minimum neighbours (0 = 3), smallest window (0 = 36 x 24 pixels),
-    /// largest window as a multiple of the smallest (0 = unlimited).
+    /// Cascade scale step (0 = 1.2), minimum neighbours (0 = 3), smallest window (0 = the cascade's training
+    /// window; the reference app used 36 x 24), largest window as a multiple of the smallest (0 = unlimited).
     public var cascadeScaleFactor: Double = 0
     public var cascadeMinNeighbors: Int = 0
     public var cascadeMinWindowWidth: Int = 0

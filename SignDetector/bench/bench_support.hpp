@@ -59,7 +59,8 @@ struct DetectorHandle {
 /// Creates a cascade detector for one Exit cascade with the given smallest window and largest-window factor
 /// (the reference app's exit_sign_config.yaml: 36 x 24, factor 5; 0 = unlimited).
 /// `minElevationRad`: NaN = search the whole frame, else only rows at least this elevation (radians).
-std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 36, int minWindowHeight = 24,
+/// `minWindowWidth/Height` 0 = the cascade's training window.
+std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
                                             double maxWindowFactor = 0, double minElevationRad = std::nan(""));
 /// Creates a U-Net detector (class names from classes.json next to the model).
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path);

@@ -205,7 +205,7 @@ int main(int argc, char** argv) {
     static std::unique_ptr<DetectorHandle> oursCascade, oursAbove, refCascade, unet;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
-        oursAbove = makeCascade(ours, 36, 24, 0, -0.15);
+        oursAbove = makeCascade(ours, 0, 0, 0, -0.15);
     }
     refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0);
     const char* unetOverride = std::getenv("WF_BENCH_UNET");

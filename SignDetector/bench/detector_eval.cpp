@@ -123,7 +123,7 @@ int main(int argc, char** argv) {
             r.size = id == "cascade-vga" ? cv::Size(640, 480) : cv::Size(1920, 1440);
             r.title = id == "cascade-vga" ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
             if (!std::isnan(minElevation)) r.title += ", rows above " + std::to_string(minElevation).substr(0, 5) + " rad";
-            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 0, minElevation);
+            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, minElevation);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);

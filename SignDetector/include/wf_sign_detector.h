@@ -168,7 +168,9 @@ typedef struct wf_detector_options {
     double cascade_scale_factor;
     /** detectMultiScale minNeighbors; 0 = 3. The observation score of a cascade hit is its neighbour count. */
     int cascade_min_neighbors;
-    /** Smallest search window, pixels; 0 = 36 x 24 (the reference app's setting). */
+    /** Smallest search window, pixels; 0 = the cascade's own training window (e.g. 24 x 16), which lets far
+     *  signs be boxed at their true size (the reference app used 36 x 24: signs smaller than 24 px, beyond
+     *  about 4.7 m at VGA, were boxed too tall). */
     int cascade_min_window_width;
     int cascade_min_window_height;
     /** Largest window as a multiple of the smallest; 0 = no limit. */

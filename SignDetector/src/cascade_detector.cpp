@@ -58,13 +58,14 @@ std::vector<Detection> CascadeDetector::detect(const cv::Mat& grayUnrolledFull, 
     for (size_t i = 0; i < cascades_.size(); ++i) {
         std::vector<cv::Rect> boxes;
         std::vector<int> neighbours;
+        const cv::Size minSize = params.minWindow.empty() ? cascades_[i]->getOriginalWindowSize() : params.minWindow;
         cv::Size maxSize;
         if (params.maxWindowFactor > 0) {
-            maxSize = cv::Size(static_cast<int>(params.minWindow.width * params.maxWindowFactor),
-                               static_cast<int>(params.minWindow.height * params.maxWindowFactor));
+            maxSize = cv::Size(static_cast<int>(minSize.width * params.maxWindowFactor),
+                               static_cast<int>(minSize.height * params.maxWindowFactor));
         }
         cascades_[i]->detectMultiScale(grayUnrolled, boxes, neighbours, params.scaleFactor, params.minNeighbors, 0,
-                                       params.minWindow, maxSize);
+                                       minSize, maxSize);
         for (size_t j = 0; j < boxes.size(); ++j) {
             Detection d;
             d.kind = kinds_[i];

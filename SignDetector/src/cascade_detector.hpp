@@ -19,9 +19,9 @@ struct CascadeParams {
     double scaleFactor = 1.2;
     /// Raw hits that must agree for a detection (also its score).
     int minNeighbors = 3;
-    /// Smallest window, pixels (the reference app: 36 x 24).
-    cv::Size minWindow{36, 24};
-    /// Largest window as a multiple of minWindow; 0 = unlimited.
+    /// Smallest window, pixels (the reference app: 36 x 24); empty = each cascade's training window.
+    cv::Size minWindow{};
+    /// Largest window as a multiple of the smallest window; 0 = unlimited.
     double maxWindowFactor = 0;
     /// When set, only rows whose ray elevation is >= minElevationRad are searched (Detector computes the row).
     bool searchAboveElevation = false;

@@ -70,8 +70,13 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
         return WF_ERR_INVALID_ARGUMENT;
     }
     r.cascade.minNeighbors = opts.cascade_min_neighbors > 0 ? opts.cascade_min_neighbors : 3;
-    r.cascade.minWindow = cv::Size(opts.cascade_min_window_width > 0 ? opts.cascade_min_window_width : 36,
-                                   opts.cascade_min_window_height > 0 ? opts.cascade_min_window_height : 24);
+    if ((opts.cascade_min_window_width > 0) != (opts.cascade_min_window_height > 0)) {
+        *error = "cascade_min_window_width and cascade_min_window_height must both be set or both be 0";
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    r.cascade.minWindow = opts.cascade_min_window_width > 0
+                              ? cv::Size(opts.cascade_min_window_width, opts.cascade_min_window_height)
+                              : cv::Size();  // each cascade's training window
     r.cascade.maxWindowFactor = positiveOr(opts.cascade_max_window_factor, 0);
     r.cascade.searchAboveElevation = opts.cascade_search_above_elevation != 0;
     r.cascade.minElevationRad = opts.cascade_min_elevation_rad;

@@ -113,6 +113,10 @@ TEST(CApi, CreateErrorsLeaveNoHandleAndAMessage) {
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);
     EXPECT_NE(std::string(wf_detector_last_error(nullptr)).find("sign_unet.onnx"), std::string::npos);
     wf_detector_free(nullptr);  // no-op
+    wf_detector_options halfWindow = WF_DETECTOR_OPTIONS_INIT;
+    halfWindow.cascade_min_window_width = 36;  // height left 0
+    EXPECT_EQ(wf_detector_create(&d, &halfWindow), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("both"), std::string::npos);
     wf_detector_options badKind = WF_DETECTOR_OPTIONS_INIT;
     int bogus = 9;
     std::memcpy(&badKind.kind, &bogus, sizeof bogus);  // what a C caller may store
