@@ -9,7 +9,7 @@ producing the same model type, loadable by cv::CascadeClassifier / cv2.CascadeCl
     window; the 8-bit code compares each outer block sum with the centre block sum (>= -> 1), bits
     in OpenCV's order (block 0 -> 128, 1 -> 64, 2 -> 32, 5 -> 16, 8 -> 8, 7 -> 4, 6 -> 2, 3 -> 1,
     blocks numbered row-major), exactly as OpenCV's LBP evaluator computes them;
-  * weak classifiers: depth-1 trees with a 256-way categorical split: a 256-bit subset (8 x 32-bit
+  * weak classifiers (each round searches a random 35 % of the 3680 features, for speed): depth-1 trees with a 256-way categorical split: a 256-bit subset (8 x 32-bit
     masks) sends a code to leaf 0 when its bit is set, else to leaf 1; the best binary partition of
     the categories for weighted squared error is found by sorting categories by their mean response
     (Breiman et al., CART, 1984, sec. 4.2.2);
@@ -155,8 +155,9 @@ def best_stump(X: np.ndarray, y: np.ndarray, w: np.ndarray, offsets: np.ndarray)
 
 
 def train_stage(Xp: np.ndarray, Xn: np.ndarray, min_hit: float, max_fa: float, max_weak: int,
-                offsets: np.ndarray, log) -> Tuple[Stage, float, float]:
-    """Gentle AdaBoost until the stage meets min_hit on positives and max_fa on negatives."""
+                offsets: np.ndarray, log, rng: np.random.Generator, feature_frac: float = 1.0) -> Tuple[Stage, float, float]:
+    """Gentle AdaBoost until the stage meets min_hit on positives and max_fa on negatives; each
+    round searches a random `feature_frac` of the features."""
     X = np.concatenate([Xp, Xn])
     y = np.concatenate([np.ones(len(Xp)), -np.ones(len(Xn))])
     w = np.concatenate([np.full(len(Xp), 0.5 / len(Xp)), np.full(len(Xn), 0.5 / len(Xn))])
@@ -167,8 +168,11 @@ def train_stage(Xp: np.ndarray, Xn: np.ndarray, min_hit: float, max_fa: float, m
         # weight trimming (keep the heaviest samples carrying 95 % of the weight)
         ws = np.sort(w)[::-1]
         cut = ws[min(np.searchsorted(np.cumsum(ws), 0.95), len(ws) - 1)]
-        keep = w >= cut
-        st = best_stump(X[keep], y[keep], w[keep], offsets)
+        keep = np.nonzero(w >= cut)[0]
+        # random feature subset per round (speed; as in randomised boosting), indices mapped back
+        cols = np.sort(rng.choice(X.shape[1], max(1, int(round(feature_frac * X.shape[1]))), replace=False))
+        st = best_stump(X[np.ix_(keep, cols)], y[keep], w[keep], offsets[:len(cols)])
+        st.feature = int(cols[st.feature])
         stage.stumps.append(st)
         f = st.predict(X[:, st.feature]).astype(np.float64)
         F += f
@@ -291,6 +295,98 @@ def mine_negatives(xml_path: str, frames: List[np.ndarray], n: int, rng: np.rand
     return np.stack(out[:n]), scanned
 
 
+def codes_for(patches: np.ndarray, rects: np.ndarray) -> np.ndarray:
+    """MB-LBP codes (N, len(rects)) of grey patches for the given rects only."""
+    p = np.asarray(patches)
+    N, Hh, Ww = p.shape
+    I = np.zeros((N, Hh + 1, Ww + 1), np.int64)
+    I[:, 1:, 1:] = p.astype(np.int64).cumsum(1).cumsum(2)
+    out = np.zeros((N, len(rects)), np.uint8)
+    for k, (x, y, w, h) in enumerate(rects):
+        P = [[I[:, y + j * h, x + i * w] for i in range(4)] for j in range(4)]
+
+        def block(r, c):
+            return P[r + 1][c + 1] - P[r][c + 1] - P[r + 1][c] + P[r][c]
+
+        centre = block(1, 1)
+        code = np.zeros(N, np.uint8)
+        for (r, c), bit in _BITS.items():
+            code |= np.where(block(r, c) >= centre, np.uint8(bit), np.uint8(0))
+        out[:, k] = code
+    return out
+
+
+def mine_negatives_exact(xml_path: str, stages: List[Stage], rects_all: np.ndarray, frames: List[np.ndarray], n: int,
+                         rng: np.random.Generator, max_per_frame: int, scale_factor: float = 1.1) -> Tuple[np.ndarray, int]:
+    """Windows exactly as cv2.CascadeClassifier.detectMultiScale evaluates them (image pyramid by
+    INTER_LINEAR_EXACT resize to round(size / factor), window at step 2 below factor 2 else 1) that
+    the cascade accepts: OpenCV finds the accepted rects, each is mapped back to its pyramid level
+    and position, and only windows the numpy cascade also accepts are kept."""
+    cc = cv2.CascadeClassifier(xml_path)
+    if cc.empty():
+        raise RuntimeError("mine_negatives_exact: cv2 could not load %s" % xml_path)
+    used = sorted({st.feature for s in stages for st in s.stumps})
+    remap = {f: i for i, f in enumerate(used)}
+    sub_rects = rects_all[used]
+    out = []
+    scanned = 0
+    for fi in rng.permutation(len(frames)):
+        g = frames[fi]
+        H, W = g.shape
+        rects = cc.detectMultiScale(g, scaleFactor=scale_factor, minNeighbors=0, minSize=(WIN_W, WIN_H))
+        scanned += 1
+        if len(rects) == 0:
+            continue
+        rects = np.asarray(rects)
+        if len(rects) > max_per_frame:
+            rects = rects[rng.choice(len(rects), max_per_frame, replace=False)]
+        factors = []
+        f = 1.0
+        while round(WIN_W * f) <= W and round(WIN_H * f) <= H:
+            factors.append(f)
+            f *= scale_factor
+        cache = {}
+        cands = []
+        for x, y, w, h in rects:
+            fs = [f for f in factors if int(round(WIN_W * f)) == w and int(round(WIN_H * f)) == h]
+            for f in fs[:1]:
+                if f not in cache:
+                    sz = (int(round(W / f)), int(round(H / f)))
+                    cache[f] = cv2.resize(g, sz, interpolation=cv2.INTER_LINEAR_EXACT)
+                S = cache[f]
+                step = 1 if f > 2 else 2
+                for px in {int(math.floor(x / f / step)) * step, int(math.ceil(x / f / step)) * step}:
+                    for py in {int(math.floor(y / f / step)) * step, int(math.ceil(y / f / step)) * step}:
+                        if px + WIN_W <= S.shape[1] and py + WIN_H <= S.shape[0]:
+                            cands.append(S[py:py + WIN_H, px:px + WIN_W])
+        if cands:
+            P = np.stack(cands)
+            C = codes_for(P, sub_rects)
+            ok = np.ones(len(P), bool)
+            for s in stages:
+                sc = np.zeros(len(P), np.float32)
+                for st in s.stumps:
+                    sc += st.predict(C[:, remap[st.feature]])
+                ok &= sc >= s.threshold
+            out.extend(P[ok])
+        if len(out) >= n:
+            break
+    if not out:
+        return np.zeros((0, WIN_H, WIN_W), np.uint8), scanned
+    out = np.stack(out)
+    return out[rng.permutation(len(out))[:n]], scanned
+
+
+def load_stages_full_index(path: str, rects_all: np.ndarray) -> List[Stage]:
+    """Read a cascade XML and re-index its stumps into enumerate_features() order (to continue training)."""
+    stages, rects = read_xml(path)
+    index = {tuple(r): i for i, r in enumerate(rects_all.tolist())}
+    for s in stages:
+        for st in s.stumps:
+            st.feature = index[tuple(rects[st.feature].tolist())]
+    return stages
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Train the Exit-sign LBP cascade from rendered samples.")
     ap.add_argument("--out", required=True, help="output cascade XML")
@@ -302,7 +398,9 @@ def main(argv=None) -> int:
     ap.add_argument("--min-hit", type=float, default=0.995)
     ap.add_argument("--max-fa", type=float, default=0.5)
     ap.add_argument("--max-weak", type=int, default=100)
-    ap.add_argument("--time-limit-min", type=float, default=25.0, help="stop adding stages after this wall time")
+    ap.add_argument("--time-limit-min", type=float, default=35.0, help="stop adding stages after this wall time (excluding sample rendering)")
+    ap.add_argument("--feature-frac", type=float, default=0.35, help="fraction of features searched per boosting round")
+    ap.add_argument("--resume", default=None, help="continue from the stages of this cascade XML")
     ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
     a = ap.parse_args(argv)
     t0 = time.time()
@@ -324,33 +422,36 @@ def main(argv=None) -> int:
         arr = np.empty(len(frames), object)
         arr[:] = frames
         np.savez(cache, pos=pos, frames=arr)
+    t_train0 = time.time()
     rects = enumerate_features()
     offsets = (np.arange(len(rects), dtype=np.int32) * 256)
     log("%d MB-LBP features" % len(rects))
     Xp_all = compute_features(pos)
     rng = np.random.default_rng([a.seed, 12])
-    stages: List[Stage] = []
+    stages: List[Stage] = load_stages_full_index(a.resume, rects) if a.resume else []
+    if stages:
+        log("resumed %d stages from %s" % (len(stages), a.resume))
     tmp_xml = a.out + ".partial.xml"
-    for k in range(a.stages):
-        if time.time() - t0 > a.time_limit_min * 60:
+    for k in range(len(stages), a.stages):
+        if time.time() - t_train0 > a.time_limit_min * 60:
             log("time limit reached")
             break
         Xp = Xp_all[cascade_pass(stages, Xp_all)]
-        if k == 0:
+        if not stages:
             neg = sample_windows_random(frames, a.num_neg, rng)
             scanned = 0
         else:
             write_xml(tmp_xml, stages, rects, a.min_hit, a.max_fa, a.max_weak)
-            neg, scanned = mine_negatives(tmp_xml, frames, 3 * a.num_neg, rng, max_per_frame=max(20, 3 * a.num_neg // 50))
+            neg, scanned = mine_negatives_exact(tmp_xml, stages, rects, frames, a.num_neg, rng, max_per_frame=max(20, a.num_neg // 40))
         Xn = compute_features(neg) if len(neg) else np.zeros((0, len(rects)), np.uint8)
-        if k > 0 and len(Xn):
+        if stages and len(Xn):
             Xn = Xn[cascade_pass(stages, Xn)]  # confirm they pass stages 0..k-1
         Xn = Xn[rng.permutation(len(Xn))[:a.num_neg]]
         log("stage %d: %d positives, %d negatives (frames scanned %d)" % (k, len(Xp), len(Xn), scanned))
         if len(Xn) < 100:
             log("too few hard negatives left; cascade done")
             break
-        stage, hit, fa = train_stage(Xp, Xn, a.min_hit, a.max_fa, a.max_weak, offsets, log)
+        stage, hit, fa = train_stage(Xp, Xn, a.min_hit, a.max_fa, a.max_weak, offsets, log, rng, a.feature_frac)
         stages.append(stage)
         write_xml(a.out, stages, rects, a.min_hit, a.max_fa, a.max_weak)
     if os.path.exists(tmp_xml):
