@@ -122,7 +122,8 @@ void runCascadeOnly(benchmark::State& state, const std::string* path, const std:
         const Intrinsics k{f->labels.fx, f->labels.fy, f->labels.cx, f->labels.cy};
         unrolled.push_back(Unrolling::forRoll(f->labels.rollRad, k, gray.size()).apply(gray).clone());
     }
-    CascadeParams params;
+    CascadeParams params;  // the reference app's settings, as in cascade_reference/*
+    params.minWindow = cv::Size(36, 24);
     params.maxWindowFactor = 5.0;
     size_t i = 0;
     for (auto _ : state) {
