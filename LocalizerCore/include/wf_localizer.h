@@ -212,7 +212,7 @@ typedef struct wf_localizer_options {
     /* --- map grids --- */
     /** Cell of the visibility and walkable grids, meters. Default 0.25. Enlarged automatically for huge floors. */
     double grid_cell_m;
-    /** Cell of the wall spatial index, meters. Default 1. */
+    /** Cell of the wall spatial index, meters. Default 0.5 (most particles then sit in wall-free cells). */
     double wall_index_cell_m;
     /** Walkable cells keep this clearance from walls, meters. Default 0.2. */
     double wall_clearance_m;
@@ -261,7 +261,7 @@ typedef struct wf_localizer_options {
     0.5, 0.5, 1, 0.001, 0.1, 0.1, \
     0.15, 0.03, 0.02, 0.04, 0.003, 0.03, 0.8, 1.25, 3.0, 1.5, 0.7853981633974483, 0.5, 0.2, 0.7, 1e-3, \
     0.8377580409572781, 12.0, 0.1, 0.12, 0.05235987755982988, 0.1, 0.2, 1, 5.0, 0.6, 0.8, \
-    0.25, 1.0, 0.2, \
+    0.25, 0.5, 0.2, \
     1.0, 0.7853981633974483, 0.05, 0.8, 1.0, 1.0, 0.5, 2.0, 0.001, 4.0, 5.0, \
     2.0, 0.3, 1.5, 3.0, 0.05 }
 

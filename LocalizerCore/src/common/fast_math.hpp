@@ -21,7 +21,9 @@ inline double wrap_angle(double a) {
 
 /// Wraps an angle to about [-pi, pi], radians (float; one rounding step, exact enough for |a| < 1e4).
 inline float wrap_angle_f(float a) {
-    return a - kTwoPi * std::nearbyint(a * (1.0f / kTwoPi));
+    const float t = a * (1.0f / kTwoPi);
+    const float k = static_cast<float>(static_cast<int32_t>(t + (t >= 0.0f ? 0.5f : -0.5f)));  // no libm call
+    return a - kTwoPi * k;
 }
 
 /// sin and cos of x (radians, |x| < 1e5), max abs error ~2e-7 for |x| < 100: quadrant reduction by

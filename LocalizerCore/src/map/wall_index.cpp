@@ -110,16 +110,13 @@ bool WallIndex::test_cell(int32_t cell, float px, float py, float qx, float qy) 
     return false;
 }
 
-bool WallIndex::crosses(float x0, float y0, float x1, float y1) const {
-    if (cell_segments_.empty()) return false;
+bool WallIndex::crosses_slow(float x0, float y0, float x1, float y1) const {
     if (x0 == x1 && y0 == y1) return false;
     {
-        // Fast path: both ends in the same cell and that cell lists no wall.
+        // Both ends in the same cell (which lists walls): test that cell only.
         const int32_t ax = grid_.clamp_ix(x0), ay = grid_.clamp_iy(y0);
         if (ax == grid_.clamp_ix(x1) && ay == grid_.clamp_iy(y1)) {
-            const int32_t c = ay * grid_.nx + ax;
-            if (cell_start_[c] == cell_start_[c + 1]) return false;
-            return test_cell(c, x0, y0, x1, y1);
+            return test_cell(ay * grid_.nx + ax, x0, y0, x1, y1);
         }
     }
     const int32_t ix0 = grid_.clamp_ix(std::min(x0, x1)), ix1 = grid_.clamp_ix(std::max(x0, x1));

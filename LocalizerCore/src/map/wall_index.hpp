@@ -19,7 +19,16 @@ public:
     WallIndex(const FloorGrid &grid, const float *segments, size_t count);
 
     /// True when the segment (x0,y0)->(x1,y1) intersects or touches a wall. A zero-length move never crosses.
-    bool crosses(float x0, float y0, float x1, float y1) const;
+    /// Inline fast path: both ends in one cell that lists no wall (the usual per-frame step).
+    inline bool crosses(float x0, float y0, float x1, float y1) const {
+        if (cell_segments_.empty()) return false;
+        const int32_t ax = grid_.clamp_ix(x0), ay = grid_.clamp_iy(y0);
+        if (ax == grid_.clamp_ix(x1) && ay == grid_.clamp_iy(y1)) {
+            const int32_t c = ay * grid_.nx + ax;
+            if (cell_start_[c] == cell_start_[c + 1]) return false;
+        }
+        return crosses_slow(x0, y0, x1, y1);
+    }
 
     /// Distance from (x, y) to the nearest wall if it is below `max_distance_m`, else max_distance_m.
     float distance_to_nearest(float x, float y, float max_distance_m) const;
@@ -30,6 +39,7 @@ public:
     bool cell_empty(float x, float y) const;
 
 private:
+    bool crosses_slow(float x0, float y0, float x1, float y1) const;
     bool test_cell(int32_t cell, float px, float py, float qx, float qy) const;
 
     FloorGrid grid_;

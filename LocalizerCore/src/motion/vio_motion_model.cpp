@@ -133,27 +133,38 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
     ++a.frames;
     const bool inject = !acc || a.due();
 
-    // Deterministic part: rotate by the yaw offset, scale, test the wall grid.
-    float wsum = 0;
-    for (size_t i = 0; i < n; ++i) {
-        float s, c;
-        fast_sincos(offs[i], s, c);
-        const float sc = scales[i];
-        const float x0 = xs[i], y0 = ys[i];
-        const float x1 = x0 + sc * (c * de - s * dn);
-        const float y1 = y0 + sc * (s * de + c * dn);
-        float w = ws[i];
-        if (fl[floors[i]].walls.crosses(x0, y0, x1, y1)) w *= kill;
-        ws[i] = w;
-        xs[i] = x1;
-        ys[i] = y1;
-        wsum += w;
-        if ((i & 1023) == 1023) {
-            weight_sum += wsum;
-            wsum = 0;
+    // Deterministic part: rotate by the yaw offset, scale, test the wall grid. With one floor (the common
+    // case) the wall index is fixed for the whole loop, so its fields stay in registers.
+    auto deterministic = [&](auto walls_of) {
+        double total = 0;
+        float partial = 0;
+        for (size_t i = 0; i < n; ++i) {
+            float s, c;
+            fast_sincos(offs[i], s, c);
+            const float sc = scales[i];
+            const float x0 = xs[i], y0 = ys[i];
+            const float x1 = x0 + sc * (c * de - s * dn);
+            const float y1 = y0 + sc * (s * de + c * dn);
+            float w = ws[i];
+            if (walls_of(i).crosses(x0, y0, x1, y1)) w *= kill;
+            ws[i] = w;
+            xs[i] = x1;
+            ys[i] = y1;
+            partial += w;
+            if ((i & 1023) == 1023) {
+                total += partial;
+                partial = 0;
+            }
         }
+        return total + partial;
+    };
+    if (map.floors.size() == 1) {
+        const WallIndex &only = fl[0].walls;
+        weight_sum = deterministic([&only](size_t) -> const WallIndex & { return only; });
+    } else {
+        weight_sum = deterministic([fl, floors](size_t i) -> const WallIndex & { return fl[floors[i]].walls; });
     }
-    weight_sum += wsum;
+    float wsum = 0;
     if (!inject) return weight_sum;
 
     // Stochastic part, every ~0.25 m: yaw offset, scale and position random walks (and their wall test).
@@ -163,7 +174,6 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
     a.clear();
     const float smin = noise.scale_min, smax = noise.scale_max;
     weight_sum = 0;
-    wsum = 0;
     for (size_t i = 0; i < n; ++i) {
         if (sigma_yaw > 0) offs[i] = wrap_angle_f(offs[i] + sigma_yaw * rng.normal());
         if (sigma_scale > 0) scales[i] = std::min(smax, std::max(smin, scales[i] + sigma_scale * rng.normal()));
