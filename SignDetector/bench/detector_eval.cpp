@@ -35,6 +35,7 @@ struct Row {
     std::string skipped;
     // Results.
     std::map<int, std::vector<double>> errorsPercent;  // per distance bin
+    std::map<int, std::vector<double>> signedErrorsPercent;  // 100 (e - a) / a: bias
     std::map<int, int> signs, missed;
     long truePositives = 0, falsePositives = 0, falseNegatives = 0;
     long signFreeFrames = 0, signFreeFalsePositives = 0;
@@ -175,7 +176,10 @@ int main(int argc, char** argv) {
                     used[k] = true;
                     found = true;
                     const double z = observationRangeMeters(observations[k], sign.heightMeters, labels.pitchRad);
-                    if (std::isfinite(z)) r.errorsPercent[bin].push_back(100.0 * std::abs(z - sign.rangeMeters) / sign.rangeMeters);
+                    if (std::isfinite(z)) {
+                        r.errorsPercent[bin].push_back(100.0 * std::abs(z - sign.rangeMeters) / sign.rangeMeters);
+                        r.signedErrorsPercent[bin].push_back(100.0 * (z - sign.rangeMeters) / sign.rangeMeters);
+                    }
                 }
                 if (found) ++r.truePositives;
                 else {
@@ -204,6 +208,20 @@ int main(int argc, char** argv) {
     for (const Row& r : rows) {
         std::cout << "| " << r.title << " |";
         for (int b : bins) std::cout << " " << (r.skipped.empty() ? percent(median(r.errorsPercent.count(b) ? r.errorsPercent.at(b) : std::vector<double>{})) : "-") << " |";
+        std::cout << "\n";
+    }
+    std::cout << "\nMedian signed range error (e - a) / a per true distance (bias; negative = estimated too near)\n\n"
+                 "| Method |";
+    for (int b : bins) std::cout << " " << b << " m |";
+    std::cout << "\n|---|";
+    for (size_t i = 0; i < std::size(bins); ++i) std::cout << "---|";
+    std::cout << "\n";
+    for (const Row& r : rows) {
+        std::cout << "| " << r.title << " |";
+        for (int b : bins) {
+            const auto it = r.signedErrorsPercent.find(b);
+            std::cout << " " << (r.skipped.empty() ? percent(median(it != r.signedErrorsPercent.end() ? it->second : std::vector<double>{})) : "-") << " |";
+        }
         std::cout << "\n";
     }
     std::cout << "\nMissed signs per true distance (missed / labelled)\n\n| Method |";
