@@ -134,8 +134,9 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     // Sort heaviest first and remap the per-particle cluster ids to the sorted order.
     std::vector<int32_t> order(clusters_.size());
     for (size_t k = 0; k < order.size(); ++k) order[k] = static_cast<int32_t>(k);
-    std::stable_sort(order.begin(), order.end(),
-                     [&](int32_t a, int32_t b) { return clusters_[a].weight > clusters_[b].weight; });
+    std::sort(order.begin(), order.end(), [&](int32_t a, int32_t b) {
+        return clusters_[a].weight != clusters_[b].weight ? clusters_[a].weight > clusters_[b].weight : a < b;
+    });
     std::vector<int32_t> rank(order.size());
     std::vector<ClusterSummary> sorted(order.size());
     for (size_t k = 0; k < order.size(); ++k) {
