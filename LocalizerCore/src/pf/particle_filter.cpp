@@ -375,9 +375,20 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
                     w_slow_ += opts_.recovery_alpha_slow * (w_avg - w_slow_);
                     w_fast_ += opts_.recovery_alpha_fast * (w_avg - w_fast_);
                 }
+            } else if (z.empty() && opts_.recovery && w_slow_ > 0) {
+                // A frame without sightings while the cloud expected a plainly visible sign: the expected miss
+                // likelihood m = sum w_i L_i (< 1) is fed to the recovery averages as w_slow * m, so a
+                // hypothesis walking past signs that never show up triggers injection too. Frames where
+                // nothing was expected carry no information and leave the averages alone.
+                const double m = std::exp(static_cast<double>(max_ll)) * s_full;
+                if (m < 1.0 - 1e-6) {
+                    const double w_avg = w_slow_ * m;
+                    w_slow_ += opts_.recovery_alpha_slow * (w_avg - w_slow_);
+                    w_fast_ += opts_.recovery_alpha_fast * (w_avg - w_fast_);
+                }
             }
             last_sightings_ = z;
-            maybe_resample(!z.empty());
+            maybe_resample(opts_.recovery != 0);
             last_sightings_.clear();
         } else {
             normalize(0);
