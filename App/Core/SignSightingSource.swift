@@ -53,7 +53,7 @@ final class SignSightingSource {
                                                        centerColumnPx: d.centerColumnPx, bottomEdgeSlope: d.bottomEdgeSlope,
                                                        topEdgeSlope: d.topEdgeSlope, extentWidthPx: d.extentWidthPx)
                 let camera = UnrolledCamera(fx: d.unrolledFx, fy: d.unrolledFy, cx: d.unrolledCx, cy: d.unrolledCy,
-                                            pitchRad: pose.pitchRad, rollRad: pose.rollRad)
+                                            pitchRad: pose.pitchRad, rollRad: d.appliedRollRad)
                 if let r = try? RangeEstimator.apparentHeight(measurement, camera: camera,
                                                               signHeightMeters: options.signHeightMeters) {
                     sightings.append(SignSighting(kind: d.kind, rangeMeters: r.rangeMeters, bearingRad: r.bearingRad, score: d.score))

@@ -6,8 +6,11 @@ import SessionFormat
 public struct TrueTurn: Codable, Sendable, Equatable {
     /// Graph node id of the control point.
     public var nodeId: String
-    /// Time of closest approach to the node, seconds.
+    /// Time of closest approach to the last node of the turn, seconds (cues must come before it).
     public var t: Double
+    /// Times of closest approach to each node the turn passes (a corner may span a door node and a
+    /// control point), seconds, increasing.
+    public var passTimes: [Double]
     /// Signed change of walking direction, degrees, positive = left (counter-clockwise).
     public var angleDeg: Double
     /// "left" or "right".
@@ -64,7 +67,9 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         for turn in turns {
             if let cue = cues.last(where: { $0.t <= turn.t && $0.t >= turn.t - Self.cueWindowSeconds && $0.direction == turn.direction }) {
                 usedCues.insert(cue.index)
-                distances.append(truth.distanceWalked(at: turn.t) - truth.distanceWalked(at: cue.t))
+                // Distance to the first node of the turn not yet passed when the cue was spoken.
+                let passT = turn.passTimes.first { $0 >= cue.t } ?? turn.t
+                distances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: cue.t))
             } else {
                 missing += 1
             }
@@ -108,46 +113,66 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         return nil
     }
 
-    /// The turns the truth path makes at graph nodes (see the type's documentation).
+    /// The turns the truth path makes at graph nodes (see the type's documentation). Passes of nodes less
+    /// than `mergeMeters` apart along the path (a corner with a door node beside it, a cut corner spread
+    /// over two control points) are one turn, measured from 2 m before the first to 2 m after the last.
     public static func trueTurns(truth: TruthTrack, building: Building) -> [TrueTurn] {
         guard truth.records.count > 2 else { return [] }
-        var turns: [TrueTurn] = []
         let records = truth.records
+        var passes: [(index: Int, node: GraphNode)] = []
         for node in building.graph.nodes {
             // Closest approaches: local minima of distance below the pass radius.
             var bestIndex: Int?
             var bestDistance = Double.infinity
-            func flush() {
-                if let i = bestIndex, let turn = turnAt(index: i, node: node, truth: truth) { turns.append(turn) }
-                bestIndex = nil
-                bestDistance = .infinity
-            }
             for (i, r) in records.enumerated() {
                 let d = r.floorId == node.floorId ? hypot(r.x - node.position.x, r.y - node.position.y) : .infinity
                 if d < passRadiusMeters {
                     if d < bestDistance { bestDistance = d; bestIndex = i }
-                } else if bestIndex != nil {
-                    flush()
+                } else if let b = bestIndex {
+                    passes.append((b, node))
+                    bestIndex = nil
+                    bestDistance = .infinity
                 }
             }
-            flush()
+            if let b = bestIndex { passes.append((b, node)) }
         }
-        return turns.sorted { $0.t < $1.t }
+        passes.sort { $0.index < $1.index }
+        var groups: [[(index: Int, node: GraphNode)]] = []
+        for p in passes {
+            if let last = groups.last?.last,
+               truth.cumulativeDistanceMeters[p.index] - truth.cumulativeDistanceMeters[last.index] < mergeMeters {
+                groups[groups.count - 1].append(p)
+            } else {
+                groups.append([p])
+            }
+        }
+        return groups.compactMap { group in
+            // A walk that ends at the group's last node (the destination's door) has no path after it:
+            // measure the turn at the first node then.
+            (turn(first: group.first!.index, last: group.last!.index, nodeId: group.first!.node.id, truth: truth)
+                ?? turn(first: group.first!.index, last: group.first!.index, nodeId: group.first!.node.id, truth: truth))
+                .map { var t = $0; t.passTimes = group.map { records[$0.index].t }; return t }
+        }
     }
 
-    private static func turnAt(index i: Int, node: GraphNode, truth: TruthTrack) -> TrueTurn? {
-        let here = truth.cumulativeDistanceMeters[i]
+    /// Node passes closer than this along the path form one turn, meters.
+    public static let mergeMeters = 3.0
+
+    private static func turn(first: Int, last: Int, nodeId: String, truth: TruthTrack) -> TrueTurn? {
         let records = truth.records
-        guard let before = records.indices.last(where: { truth.cumulativeDistanceMeters[$0] <= here - 2 && $0 < i }),
-              let after = records.indices.first(where: { truth.cumulativeDistanceMeters[$0] >= here + 2 && $0 > i }) else { return nil }
-        let a = records[before], m = records[i], b = records[after]
-        let inAngle = atan2(m.y - a.y, m.x - a.x)
-        let outAngle = atan2(b.y - m.y, b.x - m.x)
+        let cum = truth.cumulativeDistanceMeters
+        let before = records.indices.last(where: { cum[$0] <= cum[first] - 2 && $0 < first }) ?? 0
+        let after = records.indices.first(where: { cum[$0] >= cum[last] + 2 && $0 > last }) ?? records.count - 1
+        // At the ends of the walk at least 0.7 m of path is needed on each side to tell a direction.
+        guard cum[first] - cum[before] >= 0.7, cum[after] - cum[last] >= 0.7 else { return nil }
+        let a = records[before], m1 = records[first], m2 = records[last], b = records[after]
+        let inAngle = atan2(m1.y - a.y, m1.x - a.x)
+        let outAngle = atan2(b.y - m2.y, b.x - m2.x)
         var d = outAngle - inAngle
         while d > .pi { d -= 2 * .pi }
         while d < -.pi { d += 2 * .pi }
         let deg = d * 180 / .pi
         guard abs(deg) > turnThresholdDeg, abs(deg) < 150 else { return nil }
-        return TrueTurn(nodeId: node.id, t: m.t, angleDeg: deg, direction: deg > 0 ? "left" : "right")
+        return TrueTurn(nodeId: nodeId, t: m2.t, passTimes: [m1.t], angleDeg: deg, direction: deg > 0 ? "left" : "right")
     }
 }

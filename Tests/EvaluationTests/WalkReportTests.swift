@@ -64,4 +64,16 @@ final class WalkReportTests: XCTestCase {
         XCTAssertEqual(score.missingInstructions, 0)
         XCTAssertEqual(score.wrongInstructions, 1)
     }
+    func testTurnIntoTheDestinationDoorAtTheEndOfTheWalk() {
+        // East along y = 7 for 10 m, then right 1 m into a door at (10, 6): the door node and the corridor
+        // control point are one turn, and the walk ends at the door.
+        var truth: [TruthRecord] = []
+        for i in 0...100 { truth.append(TruthRecord(t: Double(i) / 10, x: Double(i) / 10, y: 7, floorId: "1", headingRad: 0)) }
+        for i in 1...10 { truth.append(TruthRecord(t: 10 + Double(i) / 10, x: 10, y: 7 - Double(i) / 10, floorId: "1", headingRad: -.pi / 2)) }
+        let graph = NavigationGraph(nodes: [GraphNode(id: "cp", kind: .control, floorId: "1", position: Point2(10, 7)),
+                                            GraphNode(id: "door", kind: .pointOfInterest, floorId: "1", position: Point2(10, 6))], edges: [])
+        let building = Building(id: "b", name: "b", floors: [], graph: graph)
+        let turns = NavigationScore.trueTurns(truth: TruthTrack(truth), building: building)
+        XCTAssertEqual(turns.map(\.direction), ["right"])
+    }
 }
