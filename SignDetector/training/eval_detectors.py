@@ -245,7 +245,7 @@ def evaluate(test_dir: str, cascades: List[str], unet: Optional[str], limit: Opt
         if c.empty():
             raise RuntimeError("eval: cannot load cascade %s" % p)
     runner = UNetRunner(unet) if unet else None
-    names = [("cascade:%s@%s" % (os.path.basename(os.path.dirname(p)) + "/" + os.path.basename(p), "HR" if hr else "VGA")) for p in cascades]
+    names = [("cascade%d:%s@%s" % (i, os.path.abspath(p), "HR" if hr else "VGA")) for i, p in enumerate(cascades)]
     if runner:
         names.append("unet")
     for n in names + ["gt_corners"]:

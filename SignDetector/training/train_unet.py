@@ -245,6 +245,8 @@ def main(argv=None) -> int:
     ap.add_argument("--lr", type=float, default=3e-3)
     ap.add_argument("--minutes", type=float, default=18.0, help="training wall-time budget (cosine schedule over it)")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--resume", default=None, help="start from the weights of this checkpoint (.pt)")
+    ap.add_argument("--warmup", type=int, default=100, help="linear learning-rate warm-up steps")
     ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
     a = ap.parse_args(argv)
     torch.manual_seed(a.seed)
@@ -264,6 +266,9 @@ def main(argv=None) -> int:
     log("data: %d train, %d val (exit pixel fraction %.4f)" % (len(Xtr), len(Xva), float((Ytr == 1).mean())))
     t_data = time.time() - t0
     model = SignUNet(a.width)
+    if a.resume:
+        model.load_state_dict(torch.load(a.resume, map_location="cpu")["state_dict"])
+        log("resumed weights from %s" % a.resume)
     nparam = sum(p.numel() for p in model.parameters())
     log("model: %d parameters" % nparam)
     opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
@@ -283,7 +288,7 @@ def main(argv=None) -> int:
             if frac >= 1.0:
                 done = True
                 break
-            lr = a.lr * (min(1.0, step / 100.0)) * 0.5 * (1 + math.cos(math.pi * min(frac, 1.0)))
+            lr = a.lr * (min(1.0, step / max(1.0, a.warmup))) * 0.5 * (1 + math.cos(math.pi * min(frac, 1.0)))
             for pg in opt.param_groups:
                 pg["lr"] = lr
             idx = perm[i:i + a.batch]
@@ -307,7 +312,7 @@ def main(argv=None) -> int:
     iou, per, fp = evaluate(model, Xva, Yva, Kva)
     log("val IoU(exit) %.4f per kind %s; false-positive pixels on sign-free crops %s" % (iou, json.dumps(per), json.dumps(fp)))
     torch.save({"state_dict": model.state_dict(), "width": a.width, "num_classes": NUM_CLASSES}, os.path.join(a.out, "sign_unet.pt"))
-    summary = dict(seed=a.seed, n_train=a.n_train, n_val=a.n_val, width=a.width, batch=a.batch, crop=a.crop, lr=a.lr, steps=step, epochs=epoch,
+    summary = dict(resume=a.resume, seed=a.seed, n_train=a.n_train, n_val=a.n_val, width=a.width, batch=a.batch, crop=a.crop, lr=a.lr, steps=step, epochs=epoch,
                    params=nparam, data_seconds=t_data, train_seconds=t_train, final_loss_ema=ema, val_iou=iou, val_iou_per_kind=per)
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
