@@ -123,7 +123,7 @@ std::unique_ptr<DetectorHandle> makeUnet(const std::string& path) {
     return d;
 }
 
-int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_sign_observation>* observations) {
+int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations) {
     observations->resize(64);
     size_t count = 0;
     const int status = wf_detector_detect(detector.handle, &frame.frame, observations->data(), observations->size(), &count);
@@ -131,12 +131,12 @@ int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_
     return status;
 }
 
-double observationRangeMeters(const wf_sign_observation& o, double signHeightMeters, double pitchRad) {
+double observationRangeMeters(const wf_detector_observation& o, double signHeightMeters, double pitchRad) {
     return rangeFromApparentHeight(signHeightMeters, o.median_bottom_row_px, o.median_height_px, o.unrolled_fy,
                                    o.unrolled_cy, pitchRad);
 }
 
-bool matches(const wf_sign_observation& o, const LabelledSign& sign) {
+bool matches(const wf_detector_observation& o, const LabelledSign& sign) {
     const double* m = o.unrolled_to_raw;
     cv::Matx23d toRaw(m[0], m[1], m[2], m[3], m[4], m[5]), toUnrolled;
     cv::invertAffineTransform(toRaw, toUnrolled);

@@ -66,7 +66,7 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path);
 
 /// Runs a detector on a prepared frame; returns the status and fills `observations`.
-int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_sign_observation>* observations);
+int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations);
 
 /// Default locations: SignDetector/models in this checkout, the reference cascade in ../shared, and the
 /// tiny test model.
@@ -77,11 +77,11 @@ bool fileExists(const std::string& path);
 
 /// Range (m) from an observation and the sign's face height: the paper's equation 3 on the unrolled
 /// image (bench/range_formula.hpp).
-double observationRangeMeters(const wf_sign_observation& o, double signHeightMeters, double pitchRad);
+double observationRangeMeters(const wf_detector_observation& o, double signHeightMeters, double pitchRad);
 
 /// Whether an observation matches a labelled sign: the observation's centre lies in the sign's unrolled
 /// bounding box (corners mapped with the observation's own unrolled<->raw map) and its height is within a
 /// factor 2 of the sign's.
-bool matches(const wf_sign_observation& o, const LabelledSign& sign);
+bool matches(const wf_detector_observation& o, const LabelledSign& sign);
 
 }  // namespace wf::sign::bench

@@ -92,7 +92,7 @@ std::vector<std::unique_ptr<PreparedFrame>> prepareAll(const std::vector<Source>
 }
 
 void runPipeline(benchmark::State& state, DetectorHandle* detector, const std::vector<std::unique_ptr<PreparedFrame>>* frames) {
-    std::vector<wf_sign_observation> observations;
+    std::vector<wf_detector_observation> observations;
     size_t i = 0, found = 0;
     for (auto _ : state) {
         const int status = detect(*detector, *(*frames)[i % frames->size()], &observations);

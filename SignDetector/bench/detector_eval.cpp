@@ -144,7 +144,7 @@ int main(int argc, char** argv) {
         rows.push_back(std::move(r));
     }
 
-    std::vector<wf_sign_observation> observations;
+    std::vector<wf_detector_observation> observations;
     for (size_t fi = 0; fi < frames.size(); ++fi) {
         const LabelledFrame& labels = frames[fi];
         const cv::Mat bgr = cv::imread(labels.imagePath, cv::IMREAD_COLOR);

@@ -29,6 +29,12 @@
  *     its comment.
  *   - No C++ exception crosses this boundary. A handle is not thread-safe: use one handle per thread
  *     or serialise calls (the Swift wrapper serialises).
+ *   - Every type name here must be unique among ALL C headers linked into the app (LocalizerCore's
+ *     wf_localizer.h / wf_range.h included). Swift imports every C type into one module (`__C`) and
+ *     emits its metadata (size, stride, value witnesses) as weak symbols that the linker merges by
+ *     name, so two different structs with one name silently share one layout in Swift. This is why
+ *     the detector's output is wf_detector_observation: LocalizerCore already has a 32-byte
+ *     wf_sign_observation (kind, range, bearing, score).
  */
 #ifndef WF_SIGN_DETECTOR_H
 #define WF_SIGN_DETECTOR_H
@@ -229,7 +235,7 @@ typedef struct wf_detector wf_detector;
 #define WF_KIND_NAME_CAPACITY 32
 
 /** One detected sign, measured on the unrolled image. */
-typedef struct wf_sign_observation {
+typedef struct wf_detector_observation {
     /** Kind name ("exit"...), NUL-terminated. */
     char kind[WF_KIND_NAME_CAPACITY];
     /** Index of the kind: the cascade's index, or the U-Net class index (>= 1). */
@@ -262,7 +268,7 @@ typedef struct wf_sign_observation {
     /** Affine map unrolled -> raw pixels, row-major 2x3: u = m[0] u' + m[1] v' + m[2],
      *  v = m[3] u' + m[4] v' + m[5]. */
     double unrolled_to_raw[6];
-} wf_sign_observation;
+} wf_detector_observation;
 
 /**
  * Creates a detector and loads its models. On success `*out` owns a handle to free with
@@ -279,7 +285,7 @@ void wf_detector_free(wf_detector *detector);
  * (caller-owned) and their number to `*count_out`. Returns WF_OK, a warning (WF_SKIPPED_DARK_FRAME,
  * WF_TRUNCATED) or an error; on error or skip `*count_out` is 0. `out` may be NULL when capacity is 0.
  */
-int wf_detector_detect(wf_detector *detector, const wf_frame *frame, wf_sign_observation *out,
+int wf_detector_detect(wf_detector *detector, const wf_frame *frame, wf_detector_observation *out,
                        size_t capacity, size_t *count_out);
 
 /** Message of the last non-zero status on this handle ("" if none); owned by the handle, valid until

@@ -8,7 +8,7 @@
 
 namespace wf::sign {
 
-/// One detected sign before it is packed into a wf_sign_observation.
+/// One detected sign before it is packed into a wf_detector_observation.
 struct Detection {
     /// Kind name ("exit"...) and index (cascade index, or U-Net class index >= 1).
     std::string kind;

@@ -133,8 +133,8 @@ int Detector::load(const ResolvedOptions& options, std::string* error) {
     return WF_OK;
 }
 
-wf_sign_observation makeObservation(const Detection& d, const Unrolling& unrolling) {
-    wf_sign_observation o;
+wf_detector_observation makeObservation(const Detection& d, const Unrolling& unrolling) {
+    wf_detector_observation o;
     std::memset(&o, 0, sizeof o);
     std::strncpy(o.kind, d.kind.c_str(), WF_KIND_NAME_CAPACITY - 1);
     o.kind_index = d.kindIndex;

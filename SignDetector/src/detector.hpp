@@ -36,7 +36,7 @@ struct FrameResult {
     int status = WF_OK;
     std::string message;
     /// Observations, best score first (empty unless status >= 0).
-    std::vector<wf_sign_observation> observations;
+    std::vector<wf_detector_observation> observations;
 };
 
 /// Loaded models plus options. Not thread-safe.
@@ -61,6 +61,6 @@ private:
 };
 
 /// Packs a detection into the C observation struct with the unrolling's intrinsics and map.
-wf_sign_observation makeObservation(const Detection& detection, const Unrolling& unrolling);
+wf_detector_observation makeObservation(const Detection& detection, const Unrolling& unrolling);
 
 }  // namespace wf::sign

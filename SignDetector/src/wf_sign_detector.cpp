@@ -71,7 +71,7 @@ int wf_detector_create(wf_detector** out, const wf_detector_options* opts) {
 
 void wf_detector_free(wf_detector* detector) { delete detector; }
 
-int wf_detector_detect(wf_detector* detector, const wf_frame* frame, wf_sign_observation* out, size_t capacity,
+int wf_detector_detect(wf_detector* detector, const wf_frame* frame, wf_detector_observation* out, size_t capacity,
                        size_t* count_out) {
     if (count_out) *count_out = 0;
     if (detector == nullptr) return fail(WF_ERR_INVALID_ARGUMENT, "wf_detector_detect: detector is NULL");

@@ -103,7 +103,7 @@ TEST(RangeFormula, IsExactForASignStraightAhead) {
 TEST(BenchSupport, MatchingNeedsTheCentreInsideAndASimilarHeight) {
     LabelledSign sign;  // upright frame, sign covering u 100..160, v 50..90 (raw = unrolled)
     sign.cornersRaw = {cv::Point2d(100, 50), {160, 50}, {160, 90}, {100, 90}};
-    wf_sign_observation o{};
+    wf_detector_observation o{};
     const double identity[6] = {1, 0, 0, 0, 1, 0};
     std::copy(identity, identity + 6, o.unrolled_to_raw);
     o.box_x = 105; o.box_y = 55; o.box_width = 50; o.box_height = 30; o.median_height_px = 30;

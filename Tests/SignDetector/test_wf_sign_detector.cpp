@@ -156,7 +156,7 @@ TEST(CApi, BadFramesAreRejectedWithAMessage) {
     good.image = wf_image{pixels.data(), 640, 480, 640, WF_PIXEL_GRAY8, nullptr, 0};
     good.intrinsics = wf_intrinsics{534, 534, 319.5, 239.5};
     good.roll_rad = -kPi / 2;
-    wf_sign_observation obs[4];
+    wf_detector_observation obs[4];
     size_t count = 99;
     EXPECT_EQ(wf_detector_detect(d, &good, obs, 4, &count), WF_OK) << wf_detector_last_error(d);
     EXPECT_EQ(count, 0u);
@@ -217,11 +217,11 @@ TEST(CApi, EveryPixelFormatFindsThePortraitSign) {
     for (const auto& p : f.truth.cornersRaw) truthCentre += 0.25 * p;
     for (const wf_image& image : images) {
         const wf_frame frame = frameOf(f, image);
-        wf_sign_observation obs[4];
+        wf_detector_observation obs[4];
         size_t count = 0;
         ASSERT_EQ(wf_detector_detect(d, &frame, obs, 4, &count), WF_OK) << wf_detector_last_error(d);
         ASSERT_EQ(count, 1u) << "format " << image.format;
-        const wf_sign_observation& o = obs[0];
+        const wf_detector_observation& o = obs[0];
         EXPECT_STREQ(o.kind, "exit");
         EXPECT_EQ(o.kind_index, 1);
         EXPECT_EQ(o.unrolled_width, 1440);
@@ -269,7 +269,7 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
     frame.image = wf_image{gray.data, gray.cols, gray.rows, gray.step, WF_PIXEL_GRAY8, nullptr, 0};
     frame.intrinsics = wf_intrinsics{cam.fx, cam.fy, cam.cx, cam.cy};
     frame.roll_rad = cam.rollRad;
-    wf_sign_observation obs[8];
+    wf_detector_observation obs[8];
     size_t count = 0;
     ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
     ASSERT_GE(count, 1u);

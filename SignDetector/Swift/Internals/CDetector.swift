@@ -69,7 +69,7 @@ final class CDetector {
 
     func detect(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
                 rollRad: Double) throws -> DetectionOutcome {
-        var observations = [wf_sign_observation](repeating: wf_sign_observation(), count: CDetector.capacity)
+        var observations = [wf_detector_observation](repeating: wf_detector_observation(), count: CDetector.capacity)
         var count = 0
         let status: Int32 = image.data.withUnsafeBufferPointer { pixels in
             let chroma = image.chromaData ?? []
@@ -119,7 +119,7 @@ final class CDetector {
         }
     }
 
-    private static func detection(_ o: wf_sign_observation) -> SignDetection {
+    private static func detection(_ o: wf_detector_observation) -> SignDetection {
         let kind = withUnsafeBytes(of: o.kind) { raw in
             String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self)
         }
