@@ -33,8 +33,15 @@ public struct PipelineOptions: Sendable {
     /// Minimum time between two detector runs, seconds (the phone runs the detector at about 10 Hz and
     /// drops frames while it is busy). Also the cadence of "nothing seen" updates for negative information.
     public var detectionIntervalSeconds: Double = 0.1
-    /// Particle filter settings.
-    public var localizer: LocalizerOptions = LocalizerOptions()
+    /// Particle filter settings. The pipeline starts "I only know the floor" with 100,000 particles (the
+    /// reference app's count): fewer leave so few particles per position and heading that one of two
+    /// mirror-image hypotheses can die out by chance, and the survivor then looks certain.
+    public var localizer: LocalizerOptions = {
+        var o = LocalizerOptions()
+        o.particleCount = 100_000
+        o.maxParticles = max(o.maxParticles, 100_000)
+        return o
+    }()
     /// Guidance settings.
     public var navigator: NavigatorOptions = NavigatorOptions()
     /// Random seed of the particle filter (replays are deterministic for a seed).

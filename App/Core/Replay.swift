@@ -99,7 +99,19 @@ public enum Replay {
         if o.destinationId == nil { o.destinationId = bundle.info.destination }
         if o.startPointOfInterestId == nil { o.startPointOfInterestId = bundle.info.start }
         o.signHeightMeters = bundle.info.signHeightMeters
+        // The field of view the localizer expects sightings in follows how the phone is held.
+        let poses = bundle.frames.lazy.compactMap { f in CameraPose(columnMajor: f.cameraToWorld).map { ($0, f.intrinsics) } }
+        if let (pose, intrinsics) = poses.first {
+            o.localizer.horizontalFieldOfViewRad = horizontalFieldOfViewRad(intrinsics: intrinsics, rollRad: pose.rollRad)
+        }
         return o
+    }
+
+    /// Horizontal field of view of the roll-corrected image, radians: the sensor's short side when the
+    /// phone is nearer portrait (|sin roll| > sin 45 degrees), its long side when nearer landscape.
+    public static func horizontalFieldOfViewRad(intrinsics k: CameraIntrinsics, rollRad: Double) -> Double {
+        let portrait = abs(sin(rollRad)) > 0.5.squareRoot()
+        return portrait ? 2 * atan(Double(k.height) / 2 / k.fy) : 2 * atan(Double(k.width) / 2 / k.fx)
     }
 
     /// Runs the bundle frame by frame. `progress` is called with the fraction done (for stderr output).
