@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Runs every test of the project on Linux: set-up (idempotent), the Swift package's tests, the C++ cores'
-# GoogleTest suites (CMake + ctest), the ONNX Runtime vs OpenCV dnn parity check, the parse check of the
+# GoogleTest suites (CMake + ctest, which also runs the ONNX Runtime vs OpenCV dnn parity check of the
+# committed U-Net, SignDetector.onnx_parity), the parse check of the
 # Apple-only sources, and the simulated scenario suite with its regression gate.
 # Usage: scripts/test.sh          (from anywhere; CI calls it through .ci/run)
 set -euo pipefail
@@ -21,11 +22,6 @@ swift test -j "$jobs" --parallel --num-workers "$jobs"
 
 echo "== Apple-only sources parse (swiftc -parse)"
 bash scripts/parse-ios.sh
-
-if [ -f SignDetector/models/sign_unet.onnx ]; then
-  echo "== U-Net parity: ONNX Runtime vs OpenCV dnn"
-  python3 Tests/SignDetector/onnx_parity.py
-fi
 
 if [ -x scripts/run-scenarios.sh ]; then
   echo "== Scenario suite (simulated walks, regression gate)"

@@ -181,6 +181,23 @@ void ParticleFilter::reset_filter_state() {
     compass_pending_ = compass_set_ && !tracker_.has_yaw();
 }
 
+size_t ParticleFilter::initial_particle_count() const {
+    return static_cast<size_t>(opts_.adaptive_particle_count
+                                   ? std::clamp(opts_.particle_count, opts_.min_particles, opts_.max_particles)
+                                   : opts_.particle_count);
+}
+
+void ParticleFilter::init_particle(size_t i, float x, float y, int16_t floor, float weight) {
+    p_.x[i] = x;
+    p_.y[i] = y;
+    p_.yaw_offset[i] = sample_yaw_offset();
+    p_.scale[i] = std::clamp(1.0f + static_cast<float>(opts_.initial_scale_sigma) * rng_.normal(),
+                             motion_.scale_min, motion_.scale_max);
+    p_.floor[i] = floor;
+    p_.weight[i] = weight;
+    p_.evidence[i] = 0;
+}
+
 int ParticleFilter::init_floor_only(int32_t floor) {
     if (floor < 0 || static_cast<size_t>(floor) >= map_.floors.size()) {
         return fail(WF_LOC_ERR_INVALID_ARGUMENT, "floor index " + std::to_string(floor) + " is outside [0, " +
@@ -191,19 +208,13 @@ int ParticleFilter::init_floor_only(int32_t floor) {
         return fail(WF_LOC_ERR_NO_WALKABLE_SPACE,
                     "floor " + std::to_string(floor) + " has no walkable cell (no area inside its walls)");
     }
-    const size_t n = static_cast<size_t>(opts_.adaptive_particle_count
-                                             ? std::clamp(opts_.particle_count, opts_.min_particles, opts_.max_particles)
-                                             : opts_.particle_count);
+    const size_t n = initial_particle_count();
     p_.resize(n);
     const float w = 1.0f / static_cast<float>(n);
     for (size_t i = 0; i < n; ++i) {
-        sample_walkable(f16, p_.x[i], p_.y[i]);
-        p_.yaw_offset[i] = sample_yaw_offset();
-        p_.scale[i] = std::clamp(1.0f + static_cast<float>(opts_.initial_scale_sigma) * rng_.normal(),
-                                 motion_.scale_min, motion_.scale_max);
-        p_.floor[i] = f16;
-        p_.weight[i] = w;
-        p_.evidence[i] = 0;
+        float px, py;
+        sample_walkable(f16, px, py);
+        init_particle(i, px, py, f16, w);
     }
     init_floor_ = f16;
     reset_filter_state();
@@ -227,9 +238,7 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
                                                       ") is outside floor " + std::to_string(floor));
     }
     const auto f16 = static_cast<int16_t>(floor);
-    const size_t n = static_cast<size_t>(opts_.adaptive_particle_count
-                                             ? std::clamp(opts_.particle_count, opts_.min_particles, opts_.max_particles)
-                                             : opts_.particle_count);
+    const size_t n = initial_particle_count();
     p_.resize(n);
     const float w = 1.0f / static_cast<float>(n);
     const float cx = static_cast<float>(x), cy = static_cast<float>(y), r = static_cast<float>(radius_m);
@@ -248,14 +257,7 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
                 break;
             }
         }
-        p_.x[i] = px;
-        p_.y[i] = py;
-        p_.yaw_offset[i] = sample_yaw_offset();
-        p_.scale[i] = std::clamp(1.0f + static_cast<float>(opts_.initial_scale_sigma) * rng_.normal(),
-                                 motion_.scale_min, motion_.scale_max);
-        p_.floor[i] = f16;
-        p_.weight[i] = w;
-        p_.evidence[i] = 0;
+        init_particle(i, px, py, f16, w);
     }
     init_floor_ = f16;
     reset_filter_state();

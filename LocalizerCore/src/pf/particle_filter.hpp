@@ -59,6 +59,10 @@ private:
     int fail(int status, std::string message);
     bool sample_walkable(int16_t floor, float &x, float &y);
     float sample_yaw_offset();
+    /// Particle count of a fresh initialisation: the configured count, within the KLD bounds when adaptive.
+    size_t initial_particle_count() const;
+    /// Fills particle i at (x, y) on `floor` with a fresh yaw offset and scale drawn from the priors.
+    void init_particle(size_t i, float x, float y, int16_t floor, float weight);
     bool sample_from_sighting(int16_t floor, float &x, float &y, float &yaw_offset);
     void reset_filter_state();
     void normalize(double sum);
