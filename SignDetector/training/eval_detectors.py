@@ -156,11 +156,13 @@ def components(prob: np.ndarray, thr: float = 0.5, min_area: int = 2) -> List[Tu
     """Connected components of prob > thr: (cx, cy, w, h, score = max prob) sorted by score."""
     m = (prob > thr).astype(np.uint8)
     n, lab, stats, cent = cv2.connectedComponentsWithStats(m, connectivity=8)
+    maxes = np.zeros(n, np.float64)
+    np.maximum.at(maxes, lab.ravel(), prob.ravel().astype(np.float64))
     out = []
     for i in range(1, n):
         if stats[i, cv2.CC_STAT_AREA] < min_area:
             continue
-        sc = float(prob[lab == i].max())
+        sc = float(maxes[i])
         out.append((float(cent[i, 0]), float(cent[i, 1]), float(stats[i, cv2.CC_STAT_WIDTH]), float(stats[i, cv2.CC_STAT_HEIGHT]), sc))
     out.sort(key=lambda c: -c[4])
     return out
