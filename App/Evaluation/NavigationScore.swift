@@ -156,15 +156,16 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     }
 
     /// Node passes closer than this along the path form one turn, meters.
-    public static let mergeMeters = 3.0
+    public static let mergeMeters = 2.0
 
     private static func turn(first: Int, last: Int, nodeId: String, truth: TruthTrack) -> TrueTurn? {
         let records = truth.records
         let cum = truth.cumulativeDistanceMeters
         let before = records.indices.last(where: { cum[$0] <= cum[first] - 2 && $0 < first }) ?? 0
         let after = records.indices.first(where: { cum[$0] >= cum[last] + 2 && $0 > last }) ?? records.count - 1
-        // At the ends of the walk at least 0.7 m of path is needed on each side to tell a direction.
-        guard cum[first] - cum[before] >= 0.7, cum[after] - cum[last] >= 0.7 else { return nil }
+        // At the ends of the walk (a cut corner into the destination's door) at least 0.3 m of path is
+        // needed on each side to tell a direction.
+        guard cum[first] - cum[before] >= 0.3, cum[after] - cum[last] >= 0.3 else { return nil }
         let a = records[before], m1 = records[first], m2 = records[last], b = records[after]
         let inAngle = atan2(m1.y - a.y, m1.x - a.x)
         let outAngle = atan2(b.y - m2.y, b.x - m2.x)
