@@ -25,7 +25,8 @@ public struct TrueTurn: Codable, Sendable, Equatable {
 /// template's cue form, see Navigation/Locales/en.json). Each true turn after first convergence should
 /// have a cue of the same direction in the `cueWindowSeconds` before the closest approach.
 public struct NavigationScore: Codable, Sendable, Equatable {
-    /// True turns after the first convergence (the ones guidance is responsible for).
+    /// True turns after the first convergence and before arrival was announced (the ones guidance is
+    /// responsible for).
     public var expectedTurns: [TrueTurn]
     /// For each expected turn that was cued: meters walked between the cue and the control point
     /// (positive = the cue came before the point).
@@ -52,7 +53,11 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     /// (point-of-interest id or name, optional). `convergenceT` is the first localized time (nil = never).
     public init(announcements: [(t: Double, text: String)], truth: TruthTrack, building: Building,
                 destination: String?, convergenceT: Double?) {
-        let turns = Self.trueTurns(truth: truth, building: building).filter { convergenceT != nil && $0.t > convergenceT! }
+        // Guidance is responsible for the turns between first convergence and the arrival announcement.
+        let arrivalT = announcements.first { Self.isArrival($0.text) }?.t ?? .infinity
+        let turns = Self.trueTurns(truth: truth, building: building).filter {
+            convergenceT != nil && $0.passTimes.first! > convergenceT! && $0.passTimes.first! < arrivalT
+        }
         expectedTurns = turns
         var distances: [Double] = []
         var missing = 0
@@ -82,7 +87,7 @@ public struct NavigationScore: Codable, Sendable, Equatable {
             return !turns.contains { $0.direction == cue.direction && $0.t >= cue.t - 2 && $0.t <= cue.t + Self.cueWindowSeconds }
         }.count
 
-        let arrival = announcements.first { $0.text.lowercased().hasPrefix("arrived") || $0.text.lowercased().contains("you have arrived") }
+        let arrival = announcements.first { Self.isArrival($0.text) }
         arrivalAnnounced = arrival != nil
         if let arrival, let destination, !truth.isEmpty, let target = Self.destinationPosition(destination, in: building) {
             let s = truth.state(at: arrival.t)
@@ -100,6 +105,12 @@ public struct NavigationScore: Codable, Sendable, Equatable {
             }
         }
         rerouteSeconds = reroutes
+    }
+
+    /// True for the arrival phrase ("Arrived. Room 312 is on your left...").
+    static func isArrival(_ text: String) -> Bool {
+        let t = text.lowercased()
+        return t.hasPrefix("arrived") || t.contains("you have arrived")
     }
 
     /// Position of a destination given by point-of-interest id or name, or graph node id.
