@@ -1,5 +1,6 @@
 import Foundation
 import SessionFormat
+import SignDetection
 
 /// One camera frame as the shared pipeline sees it, on the phone (built from an `ARFrame` by the thin
 /// adapter in App/iOS) and on the command line (built from a recorded `FrameRecord`). Domain types only:
@@ -20,6 +21,9 @@ public struct PipelineFrame: Sendable {
     public var relativeAltitudeMeters: Double?
     /// Compass heading, degrees clockwise from north.
     public var compassHeadingDeg: Double?
+    /// The frame's pixels, when the detector should run on them (the phone: ARKit's captured image, luma
+    /// plane or NV12). Takes precedence over `imagePath`.
+    public var image: ImageBuffer?
     /// Path of the frame's image file, when the detector should run on it (replay of bundles with images).
     public var imagePath: String?
     /// Sign sightings already measured for this frame (recorded `observations.jsonl`, or simulation).
@@ -28,10 +32,11 @@ public struct PipelineFrame: Sendable {
     /// Creates a frame.
     public init(t: Double, cameraPose: CameraPose?, tracking: TrackingState, trackingReason: TrackingReason? = nil,
                 intrinsics: CameraIntrinsics, relativeAltitudeMeters: Double? = nil, compassHeadingDeg: Double? = nil,
-                imagePath: String? = nil, measuredObservations: [ObservationRecord] = []) {
+                image: ImageBuffer? = nil, imagePath: String? = nil, measuredObservations: [ObservationRecord] = []) {
         self.t = t; self.cameraPose = cameraPose; self.tracking = tracking; self.trackingReason = trackingReason
         self.intrinsics = intrinsics; self.relativeAltitudeMeters = relativeAltitudeMeters
-        self.compassHeadingDeg = compassHeadingDeg; self.imagePath = imagePath; self.measuredObservations = measuredObservations
+        self.compassHeadingDeg = compassHeadingDeg; self.image = image; self.imagePath = imagePath
+        self.measuredObservations = measuredObservations
     }
 
     /// Builds the pipeline frame of a recorded frame. `imagesDirectory` is the bundle's images/ folder.

@@ -41,9 +41,10 @@ final class SignSightingSource {
             }
             return .success(sightings)
         }
-        guard let path = frame.imagePath else { return .success(nil) }
+        guard frame.image != nil || frame.imagePath != nil else { return .success(nil) }
+        let source = frame.imagePath ?? "camera frame"
         do {
-            let image = try ImageBuffer.load(path: path)
+            let image = try frame.image ?? ImageBuffer.load(path: frame.imagePath!)
             let k = frame.intrinsics
             let detections = try detector.detect(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
                                                  pitchRad: pose.pitchRad, rollRad: pose.rollRad)
@@ -61,7 +62,7 @@ final class SignSightingSource {
             }
             return .success(sightings)
         } catch {
-            return .failure(.frame("image \(path): \(error)"))
+            return .failure(.frame("image \(source): \(error)"))
         }
     }
 }

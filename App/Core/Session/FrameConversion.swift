@@ -1,5 +1,6 @@
 import Foundation
 import SessionFormat
+import SignDetection
 
 /// The conversion logic of the iOS frame adapter, kept here so it is tested on Linux: the adapter in
 /// App/iOS only reads ARKit's fields and passes plain numbers to these functions.
@@ -36,16 +37,19 @@ public enum FrameConversion {
         return heading.truncatingRemainder(dividingBy: 360)
     }
 
-    /// Builds the pipeline frame of one ARFrame's numbers. A non-finite pose yields a frame with no pose
-    /// (the pipeline skips its motion update and treats tracking as lost), never a crash.
+    /// Builds the pipeline frame of one ARFrame's numbers (and, when the detector is due, its luma plane as
+    /// `image`). A non-finite pose yields a frame with no pose (the pipeline skips its motion update and
+    /// treats tracking as lost), never a crash.
     public static func pipelineFrame(t: Double, transformColumns: [[Float]], intrinsicsColumns: [[Float]],
                                      imageWidth: Int, imageHeight: Int, trackingState: String, trackingReason: String?,
-                                     relativeAltitudeMeters: Double?, compassHeadingDeg: Double?) -> PipelineFrame? {
+                                     relativeAltitudeMeters: Double?, compassHeadingDeg: Double?,
+                                     image: ImageBuffer? = nil) -> PipelineFrame? {
         guard t.isFinite, let k = intrinsics(columns: intrinsicsColumns, width: imageWidth, height: imageHeight) else { return nil }
         let pose = columnMajor(columns: transformColumns)
         let (state, reason) = tracking(state: trackingState, reason: trackingReason)
         return PipelineFrame(t: t, cameraPose: pose, tracking: pose == nil ? .notAvailable : state, trackingReason: reason,
-                             intrinsics: k, relativeAltitudeMeters: relativeAltitudeMeters, compassHeadingDeg: compassHeadingDeg)
+                             intrinsics: k, relativeAltitudeMeters: relativeAltitudeMeters, compassHeadingDeg: compassHeadingDeg,
+                             image: image)
     }
 
     /// The record written by the recorder for a pipeline frame (nil pose frames are not recorded).

@@ -1,6 +1,7 @@
 #if canImport(CoreVideo) && canImport(CoreImage) && os(iOS)
 import CoreImage
 import CoreVideo
+import SignDetection
 
 /// Reads ARKit's bi-planar YUV pixel buffer without copying the image: mean luma over a sparse grid, and a
 /// JPEG only when recording.
@@ -20,6 +21,18 @@ enum PixelBufferTools {
             for x in Swift.stride(from: 0, to: width, by: 16) { sum += Int(bytes[y * stride + x]); count += 1 }
         }
         return count > 0 ? Double(sum) / Double(count) : nil
+    }
+
+    /// The luma plane as the detector's gray image: one copy of the Y plane (the detector only needs luma
+    /// for the cascade, and the U-Net path converts gray to RGB), made only for frames the scheduler sends.
+    static func lumaImage(_ buffer: CVPixelBuffer) -> ImageBuffer? {
+        CVPixelBufferLockBaseAddress(buffer, .readOnly)
+        defer { CVPixelBufferUnlockBaseAddress(buffer, .readOnly) }
+        guard let base = CVPixelBufferGetBaseAddressOfPlane(buffer, 0) else { return nil }
+        let width = CVPixelBufferGetWidthOfPlane(buffer, 0), height = CVPixelBufferGetHeightOfPlane(buffer, 0)
+        let stride = CVPixelBufferGetBytesPerRowOfPlane(buffer, 0)
+        let bytes = UnsafeBufferPointer(start: base.assumingMemoryBound(to: UInt8.self), count: stride * height)
+        return ImageBuffer(width: width, height: height, bytesPerRow: stride, pixelFormat: .gray8, data: Array(bytes))
     }
 
     /// JPEG of the frame at quality 0.6 (recording only).

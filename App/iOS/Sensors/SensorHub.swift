@@ -72,7 +72,8 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate {
                                 [k.columns.2.x, k.columns.2.y, k.columns.2.z]],
             imageWidth: CVPixelBufferGetWidth(pixelBuffer), imageHeight: CVPixelBufferGetHeight(pixelBuffer),
             trackingState: state, trackingReason: reason,
-            relativeAltitudeMeters: relativeAltitudeMeters, compassHeadingDeg: headingDeg) else {
+            relativeAltitudeMeters: relativeAltitudeMeters, compassHeadingDeg: headingDeg,
+            image: PixelBufferTools.lumaImage(pixelBuffer)) else {
             scheduler.detectionFinished()
             return
         }
