@@ -3,7 +3,7 @@ import Foundation
 /// Why a session bundle could not be read or written. Every error names the file (path as opened) and,
 /// for JSON-lines files, the 1-based line, plus a reason a person can act on. `description` reads
 /// `PATH line N: REASON` (or `PATH: REASON` when no line applies).
-public struct BundleError: Error, CustomStringConvertible, Equatable, Sendable {
+public struct BundleError: Error, FileLineMessage, Equatable, Sendable {
     /// The category of the problem, for code that reacts to it (tests, the CLI's exit code).
     public enum Kind: String, Sendable, Codable {
         /// The bundle directory does not exist.
@@ -53,16 +53,11 @@ public struct BundleError: Error, CustomStringConvertible, Equatable, Sendable {
         self.kind = kind; self.file = file; self.line = line; self.reason = reason
     }
 
-    /// `PATH line N: REASON`.
-    public var description: String {
-        if let line { return "\(file) line \(line): \(reason)" }
-        return "\(file): \(reason)"
-    }
 }
 
 /// A problem the reader recovered from: the bundle is still usable, but something was dropped or is
 /// missing. Shown by `wayfinder inspect` and kept in `SessionBundle.warnings`.
-public struct BundleWarning: CustomStringConvertible, Hashable, Sendable, Codable {
+public struct BundleWarning: FileLineMessage, Hashable, Sendable, Codable {
     /// The category of the recovered problem.
     public enum Kind: String, Sendable, Codable {
         /// The last line of a JSON-lines file was cut off (a crash while recording); it was dropped and
@@ -86,7 +81,20 @@ public struct BundleWarning: CustomStringConvertible, Hashable, Sendable, Codabl
         self.kind = kind; self.file = file; self.line = line; self.reason = reason
     }
 
-    /// `PATH line N: REASON`.
+}
+
+/// A problem tied to a file and, for JSON-lines files, a 1-based line: errors and warnings print alike.
+public protocol FileLineMessage: CustomStringConvertible {
+    /// Path of the file concerned, as opened.
+    var file: String { get }
+    /// 1-based line number, nil when the problem is not tied to a line.
+    var line: Int? { get }
+    /// What is wrong, in words.
+    var reason: String { get }
+}
+
+extension FileLineMessage {
+    /// `PATH line N: REASON` (or `PATH: REASON` when no line applies).
     public var description: String {
         if let line { return "\(file) line \(line): \(reason)" }
         return "\(file): \(reason)"
