@@ -135,28 +135,37 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
 
     // Deterministic part: rotate by the yaw offset, scale, test the wall grid. With one floor (the common
     // case) the wall index is fixed for the whole loop, so its fields stay in registers.
+    // Two passes over blocks of particles: the displacement (branch-free, so the compiler vectorises the
+    // polynomial sincos), then the wall test on the block while it is still in L1.
     auto deterministic = [&](auto walls_of) {
+        constexpr size_t kBlock = 1024;
+        float dx[kBlock], dy[kBlock];
         double total = 0;
-        float partial = 0;
-        for (size_t i = 0; i < n; ++i) {
-            float s, c;
-            fast_sincos(offs[i], s, c);
-            const float sc = scales[i];
-            const float x0 = xs[i], y0 = ys[i];
-            const float x1 = x0 + sc * (c * de - s * dn);
-            const float y1 = y0 + sc * (s * de + c * dn);
-            float w = ws[i];
-            if (walls_of(i).crosses(x0, y0, x1, y1)) w *= kill;
-            ws[i] = w;
-            xs[i] = x1;
-            ys[i] = y1;
-            partial += w;
-            if ((i & 1023) == 1023) {
-                total += partial;
-                partial = 0;
+        for (size_t b = 0; b < n; b += kBlock) {
+            const size_t m = std::min(kBlock, n - b);
+            const float *const off = offs + b;
+            const float *const sca = scales + b;
+            for (size_t j = 0; j < m; ++j) {
+                float s, c;
+                fast_sincos(off[j], s, c);
+                dx[j] = sca[j] * (c * de - s * dn);
+                dy[j] = sca[j] * (s * de + c * dn);
             }
+            float partial = 0;
+            for (size_t j = 0; j < m; ++j) {
+                const size_t i = b + j;
+                const float x0 = xs[i], y0 = ys[i];
+                const float x1 = x0 + dx[j], y1 = y0 + dy[j];
+                float w = ws[i];
+                if (walls_of(i).crosses(x0, y0, x1, y1)) w *= kill;
+                ws[i] = w;
+                xs[i] = x1;
+                ys[i] = y1;
+                partial += w;
+            }
+            total += partial;
         }
-        return total + partial;
+        return total;
     };
     if (map.floors.size() == 1) {
         const WallIndex &only = fl[0].walls;
