@@ -74,6 +74,8 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
     const float neg_b = m.negative_info_fov_fraction * half_fov;
     const float log_miss = std::log(std::max(1e-6f, m.negative_info_miss_weight));
     const float ra = m.range_sigma_base_m, rb = m.range_sigma_per_meter;
+    const float max_r2_margin = (max_r * 1.001f) * (max_r * 1.001f) + 1e-4f;
+    const float tan_half_fov_margin = half_fov < 1.5f ? std::tan(half_fov) * 1.001f + 1e-4f : INFINITY;
 
     float cand_r[kMaxCandidates], cand_b[kMaxCandidates];
     int32_t cand_kind[kMaxCandidates];
@@ -98,9 +100,13 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
                     const float fwd = c * dx + s * dy;     // along camera forward
                     if (fwd <= 0.0f) continue;
                     const float left = -s * dx + c * dy;   // to the camera's left
+                    // Cheap rejections first (most candidate signs are out of view or range); they keep a
+                    // margin so the exact tests below still decide every borderline case.
+                    const float r2 = dx * dx + dy * dy;
+                    if (r2 > max_r2_margin || std::fabs(left) > tan_half_fov_margin * fwd) continue;
                     const float bearing = fast_atan2(left, fwd);
                     if (bearing > half_fov || bearing < -half_fov) continue;
-                    const float r = std::sqrt(dx * dx + dy * dy);
+                    const float r = std::sqrt(r2);
                     if (r > max_r) continue;
                     cand_r[nc] = r;
                     cand_b[nc] = bearing;
