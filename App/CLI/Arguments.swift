@@ -56,6 +56,13 @@ struct ArgumentList {
         return v
     }
 
+    /// The particle filter's `--seed N` (a non-negative integer), nil when absent.
+    mutating func seedOption() throws -> UInt64? {
+        guard let seed = try intOption("seed") else { return nil }
+        guard seed >= 0 else { throw CLIError.usage("--seed must be >= 0") }
+        return UInt64(seed)
+    }
+
     /// Removes `--name` and returns whether it was present.
     mutating func flag(_ name: String) -> Bool {
         guard let i = items.firstIndex(of: "--\(name)") else { return false }

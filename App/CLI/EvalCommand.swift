@@ -29,10 +29,7 @@ enum EvalCommand: Subcommand {
         let skeriDir = try arguments.option("skeri")
         let mapPath = try arguments.option("map")
         var pipeline = PipelineOptions()
-        if let seed = try arguments.intOption("seed") {
-            guard seed >= 0 else { throw CLIError.usage("--seed must be >= 0") }
-            pipeline.seed = UInt64(seed)
-        }
+        if let seed = try arguments.seedOption() { pipeline.seed = seed }
         let bundles = try arguments.positionals()
 
         var scores: [WalkScore] = []

@@ -22,10 +22,7 @@ enum RenderCommand: Subcommand {
         let png = try arguments.option("png")
         var pipeline = PipelineOptions()
         pipeline.destinationId = try arguments.option("to")
-        if let seed = try arguments.intOption("seed") {
-            guard seed >= 0 else { throw CLIError.usage("--seed must be >= 0") }
-            pipeline.seed = UInt64(seed)
-        }
+        if let seed = try arguments.seedOption() { pipeline.seed = seed }
         var times: [Double] = []
         if let at = try arguments.option("at") {
             for part in at.split(separator: ",") {

@@ -32,10 +32,7 @@ enum ReplayCommand: Subcommand {
         pipeline.startPointOfInterestId = try arguments.option("from")
         pipeline.floorId = try arguments.option("floor")
         pipeline.modelsDirectory = try arguments.option("models")
-        if let seed = try arguments.intOption("seed") {
-            guard seed >= 0 else { throw CLIError.usage("--seed must be >= 0") }
-            pipeline.seed = UInt64(seed)
-        }
+        if let seed = try arguments.seedOption() { pipeline.seed = seed }
         if let d = try arguments.option("detector") {
             guard let source = SightingSource(rawValue: d == "auto" ? "automatic" : d) else {
                 throw CLIError.usage("--detector must be recorded, cascade, unet or auto")

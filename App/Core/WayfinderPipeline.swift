@@ -43,7 +43,7 @@ public final class WayfinderPipeline {
         guard let firstFloor = building.floors.first else { throw PipelineError.invalidConfiguration("the map has no floors") }
         localizer = try ParticleLocalizer(building: building, options: options.localizer, seed: options.seed)
         if let start = options.startPointOfInterestId {
-            guard let poi = Self.pointOfInterest(start, in: building) else {
+            guard let poi = building.pointOfInterest(idOrName: start) else {
                 throw PipelineError.invalidConfiguration("unknown start '\(start)'")
             }
             try localizer.reset(prior: .startPoint(floorId: poi.floorId, position: poi.poi.position,
@@ -59,16 +59,6 @@ public final class WayfinderPipeline {
             navigator = try Navigator(building: building, destinationId: destination, options: options.navigator)
         }
         sightingSource = try SignSightingSource(options: options, imagesAvailable: imagesAvailable)
-    }
-
-    /// Finds a point of interest by id or (case-insensitive) name, with its floor.
-    static func pointOfInterest(_ key: String, in building: Building) -> (poi: PointOfInterest, floorId: String)? {
-        for floor in building.floors {
-            if let p = floor.pointsOfInterest.first(where: { $0.id == key || $0.name.lowercased() == key.lowercased() }) {
-                return (p, floor.id)
-            }
-        }
-        return nil
     }
 
     /// Processes one frame: motion update, altitude, detection (at most every `detectionIntervalSeconds`),

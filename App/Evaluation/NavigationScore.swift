@@ -115,11 +115,7 @@ public struct NavigationScore: Codable, Sendable, Equatable {
 
     /// Position of a destination given by point-of-interest id or name, or graph node id.
     static func destinationPosition(_ key: String, in building: Building) -> (floorId: String, point: Point2)? {
-        for floor in building.floors {
-            if let p = floor.pointsOfInterest.first(where: { $0.id == key || $0.name.lowercased() == key.lowercased() }) {
-                return (floor.id, p.position)
-            }
-        }
+        if let found = building.pointOfInterest(idOrName: key) { return (found.floorId, found.poi.position) }
         if let n = building.graph.nodes.first(where: { $0.id == key }) { return (n.floorId, n.position) }
         return nil
     }

@@ -14,6 +14,17 @@ extension Building {
         return nil
     }
 
+    /// The first point of interest, in floor order, whose id is `key` or whose name equals `key` ignoring
+    /// case, with its floor id: how the traveler's start and destination are looked up (by id from a
+    /// picker or a recorded session, by name from the command line).
+    public func pointOfInterest(idOrName key: String) -> (poi: PointOfInterest, floorId: String)? {
+        let lowered = key.lowercased()
+        for f in floors {
+            if let p = f.pointsOfInterest.first(where: { $0.id == key || $0.name.lowercased() == lowered }) { return (p, f.id) }
+        }
+        return nil
+    }
+
     /// The floor holding the point of interest with this id.
     public func floor(ofPointOfInterest poiId: String) -> Floor? {
         floors.first { $0.pointOfInterest(id: poiId) != nil }
