@@ -3,11 +3,12 @@
 //
 // Floor: a synthetic 40 m x 30 m office (outer walls, a central corridor, 12 rooms with door gaps: 64 wall
 // segments) with 10 exit signs. Particles spread uniformly over the walkable space, any heading.
-//  - Motion: one VIO frame (4 cm step, 0.6 deg turn) through apply_motion (xoshiro + Ziggurat normals, fast
-//    sincos, wall grid with empty-cell fast path). Baseline: array of structs, std::mt19937 +
+//  - Motion: one VIO frame (4 cm step, 0.6 deg turn) through apply_motion (blocks of particles: vectorised
+//    fast sincos, wall-clearance byte lookup before the exact wall grid test, batched xoshiro + Ziggurat
+//    normals every 0.25 m). Baseline: array of structs, std::mt19937 +
 //    std::normal_distribution (2 samples), std::cos/std::sin, and a wall test by marching a 5 cm raster.
-//  - Signs: one frame with 2 sightings (kind exit) plus negative information through sign_log_likelihood and
-//    the weight update. Baseline: array of structs, double, per-sign byte visibility rasters, std::atan2 /
+//  - Signs: one frame with 2 sightings (kind exit) plus negative information through sign_log_likelihood
+//    (blocks: vectorised sincos, cell lookup and sign-by-sign "nearly in view" mask) and the weight update. Baseline: array of structs, double, per-sign byte visibility rasters, std::atan2 /
 //    std::exp / std::log per candidate sign.
 //  - Filter: the public ParticleFilter::predict / update_signs (including normalisation, ESS test,
 //    clustering for the estimate, resampling when due), fixed particle count.

@@ -67,4 +67,65 @@ float Rng::normal_slow(int32_t hz, uint32_t iz) {
     }
 }
 
+void Rng::fill_normal(float *out, size_t count) {
+    size_t i = 0;
+    while (i < count) {
+        if (have_spare_) {
+            out[i++] = normal();  // consumes the spare half first, as normal() would
+            continue;
+        }
+        // Fast loop on a local copy of the state (kept in registers): each xoshiro256++ step gives two
+        // 32-bit words, the low one first (next_u32 returns it and keeps the high one as the spare). It
+        // stops at the first word that needs the Ziggurat slow path, which then runs on the member state.
+        uint64_t s0 = s_[0], s1 = s_[1], s2 = s_[2], s3 = s_[3];
+        int32_t slow_hz = 0;
+        bool slow = false, slow_has_spare = false;
+        uint32_t slow_spare = 0;
+        while (i < count) {
+            const uint64_t v = rotl(s0 + s3, 23) + s0;
+            const uint64_t t = s1 << 17;
+            s2 ^= s0;
+            s3 ^= s1;
+            s1 ^= s2;
+            s0 ^= s3;
+            s2 ^= t;
+            s3 = rotl(s3, 45);
+            const int32_t lo = static_cast<int32_t>(static_cast<uint32_t>(v));
+            const int32_t hi = static_cast<int32_t>(static_cast<uint32_t>(v >> 32));
+            const uint32_t ilo = static_cast<uint32_t>(lo) & 127u;
+            const uint32_t alo = lo < 0 ? 0u - static_cast<uint32_t>(lo) : static_cast<uint32_t>(lo);
+            if (alo >= kTables.kn[ilo]) {
+                slow = true;
+                slow_hz = lo;
+                slow_has_spare = true;  // the high half is the next 32-bit word
+                slow_spare = static_cast<uint32_t>(hi);
+                break;
+            }
+            out[i++] = static_cast<float>(lo) * kTables.wn[ilo];
+            if (i == count) {
+                slow_has_spare = true;  // unused high half, kept as next_u32 would
+                slow_spare = static_cast<uint32_t>(hi);
+                break;
+            }
+            const uint32_t ihi = static_cast<uint32_t>(hi) & 127u;
+            const uint32_t ahi = hi < 0 ? 0u - static_cast<uint32_t>(hi) : static_cast<uint32_t>(hi);
+            if (ahi >= kTables.kn[ihi]) {
+                slow = true;
+                slow_hz = hi;
+                break;
+            }
+            out[i++] = static_cast<float>(hi) * kTables.wn[ihi];
+        }
+        s_[0] = s0;
+        s_[1] = s1;
+        s_[2] = s2;
+        s_[3] = s3;
+        if (slow_has_spare) {
+            spare_ = slow_spare;
+            have_spare_ = true;
+        }
+        if (slow) out[i++] = normal_slow(slow_hz, static_cast<uint32_t>(slow_hz) & 127u);
+    }
+}
+
 }  // namespace wf::loc

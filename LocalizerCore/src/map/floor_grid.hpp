@@ -35,6 +35,16 @@ struct FloorGrid {
         if (!(fx >= 0.0f && fy >= 0.0f && fx < static_cast<float>(nx) && fy < static_cast<float>(ny))) return -1;
         return static_cast<int32_t>(fy) * nx + static_cast<int32_t>(fx);
     }
+    /// Same as index() (the same float arithmetic, so the same cell), without branches so that loops over
+    /// many points vectorise: -1 outside the grid or for a non-finite point.
+    inline int32_t index_branch_free(float x, float y) const {
+        const float fx = (x - x0) * inv_cell;
+        const float fy = (y - y0) * inv_cell;
+        const bool in = (fx >= 0.0f) & (fy >= 0.0f) & (fx < static_cast<float>(nx)) & (fy < static_cast<float>(ny));
+        const float cx = in ? fx : 0.0f, cy = in ? fy : 0.0f;  // keeps the int conversion in range (no UB)
+        const int32_t c = static_cast<int32_t>(cy) * nx + static_cast<int32_t>(cx);
+        return in ? c : -1;
+    }
     /// Column of x clamped into the grid. Truncation equals floor here: the only values where they differ
     /// are negative, and those clamp to 0 either way (and it avoids a libm call without SSE4.1).
     inline int32_t clamp_ix(float x) const { return clampi(to_int((x - x0) * inv_cell), nx); }

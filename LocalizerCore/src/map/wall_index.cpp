@@ -55,6 +55,42 @@ float point_segment_distance(float x, float y, float ax, float ay, float bx, flo
     return std::sqrt(dx * dx + dy * dy);
 }
 
+// Distance from point (x, y) to segment a-b, double precision.
+double point_segment_distance_d(double x, double y, double ax, double ay, double bx, double by) {
+    const double ex = bx - ax, ey = by - ay;
+    const double len2 = ex * ex + ey * ey;
+    double t = len2 > 0.0 ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0;
+    t = std::clamp(t, 0.0, 1.0);
+    const double dx = ax + t * ex - x, dy = ay + t * ey - y;
+    return std::sqrt(dx * dx + dy * dy);
+}
+
+// Distance from point (x, y) to the box [x0,x1]x[y0,y1] (0 inside).
+double point_box_distance(double x, double y, double x0, double y0, double x1, double y1) {
+    const double dx = std::max({x0 - x, 0.0, x - x1}), dy = std::max({y0 - y, 0.0, y - y1});
+    return std::sqrt(dx * dx + dy * dy);
+}
+
+// Distance between segment a-b and the box: 0 when they touch, else attained at a vertex of one of the two
+// convex sets against the other (segment ends vs the box, box corners vs the segment).
+double segment_box_distance(double ax, double ay, double bx, double by, double x0, double y0, double x1,
+                            double y1) {
+    if (segment_touches_box(static_cast<float>(ax), static_cast<float>(ay), static_cast<float>(bx),
+                            static_cast<float>(by), static_cast<float>(x0), static_cast<float>(y0),
+                            static_cast<float>(x1), static_cast<float>(y1))) {
+        return 0.0;
+    }
+    double d = std::min(point_box_distance(ax, ay, x0, y0, x1, y1), point_box_distance(bx, by, x0, y0, x1, y1));
+    d = std::min(d, point_segment_distance_d(x0, y0, ax, ay, bx, by));
+    d = std::min(d, point_segment_distance_d(x1, y0, ax, ay, bx, by));
+    d = std::min(d, point_segment_distance_d(x0, y1, ax, ay, bx, by));
+    d = std::min(d, point_segment_distance_d(x1, y1, ax, ay, bx, by));
+    return d;
+}
+
+// Clearance grid: at most this many cells per floor (bytes); larger floors get coarser clearance cells.
+constexpr double kMaxClearanceCells = 4.0e6;
+
 }  // namespace
 
 WallIndex::WallIndex(const FloorGrid &grid, const float *segments, size_t count) : grid_(grid) {
@@ -93,6 +129,59 @@ WallIndex::WallIndex(const FloorGrid &grid, const float *segments, size_t count)
     }
     cell_segments_.reserve(static_cast<size_t>(cell_start_.back()));
     for (const auto &l : lists) cell_segments_.insert(cell_segments_.end(), l.begin(), l.end());
+    build_clearance();
+}
+
+void WallIndex::build_clearance() {
+    clearance_ = WallClearanceGrid{};
+    if (cell_segments_.empty()) return;
+    WallClearanceGrid &g = clearance_;
+    // Quarter of the index's cell (0.125 m by default), doubled until the grid is small enough.
+    const double width = static_cast<double>(grid_.nx) * grid_.cell_m;
+    const double height = static_cast<double>(grid_.ny) * grid_.cell_m;
+    double cell = grid_.cell_m / 4.0;
+    while ((width / cell) * (height / cell) > kMaxClearanceCells) cell *= 2.0;
+    g.x0 = grid_.x0;
+    g.y0 = grid_.y0;
+    g.inv_cell = static_cast<float>(1.0 / cell);
+    g.nx = std::max(1, static_cast<int32_t>(std::ceil(width / cell)));
+    g.ny = std::max(1, static_cast<int32_t>(std::ceil(height / cell)));
+    const double cap_m = 255.0 * g.unit_m;
+    // Margin for float rounding: a point is binned with float arithmetic and may sit a few ulps outside its
+    // cell's box (float inverse cell side: about 1e-7 of the extent), and the exact crossing test itself
+    // rounds (about 1e-7 of the coordinates); both are far below 1 mm + 1e-6 of the coordinates and extent.
+    const double gx0 = grid_.x0, gy0 = grid_.y0;
+    const double magnitude = std::max({std::fabs(gx0), std::fabs(gy0), std::fabs(gx0 + width), std::fabs(gy0 + height)});
+    const double margin_m = 1e-3 + 1e-6 * (magnitude + width + height);
+    std::vector<double> dist(static_cast<size_t>(g.nx) * g.ny, cap_m + margin_m);
+    // Per segment, every clearance cell within cap_m of its bounding box: min of the box-segment distances.
+    for (size_t s = 0; s < ax_.size(); ++s) {
+        const double ax = ax_[s], ay = ay_[s], bx = bx_[s], by = by_[s];
+        const double reach = cap_m + margin_m + cell;
+        const auto col = [&](double x) {
+            return std::clamp(static_cast<int64_t>(std::floor((x - gx0) / cell)), int64_t{0}, int64_t{g.nx - 1});
+        };
+        const auto row = [&](double y) {
+            return std::clamp(static_cast<int64_t>(std::floor((y - gy0) / cell)), int64_t{0}, int64_t{g.ny - 1});
+        };
+        const int64_t ix0 = col(std::min(ax, bx) - reach), ix1 = col(std::max(ax, bx) + reach);
+        const int64_t iy0 = row(std::min(ay, by) - reach), iy1 = row(std::max(ay, by) + reach);
+        for (int64_t iy = iy0; iy <= iy1; ++iy) {
+            const double cy0 = gy0 + static_cast<double>(iy) * cell;
+            for (int64_t ix = ix0; ix <= ix1; ++ix) {
+                const double cx0 = gx0 + static_cast<double>(ix) * cell;
+                double &d = dist[static_cast<size_t>(iy * g.nx + ix)];
+                d = std::min(d, segment_box_distance(ax, ay, bx, by, cx0, cy0, cx0 + cell, cy0 + cell));
+            }
+        }
+    }
+    g.units.resize(dist.size() + 1);
+    for (size_t c = 0; c < dist.size(); ++c) {
+        const double units = std::floor((dist[c] - margin_m) / g.unit_m);
+        g.units[c] = static_cast<uint8_t>(std::clamp(units, 0.0, 255.0));
+    }
+    g.units.back() = 0;  // sentinel
+    g.sentinel = static_cast<int32_t>(dist.size());
 }
 
 bool WallIndex::cell_empty(float x, float y) const {

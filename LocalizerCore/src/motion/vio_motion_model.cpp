@@ -133,75 +133,134 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
     ++a.frames;
     const bool inject = !acc || a.due();
 
-    // Deterministic part: rotate by the yaw offset, scale, test the wall grid. With one floor (the common
-    // case) the wall index is fixed for the whole loop, so its fields stay in registers.
-    // Two passes over blocks of particles: the displacement (branch-free, so the compiler vectorises the
-    // polynomial sincos), then the wall test on the block while it is still in L1.
-    auto deterministic = [&](auto walls_of) {
-        constexpr size_t kBlock = 1024;
-        float dx[kBlock], dy[kBlock];
-        double total = 0;
-        for (size_t b = 0; b < n; b += kBlock) {
-            const size_t m = std::min(kBlock, n - b);
-            const float *const off = offs + b;
-            const float *const sca = scales + b;
-            for (size_t j = 0; j < m; ++j) {
-                float s, c;
-                fast_sincos(off[j], s, c);
-                dx[j] = sca[j] * (c * de - s * dn);
-                dy[j] = sca[j] * (s * de + c * dn);
-            }
-            float partial = 0;
+    // Particles are processed in blocks of kBlock that stay in L1. Each block takes two passes: a branch-free
+    // pass the compiler vectorises (the polynomial sincos, the new positions, the squared move length and the
+    // clearance-grid cell of the start point), then a scalar pass doing the wall test, where a move shorter
+    // than its start cell's guaranteed wall clearance skips the exact test (most particles, most frames).
+    // The arithmetic and the order of the weight sums are those of a plain per-particle loop, so the result
+    // is bit-identical to it.
+    constexpr size_t kBlock = 512;  // 24 KB of stack buffers below
+    const bool one_floor = map.floors.size() == 1;
+    const WallIndex &walls0 = fl[0].walls;
+    const WallClearanceGrid &clear0 = walls0.clearance();
+    const bool use_clear0 = one_floor && !clear0.units.empty();
+    float nx_b[kBlock], ny_b[kBlock], len2_b[kBlock];
+    int32_t cell_b[kBlock];
+    // Weight sum as the plain loop forms it: in float over each run of 1024 particles, added to a double.
+    constexpr size_t kSumRun = 1024;
+    static_assert(kSumRun % kBlock == 0, "blocks must tile the summation runs");
+    float partial = 0;
+    auto flush_partial = [&](size_t end) {
+        if (end % kSumRun == 0 || end == n) {
+            weight_sum += partial;
+            partial = 0;
+        }
+    };
+    // Scalar pass over one block: wall test on the moves (x, y) -> (nx_b, ny_b), weights, positions, and the
+    // float weight sum (accumulated in particle order).
+    auto wall_pass = [&](size_t b, size_t m) {
+        if (use_clear0) {
             for (size_t j = 0; j < m; ++j) {
                 const size_t i = b + j;
-                const float x0 = xs[i], y0 = ys[i];
-                const float x1 = x0 + dx[j], y1 = y0 + dy[j];
+                const float cl = clear0.clearance_m(cell_b[j]);
                 float w = ws[i];
-                if (walls_of(i).crosses(x0, y0, x1, y1)) w *= kill;
+                if (!(len2_b[j] < cl * cl) && walls0.crosses_grid(xs[i], ys[i], nx_b[j], ny_b[j])) w *= kill;
                 ws[i] = w;
-                xs[i] = x1;
-                ys[i] = y1;
+                xs[i] = nx_b[j];
+                ys[i] = ny_b[j];
                 partial += w;
             }
-            total += partial;
+        } else {
+            for (size_t j = 0; j < m; ++j) {
+                const size_t i = b + j;
+                float w = ws[i];
+                if (fl[floors[i]].walls.crosses(xs[i], ys[i], nx_b[j], ny_b[j])) w *= kill;
+                ws[i] = w;
+                xs[i] = nx_b[j];
+                ys[i] = ny_b[j];
+                partial += w;
+            }
         }
-        return total;
+        flush_partial(b + m);
     };
-    if (map.floors.size() == 1) {
-        const WallIndex &only = fl[0].walls;
-        weight_sum = deterministic([&only](size_t) -> const WallIndex & { return only; });
-    } else {
-        weight_sum = deterministic([fl, floors](size_t i) -> const WallIndex & { return fl[floors[i]].walls; });
+    // Vectorisable tail of the first pass: squared move length and clearance cell of the start point.
+    auto clearance_prepass = [&](size_t b, size_t m) {
+        if (!use_clear0) return;
+        for (size_t j = 0; j < m; ++j) {
+            const float dx = nx_b[j] - xs[b + j], dy = ny_b[j] - ys[b + j];
+            len2_b[j] = dx * dx + dy * dy;
+            cell_b[j] = clear0.cell(xs[b + j], ys[b + j]);
+        }
+    };
+
+    // Deterministic part: rotate by the yaw offset, scale, test the walls.
+    for (size_t b = 0; b < n; b += kBlock) {
+        const size_t m = std::min(kBlock, n - b);
+        const float *const off = offs + b;
+        const float *const sca = scales + b;
+        const float *const x0 = xs + b;
+        const float *const y0 = ys + b;
+        for (size_t j = 0; j < m; ++j) {
+            float s, c;
+            fast_sincos(off[j], s, c);
+            // Two statements, as in the plain loop (no contraction of the sum into an FMA on ARM).
+            const float dx = sca[j] * (c * de - s * dn);
+            const float dy = sca[j] * (s * de + c * dn);
+            nx_b[j] = x0[j] + dx;
+            ny_b[j] = y0[j] + dy;
+        }
+        clearance_prepass(b, m);
+        wall_pass(b, m);
     }
-    float wsum = 0;
     if (!inject) return weight_sum;
 
     // Stochastic part, every ~0.25 m: yaw offset, scale and position random walks (and their wall test).
+    // The normals are drawn per particle in the order yaw, scale, x, y (skipping zero sigmas), as a plain
+    // loop would, into per-block buffers; the arithmetic on them is then vectorised.
     const float sigma_pos = static_cast<float>(std::sqrt(a.var_position));
     const float sigma_yaw = static_cast<float>(std::sqrt(a.var_yaw));
     const float sigma_scale = static_cast<float>(std::sqrt(a.var_scale));
     a.clear();
     const float smin = noise.scale_min, smax = noise.scale_max;
+    const bool draw_yaw = sigma_yaw > 0, draw_scale = sigma_scale > 0, draw_pos = sigma_pos > 0;
+    const size_t per_particle = (draw_yaw ? 1 : 0) + (draw_scale ? 1 : 0) + (draw_pos ? 2 : 0);
+    float n_yaw[kBlock], n_scale[kBlock], n_x[kBlock], n_y[kBlock], draws[4 * kBlock];
     weight_sum = 0;
-    for (size_t i = 0; i < n; ++i) {
-        if (sigma_yaw > 0) offs[i] = wrap_angle_f(offs[i] + sigma_yaw * rng.normal());
-        if (sigma_scale > 0) scales[i] = std::min(smax, std::max(smin, scales[i] + sigma_scale * rng.normal()));
-        float w = ws[i];
-        if (sigma_pos > 0) {
-            const float x0 = xs[i], y0 = ys[i];
-            const float x1 = x0 + sigma_pos * rng.normal(), y1 = y0 + sigma_pos * rng.normal();
-            if (fl[floors[i]].walls.crosses(x0, y0, x1, y1)) w *= kill;
-            xs[i] = x1;
-            ys[i] = y1;
+    for (size_t b = 0; b < n; b += kBlock) {
+        const size_t m = std::min(kBlock, n - b);
+        // One batch from the generator (the same values as per-particle calls), split per variable.
+        rng.fill_normal(draws, per_particle * m);
+        for (size_t j = 0, k = 0; j < m; ++j) {
+            if (draw_yaw) n_yaw[j] = draws[k++];
+            if (draw_scale) n_scale[j] = draws[k++];
+            if (draw_pos) {
+                n_x[j] = draws[k++];
+                n_y[j] = draws[k++];
+            }
         }
-        ws[i] = w;
-        wsum += w;
-        if ((i & 1023) == 1023) {
-            weight_sum += wsum;
-            wsum = 0;
+        float *const off = offs + b;
+        float *const sca = scales + b;
+        if (draw_yaw) {
+            for (size_t j = 0; j < m; ++j) off[j] = wrap_angle_f(off[j] + sigma_yaw * n_yaw[j]);
+        }
+        if (draw_scale) {
+            for (size_t j = 0; j < m; ++j) sca[j] = std::min(smax, std::max(smin, sca[j] + sigma_scale * n_scale[j]));
+        }
+        if (draw_pos) {
+            const float *const x0 = xs + b;
+            const float *const y0 = ys + b;
+            for (size_t j = 0; j < m; ++j) {
+                nx_b[j] = x0[j] + sigma_pos * n_x[j];
+                ny_b[j] = y0[j] + sigma_pos * n_y[j];
+            }
+            clearance_prepass(b, m);
+            wall_pass(b, m);
+        } else {
+            for (size_t j = 0; j < m; ++j) partial += ws[b + j];
+            flush_partial(b + m);
         }
     }
-    return weight_sum + wsum;
+    return weight_sum;
 }
 
 }  // namespace wf::loc

@@ -80,74 +80,161 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
     float cand_r[kMaxCandidates], cand_b[kMaxCandidates];
     int32_t cand_kind[kMaxCandidates];
     float max_ll = -INFINITY;
-    for (size_t i = 0; i < n; ++i) {
-        const float px = p.x[i], py = p.y[i];
-        const int16_t f = p.floor[i];
-        const FloorData &fd = map.floors[f];
-        const uint64_t *vis = fd.visibility_at(px, py);
-        int nc = 0;
-        if (vis) {
-            float s, c;
-            fast_sincos(vio_yaw_rad + p.yaw_offset[i], s, c);
-            const uint64_t *rel = relevant[f].data();
-            for (int32_t w = 0; w < fd.words_per_cell && nc < kMaxCandidates; ++w) {
-                uint64_t bits = vis[w] & rel[w];
-                while (bits && nc < kMaxCandidates) {
-                    const int b = __builtin_ctzll(bits);
+    // log of the clutter term alone, per sighting: the likelihood of a particle that sees no sign of the
+    // sighted kind (most particles of a spread-out cloud). Same float expressions as in the loop below, so a
+    // particle without candidates gets exactly the value the loop would compute.
+    std::vector<float> log_clutter_only(count);
+    float ll_no_candidate = 0.0f;
+    for (size_t o = 0; o < count; ++o) {
+        log_clutter_only[o] = std::log(sightings[o].clutter_probability * u_clutter);
+        ll_no_candidate += log_clutter_only[o];
+    }
+
+    // Geometry of sign j seen from a particle at (px, py) with heading (c, s) = (cos, sin): the cheap test
+    // `near` (in front, within range and the field of view, with margins), then the exact bearing and range
+    // tests. One definition for both code paths below, so they agree bit for bit.
+    struct SignView {
+        float dx, dy, fwd, left, r2;
+        bool near;
+    };
+    auto view_of = [&](const SignTable &st, size_t j, float px, float py, float c, float s) {
+        SignView v;
+        v.dx = st.x[j] - px;
+        v.dy = st.y[j] - py;
+        v.fwd = c * v.dx + s * v.dy;     // along camera forward
+        v.left = -s * v.dx + c * v.dy;   // to the camera's left
+        v.r2 = v.dx * v.dx + v.dy * v.dy;
+        v.near = (v.fwd > 0.0f) & (v.r2 <= max_r2_margin) & (std::fabs(v.left) <= tan_half_fov_margin * v.fwd);
+        return v;
+    };
+    // Exact tests on a near sign; appends it to the candidates when it is in view (branch-free: written
+    // always, kept by advancing nc).
+    auto add_if_in_view = [&](const SignView &v, int32_t kind, int &nc) {
+        const float bearing = fast_atan2(v.left, v.fwd);
+        const float r = std::sqrt(v.r2);
+        const bool in_view = (bearing <= half_fov) & (bearing >= -half_fov) & (r <= max_r);
+        cand_r[nc] = r;
+        cand_b[nc] = bearing;
+        cand_kind[nc] = kind;
+        nc += in_view ? 1 : 0;
+    };
+
+    // Blocks of particles: branch-free passes the compiler vectorises (heading sincos, visibility cell),
+    // then the per-particle candidate and likelihood loop. With one floor of at most 32 signs, the cheap
+    // `near` test is also done in a vectorised pass, sign by sign over the block, into a bit mask per
+    // particle: the per-particle loop then only visits signs that are nearly in view (usually none), and
+    // the unpredictable branches of the visibility and near tests are gone. Candidates are found in the same
+    // order (ascending sign index) with the same arithmetic as a plain per-particle loop.
+    constexpr size_t kBlock = 512;
+    float sin_b[kBlock], cos_b[kBlock];
+    int32_t cell_b[kBlock];
+    uint32_t near_b[kBlock];
+    const bool one_floor = map.floors.size() == 1;
+    const bool sign_major = one_floor && map.floors[0].words_per_cell == 1 && map.floors[0].signs.size() <= 32;
+    const float *const yaw_offsets = p.yaw_offset.data();
+    const float *const xs = p.x.data();
+    const float *const ys = p.y.data();
+    for (size_t b = 0; b < n; b += kBlock) {
+        const size_t nb = std::min(kBlock, n - b);
+        for (size_t j = 0; j < nb; ++j) fast_sincos(vio_yaw_rad + yaw_offsets[b + j], sin_b[j], cos_b[j]);
+        if (one_floor) {
+            const FloorGrid &g = map.floors[0].grid;
+            for (size_t j = 0; j < nb; ++j) cell_b[j] = g.index_branch_free(xs[b + j], ys[b + j]);
+        } else {
+            for (size_t j = 0; j < nb; ++j) {
+                cell_b[j] = map.floors[p.floor[b + j]].grid.index_branch_free(xs[b + j], ys[b + j]);
+            }
+        }
+        if (sign_major) {
+            const FloorData &fd = map.floors[0];
+            const uint64_t *const vis0 = fd.visibility.data();
+            const uint32_t rel0 = static_cast<uint32_t>(relevant[0][0]);
+            for (size_t j = 0; j < nb; ++j) {
+                const int32_t c = cell_b[j];
+                near_b[j] = static_cast<uint32_t>(vis0[c < 0 ? 0 : c]) & (c < 0 ? 0u : rel0);
+            }
+            for (size_t sj = 0; sj < fd.signs.size(); ++sj) {
+                const uint32_t bit = uint32_t{1} << sj;
+                if (!(rel0 & bit)) continue;
+                for (size_t j = 0; j < nb; ++j) {
+                    const SignView v = view_of(fd.signs, sj, xs[b + j], ys[b + j], cos_b[j], sin_b[j]);
+                    near_b[j] &= v.near ? ~uint32_t{0} : ~bit;
+                }
+            }
+        }
+        for (size_t j = 0; j < nb; ++j) {
+            const size_t i = b + j;
+            const float px = xs[i], py = ys[i];
+            const int16_t f = p.floor[i];
+            const FloorData &fd = map.floors[f];
+            const float s = sin_b[j], c = cos_b[j];
+            int nc = 0;
+            if (sign_major) {
+                uint32_t bits = near_b[j];
+                if (bits == 0) {
+                    // No sign nearly in view: clutter only, and no negative information (as the loops below).
+                    log_likelihood[i] = ll_no_candidate;
+                    max_ll = std::max(max_ll, ll_no_candidate);
+                    continue;
+                }
+                while (bits) {
+                    const int sj = __builtin_ctz(bits);
                     bits &= bits - 1;
-                    const size_t j = static_cast<size_t>(w) * 64 + b;
-                    const float dx = fd.signs.x[j] - px, dy = fd.signs.y[j] - py;
-                    const float fwd = c * dx + s * dy;     // along camera forward
-                    if (fwd <= 0.0f) continue;
-                    const float left = -s * dx + c * dy;   // to the camera's left
-                    // Cheap rejections first (most candidate signs are out of view or range); they keep a
-                    // margin so the exact tests below still decide every borderline case.
-                    const float r2 = dx * dx + dy * dy;
-                    if (r2 > max_r2_margin || std::fabs(left) > tan_half_fov_margin * fwd) continue;
-                    const float bearing = fast_atan2(left, fwd);
-                    if (bearing > half_fov || bearing < -half_fov) continue;
-                    const float r = std::sqrt(r2);
-                    if (r > max_r) continue;
-                    cand_r[nc] = r;
-                    cand_b[nc] = bearing;
-                    cand_kind[nc] = fd.signs.kind[j];
-                    ++nc;
+                    add_if_in_view(view_of(fd.signs, static_cast<size_t>(sj), px, py, c, s), fd.signs.kind[sj], nc);
+                }
+            } else {
+                const int32_t words = cell_b[j] < 0 ? 0 : fd.words_per_cell;
+                for (int32_t w = 0; w < words && nc < kMaxCandidates; ++w) {
+                    const size_t word = static_cast<size_t>(cell_b[j]) * fd.words_per_cell + w;
+                    uint64_t bits = fd.visibility[word] & relevant[f][w];
+                    while (bits && nc < kMaxCandidates) {
+                        const int bit = __builtin_ctzll(bits);
+                        bits &= bits - 1;
+                        const size_t sj = static_cast<size_t>(w) * 64 + bit;
+                        const SignView v = view_of(fd.signs, sj, px, py, c, s);
+                        if (!v.near) continue;  // most visible signs are out of view or range
+                        add_if_in_view(v, fd.signs.kind[sj], nc);
+                    }
                 }
             }
-        }
-        float ll = 0.0f;
-        for (size_t o = 0; o < count; ++o) {
-            const PreparedSighting &z = sightings[o];
-            float mix = 0.0f;
-            int nvis = 0;
-            for (int k = 0; k < nc; ++k) {
-                if (cand_kind[k] != z.kind) continue;
-                ++nvis;
-                const float sr = ra + rb * cand_r[k];
-                const float er = (z.range_m - cand_r[k]) / sr;
-                const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
-                mix += std::exp(-0.5f * (er * er + eb * eb)) / sr;
-            }
-            float like = z.clutter_probability * u_clutter;
-            if (nvis > 0) like += (1.0f - z.clutter_probability) * mix * norm_b / static_cast<float>(nvis);
-            ll += std::log(like);
-        }
-        if (m.negative_information) {
-            for (int k = 0; k < nc; ++k) {
-                if (cand_r[k] > neg_r || std::fabs(cand_b[k]) > neg_b) continue;
-                const float sr3 = 3.0f * (ra + rb * cand_r[k]);
-                const float sb3 = 3.0f * m.bearing_sigma_rad;
-                bool matched = false;
-                for (size_t o = 0; o < count && !matched; ++o) {
-                    const PreparedSighting &z = sightings[o];
-                    matched = z.kind == cand_kind[k] && std::fabs(z.range_m - cand_r[k]) < sr3 &&
-                              std::fabs(wrap_angle_f(z.bearing_rad - cand_b[k])) < sb3;
+            float ll = 0.0f;
+            for (size_t o = 0; o < count; ++o) {
+                const PreparedSighting &z = sightings[o];
+                float mix = 0.0f;
+                int nvis = 0;
+                for (int k = 0; k < nc; ++k) {
+                    if (cand_kind[k] != z.kind) continue;
+                    ++nvis;
+                    const float sr = ra + rb * cand_r[k];
+                    const float er = (z.range_m - cand_r[k]) / sr;
+                    const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
+                    mix += std::exp(-0.5f * (er * er + eb * eb)) / sr;
                 }
-                if (!matched) ll += log_miss;
+                if (nvis == 0) {
+                    ll += log_clutter_only[o];
+                    continue;
+                }
+                float like = z.clutter_probability * u_clutter;
+                like += (1.0f - z.clutter_probability) * mix * norm_b / static_cast<float>(nvis);
+                ll += std::log(like);
             }
+            if (m.negative_information) {
+                for (int k = 0; k < nc; ++k) {
+                    if (cand_r[k] > neg_r || std::fabs(cand_b[k]) > neg_b) continue;
+                    const float sr3 = 3.0f * (ra + rb * cand_r[k]);
+                    const float sb3 = 3.0f * m.bearing_sigma_rad;
+                    bool matched = false;
+                    for (size_t o = 0; o < count && !matched; ++o) {
+                        const PreparedSighting &z = sightings[o];
+                        matched = z.kind == cand_kind[k] && std::fabs(z.range_m - cand_r[k]) < sr3 &&
+                                  std::fabs(wrap_angle_f(z.bearing_rad - cand_b[k])) < sb3;
+                    }
+                    if (!matched) ll += log_miss;
+                }
+            }
+            log_likelihood[i] = ll;
+            max_ll = std::max(max_ll, ll);
         }
-        log_likelihood[i] = ll;
-        max_ll = std::max(max_ll, ll);
     }
     return n ? max_ll : 0.0f;
 }

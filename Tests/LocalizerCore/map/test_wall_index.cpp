@@ -1,6 +1,9 @@
 // Tests for map/wall_index.hpp: exact crossing tests and agreement with a brute-force check.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <random>
 #include <vector>
 
@@ -72,4 +75,47 @@ TEST(WallIndex, DistanceToNearest) {
     EXPECT_NEAR(idx.distance_to_nearest(5, 1, 5), 1.0f, 1e-6f);
     EXPECT_NEAR(idx.distance_to_nearest(5, 0.15f, 5), 0.15f, 1e-6f);
     EXPECT_NEAR(idx.distance_to_nearest(5, 1, 0.5f), 0.5f, 1e-6f);  // capped
+}
+
+// The clearance grid (fast path of crosses) must be conservative: at random points, the clearance of the
+// point's cell is at most the true distance to the nearest wall, a move shorter than it never crosses a
+// wall (brute force), and points outside the grid or non-finite get no clearance.
+TEST(WallIndex, ClearanceGridIsConservative) {
+    std::mt19937 gen(5);
+    std::uniform_real_distribution<float> u(0, 40);
+    std::vector<std::array<float, 4>> walls;
+    for (int i = 0; i < 120; ++i) {
+        const float x = u(gen), y = u(gen);
+        walls.push_back({x, y, x + (u(gen) - 20) / 5, y + (u(gen) - 20) / 5});
+    }
+    walls.push_back({10, 10, 10, 10});  // a zero-length wall
+    const auto flat = flatten(walls);
+    for (float cell : {0.5f, 1.0f}) {
+        const WallIndex idx(FloorGrid(-5, -5, 45, 45, cell), flat.data(), walls.size());
+        const wf::loc::WallClearanceGrid &g = idx.clearance();
+        ASSERT_FALSE(g.units.empty());
+        int clear_moves = 0;
+        for (int k = 0; k < 20000; ++k) {
+            const float x = u(gen), y = u(gen);
+            const float cl = g.clearance_m(g.cell(x, y));
+            double nearest = 1e9;
+            for (const auto &w : walls) {
+                const double ex = w[2] - w[0], ey = w[3] - w[1], len2 = ex * ex + ey * ey;
+                const double t = len2 > 0 ? std::clamp(((x - w[0]) * ex + (y - w[1]) * ey) / len2, 0.0, 1.0) : 0.0;
+                nearest = std::min(nearest, std::hypot(w[0] + t * ex - x, w[1] + t * ey - y));
+            }
+            ASSERT_LE(cl, nearest) << x << ", " << y;
+            // A move just shorter than the clearance, in a random direction.
+            const float a = u(gen) * 0.157f, len = 0.999f * cl;
+            const float x1 = x + len * std::cos(a), y1 = y + len * std::sin(a);
+            if (g.move_is_clear(x, y, (x1 - x) * (x1 - x) + (y1 - y) * (y1 - y))) {
+                ++clear_moves;
+                ASSERT_FALSE(wf::test::brute_crosses(walls, x, y, x1, y1)) << x << ", " << y;
+            }
+        }
+        EXPECT_GT(clear_moves, 10000) << "cell " << cell;  // the fast path is taken for most points
+        EXPECT_EQ(g.clearance_m(g.cell(-100, 3)), 0.0f);
+        EXPECT_EQ(g.clearance_m(g.cell(3, 1e9f)), 0.0f);
+        EXPECT_EQ(g.clearance_m(g.cell(std::nanf(""), 3)), 0.0f);
+    }
 }
