@@ -96,7 +96,7 @@ std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFr
 }
 
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth, int minWindowHeight,
-                                            double maxWindowFactor, double minElevationRad) {
+                                            double maxWindowFactor, double minElevationRad, bool fullSearch) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_CASCADE;
@@ -106,6 +106,7 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     opts.cascade_min_window_width = minWindowWidth;
     opts.cascade_min_window_height = minWindowHeight;
     opts.cascade_max_window_factor = maxWindowFactor;
+    opts.cascade_full_search = fullSearch ? 1 : 0;
     if (!std::isnan(minElevationRad)) {
         opts.cascade_search_above_elevation = 1;
         opts.cascade_min_elevation_rad = minElevationRad;

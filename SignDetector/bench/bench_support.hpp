@@ -59,9 +59,11 @@ struct DetectorHandle {
 /// Creates a cascade detector for one Exit cascade with the given smallest window and largest-window factor
 /// (the reference app's exit_sign_config.yaml: 36 x 24, factor 5; 0 = unlimited).
 /// `minElevationRad`: NaN = search the whole frame, else only rows at least this elevation (radians).
-/// `minWindowWidth/Height` 0 = the cascade's training window.
+/// `minWindowWidth/Height` 0 = the cascade's training window. `fullSearch`: true = no colour gate (search the
+/// whole frame, as before the gate); false = the default colour gate.
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
-                                            double maxWindowFactor = 0, double minElevationRad = std::nan(""));
+                                            double maxWindowFactor = 0, double minElevationRad = std::nan(""),
+                                            bool fullSearch = false);
 /// Creates a U-Net detector (class names from classes.json next to the model).
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path);
 

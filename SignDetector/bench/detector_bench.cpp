@@ -6,7 +6,10 @@
 // Frames: 8 synthetic portrait frames (bench/synthetic_scene: an Exit sign at 2..9 m, roll -1.58 rad as in a
 // real recording), or the first 16 frames of a rendered test set when WF_BENCH_TESTSET=DIR is set.
 // Benchmarks (each iteration = one frame, frames cycled):
-//   cascade_ours/VGA, cascade_ours/HR       SignDetector/models/exit_sign_cascade.xml (skipped if absent)
+//   cascade_ours/VGA, cascade_ours/HR       SignDetector/models/exit_sign_cascade.xml (skipped if absent), with
+//                                           the default colour gate (search around red/green regions only)
+//   cascade_ours_full_search/VGA, .../HR    the same cascade searching the whole frame (no colour gate)
+//   cascade_ours_gray/VGA                   GRAY8 frames: no colour, so the gate falls back to the full search
 //   cascade_ours_above_-0.15rad/VGA         our cascade searching only rows at elevation >= -0.15 rad
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
@@ -27,6 +30,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <cmath>
 #include <cstdlib>
 #include <iostream>
 #include <map>
@@ -88,6 +92,16 @@ std::vector<Source> loadSources(std::string* description) {
 std::vector<std::unique_ptr<PreparedFrame>> prepareAll(const std::vector<Source>& sources, cv::Size size) {
     std::vector<std::unique_ptr<PreparedFrame>> out;
     for (const auto& s : sources) out.push_back(prepareFrame(s.bgr, s.labels, size));
+    return out;
+}
+
+/// The frames as GRAY8 (luma only, as from a phone that hands over only the Y plane): no colour for the gate.
+std::vector<std::unique_ptr<PreparedFrame>> prepareAllGray(const std::vector<Source>& sources, cv::Size size) {
+    std::vector<std::unique_ptr<PreparedFrame>> out = prepareAll(sources, size);
+    for (auto& p : out) {
+        cv::cvtColor(p->rgb, p->rgb, cv::COLOR_RGB2GRAY);
+        p->frame.image = wf_image{p->rgb.data, p->rgb.cols, p->rgb.rows, p->rgb.step, WF_PIXEL_GRAY8, nullptr, 0};
+    }
     return out;
 }
 
@@ -178,6 +192,10 @@ public:
         std::printf("\n");
         ratio("cascade_ours/VGA", "cascade_reference/VGA");
         ratio("cascade_ours/HR", "cascade_reference/HR");
+        ratio("cascade_ours_full_search/VGA", "cascade_reference/VGA");
+        ratio("cascade_ours_full_search/HR", "cascade_reference/HR");
+        ratio("cascade_ours/VGA", "cascade_ours_full_search/VGA");
+        ratio("cascade_ours/HR", "cascade_ours_full_search/HR");
         ratio("unet_coarse_zoom/HR", "cascade_reference/VGA");
         ratio("unet_coarse_zoom/HR", "cascade_ours/VGA");
     }
@@ -201,12 +219,14 @@ int main(int argc, char** argv) {
     static const std::vector<Source> sources = loadSources(&description);
     static const auto vga = prepareAll(sources, {640, 480});
     static const auto hr = prepareAll(sources, {1920, 1440});
+    static const auto vgaGray = prepareAllGray(sources, {640, 480});
 
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
-    static std::unique_ptr<DetectorHandle> oursCascade, oursAbove, refCascade, unet;
+    static std::unique_ptr<DetectorHandle> oursCascade, oursAbove, oursFull, refCascade, unet;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
         oursAbove = makeCascade(ours, 0, 0, 0, -0.15);
+        oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true);
     }
     refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0);
     const char* unetOverride = std::getenv("WF_BENCH_UNET");
@@ -224,6 +244,12 @@ int main(int argc, char** argv) {
         benchmark::RegisterBenchmark("cascade_ours/VGA", runPipeline, oursCascade.get(), &vga)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark("cascade_ours/HR", runPipeline, oursCascade.get(), &hr)->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark("cascade_ours_above_-0.15rad/VGA", runPipeline, oursAbove.get(), &vga)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark("cascade_ours_full_search/VGA", runPipeline, oursFull.get(), &vga)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark("cascade_ours_full_search/HR", runPipeline, oursFull.get(), &hr)
+            ->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark("cascade_ours_gray/VGA", runPipeline, oursCascade.get(), &vgaGray)
             ->Unit(benchmark::kMillisecond);
     }
     if (refCascade && *refCascade) {

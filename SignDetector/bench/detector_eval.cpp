@@ -5,12 +5,22 @@
 // DIR holds labels.jsonl and the images (SignDetector/training/render_signs.py --split test). Rows:
 //   cascade-vga  our cascade (models/exit_sign_cascade.xml), frames resized to 640 x 480
 //   cascade-hr   our cascade on 1920 x 1440 frames
+//   cascade-vga-full, cascade-hr-full   the same without the colour gate (whole-frame search)
 //   unet         U-Net multi-scale (models/sign_unet.onnx) on 1920 x 1440 frames
 //   reference    the reference app's cascade (../shared/.../exit_sign_cascade.xml) on 640 x 480, its settings
 // A row whose model is missing is reported as skipped. Prints Markdown: median percent range error per
-// true distance (2..9 m; range from the paper's equation 3 with the labelled face height), missed signs per
-// distance, precision / recall / false positives per 1000 sign-free frames, mean time per frame.
+// true distance (2..9 m), missed signs per distance, precision / recall / false positives per 1000 sign-free
+// frames, mean time per frame. Range uses the labelled face height and, in the root CMake build, the
+// product's estimator (LocalizerCore's wf_range_apparent_height_slices, ray-elevation model: elevations of
+// the sign's centre line at its column); a second table uses the paper's equation 3, which ignores the
+// column (it gives about range x cos(bearing)) and is therefore biased short off-axis. Reference rows range
+// the labelled corners with each formula: the floor that the formula alone leaves.
 #include "bench_support.hpp"
+#include "range_formula.hpp"
+
+#if WF_EVAL_WITH_LOCALIZER_RANGE
+#include "wf_range.h"
+#endif
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -20,6 +30,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
 #include <iostream>
 #include <map>
 #include <sstream>
@@ -36,6 +47,7 @@ struct Row {
     // Results.
     std::map<int, std::vector<double>> errorsPercent;  // per distance bin
     std::map<int, std::vector<double>> signedErrorsPercent;  // 100 (e - a) / a: bias
+    std::map<int, std::vector<double>> eq3ErrorsPercent;     // |e - a| / a with the paper's equation 3
     std::map<int, int> signs, missed;
     long truePositives = 0, falsePositives = 0, falseNegatives = 0;
     long signFreeFrames = 0, signFreeFalsePositives = 0;
@@ -57,12 +69,88 @@ std::string percent(double value) {
     return buf;
 }
 
+#if WF_EVAL_WITH_LOCALIZER_RANGE
+constexpr bool kProductEstimator = true;
+#else
+constexpr bool kProductEstimator = false;
+#endif
+
+/// Range (meters) from slice medians in the unrolled image (rows and columns in unrolled pixels, slopes
+/// dv/du) by the product's estimator: LocalizerCore's apparent-height method, ray-elevation model. NaN when
+/// the estimator rejects the measurement. Standalone (no LocalizerCore): the paper's equation 3.
+double productRangeMeters(double bottomEdgePx, double heightPx, double centerColumnPx, double extentWidthPx,
+                          double bottomSlope, double topSlope, double fxPx, double fyPx, double cxPx, double cyPx,
+                          double signHeightMeters, double pitchRad) {
+#if WF_EVAL_WITH_LOCALIZER_RANGE
+    const wf_range_unrolled_camera camera{fxPx, fyPx, cxPx, cyPx, pitchRad, 0.0};
+    wf_range_slice_measurement m{};
+    m.median_bottom_row_px = bottomEdgePx;
+    m.median_height_px = heightPx;
+    m.center_column_px = centerColumnPx;
+    m.bottom_edge_slope = bottomSlope;
+    m.top_edge_slope = topSlope;
+    m.extent_width_px = extentWidthPx;
+    wf_range_result result{};
+    if (wf_range_apparent_height_slices(&result, &camera, &m, signHeightMeters, WF_RANGE_SLICE_MODEL_RAY_ELEVATION) != 0) {
+        return std::nan("");
+    }
+    return result.range_m;
+#else
+    (void)centerColumnPx, (void)extentWidthPx, (void)bottomSlope, (void)topSlope, (void)fxPx;
+    return wf::sign::rangeFromApparentHeight(signHeightMeters, bottomEdgePx, heightPx, fyPx, cyPx, pitchRad);
+#endif
+}
+
+/// Range (meters) of a detector observation by the product's estimator (see productRangeMeters).
+double observationProductRangeMeters(const wf_detector_observation& o, double signHeightMeters, double pitchRad) {
+    return productRangeMeters(o.median_bottom_row_px, o.median_height_px, o.center_column_px, o.extent_width_px,
+                              o.bottom_edge_slope, o.top_edge_slope, o.unrolled_fx, o.unrolled_fy, o.unrolled_cx,
+                              o.unrolled_cy, signHeightMeters, pitchRad);
+}
+
+/// Ranges (meters) of a labelled sign from its exact corners (TL, TR, BR, BL raw pixels), unrolled with
+/// LocalizerCore's map for the frame's intrinsics and roll: `eq3` by the paper's equation 3 at the
+/// midpoints of the top and bottom edges, `product` by the product's estimator on the slice measurement an
+/// exact mask would give (edge lines through the corners). NaN without LocalizerCore.
+struct CornerRanges {
+    double eq3 = std::nan(""), product = std::nan("");
+};
+
+CornerRanges cornerRanges(const LabelledFrame& frame, const LabelledSign& sign) {
+    CornerRanges out;
+#if WF_EVAL_WITH_LOCALIZER_RANGE
+    const wf_range_intrinsics raw{frame.fx, frame.fy, frame.cx, frame.cy};
+    wf_range_unroll_map map{};
+    if (wf_range_unroll_map_make(&map, &raw, frame.rollRad, frame.width, frame.height) != 0) return out;
+    wf_range_point c[4];
+    for (int i = 0; i < 4; ++i) {
+        const wf_range_point p{sign.cornersRaw[i].x, sign.cornersRaw[i].y};
+        if (wf_range_unroll_point(&c[i], &map, &p) != 0) return out;
+    }
+    const wf_range_intrinsics& u = map.unrolled;
+    const double topV = 0.5 * (c[0].v + c[1].v), bottomV = 0.5 * (c[3].v + c[2].v);
+    out.eq3 = wf::sign::rangeFromApparentHeight(sign.heightMeters, bottomV, bottomV - topV, u.fy, u.cy, frame.pitchRad);
+    // An exact mask's slices: top edge = line TL-TR, bottom edge = line BL-BR, extent = corners' columns.
+    const double minU = std::min({c[0].u, c[1].u, c[2].u, c[3].u}), maxU = std::max({c[0].u, c[1].u, c[2].u, c[3].u});
+    const double midU = 0.5 * (minU + maxU);
+    const double topSlope = (c[1].v - c[0].v) / (c[1].u - c[0].u), bottomSlope = (c[2].v - c[3].v) / (c[2].u - c[3].u);
+    const double topAtMid = c[0].v + topSlope * (midU - c[0].u), bottomAtMid = c[3].v + bottomSlope * (midU - c[3].u);
+    out.product = productRangeMeters(bottomAtMid, bottomAtMid - topAtMid, midU, maxU - minU, bottomSlope, topSlope, u.fx,
+                                     u.fy, u.cx, u.cy, sign.heightMeters, frame.pitchRad);
+#else
+    (void)frame, (void)sign;
+#endif
+    return out;
+}
+
 void usage() {
     std::cerr << "usage: wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N]\n"
-                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference] [--threads N]\n"
+                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full] [--threads N]\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
                  "  --limit N   use the first N frames (after --every)\n"
-                 "  --min-elevation RAD  our cascade rows search only rows at least RAD above the horizon\n";
+                 "  --min-elevation RAD  our cascade rows search only rows at least RAD above the horizon\n"
+                 "  --dump FILE  write every observation as CSV (row, frame, true distance or -1, matched, score, box,\n"
+                 "               median height and bottom edge, extent width, elevation of the box centre in rad)\n";
 }
 
 }  // namespace
@@ -73,6 +161,7 @@ int main(int argc, char** argv) {
     long limit = -1, every = 1;
     double minElevation = std::nan("");
     int threads = 1;
+    std::string dumpPath;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -90,6 +179,7 @@ int main(int argc, char** argv) {
         else if (a == "--every") every = std::max(1L, std::stol(next()));
         else if (a == "--min-elevation") minElevation = std::stod(next());
         else if (a == "--threads") threads = std::stoi(next());
+        else if (a == "--dump") dumpPath = next();
         else {
             usage();
             return 2;
@@ -119,12 +209,14 @@ int main(int argc, char** argv) {
         Row r;
         r.id = id;
         std::string model;
-        if (id == "cascade-vga" || id == "cascade-hr") {
+        if (id == "cascade-vga" || id == "cascade-hr" || id == "cascade-vga-full" || id == "cascade-hr-full") {
             model = models + "/exit_sign_cascade.xml";
-            r.size = id == "cascade-vga" ? cv::Size(640, 480) : cv::Size(1920, 1440);
-            r.title = id == "cascade-vga" ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
+            const bool vga = id.rfind("cascade-vga", 0) == 0, full = id.size() > 5 && id.substr(id.size() - 5) == "-full";
+            r.size = vga ? cv::Size(640, 480) : cv::Size(1920, 1440);
+            r.title = vga ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
+            if (full) r.title += ", full search";
             if (!std::isnan(minElevation)) r.title += ", rows above " + std::to_string(minElevation).substr(0, 5) + " rad";
-            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, minElevation);
+            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, minElevation, full);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
@@ -145,8 +237,20 @@ int main(int argc, char** argv) {
     }
 
     std::vector<wf_detector_observation> observations;
+    std::ofstream dump;
+    if (!dumpPath.empty()) {
+        dump.open(dumpPath);
+        dump << "row,frame,truth_m,matched,score,box_x,box_y,box_w,box_h,height_px,bottom_px,extent_px,elevation_rad\n";
+    }
+    std::map<int, std::vector<double>> cornerProductErrors, cornerEq3Errors;  // reference rows, |e - a| / a %
     for (size_t fi = 0; fi < frames.size(); ++fi) {
         const LabelledFrame& labels = frames[fi];
+        for (const LabelledSign& sign : labels.signs) {
+            const int bin = static_cast<int>(std::lround(sign.rangeMeters));
+            const CornerRanges z = cornerRanges(labels, sign);
+            if (std::isfinite(z.product)) cornerProductErrors[bin].push_back(100.0 * std::abs(z.product - sign.rangeMeters) / sign.rangeMeters);
+            if (std::isfinite(z.eq3)) cornerEq3Errors[bin].push_back(100.0 * std::abs(z.eq3 - sign.rangeMeters) / sign.rangeMeters);
+        }
         const cv::Mat bgr = cv::imread(labels.imagePath, cv::IMREAD_COLOR);
         if (bgr.empty()) {
             std::cerr << "wf_detector_eval: cannot read " << labels.imagePath << "\n";
@@ -175,16 +279,31 @@ int main(int argc, char** argv) {
                     if (used[k] || !matches(observations[k], sign)) continue;
                     used[k] = true;
                     found = true;
-                    const double z = observationRangeMeters(observations[k], sign.heightMeters, labels.pitchRad);
+                    const double z = observationProductRangeMeters(observations[k], sign.heightMeters, labels.pitchRad);
                     if (std::isfinite(z)) {
                         r.errorsPercent[bin].push_back(100.0 * std::abs(z - sign.rangeMeters) / sign.rangeMeters);
                         r.signedErrorsPercent[bin].push_back(100.0 * (z - sign.rangeMeters) / sign.rangeMeters);
+                    }
+                    const double z3 = observationRangeMeters(observations[k], sign.heightMeters, labels.pitchRad);
+                    if (std::isfinite(z3)) {
+                        r.eq3ErrorsPercent[bin].push_back(100.0 * std::abs(z3 - sign.rangeMeters) / sign.rangeMeters);
                     }
                 }
                 if (found) ++r.truePositives;
                 else {
                     ++r.falseNegatives;
                     ++r.missed[bin];
+                }
+            }
+            if (dump) {
+                for (size_t k = 0; k < observations.size(); ++k) {
+                    const wf_detector_observation& o = observations[k];
+                    const int truth = labels.signs.empty() ? -1 : static_cast<int>(std::lround(labels.signs[0].rangeMeters));
+                    const double elevation =
+                        labels.pitchRad + std::atan((o.unrolled_cy - (o.box_y + 0.5 * o.box_height)) / o.unrolled_fy);
+                    dump << r.id << "," << fi << "," << truth << "," << int(used[k]) << "," << o.score << "," << o.box_x << ","
+                         << o.box_y << "," << o.box_width << "," << o.box_height << "," << o.median_height_px << ","
+                         << o.median_bottom_row_px << "," << o.extent_width_px << "," << elevation << "\n";
                 }
             }
             const long unmatched = static_cast<long>(std::count(used.begin(), used.end(), false));
@@ -199,17 +318,39 @@ int main(int argc, char** argv) {
 
     const int bins[] = {2, 3, 4, 5, 6, 7, 8, 9};
     std::cout << "Test set: " << testset << " (" << frames.size() << " frames)\n\n";
-    std::cout << "Median percent range error |e - a| / a per true distance (matched signs only)\n\n";
-    std::cout << "| Method |";
-    for (int b : bins) std::cout << " " << b << " m |";
-    std::cout << "\n|---|";
-    for (size_t i = 0; i < std::size(bins); ++i) std::cout << "---|";
-    std::cout << "\n";
-    for (const Row& r : rows) {
-        std::cout << "| " << r.title << " |";
-        for (int b : bins) std::cout << " " << (r.skipped.empty() ? percent(median(r.errorsPercent.count(b) ? r.errorsPercent.at(b) : std::vector<double>{})) : "-") << " |";
+    auto errorTable = [&](const char* heading, std::map<int, std::vector<double>> Row::*errors,
+                          const std::map<int, std::vector<double>>& cornerErrors, const char* cornerTitle) {
+        std::cout << heading << "\n\n| Method |";
+        for (int b : bins) std::cout << " " << b << " m |";
+        std::cout << "\n|---|";
+        for (size_t i = 0; i < std::size(bins); ++i) std::cout << "---|";
         std::cout << "\n";
-    }
+        for (const Row& r : rows) {
+            std::cout << "| " << r.title << " |";
+            for (int b : bins) {
+                const auto it = (r.*errors).find(b);
+                std::cout << " " << (r.skipped.empty() ? percent(median(it != (r.*errors).end() ? it->second : std::vector<double>{})) : "-") << " |";
+            }
+            std::cout << "\n";
+        }
+        if (kProductEstimator) {
+            std::cout << "| " << cornerTitle << " |";
+            for (int b : bins) {
+                const auto it = cornerErrors.find(b);
+                std::cout << " " << percent(median(it != cornerErrors.end() ? it->second : std::vector<double>{})) << " |";
+            }
+            std::cout << "\n";
+        }
+    };
+    errorTable(kProductEstimator
+                   ? "Median percent range error |e - a| / a per true distance (matched signs only; product estimator: "
+                     "LocalizerCore wf_range_apparent_height_slices, ray-elevation model)"
+                   : "Median percent range error |e - a| / a per true distance (matched signs only; paper eq. 3: "
+                     "standalone build without LocalizerCore)",
+               &Row::errorsPercent, cornerProductErrors, "(reference) labelled corners, product estimator");
+    std::cout << "\n";
+    errorTable("Median percent range error with the paper's equation 3 (column ignored: biased short off-axis)",
+               &Row::eq3ErrorsPercent, cornerEq3Errors, "(reference) labelled corners, paper eq. 3");
     std::cout << "\nMedian signed range error (e - a) / a per true distance (bias; negative = estimated too near)\n\n"
                  "| Method |";
     for (int b : bins) std::cout << " " << b << " m |";

@@ -151,8 +151,9 @@ typedef enum wf_detector_kind {
     WF_DETECTOR_UNET = 1
 } wf_detector_kind;
 
-/** Version of wf_detector_options understood by this header. */
-#define WF_DETECTOR_OPTIONS_VERSION 1
+/** Version of wf_detector_options understood by this header. Version 1 (without the fields marked
+ *  "version 2") is still accepted: its callers get the version-2 defaults. */
+#define WF_DETECTOR_OPTIONS_VERSION 2
 
 /**
  * Detector options. Initialise with WF_DETECTOR_OPTIONS_INIT (all defaults) and set what you need.
@@ -220,6 +221,15 @@ typedef struct wf_detector_options {
     /** Rolls within this of a multiple of pi/2 are treated as that multiple (exact, fast cv::rotate);
      *  0 = always rotate by the exact roll. Radians. */
     double roll_snap_tolerance_rad;
+
+    /* Version 2 (read only when version >= 2). */
+    /** Cascade: 1 = search the whole (row-limited) frame; 0 = default: when the frame has colour (RGB8,
+     *  BGRA8, NV12 with chroma), search only around regions of strong local red-green contrast (Exit-sign
+     *  lettering; docs/sign-detection.md "colour gate"); GRAY8 and NV12 without chroma are always searched
+     *  whole. */
+    int cascade_full_search;
+    /** Colour gate: minimum |(R - G) - local mean| of a candidate pixel, 8-bit levels; 0 = 25. */
+    double cascade_gate_min_contrast;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */

@@ -3,6 +3,7 @@
 // cv::CascadeClassifier::detectMultiScale on the unrolled gray frame. Gives a rough box per sign.
 #pragma once
 
+#include "colour_gate.hpp"
 #include "detection.hpp"
 
 #include <opencv2/objdetect.hpp>
@@ -28,6 +29,8 @@ struct CascadeParams {
     double minElevationRad = -0.15;
     /// How the box is sliced (a box gives the same height in every slice).
     SliceParams slices;
+    /// Colour gate: search only around strongly red/green regions when the frame has colour (colour_gate.hpp).
+    ColourGateParams colourGate;
 };
 
 /// A list of (kind, cascade) pairs. Not thread-safe (OpenCV's classifier keeps scratch state).
@@ -40,6 +43,14 @@ public:
     /// Detections carry box measurements in its pixels.
     std::vector<Detection> detect(const cv::Mat& grayUnrolled, const CascadeParams& params, int lastRow = -1);
 
+    /// Detects every kind inside each of `regions` (rectangles of `grayUnrolled`, unrolled pixels; each is
+    /// searched on its own with windows from the smallest window, or the region's minWindowWidthPx if larger, up to
+    /// the region's size) and maps the boxes
+    /// back to `grayUnrolled`'s pixel coordinates (box + region origin, exact). Rows at or below `lastRow`
+    /// (>= 0) are not searched. Boxes of overlapping regions are not merged here (suppressOverlaps does).
+    std::vector<Detection> detectInRegions(const cv::Mat& grayUnrolled, const std::vector<SearchRegion>& regions,
+                                           const CascadeParams& params, int lastRow = -1);
+
     /// First unrolled row below the search region: rows v with pitch + atan((cy - v) / fy) >= minElevationRad,
     /// clamped to [0, rows].
     static int searchRowLimit(double minElevationRad, double pitchRad, double fyPx, double cyPx, int rows);
@@ -51,6 +62,11 @@ public:
     cv::Size trainedWindow(size_t index) const;
 
 private:
+    /// detectMultiScale of cascade `index` on `image` with `params`; boxes shifted by `origin` (unrolled px).
+    /// `minWindowWidthPx` > 0 raises the smallest window to at least that width (aspect kept).
+    void detectOne(size_t index, const cv::Mat& image, cv::Point origin, const CascadeParams& params,
+                   std::vector<Detection>* out, int minWindowWidthPx = 0);
+
     std::vector<std::string> kinds_;
     std::vector<std::unique_ptr<cv::CascadeClassifier>> cascades_;
 };

@@ -15,7 +15,7 @@ std::string directoryOf(const std::string& path) {
 }  // namespace
 
 int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOptions* out, std::string* error) {
-    if (opts.version != WF_DETECTOR_OPTIONS_VERSION) {
+    if (opts.version != 1 && opts.version != WF_DETECTOR_OPTIONS_VERSION) {
         *error = "wf_detector_options version " + std::to_string(opts.version) + " is not supported (expected " +
                  std::to_string(WF_DETECTOR_OPTIONS_VERSION) + ")";
         return WF_ERR_VERSION;
@@ -101,6 +101,14 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
     r.cascade.slices = slices;
     r.unet.slices = slices;
     r.rollSnapToleranceRad = std::max(0.0, opts.roll_snap_tolerance_rad);
+    if (opts.version >= 2) {  // a version-1 struct ends before these fields
+        r.cascade.colourGate.enabled = opts.cascade_full_search == 0;
+        if (opts.cascade_gate_min_contrast < 0 || !std::isfinite(opts.cascade_gate_min_contrast)) {
+            *error = "cascade_gate_min_contrast must be finite and >= 0";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        if (opts.cascade_gate_min_contrast > 0) r.cascade.colourGate.minContrast = opts.cascade_gate_min_contrast;
+    }
     *out = std::move(r);
     return WF_OK;
 }
@@ -192,10 +200,17 @@ FrameResult Detector::detect(const wf_frame& frame) {
                 lastRow = CascadeDetector::searchRowLimit(options_.cascade.minElevationRad, frame.pitch_rad, ku.fy, ku.cy,
                                                           grayUnrolled.rows);
             }
-            detections = cascade_.detect(grayUnrolled, options_.cascade, lastRow);
+            // Colour gate (colour_gate.hpp): only around strongly red/green regions when the frame has colour.
+            const GateDecision gate =
+                options_.cascade.colourGate.enabled
+                    ? gateRegions(findColourBlobs(frame.image, options_.cascade.colourGate), unrolling, lastRow,
+                                  options_.cascade.colourGate)
+                    : GateDecision{};
+            detections = gate.fullSearch ? cascade_.detect(grayUnrolled, options_.cascade, lastRow)
+                                         : cascade_.detectInRegions(grayUnrolled, gate.regions, options_.cascade, lastRow);
             detections = suppressOverlaps(std::move(detections), 0.5);
         } else {
-            detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet);
+            detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet, frame.pitch_rad);
         }
         for (const auto& d : detections) {
             if (d.score >= options_.minScore && d.measurement.valid) {

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <cstdio>
 
 namespace wf::sign {
 
@@ -89,20 +90,20 @@ cv::Mat UnetDetector::forwardBlob(const cv::Mat& blob) {
     return net_.forward().clone();
 }
 
-std::vector<cv::Mat> UnetDetector::probabilities(const cv::Mat& rgbSquare) {
-    CV_Assert(rgbSquare.type() == CV_8UC3 && rgbSquare.rows == inputSize_ && rgbSquare.cols == inputSize_);
-    const cv::Mat logits = forwardBlob(cv::dnn::blobFromImage(rgbSquare, 1.0 / 255.0, cv::Size(), cv::Scalar(),
+std::vector<cv::Mat> UnetDetector::probabilities(const cv::Mat& rgb) {
+    CV_Assert(rgb.type() == CV_8UC3 && !rgb.empty());
+    const cv::Mat logits = forwardBlob(cv::dnn::blobFromImage(rgb, 1.0 / 255.0, cv::Size(), cv::Scalar(),
                                                               /*swapRB=*/false, /*crop=*/false, CV_32F));
+    CV_Assert(logits.dims == 4 && logits.size[2] == rgb.rows && logits.size[3] == rgb.cols);
     const int k = logits.size[1];
-    const int s = inputSize_;
     std::vector<cv::Mat> channels(k);
     for (int c = 0; c < k; ++c) {
-        channels[c] = cv::Mat(s, s, CV_32F, const_cast<float*>(logits.ptr<float>(0, c))).clone();
+        channels[c] = cv::Mat(rgb.rows, rgb.cols, CV_32F, const_cast<float*>(logits.ptr<float>(0, c))).clone();
     }
     // Numerically stable softmax over classes.
     cv::Mat maxLogit = channels[0].clone();
     for (int c = 1; c < k; ++c) cv::max(maxLogit, channels[c], maxLogit);
-    cv::Mat sum = cv::Mat::zeros(s, s, CV_32F);
+    cv::Mat sum = cv::Mat::zeros(rgb.rows, rgb.cols, CV_32F);
     for (int c = 0; c < k; ++c) {
         cv::exp(channels[c] - maxLogit, channels[c]);
         sum += channels[c];
@@ -126,6 +127,11 @@ const cv::Mat& RawPyramid::level(int k, cv::Point2d* scale) {
 
 cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d originEdge, double scaleX, double scaleY,
                        int size) {
+    return sampleUnrolled(raw, unrolling, originEdge, scaleX, scaleY, cv::Size(size, size));
+}
+
+cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d originEdge, double scaleX, double scaleY,
+                       cv::Size size) {
     // Pyramid level leaving a downscale factor in [1, 2) (or an upscale) for the final bilinear warp.
     const double rawPerNetwork = std::max(scaleX, scaleY);
     const int k = rawPerNetwork >= 2.0 ? static_cast<int>(std::floor(std::log2(rawPerNetwork))) : 0;
@@ -139,7 +145,7 @@ cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d 
     const cv::Matx33d m = toLevel * toRaw * network;
     const cv::Matx23d m23(m(0, 0), m(0, 1), m(0, 2), m(1, 0), m(1, 1), m(1, 2));
     cv::Mat out;
-    cv::warpAffine(src, out, m23, cv::Size(size, size), cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
+    cv::warpAffine(src, out, m23, size, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
                    cv::Scalar::all(0));
     return out;
 }
@@ -151,12 +157,49 @@ std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const
     const double scale = double(s) / std::max(unrolledSize.width, unrolledSize.height);  // network px per unrolled px
     const int w = std::max(1, static_cast<int>(std::lround(unrolledSize.width * scale)));
     const int h = std::max(1, static_cast<int>(std::lround(unrolledSize.height * scale)));
-    const int offX = (s - w) / 2, offY = (s - h) / 2;
+    // The letterbox is cut to the content rounded up to a multiple of 32 (the U-Net's down-sampling): a
+    // 4:3 frame runs 224 x 192 instead of 224 x 224 at the same scale (0.86 x the cost).
+    const int inW = std::min(s, (w + 31) / 32 * 32), inH = std::min(s, (h + 31) / 32 * 32);
+    const int offX = (inW - w) / 2, offY = (inH - h) / 2;
     // Exact map network -> unrolled: the letterboxed content's scale is (cols / w, rows / h) unrolled px per
     // network px, its first pixel edge at network (offX - 0.5, offY - 0.5).
     const double sx = double(unrolledSize.width) / w, sy = double(unrolledSize.height) / h;
-    const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(-0.5 - offX * sx, -0.5 - offY * sy), sx, sy, s);
-    const std::vector<cv::Mat> prob = probabilities(square);
+    const cv::Point2d originEdge(-0.5 - offX * sx, -0.5 - offY * sy);
+    const cv::Mat input = sampleUnrolled(raw, unrolling, originEdge, sx, sy, cv::Size(inW, inH));
+    return blobs(probabilities(input), originEdge, sx, sy, params);
+}
+
+std::vector<UnetCandidate> UnetDetector::farBandCandidates(RawPyramid& raw, const Unrolling& unrolling,
+                                                           const UnetParams& params, double pitchRad) {
+    if (!params.farBand || !std::isfinite(pitchRad) || !(params.farBandScale > 0) ||
+        !(params.farBandMaxElevationRad > params.farBandMinElevationRad)) {
+        return {};
+    }
+    const cv::Size unrolledSize = unrolling.unrolledSize();
+    const Intrinsics& k = unrolling.unrolledIntrinsics();
+    // Unrolled row of the ray at elevation e: v = cy' - fy' tan(e - pitch) (rows grow downwards).
+    const double limit = 1.5;  // rad: keep tan() finite
+    auto rowAt = [&](double elevation) {
+        return k.cy - k.fy * std::tan(std::clamp(elevation - pitchRad, -limit, limit));
+    };
+    const double top = std::max(-0.5, rowAt(params.farBandMaxElevationRad));
+    const double bottom = std::min(unrolledSize.height - 0.5, rowAt(params.farBandMinElevationRad));
+    if (!(bottom - top >= 1.0)) return {};
+    // Network px per unrolled px; sides rounded up to multiples of 32 (the U-Net's down-sampling), the
+    // band centred vertically in its input, the full width starting at the left edge.
+    const double scale = params.farBandScale * double(inputSize_) / std::max(unrolledSize.width, unrolledSize.height);
+    auto roundUp32 = [](double v) { return std::max(32, static_cast<int>(std::ceil(v / 32.0)) * 32); };
+    const int w = roundUp32(unrolledSize.width * scale);
+    const int h = roundUp32((bottom - top) * scale);
+    const double step = 1.0 / scale;  // unrolled px per network px
+    const double centreRow = 0.5 * (top + bottom);
+    const cv::Point2d originEdge(-0.5, centreRow - 0.5 * h * step);
+    const cv::Mat band = sampleUnrolled(raw, unrolling, originEdge, step, step, cv::Size(w, h));
+    return blobs(probabilities(band), originEdge, step, step, params);
+}
+
+std::vector<UnetCandidate> UnetDetector::blobs(const std::vector<cv::Mat>& prob, cv::Point2d originEdge, double sx,
+                                               double sy, const UnetParams& params) const {
     std::vector<UnetCandidate> candidates;
     for (size_t c = 1; c < prob.size(); ++c) {
         cv::Mat mask = prob[c] > params.maskThreshold;
@@ -174,7 +217,7 @@ std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const
             cand.areaPx = area * sx * sy;
             cand.meanProbability = cv::mean(prob[c], labels == i)[0];
             // Edges of the blob in network pixels -> unrolled edge coordinates.
-            cand.boxInUnrolled = cv::Rect2d((bx - offX) * sx - 0.5, (by - offY) * sy - 0.5, bw * sx, bh * sy);
+            cand.boxInUnrolled = cv::Rect2d(originEdge.x + bx * sx, originEdge.y + by * sy, bw * sx, bh * sy);
             candidates.push_back(cand);
         }
     }
@@ -188,9 +231,25 @@ std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const
     return candidates;
 }
 
+UnetVerdict verifyZoomedSign(const SliceMeasurement& inUnrolled, double meanProbability, double unrolledFyPx,
+                             const UnetParams& params) {
+    if (!(meanProbability >= params.minMeanProbability)) return UnetVerdict::kLowProbability;
+    const double height = inUnrolled.medianHeightPx;
+    if (!inUnrolled.valid || !(height > 0)) return UnetVerdict::kImplausibleHeight;
+    const double aspect = inUnrolled.extentWidthPx / height;
+    if (!(aspect >= params.minAspect && aspect <= params.maxAspect)) return UnetVerdict::kImplausibleAspect;
+    const double minHeight = params.maxRangeM > 0 ? unrolledFyPx * params.minSignHeightM / params.maxRangeM : 0.0;
+    const double maxHeight =
+        params.minRangeM > 0 ? unrolledFyPx * params.maxSignHeightM / params.minRangeM : std::numeric_limits<double>::infinity();
+    if (!(height >= minHeight && height <= maxHeight)) return UnetVerdict::kImplausibleHeight;
+    return UnetVerdict::kAccepted;
+}
+
 bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const UnetCandidate& candidate,
-                          const UnetParams& params, Detection* out) {
+                          const UnetParams& params, Detection* out, UnetVerdict* verdict) {
     const int s = inputSize_;
+    // Zoom window side in network pixels: a multiple of 32 in [32, S].
+    const int win = params.zoomWindowPx > 0 ? std::clamp(params.zoomWindowPx / 32 * 32, 32, s) : s;
     cv::Rect2d target = candidate.boxInUnrolled;
     // When the mask reaches the crop border the sign is larger than the coarse blob suggested (e.g. the
     // blob was part of the plate): re-centre on the mask and zoom out, at most twice.
@@ -198,16 +257,17 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         const double side = std::max(params.zoomFactor * std::max(target.width, target.height),
                                      double(std::max(1, params.minCropPx)));
         const int sideI = std::max(1, static_cast<int>(std::lround(side)));
-        // Crop columns c0 .. c0+side-1 centred on the target centre (pixel-centre coordinates).
+        const double scale = double(sideI) / s;  // unrolled px per network px: the crop of `side` fills S
+        // Only the central win x win network pixels of that crop are run (same scale, less context).
+        const double windowSide = win * scale;  // unrolled px
         const double centreX = target.x + 0.5 * target.width, centreY = target.y + 0.5 * target.height;
-        const int c0 = static_cast<int>(std::lround(centreX - 0.5 * (sideI - 1)));
-        const int r0 = static_cast<int>(std::lround(centreY - 0.5 * (sideI - 1)));
-        const cv::Rect cropRect(c0, r0, sideI, sideI);
-        const cv::Rect inside = cropRect & cv::Rect(cv::Point(0, 0), unrolling.unrolledSize());
-        if (inside.area() == 0) return false;
-        // Crop pixels c0 .. c0+side-1: top-left edge (c0 - 0.5, r0 - 0.5), side/S unrolled px per network px.
-        const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(c0 - 0.5, r0 - 0.5), double(sideI) / s,
-                                              double(sideI) / s, s);
+        // Top-left pixel edge of the window, on the unrolled pixel grid's edges.
+        const double c0 = std::round(centreX - 0.5 * windowSide), r0 = std::round(centreY - 0.5 * windowSide);
+        const cv::Rect2d cropRect(c0, r0, windowSide, windowSide);
+        if ((cropRect & cv::Rect2d(-0.5, -0.5, unrolling.unrolledSize().width, unrolling.unrolledSize().height)).area() <= 0) {
+            return false;
+        }
+        const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(c0, r0), scale, scale, cv::Size(win, win));
         const std::vector<cv::Mat> prob = probabilities(square);
         const cv::Mat& p = prob[candidate.classIndex];
         const cv::Mat mask = p > params.maskThreshold;
@@ -219,7 +279,7 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         // The component nearest the crop centre (containing it, if any).
         int best = -1;
         double bestDistance = 1e300;
-        const double mid = 0.5 * (s - 1);
+        const double mid = 0.5 * (win - 1);
         for (int i = 1; i < n; ++i) {
             if (stats.at<int>(i, cv::CC_STAT_AREA) < std::max(1, params.minBlobAreaPx)) continue;
             const int bx = stats.at<int>(i, cv::CC_STAT_LEFT), by = stats.at<int>(i, cv::CC_STAT_TOP);
@@ -233,14 +293,23 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
             }
         }
         if (best < 0) return false;
-        const cv::Mat component = (labels == best) & mask;
+        // The sign's pixels: the component, grown by one network pixel where the probability exceeds the
+        // (lower) edge threshold: the network's 0.5 contour lies inside the face (heights ~3 % short).
+        const cv::Mat core = (labels == best) & mask;
+        cv::Mat component;  // a fresh Mat: assigning a MatExpr to one sharing core's data would overwrite core
+        if (params.edgeThreshold > 0 && params.edgeThreshold < params.maskThreshold) {
+            cv::Mat grown;
+            cv::dilate(core, grown, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+            component = grown & (p > params.edgeThreshold);
+        } else {
+            component = core;
+        }
         SliceMeasurement m = measureMask(component, params.slices);
         if (!m.valid) return false;
-        const double scale = double(sideI) / s;  // unrolled px per network px
-        const SliceMeasurement inUnrolled = m.mapped(scale, cv::Point2d(c0 - 0.5, r0 - 0.5));
+        const SliceMeasurement inUnrolled = m.mapped(scale, cv::Point2d(c0, r0));
         const int bx = stats.at<int>(best, cv::CC_STAT_LEFT), by = stats.at<int>(best, cv::CC_STAT_TOP);
         const int bw = stats.at<int>(best, cv::CC_STAT_WIDTH), bh = stats.at<int>(best, cv::CC_STAT_HEIGHT);
-        const bool touchesBorder = bx == 0 || by == 0 || bx + bw == s || by + bh == s;
+        const bool touchesBorder = bx == 0 || by == 0 || bx + bw == win || by + bh == win;
         if (touchesBorder && attempt < 2) {
             const cv::Rect2d grown = inUnrolled.box;
             // Only retry if the crop did not already cover the whole frame around the sign.
@@ -251,20 +320,35 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
                 continue;
             }
         }
+        const double meanProbability = cv::mean(p, core)[0];  // score: over the core, not the grown edge
+        const UnetVerdict v = verifyZoomedSign(inUnrolled, meanProbability, unrolling.unrolledIntrinsics().fy, params);
+        if (verdict) *verdict = v;
+        if (v != UnetVerdict::kAccepted) return false;
         out->kind = classNames_[candidate.classIndex];
         out->kindIndex = candidate.classIndex;
-        out->score = cv::mean(p, component)[0];
+        out->score = meanProbability;
         out->measurement = inUnrolled;
         return true;
     }
     return false;
 }
 
-std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params) {
+std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params,
+                                            double pitchRad) {
     CV_Assert(rgbRaw.type() == CV_8UC3 && rgbRaw.size() == unrolling.rawSize());
     RawPyramid raw(rgbRaw);
+    std::vector<UnetCandidate> candidates = coarseCandidates(raw, unrolling, params);
+    const size_t coarseCount = candidates.size();
+    // Far-band blobs that overlap a coarse blob are the same sign: the coarse one is zoomed already.
+    for (const auto& b : farBandCandidates(raw, unrolling, params, pitchRad)) {
+        bool seen = false;
+        for (size_t i = 0; i < coarseCount && !seen; ++i) {
+            seen = candidates[i].classIndex == b.classIndex && (candidates[i].boxInUnrolled & b.boxInUnrolled).area() > 0;
+        }
+        if (!seen) candidates.push_back(b);
+    }
     std::vector<Detection> detections;
-    for (const auto& candidate : coarseCandidates(raw, unrolling, params)) {
+    for (const auto& candidate : candidates) {
         Detection d;
         if (refine(raw, unrolling, candidate, params, &d)) detections.push_back(std::move(d));
     }

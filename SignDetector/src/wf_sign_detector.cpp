@@ -7,6 +7,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cstdlib>
+#include <cstddef>
 #include <cstring>
 #include <new>
 #include <string>
@@ -35,10 +36,11 @@ const char* wf_sign_detector_version(void) { return "1.0.0"; }
 
 int wf_detector_options_init(wf_detector_options* opts, unsigned int version) {
     if (opts == nullptr) return fail(WF_ERR_INVALID_ARGUMENT, "wf_detector_options_init: opts is NULL");
-    if (version != WF_DETECTOR_OPTIONS_VERSION) {
+    if (version != 1 && version != WF_DETECTOR_OPTIONS_VERSION) {
         return fail(WF_ERR_VERSION, "wf_detector_options_init: unsupported version " + std::to_string(version));
     }
-    std::memset(opts, 0, sizeof *opts);
+    // A version-1 caller's struct ends before the version-2 fields: never write past it.
+    std::memset(opts, 0, version == 1 ? offsetof(wf_detector_options, cascade_full_search) : sizeof *opts);
     opts->version = version;
     return WF_OK;
 }

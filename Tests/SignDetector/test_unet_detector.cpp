@@ -180,3 +180,62 @@ TEST(UnetDetector, SamplingFromRawEqualsUnrollingThenCropping) {
         EXPECT_LE(maxDiff, 2.0) << "roll " << roll;
     }
 }
+
+TEST(UnetVerification, TinyBlobFarFromSignAspectIsRejected) {
+    UnetParams params;
+    const double fy = 1602;
+    SliceMeasurement m;
+    m.valid = true;
+    // A 3 px tall sliver, 1 px wide: not an Exit sign at any plausible range.
+    m.medianHeightPx = 3;
+    m.extentWidthPx = 1;
+    EXPECT_EQ(verifyZoomedSign(m, 0.99, fy, params), UnetVerdict::kImplausibleAspect);
+    // Sign-like aspect but only 3 px tall: a 0.12 m face would be beyond 20 m.
+    m.extentWidthPx = 4.5;
+    EXPECT_EQ(verifyZoomedSign(m, 0.99, fy, params), UnetVerdict::kImplausibleHeight);
+    // Taller than a 0.5 m face at 0.5 m.
+    m.medianHeightPx = 2000;
+    m.extentWidthPx = 3000;
+    EXPECT_EQ(verifyZoomedSign(m, 0.99, fy, params), UnetVerdict::kImplausibleHeight);
+    // A plausible shape with a weak mask.
+    m.medianHeightPx = 40;
+    m.extentWidthPx = 62;
+    EXPECT_EQ(verifyZoomedSign(m, 0.7, fy, params), UnetVerdict::kLowProbability);
+}
+
+TEST(UnetVerification, FarSmallSignIsAccepted) {
+    UnetParams params;
+    const double fy = 1602;
+    SliceMeasurement m;
+    m.valid = true;
+    // A 0.21 x 0.33 m Exit sign at 15 m: 22.4 x 35 px; turned 50 degrees: 22.4 x 23 px.
+    m.medianHeightPx = fy * 0.21 / 15;
+    m.extentWidthPx = fy * 0.33 / 15;
+    EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, params), UnetVerdict::kAccepted);
+    m.extentWidthPx = fy * 0.33 * std::cos(50 * CV_PI / 180) / 15;
+    EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, params), UnetVerdict::kAccepted);
+}
+
+TEST(UnetDetector, FarBandPassFindsAFarSignAndNeedsThePitch) {
+    UnetDetector d = loadTiny();
+    const double pitch = 0.05;
+    const Scene s = portraitScene(9.0, 0.1, pitch, 23);
+    ASSERT_TRUE(s.truth.visible);
+    RawPyramid raw(s.rgbRaw);
+    UnetParams params;
+    const std::vector<UnetCandidate> band = d.farBandCandidates(raw, s.unrolling, params, pitch);
+    ASSERT_EQ(band.size(), 1u);
+    double minX = 1e9, maxX = -1e9;
+    for (const auto& p : s.truth.cornersRaw) {
+        const cv::Point2d q = s.unrolling.rawToUnrolled(p);
+        minX = std::min(minX, q.x);
+        maxX = std::max(maxX, q.x);
+    }
+    // Twice the coarse resolution: the blob's left edge within ~2 band pixels (~9 unrolled px).
+    EXPECT_NEAR(band[0].boxInUnrolled.x, minX, 10);
+    EXPECT_TRUE(d.farBandCandidates(raw, s.unrolling, params, std::nan("")).empty());
+    params.farBand = false;
+    EXPECT_TRUE(d.farBandCandidates(raw, s.unrolling, params, pitch).empty());
+    // The full pipeline with the pitch reports the sign once (coarse and band blobs merged).
+    EXPECT_EQ(d.detect(s.rgbRaw, s.unrolling, UnetParams{}, pitch).size(), 1u);
+}

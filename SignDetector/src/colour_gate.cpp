@@ -1,0 +1,172 @@
+#include "colour_gate.hpp"
+
+#include "image_input.hpp"
+
+#include <opencv2/imgproc.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+
+namespace wf::sign {
+
+namespace {
+
+cv::Mat wrapPlane(const uint8_t* data, int width, int height, size_t stride, int type) {
+    return cv::Mat(height, width, type, const_cast<uint8_t*>(data), stride);
+}
+
+/// Integer shrink factor for a frame of `width` x `height` (see ColourGateParams::workingLongSidePx).
+int shrinkFactor(int width, int height, const ColourGateParams& params) {
+    return std::max(1, std::max(width, height) / std::max(1, params.workingLongSidePx));
+}
+
+}  // namespace
+
+cv::Mat redGreenOpponent(const wf_image& image, const ColourGateParams& params, cv::Point2d* rawPerWorkingPx) {
+    const int format = enumValue(image.format);
+    const int factor = shrinkFactor(image.width, image.height, params);
+    const cv::Size working(std::max(1, image.width / factor), std::max(1, image.height / factor));
+    *rawPerWorkingPx = {double(image.width) / working.width, double(image.height) / working.height};
+    cv::Mat small, opponent;
+    switch (format) {
+        case WF_PIXEL_RGB8:
+        case WF_PIXEL_BGRA8: {
+            const bool rgb = format == WF_PIXEL_RGB8;
+            const cv::Mat full = wrapPlane(image.data, image.width, image.height, image.stride, rgb ? CV_8UC3 : CV_8UC4);
+            cv::resize(full, small, working, 0, 0, cv::INTER_AREA);
+            small.convertTo(small, CV_32F);
+            // d = R - G: RGB8 channels (R, G, B), BGRA8 channels (B, G, R, A).
+            if (rgb) cv::transform(small, opponent, cv::Matx13f(1.f, -1.f, 0.f));
+            else cv::transform(small, opponent, cv::Matx14f(0.f, -1.f, 1.f, 0.f));
+            return opponent;
+        }
+        case WF_PIXEL_NV12: {
+            if (image.data_uv == nullptr) return {};
+            const cv::Mat chroma =
+                wrapPlane(image.data_uv, (image.width + 1) / 2, (image.height + 1) / 2, image.stride_uv, CV_8UC2);
+            cv::resize(chroma, small, working, 0, 0, cv::INTER_AREA);
+            small.convertTo(small, CV_32F);
+            // Full-range BT.601: R - G = (Y + 1.402 Cr') - (Y - 0.344136 Cb' - 0.714136 Cr'), Cb' = Cb - 128.
+            const float kb = 0.344136f, kr = 1.402f + 0.714136f;
+            cv::transform(small, opponent, cv::Matx13f(kb, kr, -128.f * (kb + kr)));
+            return opponent;
+        }
+        default: return {};  // GRAY8: no colour
+    }
+}
+
+ColourBlobs findColourBlobs(const wf_image& image, const ColourGateParams& params) {
+    ColourBlobs blobs;
+    cv::Point2d scale;
+    const cv::Mat opponent = redGreenOpponent(image, params, &scale);
+    if (opponent.empty()) return blobs;
+    double minD = 0, maxD = 0;
+    cv::minMaxLoc(opponent, &minD, &maxD);
+    if (std::max(-minD, maxD) < params.minColourfulness) return blobs;  // a gray frame: no usable colour
+    blobs.colourAvailable = true;
+
+    const int k = std::max(3, params.localWindowPx | 1);
+    cv::Mat localMean, contrast, mask;
+    cv::blur(opponent, localMean, cv::Size(k, k), cv::Point(-1, -1), cv::BORDER_REFLECT);
+    cv::absdiff(opponent, localMean, contrast);
+    cv::compare(contrast, params.minContrast, mask, cv::CMP_GE);
+    cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+    auto addBlob = [&](int x, int y, int w, int h, bool whole) {
+        blobs.wholeComponent.push_back(whole);
+        // Working pixel j covers raw [j s - 0.5, (j + 1) s - 0.5] (pixel-centre convention).
+        blobs.rawBoxes.emplace_back(x * scale.x - 0.5, y * scale.y - 0.5, w * scale.x, h * scale.y);
+    };
+    const int tile = std::max(4, params.tileSidePx);
+    for (int i = 1; i < n; ++i) {
+        const int x = stats.at<int>(i, cv::CC_STAT_LEFT), y = stats.at<int>(i, cv::CC_STAT_TOP);
+        const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+        if (std::max(w, h) <= tile) {
+            addBlob(x, y, w, h, true);
+            continue;
+        }
+        // A large component (a line across the frame, the outline of a coloured wall or door): its bounding
+        // box would cover far more than its pixels, so it is cut into tile x tile cells and each cell's part
+        // of the component becomes a blob of its own.
+        const int tilesX = (w + tile - 1) / tile, tilesY = (h + tile - 1) / tile;
+        std::vector<cv::Vec4i> extent(static_cast<size_t>(tilesX) * tilesY, cv::Vec4i(INT32_MAX, INT32_MAX, -1, -1));
+        for (int r = y; r < y + h; ++r) {
+            const int* row = labels.ptr<int>(r);
+            for (int c = x; c < x + w; ++c) {
+                if (row[c] != i) continue;
+                cv::Vec4i& e = extent[static_cast<size_t>((r - y) / tile) * tilesX + (c - x) / tile];
+                e[0] = std::min(e[0], c), e[1] = std::min(e[1], r), e[2] = std::max(e[2], c), e[3] = std::max(e[3], r);
+            }
+        }
+        for (const cv::Vec4i& e : extent) {
+            if (e[2] >= 0) addBlob(e[0], e[1], e[2] - e[0] + 1, e[3] - e[1] + 1, false);
+        }
+    }
+    return blobs;
+}
+
+GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, int lastRow,
+                         const ColourGateParams& params) {
+    GateDecision decision;
+    if (!params.enabled || !blobs.colourAvailable) return decision;
+    const cv::Size canvas = unrolling.unrolledSize();
+    const int rows = lastRow < 0 ? canvas.height : std::min(lastRow, canvas.height);
+    const cv::Rect searched(0, 0, canvas.width, std::max(0, rows));
+    decision.fullSearch = false;
+    if (searched.area() == 0) return decision;
+
+    std::vector<SearchRegion> regions;
+    regions.reserve(blobs.rawBoxes.size());
+    for (size_t bi = 0; bi < blobs.rawBoxes.size(); ++bi) {
+        const cv::Rect2d& b = blobs.rawBoxes[bi];
+        // Bounding box of the blob's four raw corners in the unrolled image (pixel edges).
+        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+        const cv::Point2d corners[4] = {{b.x, b.y}, {b.x + b.width, b.y}, {b.x, b.y + b.height},
+                                        {b.x + b.width, b.y + b.height}};
+        for (const cv::Point2d& c : corners) {
+            const cv::Point2d u = unrolling.rawToUnrolled(c);
+            x0 = std::min(x0, u.x), y0 = std::min(y0, u.y), x1 = std::max(x1, u.x), y1 = std::max(y1, u.y);
+        }
+        const double margin = std::max(double(params.minMarginPx), params.marginFactor * std::max(x1 - x0, y1 - y0));
+        // Edges -> integer pixel indices: pixel i covers [i - 0.5, i + 0.5].
+        const int left = static_cast<int>(std::floor(x0 - margin + 0.5));
+        const int top = static_cast<int>(std::floor(y0 - margin + 0.5));
+        const int right = static_cast<int>(std::ceil(x1 + margin - 0.5));   // last column, inclusive
+        const int bottom = static_cast<int>(std::ceil(y1 + margin - 0.5));  // last row, inclusive
+        const cv::Rect r = cv::Rect(left, top, right - left + 1, bottom - top + 1) & searched;
+        const bool whole = bi < blobs.wholeComponent.size() && blobs.wholeComponent[bi];
+        const int minWidth = whole ? static_cast<int>(params.minWindowBlobFraction * (x1 - x0)) : 0;
+        if (r.area() > 0) regions.push_back({r, minWidth});
+    }
+    // Merge overlapping regions when the union costs no more than searching both (a sign whose letters fell
+    // into several blobs, a sign and its glow): each detectMultiScale call then sees the whole sign once.
+    // Regions whose union would be larger (an L-shaped chain of tiles) stay apart; suppressOverlaps removes
+    // the duplicate boxes their overlap may produce.
+    for (bool merged = true; merged;) {
+        merged = false;
+        for (size_t i = 0; i < regions.size() && !merged; ++i) {
+            for (size_t j = i + 1; j < regions.size(); ++j) {
+                const cv::Rect &a = regions[i].unrolledRect, &b = regions[j].unrolledRect, both = a | b;
+                if ((a & b).area() > 0 && both.area() <= a.area() + b.area()) {
+                    regions[i] = {both, std::min(regions[i].minWindowWidthPx, regions[j].minWindowWidthPx)};
+                    regions.erase(regions.begin() + static_cast<std::ptrdiff_t>(j));
+                    merged = true;
+                    break;
+                }
+            }
+        }
+    }
+    double area = 0;
+    for (const SearchRegion& r : regions) area += r.unrolledRect.area();
+    if (static_cast<int>(regions.size()) > params.maxRegions || area > params.maxAreaFraction * searched.area()) {
+        decision.fullSearch = true;
+        return decision;
+    }
+    decision.regions = std::move(regions);
+    return decision;
+}
+
+}  // namespace wf::sign

@@ -1,0 +1,102 @@
+// Colour gate for the cascade (detector A): Exit signs have saturated red or green lettering (lit signs
+// glow), so the cascade only needs to search where the frame has a strong local red-green contrast.
+//
+// Method (ours; a cheap colour pre-filter in front of a Viola-Jones cascade, the same idea as the colour
+// candidate stage of classic traffic-sign detectors): at a low working resolution (long side about 320 px),
+// the red-green opponent difference d = R - G (Lab a*-like axis: red letters d > 0, green or teal letters
+// d < 0; blue, grey and white surfaces d ~ 0) minus its local mean over a k x k box, so a global colour cast
+// (white balance, tinted walls) cancels; pixels with |d - mean_k(d)| >= threshold form the mask, which is
+// dilated (merges the letters of one sign) and split into 8-connected components (large ones cut into tiles).
+// Each blob is mapped
+// to the unrolled image, expanded by a margin large enough to hold the whole sign face, and overlapping
+// regions are merged. The cascade then runs on those regions only (CascadeDetector::detectInRegions).
+//
+// Degrades to the full search when the frame has no colour (GRAY8, NV12 without chroma, or an RGB frame
+// whose R - G is ~0 everywhere) or when the regions would cover most of the searched image.
+#pragma once
+
+#include "unroll.hpp"
+#include "wf_sign_detector.h"
+
+#include <opencv2/core.hpp>
+
+#include <vector>
+
+namespace wf::sign {
+
+/// Parameters of the colour gate. Sizes are in working-resolution pixels unless the name says otherwise.
+struct ColourGateParams {
+    /// When false, the cascade always searches the whole frame.
+    bool enabled = true;
+    /// Long side of the working resolution, pixels; the raw frame is shrunk by the integer factor
+    /// max(1, floor(long side / this)) with INTER_AREA (VGA and 1920 x 1440 -> 320 x 240).
+    int workingLongSidePx = 320;
+    /// Side of the box over which the local mean of R - G is taken, working pixels (odd).
+    int localWindowPx = 31;
+    /// Minimum |(R - G) - local mean|, 8-bit levels, for a mask pixel. On the rendered test set the weakest
+    /// sign reached 38 (loc. window 31), sign-free frames had a median of 0.2 % of their pixels above 25.
+    double minContrast = 25.0;
+    /// Frames whose max |R - G| at working resolution is below this (8-bit levels) have no usable colour.
+    double minColourfulness = 8.0;
+    /// Components larger than this (either side, working pixels) are cut into cells of this side, each cell's
+    /// part a blob of its own (long lines and outlines of coloured walls would otherwise cover the frame).
+    int tileSidePx = 16;
+    /// Margin added on each side of a blob, as a multiple of its larger side in unrolled pixels (the letters
+    /// cover about 2/3 of the face's width and 3/4 of its height; the cascade's box is 1.1 x the face) ...
+    double marginFactor = 0.5;
+    /// ... but at least this many unrolled pixels (about the cascade's training window width).
+    int minMarginPx = 24;
+    /// Smallest searched window width as a fraction of a compact blob's width (unrolled pixels); 0 = off.
+    double minWindowBlobFraction = 0.6;
+    /// Full search when the merged regions cover more than this fraction of the searched image (the
+    /// regions' own calls would then cost about as much as one call on the whole image).
+    double maxAreaFraction = 0.8;
+    /// Full search when there are more regions than this after merging.
+    int maxRegions = 64;
+};
+
+/// Components of the colour mask in raw pixel coordinates (pixel-centre convention: edges at i - 0.5).
+struct ColourBlobs {
+    /// False when the frame carries no colour (GRAY8, NV12 without chroma, or max |R - G| below
+    /// minColourfulness): the caller must search the whole frame.
+    bool colourAvailable = false;
+    /// Bounding boxes of the mask components in raw pixels (edges), in no particular order.
+    std::vector<cv::Rect2d> rawBoxes;
+    /// Per box: true when it is a whole (compact) component, false for a tile of a large one.
+    std::vector<bool> wholeComponent;
+};
+
+/// One region for the cascade: a rectangle of the unrolled image, unrolled pixels (integer pixel indices:
+/// columns x .. x + width - 1).
+struct SearchRegion {
+    cv::Rect unrolledRect;
+    /// Smallest window width worth searching in this region, unrolled pixels (0 = the cascade's own): a
+    /// compact blob is (part of) a sign's lettering, so the sign's box is at least about as wide as the
+    /// blob (ColourGateParams::minWindowBlobFraction of it); tiles of large components give 0.
+    int minWindowWidthPx = 0;
+};
+
+/// Result of gating one frame for the cascade.
+struct GateDecision {
+    /// True: search the whole (row-limited) unrolled image; `regions` is then empty.
+    bool fullSearch = true;
+    /// Regions to search when fullSearch is false (may be empty: nothing red or green, nothing to search).
+    std::vector<SearchRegion> regions;
+};
+
+/// The red-green opponent image d = R - G of `image` at working resolution, CV_32FC1; empty when the format
+/// carries no colour. RGB8 / BGRA8 are shrunk with INTER_AREA then differenced; NV12 uses its CbCr plane
+/// (full-range BT.601: R - G = 0.344136 Cb' + 2.116136 Cr', luma cancels). `rawPerWorkingPx` receives the raw
+/// pixels per working pixel in x and y.
+cv::Mat redGreenOpponent(const wf_image& image, const ColourGateParams& params, cv::Point2d* rawPerWorkingPx);
+
+/// Mask components of a frame (see the file comment). Never throws for a valid wf_image.
+ColourBlobs findColourBlobs(const wf_image& image, const ColourGateParams& params);
+
+/// Maps raw-pixel blobs into the unrolled image, expands each by its margin, clips to columns
+/// [0, unrolledSize.width) and rows [0, lastRow), merges overlapping regions, and decides between the
+/// regions and the full search. `lastRow` < 0 means all rows.
+GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, int lastRow,
+                         const ColourGateParams& params);
+
+}  // namespace wf::sign

@@ -1,0 +1,210 @@
+// Tests of src/colour_gate and CascadeDetector::detectInRegions: a red sign yields a region around it (landscape
+// and portrait, RGB8 and NV12), frames without colour fall back to the full search, a colour frame with nothing
+// red or green yields no region, and boxes found in a region map back to full-frame pixels exactly.
+#include "cascade_detector.hpp"
+#include "colour_gate.hpp"
+#include "synthetic_scene.hpp"
+#include "test_paths.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <vector>
+
+using namespace wf::sign;
+using wf::sign::testing::referenceCascadePath;
+
+namespace {
+
+struct SignFrame {
+    cv::Mat rgb;  // owns the pixels of `image`
+    wf_image image{};
+    synthetic::Camera camera;
+    synthetic::RenderedSign truth;
+};
+
+/// VGA RGB8 frame with a red-on-white Exit sign at `rangeMeters`, camera roll `rollRad`.
+SignFrame redSignFrame(double rangeMeters, double rollRad, double bearingRad = 0.1) {
+    SignFrame f;
+    synthetic::Camera cam;
+    cam.rollRad = rollRad;
+    f.camera = cam.resized(rollRad == 0 ? cv::Size(640, 480) : cv::Size(480, 640));
+    if (rollRad != 0) {  // portrait: the raw frame is 480 x 640 with the intrinsics of that size
+        f.camera = synthetic::Camera{};
+        f.camera.size = {480, 640};
+        f.camera.fx = f.camera.fy = 534;
+        f.camera.cx = 239.5;
+        f.camera.cy = 319.5;
+        f.camera.rollRad = rollRad;
+    }
+    cv::Mat bgr = synthetic::renderBackground(f.camera, 21);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = rangeMeters;
+    sign.bearingRad = bearingRad;
+    sign.bottomAboveCameraMeters = 0.5;
+    f.truth = synthetic::drawSign(bgr, f.camera, sign);
+    cv::cvtColor(bgr, f.rgb, cv::COLOR_BGR2RGB);
+    f.image = wf_image{f.rgb.data, f.rgb.cols, f.rgb.rows, f.rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    return f;
+}
+
+Unrolling unrollingOf(const SignFrame& f) {
+    const synthetic::Camera& c = f.camera;
+    return Unrolling::forRoll(c.rollRad, Intrinsics{c.fx, c.fy, c.cx, c.cy}, c.size);
+}
+
+/// The sign's bounding box in the unrolled image (pixel edges).
+cv::Rect2d unrolledSignBox(const SignFrame& f, const Unrolling& u) {
+    std::vector<cv::Point2f> pts;
+    for (const auto& c : f.truth.cornersRaw) {
+        const cv::Point2d p = u.rawToUnrolled(c);
+        pts.emplace_back(static_cast<float>(p.x), static_cast<float>(p.y));
+    }
+    return cv::boundingRect(pts);
+}
+
+bool someRegionContains(const GateDecision& d, const cv::Rect2d& box) {
+    for (const auto& r : d.regions) {
+        const cv::Rect2d rr(r.unrolledRect.x - 0.5, r.unrolledRect.y - 0.5, r.unrolledRect.width, r.unrolledRect.height);
+        if ((rr & box) == box) return true;
+    }
+    return false;
+}
+
+}  // namespace
+
+TEST(ColourGate, RedSignYieldsARegionAroundIt) {
+    for (double range : {2.0, 4.0, 8.0}) {
+        SignFrame f = redSignFrame(range, 0.0);
+        ASSERT_TRUE(f.truth.visible);
+        const ColourGateParams params;
+        const ColourBlobs blobs = findColourBlobs(f.image, params);
+        EXPECT_TRUE(blobs.colourAvailable);
+        EXPECT_FALSE(blobs.rawBoxes.empty());
+        const Unrolling u = unrollingOf(f);
+        const GateDecision d = gateRegions(blobs, u, -1, params);
+        EXPECT_FALSE(d.fullSearch) << "range " << range;
+        EXPECT_TRUE(someRegionContains(d, unrolledSignBox(f, u))) << "range " << range;
+        double area = 0;
+        for (const auto& r : d.regions) area += r.unrolledRect.area();
+        EXPECT_LT(area, 0.5 * u.unrolledSize().area()) << "the gate must cut the searched area";
+    }
+}
+
+TEST(ColourGate, PortraitFrameRegionsAreInUnrolledPixels) {
+    SignFrame f = redSignFrame(3.0, -1.58);
+    ASSERT_TRUE(f.truth.visible);
+    const ColourGateParams params;
+    const Unrolling u = unrollingOf(f);
+    const GateDecision d = gateRegions(findColourBlobs(f.image, params), u, -1, params);
+    ASSERT_FALSE(d.fullSearch);
+    EXPECT_TRUE(someRegionContains(d, unrolledSignBox(f, u)));
+    for (const auto& r : d.regions) {
+        EXPECT_EQ(r.unrolledRect & cv::Rect(cv::Point(), u.unrolledSize()), r.unrolledRect) << "clipped to the canvas";
+    }
+}
+
+TEST(ColourGate, Nv12ChromaGivesTheSameRegion) {
+    SignFrame f = redSignFrame(3.0, 0.0);
+    // Full-range BT.601 NV12 of the frame: Y plane plus interleaved Cb, Cr at half resolution.
+    cv::Mat ycrcb;
+    cv::cvtColor(f.rgb, ycrcb, cv::COLOR_RGB2YCrCb);
+    std::vector<cv::Mat> ch;
+    cv::split(ycrcb, ch);
+    cv::Mat cr, cb, uv;
+    cv::resize(ch[1], cr, {f.rgb.cols / 2, f.rgb.rows / 2}, 0, 0, cv::INTER_AREA);
+    cv::resize(ch[2], cb, {f.rgb.cols / 2, f.rgb.rows / 2}, 0, 0, cv::INTER_AREA);
+    cv::merge(std::vector<cv::Mat>{cb, cr}, uv);
+    const wf_image nv12{ch[0].data, ch[0].cols, ch[0].rows, ch[0].step, WF_PIXEL_NV12, uv.data, uv.step};
+    const ColourGateParams params;
+    const Unrolling u = unrollingOf(f);
+    const GateDecision d = gateRegions(findColourBlobs(nv12, params), u, -1, params);
+    ASSERT_FALSE(d.fullSearch);
+    EXPECT_TRUE(someRegionContains(d, unrolledSignBox(f, u)));
+
+    // Without its chroma plane the same frame is luma only: full search.
+    const wf_image lumaOnly{ch[0].data, ch[0].cols, ch[0].rows, ch[0].step, WF_PIXEL_NV12, nullptr, 0};
+    const ColourBlobs none = findColourBlobs(lumaOnly, params);
+    EXPECT_FALSE(none.colourAvailable);
+    EXPECT_TRUE(gateRegions(none, u, -1, params).fullSearch);
+}
+
+TEST(ColourGate, FramesWithoutColourFallBackToTheFullSearch) {
+    SignFrame f = redSignFrame(3.0, 0.0);
+    const ColourGateParams params;
+    const Unrolling u = unrollingOf(f);
+    // GRAY8.
+    cv::Mat gray;
+    cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
+    const wf_image grayImage{gray.data, gray.cols, gray.rows, gray.step, WF_PIXEL_GRAY8, nullptr, 0};
+    EXPECT_FALSE(findColourBlobs(grayImage, params).colourAvailable);
+    EXPECT_TRUE(gateRegions(findColourBlobs(grayImage, params), u, -1, params).fullSearch);
+    // RGB8 whose three channels are equal (a gray image handed over as RGB): no usable colour either.
+    cv::Mat grayRgb;
+    cv::cvtColor(gray, grayRgb, cv::COLOR_GRAY2RGB);
+    const wf_image grayAsRgb{grayRgb.data, grayRgb.cols, grayRgb.rows, grayRgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    EXPECT_FALSE(findColourBlobs(grayAsRgb, params).colourAvailable);
+    EXPECT_TRUE(gateRegions(findColourBlobs(grayAsRgb, params), u, -1, params).fullSearch);
+    // The gate switched off: full search even with colour.
+    ColourGateParams off;
+    off.enabled = false;
+    EXPECT_TRUE(gateRegions(findColourBlobs(f.image, off), u, -1, off).fullSearch);
+}
+
+TEST(ColourGate, ColourFrameWithNothingRedOrGreenHasNoRegion) {
+    // A teal-tinted wall (R - G = -20 everywhere: a colour cast, which the local mean cancels) with noise and a
+    // blue door: colour, but no local red-green contrast.
+    cv::Mat rgb(480, 640, CV_8UC3, cv::Scalar(110, 130, 140));
+    cv::Mat noise(rgb.size(), CV_8UC1);
+    cv::RNG(3).fill(noise, cv::RNG::UNIFORM, 0, 12);
+    std::vector<cv::Mat> ch;
+    cv::split(rgb, ch);
+    for (auto& c : ch) c += noise;  // the same noise in R and G: texture without red-green contrast
+    cv::merge(ch, rgb);
+    cv::rectangle(rgb, cv::Rect(300, 150, 120, 300), cv::Scalar(40, 40, 160), cv::FILLED);
+    const wf_image image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    const ColourGateParams params;
+    const ColourBlobs blobs = findColourBlobs(image, params);
+    EXPECT_TRUE(blobs.colourAvailable);
+    const Unrolling u = Unrolling::forRoll(0.0, Intrinsics{534, 534, 319.5, 239.5}, rgb.size());
+    const GateDecision d = gateRegions(blobs, u, -1, params);
+    EXPECT_FALSE(d.fullSearch);
+    EXPECT_TRUE(d.regions.empty());
+}
+
+TEST(ColourGate, RegionsAreClippedToTheSearchRows) {
+    SignFrame f = redSignFrame(3.0, 0.0);
+    const ColourGateParams params;
+    const Unrolling u = unrollingOf(f);
+    const ColourBlobs blobs = findColourBlobs(f.image, params);
+    const int lastRow = 200;
+    for (const auto& r : gateRegions(blobs, u, lastRow, params).regions) EXPECT_LE(r.unrolledRect.br().y, lastRow);
+    EXPECT_TRUE(gateRegions(blobs, u, 0, params).regions.empty());
+}
+
+TEST(ColourGate, BoxesFoundInARegionMapBackExactly) {
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    SignFrame f = redSignFrame(2.5, 0.0, 0.0);
+    cv::Mat gray;
+    cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
+    CascadeParams params;
+    params.minNeighbors = 1;
+    const cv::Rect region(150, 60, 300, 220);
+    const std::vector<Detection> inRegion = d.detectInRegions(gray, {SearchRegion{region, 0}}, params);
+    const cv::Mat crop = gray(region).clone();
+    const std::vector<Detection> onCrop = d.detect(crop, params);
+    ASSERT_EQ(inRegion.size(), onCrop.size());
+    ASSERT_FALSE(onCrop.empty()) << "the reference cascade finds the drawn sign (see test_cascade_detector)";
+    for (size_t i = 0; i < onCrop.size(); ++i) {
+        EXPECT_DOUBLE_EQ(inRegion[i].measurement.box.x, onCrop[i].measurement.box.x + region.x);
+        EXPECT_DOUBLE_EQ(inRegion[i].measurement.box.y, onCrop[i].measurement.box.y + region.y);
+        EXPECT_DOUBLE_EQ(inRegion[i].measurement.box.width, onCrop[i].measurement.box.width);
+        EXPECT_DOUBLE_EQ(inRegion[i].measurement.box.height, onCrop[i].measurement.box.height);
+        EXPECT_DOUBLE_EQ(inRegion[i].measurement.medianBottomEdgePx, onCrop[i].measurement.medianBottomEdgePx + region.y);
+        EXPECT_DOUBLE_EQ(inRegion[i].measurement.centerColumnPx, onCrop[i].measurement.centerColumnPx + region.x);
+    }
+    // A region with a minimum window wider than the region itself searches nothing.
+    EXPECT_TRUE(d.detectInRegions(gray, {SearchRegion{region, 400}}, params).empty());
+}
