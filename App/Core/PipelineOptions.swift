@@ -42,6 +42,11 @@ public struct PipelineOptions: Sendable {
         o.maxParticles = max(o.maxParticles, 100_000)
         return o
     }()
+    /// Spread of the compass prior on the camera heading, degrees (indoor magnetic disturbance: the
+    /// simulator's field has a 15-degree standard deviation, clipped at 30). Used once, at the first frame with
+    /// a compass reading, when the map knows its north (`Building.compassHeadingOfMapNorthDeg`); a fifth of the
+    /// prior stays uniform over all headings (LocalizerCore kCompassUniformShare). nil = no compass prior.
+    public var compassPriorSigmaDeg: Double? = 30
     /// Guidance settings.
     public var navigator: NavigatorOptions = NavigatorOptions()
     /// Random seed of the particle filter (replays are deterministic for a seed).

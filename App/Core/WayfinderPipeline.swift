@@ -34,6 +34,7 @@ public final class WayfinderPipeline {
     private var navigator: Navigator?
     private var lastDetectionT = -Double.infinity
     private var lastAltitude: Double?
+    private var compassPriorApplied = false
 
     /// Creates the pipeline and initializes the localizer from the start prior (floor only, or a chosen
     /// start place). Throws when the floor, start or destination is unknown, or a detector model is missing.
@@ -71,6 +72,7 @@ public final class WayfinderPipeline {
             warnings.append("t=\(frame.t): camera pose is not finite; motion update skipped")
             localizer.predict(VIOSample(t: frame.t, east: .nan, north: .nan, yawRad: .nan, tracking: .notAvailable))
         }
+        applyCompassPriorIfDue(frame)
         if let altitude = frame.relativeAltitudeMeters, altitude.isFinite {
             localizer.updateAltitude(relativeAltitudeMeters: altitude, t: frame.t)
         }
@@ -102,6 +104,20 @@ public final class WayfinderPipeline {
         }
         return PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
                               events: events, warnings: warnings)
+    }
+
+    /// Gives the localizer the compass prior once, at the first frame with a finite compass reading, when the
+    /// map knows where its north is and the options enable it. The reading is the camera's heading in degrees
+    /// clockwise from magnetic north; in the map frame (radians counter-clockwise from +x) that is
+    /// pi/2 - (reading - compassHeadingOfMapNorthDeg) in radians.
+    private func applyCompassPriorIfDue(_ frame: PipelineFrame) {
+        guard !compassPriorApplied, let sigmaDeg = options.compassPriorSigmaDeg, sigmaDeg > 0,
+              let northDeg = building.compassHeadingOfMapNorthDeg,
+              let readingDeg = frame.compassHeadingDeg, readingDeg.isFinite, frame.cameraPose != nil else { return }
+        compassPriorApplied = true
+        let headingInMapRad = Double.pi / 2 - (readingDeg - northDeg) * Double.pi / 180
+        localizer.setCompassPrior(headingInMapRad: atan2(sin(headingInMapRad), cos(headingInMapRad)),
+                                  sigmaRad: sigmaDeg * Double.pi / 180)
     }
 
     /// "Where am I?" on request.

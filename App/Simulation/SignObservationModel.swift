@@ -70,7 +70,10 @@ struct SignObservationModel {
             let dx = sign.position.x - s.position.x, dy = sign.position.y - s.position.y
             let r = hypot(dx, dy)
             guard r >= parameters.minRangeMeters, r <= parameters.maxRangeMeters else { continue }
-            if !sign.doubleSided && sign.facing.x * dx + sign.facing.y * dy >= 0 { continue }
+            // cos of the angle between the face normal and the sign-to-camera direction (-dx, -dy) / r.
+            let facingLength = max(1e-9, hypot(sign.facing.x, sign.facing.y))
+            let cosView = -(sign.facing.x * dx + sign.facing.y * dy) / (r * facingLength)
+            if (sign.doubleSided ? abs(cosView) : cosView) < cos(radians(parameters.maxViewAngleFromNormalDeg)) { continue }
             let mount = sign.mountingHeightMeters ?? Self.defaultMountingHeightMeters
             guard let px = Self.project((sign.position.x, sign.position.y, mount + sign.heightMeters / 2), pose: pose, intrinsics: k),
                   px.u >= mu, px.u <= Double(k.width) - mu, px.v >= mv, px.v <= Double(k.height) - mv else { continue }

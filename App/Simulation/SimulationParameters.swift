@@ -170,6 +170,10 @@ public struct DetectorParameters: Codable, Sendable, Equatable {
     public var motionBlurTurnRateDegPerSecond = 60.0
     /// False positives per processed frame (e.g. a red light taken for a sign).
     public var falsePositivesPerFrame = 1.0 / 300.0
+    /// Largest angle between the sign's face normal and the line to the camera at which it is still detected,
+    /// degrees: seen more obliquely, a sign's face is foreshortened to a sliver (cos 75 degrees = 0.26 of its
+    /// width) that no detector finds. Double-sided signs are measured against the nearer face.
+    public var maxViewAngleFromNormalDeg = 75.0
     /// Fraction of the image's half-width kept as a margin: a sign whose centre projects closer to the image
     /// border than this is not detected (it is cut off).
     public var imageMargin = 0.03
@@ -230,6 +234,9 @@ extension SimulationParameters {
         guard w.wallClearanceMeters >= 0 else { throw bad("walker wallClearanceMeters must be non-negative") }
         guard detector.maxRangeMeters > detector.minRangeMeters, detector.rangeLogSigma >= 0, detector.bearingSigmaDeg >= 0 else {
             throw bad("detector ranges must satisfy min < max and noise must be non-negative")
+        }
+        guard detector.maxViewAngleFromNormalDeg > 0, detector.maxViewAngleFromNormalDeg <= 90 else {
+            throw bad("detector maxViewAngleFromNormalDeg must be in (0, 90]")
         }
         guard (0...1).contains(detector.falsePositivesPerFrame) else { throw bad("detector falsePositivesPerFrame must be in 0...1") }
         guard barometer.updateRateHz > 0 else { throw bad("barometer updateRateHz must be positive") }

@@ -56,7 +56,8 @@ public struct SimulationScenario: Codable, Sendable, Equatable {
     /// Rate of rendered images when `images` is set, Hz (rounded to a whole frame stride). Default 2.
     public var imageRateHz: Double
     /// Angle from magnetic north to the map's +y axis, degrees clockwise (what a compass reads when facing map
-    /// north, before disturbance). nil draws it from the seed.
+    /// north, before disturbance). nil takes the map's `compassHeadingOfMapNorthDeg`, or draws it from the seed
+    /// when the map has none (the localizer then knows no north either).
     public var mapNorthOffsetDeg: Double?
 
     /// Creates a scenario; every optional setting has its documented default.

@@ -170,7 +170,7 @@ public enum WalkSimulator {
             .run(times: states.map(\.t), altitudes: states.map(\.altitudeMeters), rng: &baroRng)
         var compassRng = SeededRandom(seed: scenario.seed, stream: RandomStream.compass.rawValue)
         let compassModel = CompassModel(parameters: parameters.compass)
-        let northOffset = scenario.mapNorthOffsetDeg ?? compassRng.uniform(0, 360)
+        let northOffset = scenario.mapNorthOffsetDeg ?? building.compassHeadingOfMapNorthDeg ?? compassRng.uniform(0, 360)
         var fields: [String: CompassModel.Field] = [:]
         for f in building.floors { fields[f.id] = compassModel.makeField(rng: &compassRng) }
 

@@ -111,7 +111,7 @@ enum LocalizerBridge {
             adaptiveParticleCount: o.adaptive_particle_count != 0, rangeSigmaBaseMeters: o.range_sigma_base_m,
             rangeSigmaPerMeter: o.range_sigma_per_meter, bearingSigmaRad: o.bearing_sigma_rad,
             clutterProbability: o.clutter_probability, wallClearanceMeters: o.wall_clearance_m,
-            gridCellMeters: o.grid_cell_m)
+            gridCellMeters: o.grid_cell_m, maxViewAngleFromNormalRad: o.max_view_angle_from_normal_rad)
     }
 
     static func cOptions(_ s: LocalizerOptions) throws -> wf_localizer_options {
@@ -134,6 +134,7 @@ enum LocalizerBridge {
         o.clutter_probability = s.clutterProbability
         o.wall_clearance_m = s.wallClearanceMeters
         o.grid_cell_m = s.gridCellMeters
+        o.max_view_angle_from_normal_rad = s.maxViewAngleFromNormalRad
         return o
     }
 

@@ -86,6 +86,9 @@ public struct LocalizerOptions: Sendable {
     public var wallClearanceMeters: Double
     /// Cell of the visibility / walkable grids, meters. Default 0.25.
     public var gridCellMeters: Double
+    /// A sign is expected to be seen only from at most this angle off its face normal, radians. Default 80
+    /// degrees (more obliquely the face is a sliver no detector finds); pi/2 = from anywhere in front.
+    public var maxViewAngleFromNormalRad: Double
 
     /// The defaults of the C core.
     public init() {
@@ -95,14 +98,15 @@ public struct LocalizerOptions: Sendable {
     init(particleCount: Int, minParticles: Int, maxParticles: Int, horizontalFieldOfViewRad: Double,
          maxSignRangeMeters: Double, negativeInformation: Bool, recovery: Bool, adaptiveParticleCount: Bool,
          rangeSigmaBaseMeters: Double, rangeSigmaPerMeter: Double, bearingSigmaRad: Double,
-         clutterProbability: Double, wallClearanceMeters: Double, gridCellMeters: Double) {
+         clutterProbability: Double, wallClearanceMeters: Double, gridCellMeters: Double,
+         maxViewAngleFromNormalRad: Double) {
         self.particleCount = particleCount; self.minParticles = minParticles; self.maxParticles = maxParticles
         self.horizontalFieldOfViewRad = horizontalFieldOfViewRad; self.maxSignRangeMeters = maxSignRangeMeters
         self.negativeInformation = negativeInformation; self.recovery = recovery
         self.adaptiveParticleCount = adaptiveParticleCount; self.rangeSigmaBaseMeters = rangeSigmaBaseMeters
         self.rangeSigmaPerMeter = rangeSigmaPerMeter; self.bearingSigmaRad = bearingSigmaRad
         self.clutterProbability = clutterProbability; self.wallClearanceMeters = wallClearanceMeters
-        self.gridCellMeters = gridCellMeters
+        self.gridCellMeters = gridCellMeters; self.maxViewAngleFromNormalRad = maxViewAngleFromNormalRad
     }
 }
 

@@ -106,7 +106,7 @@ typedef struct wf_localizer_map {
     int32_t kind_count;
 } wf_localizer_map;
 
-#define WF_LOCALIZER_OPTIONS_VERSION 1
+#define WF_LOCALIZER_OPTIONS_VERSION 2
 
 /**
  * Filter options. Fill with wf_localizer_options_init() or WF_LOCALIZER_OPTIONS_INIT (same defaults), then
@@ -253,6 +253,14 @@ typedef struct wf_localizer_options {
     double link_radius_m;
     /** Weight factor of particles that cannot explain a floor change (far from links). Default 0.05. */
     double far_from_link_weight;
+
+    /* --- added in options version 2 --- */
+    /** A sign is predicted visible only from where the line to the camera is at most this far from its face
+     *  normal, radians (either face of a double-sided sign). Seen more obliquely a face is a sliver no
+     *  detector finds (cos 80 deg = 0.17 of its width); predicting it visible would dilute the association of
+     *  real sightings and feed negative information with misses that were never possible. Default 80 deg,
+     *  looser than detectors manage (about 75 deg, the simulator's limit); pi/2 = any point in front. */
+    double max_view_angle_from_normal_rad;
 } wf_localizer_options;
 
 /** Same defaults as wf_localizer_options_init(); a test checks they agree. */
@@ -263,7 +271,8 @@ typedef struct wf_localizer_options {
     0.8377580409572781, 12.0, 0.1, 0.12, 0.05235987755982988, 0.1, 0.2, 1, 5.0, 0.6, 0.8, \
     0.25, 0.5, 0.2, \
     1.0, 0.7853981633974483, 0.05, 0.8, 1.0, 1.0, 0.5, 2.0, 0.001, 4.0, 5.0, \
-    2.0, 0.3, 1.5, 3.0, 0.05 }
+    2.0, 0.3, 1.5, 3.0, 0.05, \
+    1.3962634015954636 }
 
 /** One VIO sample (one ARKit frame). */
 typedef struct wf_vio_sample {

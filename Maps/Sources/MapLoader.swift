@@ -173,13 +173,17 @@ enum MapDocumentDecoder {
         let id = try o.string("id")
         let name = try o.string("name")
         let floors = try o.array("floors").map { try decodeFloor($0.0, path: $0.1) }
+        let northDeg = try o.optionalNumber("compassHeadingOfMapNorthDeg")
+        if let d = northDeg, !(d >= 0 && d < 360) {
+            throw PathError(path: "$.compassHeadingOfMapNorthDeg", reason: "compassHeadingOfMapNorthDeg must be in [0, 360) degrees, got \(d)")
+        }
         var g = try ObjectReader(try o.required("graph"), path: "$.graph")
         let nodes = try g.array("nodes").map { try decodeNode($0.0, path: $0.1) }
         let edges = try g.array("edges").map { try decodeEdge($0.0, path: $0.1) }
         try g.rejectUnknownMembers()
         try o.rejectUnknownMembers()
         return Building(formatVersion: Int(v), id: id, name: name, floors: floors,
-                        graph: NavigationGraph(nodes: nodes, edges: edges))
+                        graph: NavigationGraph(nodes: nodes, edges: edges), compassHeadingOfMapNorthDeg: northDeg)
     }
 
     static func decodeFloor(_ value: JSONValue, path: String) throws -> Floor {

@@ -45,10 +45,15 @@ public struct Building: Codable, Equatable, Sendable {
     public var floors: [Floor]
     /// Navigation graph over all floors.
     public var graph: NavigationGraph
+    /// What a compass reads when the phone faces the map's +y axis: degrees clockwise from magnetic north, in
+    /// [0, 360). nil when the plan's orientation is unknown; the localizer then uses no compass prior.
+    public var compassHeadingOfMapNorthDeg: Double?
 
     /// Creates a building from its parts (no validation; see `MapLoader`).
-    public init(formatVersion: Int = 1, id: String, name: String, floors: [Floor], graph: NavigationGraph) {
+    public init(formatVersion: Int = 1, id: String, name: String, floors: [Floor], graph: NavigationGraph,
+                compassHeadingOfMapNorthDeg: Double? = nil) {
         self.formatVersion = formatVersion; self.id = id; self.name = name; self.floors = floors; self.graph = graph
+        self.compassHeadingOfMapNorthDeg = compassHeadingOfMapNorthDeg
     }
 
     /// The floor with this id, if any.

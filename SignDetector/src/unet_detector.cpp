@@ -195,7 +195,9 @@ std::vector<UnetCandidate> UnetDetector::farBandCandidates(RawPyramid& raw, cons
     const double centreRow = 0.5 * (top + bottom);
     const cv::Point2d originEdge(-0.5, centreRow - 0.5 * h * step);
     const cv::Mat band = sampleUnrolled(raw, unrolling, originEdge, step, step, cv::Size(w, h));
-    return blobs(probabilities(band), originEdge, step, step, params);
+    std::vector<UnetCandidate> found = blobs(probabilities(band), originEdge, step, step, params);
+    for (auto& c : found) c.minCropPx = std::max(params.minCropPx, params.farBandMinCropPx);
+    return found;
 }
 
 std::vector<UnetCandidate> UnetDetector::blobs(const std::vector<cv::Mat>& prob, cv::Point2d originEdge, double sx,
@@ -231,9 +233,26 @@ std::vector<UnetCandidate> UnetDetector::blobs(const std::vector<cv::Mat>& prob,
     return candidates;
 }
 
+double colourfulFraction(const cv::Mat& rgb, const cv::Mat& mask, int minChroma) {
+    CV_Assert(rgb.type() == CV_8UC3 && mask.type() == CV_8UC1 && rgb.size() == mask.size());
+    int total = 0, colourful = 0;
+    for (int y = 0; y < rgb.rows; ++y) {
+        const cv::Vec3b* px = rgb.ptr<cv::Vec3b>(y);
+        const uchar* m = mask.ptr<uchar>(y);
+        for (int x = 0; x < rgb.cols; ++x) {
+            if (!m[x]) continue;
+            ++total;
+            const int hi = std::max({px[x][0], px[x][1], px[x][2]}), lo = std::min({px[x][0], px[x][1], px[x][2]});
+            colourful += hi - lo >= minChroma;
+        }
+    }
+    return total > 0 ? double(colourful) / total : 0.0;
+}
+
 UnetVerdict verifyZoomedSign(const SliceMeasurement& inUnrolled, double meanProbability, double unrolledFyPx,
-                             const UnetParams& params) {
+                             const UnetParams& params, double colourFraction) {
     if (!(meanProbability >= params.minMeanProbability)) return UnetVerdict::kLowProbability;
+    if (!(colourFraction >= params.minColourFraction)) return UnetVerdict::kColourless;
     const double height = inUnrolled.medianHeightPx;
     if (!inUnrolled.valid || !(height > 0)) return UnetVerdict::kImplausibleHeight;
     const double aspect = inUnrolled.extentWidthPx / height;
@@ -255,7 +274,7 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
     // blob was part of the plate): re-centre on the mask and zoom out, at most twice.
     for (int attempt = 0; attempt < 3; ++attempt) {
         const double side = std::max(params.zoomFactor * std::max(target.width, target.height),
-                                     double(std::max(1, params.minCropPx)));
+                                     double(std::max(1, candidate.minCropPx > 0 ? candidate.minCropPx : params.minCropPx)));
         const int sideI = std::max(1, static_cast<int>(std::lround(side)));
         const double scale = double(sideI) / s;  // unrolled px per network px: the crop of `side` fills S
         // Only the central win x win network pixels of that crop are run (same scale, less context).
@@ -321,7 +340,9 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
             }
         }
         const double meanProbability = cv::mean(p, core)[0];  // score: over the core, not the grown edge
-        const UnetVerdict v = verifyZoomedSign(inUnrolled, meanProbability, unrolling.unrolledIntrinsics().fy, params);
+        const double colour = colourfulFraction(square, component, params.colourChromaLevels);
+        const UnetVerdict v =
+            verifyZoomedSign(inUnrolled, meanProbability, unrolling.unrolledIntrinsics().fy, params, colour);
         if (verdict) *verdict = v;
         if (v != UnetVerdict::kAccepted) return false;
         out->kind = classNames_[candidate.classIndex];
@@ -337,20 +358,30 @@ std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolli
                                             double pitchRad) {
     CV_Assert(rgbRaw.type() == CV_8UC3 && rgbRaw.size() == unrolling.rawSize());
     RawPyramid raw(rgbRaw);
-    std::vector<UnetCandidate> candidates = coarseCandidates(raw, unrolling, params);
-    const size_t coarseCount = candidates.size();
-    // Far-band blobs that overlap a coarse blob are the same sign: the coarse one is zoomed already.
+    const std::vector<UnetCandidate> coarse = coarseCandidates(raw, unrolling, params);
+    std::vector<Detection> detections;
+    std::vector<char> found(coarse.size(), 0);
+    for (size_t i = 0; i < coarse.size(); ++i) {
+        Detection d;
+        if (refine(raw, unrolling, coarse[i], params, &d)) {
+            detections.push_back(std::move(d));
+            found[i] = 1;
+        }
+    }
+    // A far-band blob that overlaps a coarse blob is the same sign: zoomed again only when the coarse blob's
+    // zoom found nothing (its finer box gives a better-centred, better-sized crop), or overlaps a detection.
     for (const auto& b : farBandCandidates(raw, unrolling, params, pitchRad)) {
         bool seen = false;
-        for (size_t i = 0; i < coarseCount && !seen; ++i) {
-            seen = candidates[i].classIndex == b.classIndex && (candidates[i].boxInUnrolled & b.boxInUnrolled).area() > 0;
+        for (size_t i = 0; i < coarse.size() && !seen; ++i) {
+            seen = found[i] && coarse[i].classIndex == b.classIndex &&
+                   (coarse[i].boxInUnrolled & b.boxInUnrolled).area() > 0;
         }
-        if (!seen) candidates.push_back(b);
-    }
-    std::vector<Detection> detections;
-    for (const auto& candidate : candidates) {
+        for (size_t i = 0; i < detections.size() && !seen; ++i) {
+            seen = detections[i].kindIndex == b.classIndex && (detections[i].measurement.box & b.boxInUnrolled).area() > 0;
+        }
+        if (seen) continue;
         Detection d;
-        if (refine(raw, unrolling, candidate, params, &d)) detections.push_back(std::move(d));
+        if (refine(raw, unrolling, b, params, &d)) detections.push_back(std::move(d));
     }
     return suppressOverlaps(std::move(detections), 0.3);
 }

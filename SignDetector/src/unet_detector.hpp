@@ -48,11 +48,17 @@ struct UnetParams {
     bool farBand = true;
     /// Lowest elevation of the band, radians (0 = the horizon).
     double farBandMinElevationRad = 0.0;
-    /// Highest elevation of the band, radians. A sign centre 0.6-1.4 m above the camera at >= 5 m is below
-    /// ~0.27 rad; nearer signs are large enough for the coarse pass.
-    double farBandMaxElevationRad = 0.25;
-    /// Network pixels per unrolled pixel in the band, as a multiple of the coarse pass's.
-    double farBandScale = 2.0;
+    /// Highest elevation of the band, radians. A sign centre 0.5-1.4 m above the camera at >= 7 m is below
+    /// atan(1.4 / 7) = 0.197 rad; nearer signs (>= ~45 unrolled px tall) are large enough for the coarse pass.
+    double farBandMaxElevationRad = 0.20;
+    /// Network pixels per unrolled pixel in the band, as a multiple of the coarse pass's (2.25: a 9 m Exit
+    /// sign is ~9 x 11 network pixels; at 2 x the network missed some motion-blurred ones).
+    double farBandScale = 2.25;
+    /// Zoom crop side for far-band candidates: at least this many unrolled pixels (instead of minCropPx).
+    /// A band blob can be a fragment of the sign (e.g. 13 x 18 px of a 57 x 42 px sign); zooming it by
+    /// zoomFactor over-magnified the sign (~3 x the training scale) and its mask scored below
+    /// minMeanProbability. 144 = zoomFactor x a ~41 px wide sign (an Exit face at ~13 m).
+    int farBandMinCropPx = 144;
 
     /// Verification of each zoomed candidate before it is reported (see verifyZoomedSign).
     /// Minimum mean class probability over the sign's mask component. On the rendered test set every
@@ -68,6 +74,12 @@ struct UnetParams {
     double maxSignHeightM = 0.5;
     double minRangeM = 0.5;
     double maxRangeM = 20.0;
+    /// Minimum fraction of the sign's mask pixels (in the zoomed input) whose chroma max(R, G, B) -
+    /// min(R, G, B) is >= colourChromaLevels (0-255): Exit signs have red or green letters or plates; a
+    /// ceiling light (white, ~0) zoomed from a far-band blob otherwise passes as a 0.95 sign. On the rendered
+    /// test set every true sign had >= 0.14 (motion-blurred and dim ones included). 0 = off.
+    double minColourFraction = 0.05;
+    int colourChromaLevels = 20;
 };
 
 /// A coarse-pass candidate, in unrolled pixels.
@@ -76,6 +88,8 @@ struct UnetCandidate {
     cv::Rect2d boxInUnrolled;
     double areaPx = 0;
     double meanProbability = 0;
+    /// Minimum zoom crop side for this candidate, unrolled pixels (0 = UnetParams::minCropPx).
+    int minCropPx = 0;
 };
 
 /// The raw RGB frame and its halvings (INTER_AREA), built on demand, so that network inputs can be sampled
@@ -97,16 +111,21 @@ private:
 cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d originEdge, double scaleX, double scaleY,
                        cv::Size size);
 
+/// Fraction of the pixels under `mask` (CV_8UC1, nonzero = in) of `rgb` (CV_8UC3) whose chroma
+/// max(R, G, B) - min(R, G, B) is >= minChroma; 0 for an empty mask.
+double colourfulFraction(const cv::Mat& rgb, const cv::Mat& mask, int minChroma);
+
 /// Why a zoomed candidate was rejected (or kAccepted).
-enum class UnetVerdict { kAccepted, kLowProbability, kImplausibleAspect, kImplausibleHeight };
+enum class UnetVerdict { kAccepted, kLowProbability, kImplausibleAspect, kImplausibleHeight, kColourless };
 
 /// Verification rule of a zoomed candidate: `inUnrolled` is its slice measurement in unrolled pixels,
 /// `meanProbability` the mean class probability over its mask component, `unrolledFyPx` the unrolled focal
 /// length (pixels). Accepted when the mean probability, the aspect (extent width / median height) and the
 /// median height (consistent with a face of [minSignHeightM, maxSignHeightM] at [minRangeM, maxRangeM])
-/// are all plausible for a sign (UnetParams).
+/// are all plausible for a sign (UnetParams), and `colourFraction` (colourfulFraction of its mask at
+/// colourChromaLevels; default 1 = not checked) is >= minColourFraction.
 UnetVerdict verifyZoomedSign(const SliceMeasurement& inUnrolled, double meanProbability, double unrolledFyPx,
-                             const UnetParams& params);
+                             const UnetParams& params, double colourFraction = 1.0);
 
 /// Samples an SxS network input whose pixel (i, j) (pixel centre) shows the unrolled point
 /// (originEdge.x + (i + 0.5) * scaleX, originEdge.y + (j + 0.5) * scaleY), i.e. an unrolled region whose
@@ -150,7 +169,8 @@ public:
 
     /// Full multi-scale detection on a raw RGB frame (CV_8UC3) seen through `unrolling`, camera pitch
     /// `pitchRad` (radians, up positive; NaN = unknown: no far-band pass): coarse and far-band candidates,
-    /// each zoomed and verified; detections are in unrolled pixels, overlaps suppressed.
+    /// each zoomed and verified; detections are in unrolled pixels, overlaps suppressed. A far-band blob that
+    /// overlaps a coarse blob is zoomed only when that coarse blob's zoom found no sign.
     std::vector<Detection> detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params,
                                   double pitchRad = std::numeric_limits<double>::quiet_NaN());
 

@@ -108,6 +108,8 @@ final class ParticleLocalizerTests: XCTestCase {
         o.particleCount = 8000
         o.minParticles = 2000
         o.maxParticles = 30000
+        // The synthetic walks (`walk`) see a sign from anywhere in front of its face; so must the filter.
+        o.maxViewAngleFromNormalRad = Double.pi / 2
         return o
     }
 
@@ -161,7 +163,11 @@ final class ParticleLocalizerTests: XCTestCase {
         let e = localizer.estimate
         XCTAssertEqual(e.positionInMap.x, 10, accuracy: 0.1)
         XCTAssertEqual(e.headingRad, 1.5, accuracy: 0.03)
-        XCTAssertEqual(e.headingStdRad, 0.1, accuracy: 0.02)
+        // The compass prior is a mixture (0.8 from the reading, 0.2 uniform): 80 % of the particles within
+        // 3 sigma of the reading, plus the uniform ones that fall there (0.2 * 0.6 / 2 pi); +-0.02 for 8,000.
+        let snapshot = localizer.particleSnapshot(maxCount: 8000)
+        let near = snapshot.filter { abs(atan2(sin($0.headingRad - 1.5), cos($0.headingRad - 1.5))) <= 0.3 }
+        XCTAssertEqual(Double(near.count) / Double(snapshot.count), 0.8 * 0.997 + 0.2 * 0.6 / (2 * Double.pi), accuracy: 0.02)
         XCTAssertEqual(e.particleCount, 8000)
     }
 

@@ -29,6 +29,8 @@ final class InavigateImporterTests: XCTestCase {
         let (b, report) = try InavigateImporter.importBuilding(from: dir)
         XCTAssertEqual(b.floors.map(\.id), ["2", "3", "4"])
         XCTAssertEqual(b.id, "skeri")
+        // info.yml's angle_to_north 9.1 (every floor): a compass facing the plan's +y reads 360 - 9.1.
+        XCTAssertEqual(b.compassHeadingOfMapNorthDeg ?? .nan, 350.9, accuracy: 1e-9)
         for r in report {
             print("SKERI floor \(r.floorId): \(r.walls) walls, \(r.signs) signs, \(r.pointsOfInterest) POIs, \(r.nodes) nodes, sign moves max \(String(format: "%.3f", r.signAdjustmentsMeters.max() ?? 0)) m")
         }

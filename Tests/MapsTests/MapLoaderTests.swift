@@ -12,6 +12,19 @@ final class MapLoaderTests: XCTestCase {
         XCTAssertEqual(loaded.floors[0].doors[0].label, "East door")
     }
 
+    func testCompassHeadingOfMapNorthRoundTripsAndIsRangeChecked() throws {
+        var b = MapFixtures.building()
+        XCTAssertNil(b.compassHeadingOfMapNorthDeg)
+        b.compassHeadingOfMapNorthDeg = 350.9
+        XCTAssertEqual(try MapLoader.load(data: try MapWriter.encode(b), fileName: "n.json").compassHeadingOfMapNorthDeg, 350.9)
+        for bad in [360.0, -1.0] {
+            b.compassHeadingOfMapNorthDeg = bad
+            XCTAssertThrowsError(try MapLoader.load(data: try MapWriter.encode(b), fileName: "n.json")) { e in
+                XCTAssertTrue("\(e)".contains("n.json") && "\(e)".contains("compassHeadingOfMapNorthDeg"), "\(e)")
+            }
+        }
+    }
+
     func testWriterSortsKeysAndWritesPointsOnOneLine() throws {
         let t = try MapFixtures.text()
         XCTAssertTrue(t.contains("\"facing\" : [1, 0]"))

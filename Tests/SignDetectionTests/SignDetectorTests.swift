@@ -124,12 +124,13 @@ final class SignDetectorTests: XCTestCase {
         let width = 640, height = 480
         var luma = [UInt8](repeating: 120, count: width * height)
         var chroma = [UInt8](repeating: 128, count: width * height / 2)
-        // Full-range red plate: Y 90, Cb 100, Cr 220 over raw columns 300..339, rows 200..259.
+        // Full-range red plate shaped like an Exit sign (2:1, the detector rejects other shapes): Y 90, Cb 100,
+        // Cr 220 over raw columns 260..379, rows 200..259.
         for v in 200..<260 {
-            for u in 300..<340 { luma[v * width + u] = 90 }
+            for u in 260..<380 { luma[v * width + u] = 90 }
         }
         for v in 100..<130 {
-            for u in 150..<170 { chroma[v * width + 2 * u] = 100; chroma[v * width + 2 * u + 1] = 220 }
+            for u in 130..<190 { chroma[v * width + 2 * u] = 100; chroma[v * width + 2 * u + 1] = 220 }
         }
         let image = ImageBuffer(width: width, height: height, bytesPerRow: width, pixelFormat: .nv12, data: luma,
                                 chromaBytesPerRow: width, chromaData: chroma)

@@ -239,3 +239,26 @@ TEST(UnetDetector, FarBandPassFindsAFarSignAndNeedsThePitch) {
     // The full pipeline with the pitch reports the sign once (coarse and band blobs merged).
     EXPECT_EQ(d.detect(s.rgbRaw, s.unrolling, UnetParams{}, pitch).size(), 1u);
 }
+
+// The colour check: a grey ceiling light the network took for a sign has no chroma under its mask, a red sign
+// face has plenty; an empty mask counts as colourless.
+TEST(UnetVerification, ColourlessMaskIsRejected) {
+    cv::Mat rgb(40, 80, CV_8UC3, cv::Scalar(200, 200, 200));
+    cv::rectangle(rgb, cv::Rect(0, 0, 40, 40), cv::Scalar(220, 30, 30), cv::FILLED);  // left half red (RGB)
+    cv::Mat mask = cv::Mat::zeros(40, 80, CV_8UC1);
+    cv::Mat left = mask.clone(), right = mask.clone();
+    left(cv::Rect(0, 0, 40, 40)).setTo(255);
+    right(cv::Rect(40, 0, 40, 40)).setTo(255);
+    EXPECT_DOUBLE_EQ(colourfulFraction(rgb, left, 20), 1.0);
+    EXPECT_DOUBLE_EQ(colourfulFraction(rgb, right, 20), 0.0);
+    EXPECT_DOUBLE_EQ(colourfulFraction(rgb, mask, 20), 0.0);
+    UnetParams params;
+    SliceMeasurement m;
+    m.valid = true;
+    m.medianHeightPx = 40;
+    m.extentWidthPx = 62;
+    EXPECT_EQ(verifyZoomedSign(m, 0.99, 1602, params, colourfulFraction(rgb, right, params.colourChromaLevels)),
+              UnetVerdict::kColourless);
+    EXPECT_EQ(verifyZoomedSign(m, 0.99, 1602, params, colourfulFraction(rgb, left, params.colourChromaLevels)),
+              UnetVerdict::kAccepted);
+}

@@ -25,7 +25,7 @@ float FloorData::distance_to_link(float x, float y) const {
     return best;
 }
 
-void compute_visibility(FloorData &f, float max_range_m) {
+void compute_visibility(FloorData &f, float max_range_m, float max_view_angle_from_normal_rad) {
     const size_t n = f.signs.size();
     f.words_per_cell = static_cast<int32_t>((n + 63) / 64);
     f.visibility.assign(static_cast<size_t>(f.grid.cell_count()) * f.words_per_cell, 0);
@@ -34,6 +34,8 @@ void compute_visibility(FloorData &f, float max_range_m) {
     // A sign hangs on a wall: cast the ray to a point 5 cm in front of the face so the sign's own wall
     // does not hide it, and stop 1 cm short.
     constexpr float kFaceOffset = 0.05f;
+    // Seen more obliquely than max_view_angle_from_normal_rad (wf_localizer.h), a sign is not predicted visible.
+    const float cos_max_view = std::cos(max_view_angle_from_normal_rad);
     for (size_t j = 0; j < n; ++j) {
         const float sx = f.signs.x[j], sy = f.signs.y[j];
         const float fx = f.signs.facing_x[j], fy = f.signs.facing_y[j];
@@ -50,10 +52,11 @@ void compute_visibility(FloorData &f, float max_range_m) {
                 const float d2 = dx * dx + dy * dy;
                 if (d2 > max_range_m * max_range_m || d2 < 1e-6f) continue;
                 const float side = fx * dx + fy * dy;     // > 0: cell in front of the face
-                if (!both && side <= 0.0f) continue;      // dot(facing, cell->sign) < 0 required
+                const float len = std::sqrt(d2);
+                // In front of the face and not too oblique: cos(view angle) = side / len (facing is unit).
+                if (both ? std::fabs(side) <= cos_max_view * len : side <= cos_max_view * len) continue;
                 const float s = side >= 0.0f ? 1.0f : -1.0f;
                 const float tx = sx + s * kFaceOffset * fx, ty = sy + s * kFaceOffset * fy;
-                const float len = std::sqrt(d2);
                 const float shrink = std::max(0.0f, 1.0f - 0.01f / len);
                 const float ex = cx + (tx - cx) * shrink, ey = cy + (ty - cy) * shrink;
                 if (f.walls.crosses(cx, cy, ex, ey)) continue;
@@ -221,7 +224,7 @@ int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options 
             f.signs.facing_y.push_back(ny);
             f.signs.double_sided.push_back(both ? 1 : 0);
         }
-        compute_visibility(f, static_cast<float>(opts.max_sign_range_m));
+        compute_visibility(f, static_cast<float>(opts.max_sign_range_m), static_cast<float>(opts.max_view_angle_from_normal_rad));
         f.kind_masks.assign(static_cast<size_t>(map.kind_count) * f.words_per_cell, 0);
         for (size_t j = 0; j < f.signs.size(); ++j) {
             f.kind_masks[static_cast<size_t>(f.signs.kind[j]) * f.words_per_cell + j / 64] |= uint64_t{1} << (j % 64);

@@ -66,6 +66,6 @@ int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options 
                         std::string &error);
 
 /// Recomputes the visibility bits of one floor for the given range (used by build and by tests).
-void compute_visibility(FloorData &floor, float max_range_m);
+void compute_visibility(FloorData &floor, float max_range_m, float max_view_angle_from_normal_rad);
 
 }  // namespace wf::loc

@@ -83,6 +83,7 @@ int validate_options(const wf_localizer_options &o, std::string &error) {
         {"altitude_settle_s", o.altitude_settle_s, 0, big},
         {"link_radius_m", o.link_radius_m, 0, 1000},
         {"far_from_link_weight", o.far_from_link_weight, 0, 1},
+        {"max_view_angle_from_normal_rad", o.max_view_angle_from_normal_rad, 0.01, 1.5707963267948966},
     };
     for (const Check &c : checks) {
         if (!in_range(c.value, c.lo, c.hi)) {
@@ -129,7 +130,9 @@ bool ParticleFilter::sample_walkable(int16_t floor, float &x, float &y) {
 }
 
 float ParticleFilter::sample_yaw_offset() {
-    if (compass_set_ && tracker_.has_yaw()) {
+    // Compass prior as a mixture: indoors the field is often disturbed by steel, so a share of the yaw offsets
+    // stays uniform and a wrong reading cannot rule out the true heading.
+    if (compass_set_ && tracker_.has_yaw() && rng_.uniform(0.0, 1.0) >= kCompassUniformShare) {
         return static_cast<float>(
             wrap_angle(compass_heading_ - vio_yaw_ + compass_sigma_ * static_cast<double>(rng_.normal())));
     }
@@ -279,13 +282,15 @@ int ParticleFilter::set_compass_prior(double heading_in_map_rad, double sigma_ra
 }
 
 void ParticleFilter::apply_compass_reweight() {
-    // w *= N(heading - compass; 0, sigma) (unnormalised), with a small floor so a wrong compass (magnetic
-    // disturbance indoors is common) cannot remove every hypothesis.
+    // w *= (1 - u) N(heading - compass; 0, sigma) + u / (2 pi): the mixture of sample_yaw_offset, so a wrong
+    // compass (magnetic disturbance indoors is common) only lowers the other headings, by about
+    // u / (1 - u) * sigma / sqrt(2 pi) relative to the reading's direction (0.04 for 30 degrees).
     const double inv = 1.0 / compass_sigma_;
+    const double floor_rel = kCompassUniformShare / (1.0 - kCompassUniformShare) * compass_sigma_ / std::sqrt(2.0 * kPiD);
     double sum = 0;
     for (size_t i = 0; i < p_.size(); ++i) {
         const double e = wrap_angle(vio_yaw_ + p_.yaw_offset[i] - compass_heading_) * inv;
-        p_.weight[i] *= static_cast<float>(std::exp(-0.5 * e * e) + 1e-3);
+        p_.weight[i] *= static_cast<float>(std::exp(-0.5 * e * e) + floor_rel);
         sum += p_.weight[i];
     }
     normalize(sum);

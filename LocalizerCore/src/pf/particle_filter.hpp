@@ -20,6 +20,11 @@
 
 namespace wf::loc {
 
+/// Share of the compass prior kept uniform over all headings (indoor magnetic disturbance can exceed any
+/// Gaussian spread): yaw offsets drawn after wf_localizer_set_compass_prior come from the reading with
+/// probability 1 - this, uniform otherwise, and a prior set after the init reweights with the same mixture.
+inline constexpr double kCompassUniformShare = 0.2;
+
 /// Checks every option against its documented range; on failure names the field in `error`.
 int validate_options(const wf_localizer_options &o, std::string &error);
 

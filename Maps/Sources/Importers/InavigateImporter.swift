@@ -84,6 +84,7 @@ public enum InavigateImporter {
         struct FloorSource { let id: String; let number: Int; let scale: Double; let rows: Int; let floor: Floor }
         var sources: [FloorSource] = []
         var reports: [String: (walls: Int, signs: [Double])] = [:]
+        var anglesToNorthDeg: [Double] = []
         for rec in floorRecords {
             func field(_ k: String) throws -> String {
                 guard let v = rec.fields[k], !v.isEmpty else {
@@ -95,6 +96,12 @@ public enum InavigateImporter {
             guard let number = Int(id) else { throw InavigateImportError(file: infoURL.path, reason: "floor id '\(id)' (line \(rec.line)) is not a floor number") }
             guard let scale = Double(try field("scale")), scale.isFinite, scale > 0 else {
                 throw InavigateImportError(file: infoURL.path, reason: "floor \(id): scale must be a positive number of pixels per meter")
+            }
+            if let a = rec.fields["angle_to_north"] {
+                guard let deg = Double(a), deg.isFinite else {
+                    throw InavigateImportError(file: infoURL.path, reason: "floor \(id): angle_to_north must be a number of degrees")
+                }
+                anglesToNorthDeg.append(deg)
             }
             if sources.contains(where: { $0.id == id }) { throw InavigateImportError(file: infoURL.path, reason: "floor \(id) is listed twice") }
             let wallsURL = dir.appendingPathComponent(try field("walls"))
@@ -278,7 +285,18 @@ public enum InavigateImporter {
             floorsById[id] = FloorSource(id: s.id, number: s.number, scale: s.scale, rows: s.rows, floor: f)
         }
         let floors = sources.map { floorsById[$0.id]!.floor }
-        let building = Building(id: slug(buildingName), name: buildingName, floors: floors, graph: NavigationGraph(nodes: nodes, edges: edges))
+        // info.yml's angle_to_north (degrees, one per floor): read as the clockwise angle from the plan's up (+y)
+        // to north, so a compass facing +y reads 360 - angle. The sign convention is not documented by the
+        // source and could not be checked against recordings; at SKERI's 9.1 degrees a wrong sign costs 18
+        // degrees, inside the compass prior's spread (docs/localizer.md). Kept only when all floors agree.
+        var compassHeadingOfMapNorthDeg: Double?
+        if let first = anglesToNorthDeg.first, anglesToNorthDeg.count == floorRecords.count,
+           anglesToNorthDeg.allSatisfy({ abs($0 - first) < 1e-9 }) {
+            let h = (360 - first).truncatingRemainder(dividingBy: 360)
+            compassHeadingOfMapNorthDeg = h < 0 ? h + 360 : h
+        }
+        let building = Building(id: slug(buildingName), name: buildingName, floors: floors, graph: NavigationGraph(nodes: nodes, edges: edges),
+                                compassHeadingOfMapNorthDeg: compassHeadingOfMapNorthDeg)
         try MapValidator.validate(building, file: "\(buildingName) (imported from \(dir.path))")
         let report = floors.map { f in
             FloorReport(floorId: f.id, walls: f.walls.count, signs: f.signs.count, signAdjustmentsMeters: reports[f.id]?.signs ?? [],

@@ -40,6 +40,30 @@ TEST(LocalizerMap, VisibilityBlockedByWallAndFacing) {
     EXPECT_FALSE(visible(fd, 15, 5, 1));    // other room
 }
 
+// A sign is not predicted visible from where it would be seen more obliquely than
+// max_view_angle_from_normal_rad (default 80 degrees): its face is a sliver there.
+TEST(LocalizerMap, VisibilityViewAngleLimit) {
+    wf::test::World w;
+    wf::test::FloorSpec f;
+    f.box(0, 0, 20, 10).wall(10, 0, 10, 10).seed(5, 5).seed(15, 5);
+    f.sign(wf::test::kExit, 0, 5, 1, 0);                           // 0: faces east
+    f.sign(wf::test::kExit, 5, 10, 0, -1, /*double_sided=*/true);  // 1: double-sided on the north wall
+    w.floors.push_back(f);
+    for (const double limit_deg : {80.0, 90.0}) {
+        auto o = defaults();
+        if (limit_deg == 90.0) o.max_view_angle_from_normal_rad = wf::test::kPi / 2;
+        LocalizerMap m;
+        std::string err;
+        ASSERT_EQ(build_localizer_map(w.map(), o, m, err), WF_LOC_OK) << err;
+        const FloorData &fd = m.floors[0];
+        EXPECT_TRUE(visible(fd, 9.5f, 1, 0)) << limit_deg;   // 23 degrees off the normal
+        EXPECT_TRUE(visible(fd, 1, 9.5f, 0)) << limit_deg;   // about 76 degrees
+        EXPECT_EQ(visible(fd, 0.5f, 9.5f, 0), limit_deg == 90.0) << limit_deg;  // about 82 degrees
+        EXPECT_TRUE(visible(fd, 5, 5, 1)) << limit_deg;
+        EXPECT_EQ(visible(fd, 9.5f, 9.5f, 1), limit_deg == 90.0) << limit_deg;  // about 85 degrees
+    }
+}
+
 TEST(LocalizerMap, VisibilityRangeLimit) {
     wf::test::World w;
     wf::test::FloorSpec f;

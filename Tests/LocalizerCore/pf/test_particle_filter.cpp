@@ -20,7 +20,21 @@ wf_localizer_options test_options() {
     o.particle_count = 10000;
     o.min_particles = 2000;
     o.max_particles = 40000;
+    // The synthetic walks (support/synthetic_world.hpp) detect a sign from anywhere in front of its face, so
+    // the filter must predict it visible there too (the default 80-degree limit is tested in test_localizer_map).
+    o.max_view_angle_from_normal_rad = wf::test::kPi / 2;
     return o;
+}
+
+// Share of the particle weight whose heading lies within `half_width` rad of `heading`.
+double weight_share_near_heading(const ParticleFilter &pf, double heading, double half_width) {
+    const auto &p = pf.particles();
+    double near = 0, all = 0;
+    for (size_t i = 0; i < p.size(); ++i) {
+        all += p.weight[i];
+        if (std::fabs(wf::test::wrap(pf.vio_yaw() + p.yaw_offset[i] - heading)) <= half_width) near += p.weight[i];
+    }
+    return near / all;
 }
 
 struct RunStats {
@@ -288,8 +302,12 @@ TEST(ParticleFilter, StartPointAndCompassPrior) {
     EXPECT_NEAR(e.x, 10, 0.1);
     EXPECT_NEAR(e.y, 1.25, 0.1);
     EXPECT_NEAR(e.heading_rad, 1.0, 0.02);
-    EXPECT_NEAR(e.heading_std_rad, 0.1, 0.01);
     EXPECT_NEAR(e.yaw_offset_rad, 0.6, 0.02);
+    // The prior is a mixture: 80 % from the reading (sigma 0.1 rad), 20 % uniform (kCompassUniformShare), so
+    // within 3 sigma of the reading lie 0.8 * 0.997 + 0.2 * 0.6 / (2 pi) = 0.817 of the particles (+-0.01 for
+    // 10,000 draws, 3 binomial standard deviations), and 20 % * 5.7 / 6.28 = 0.18 lie farther than 0.3 rad.
+    EXPECT_NEAR(weight_share_near_heading(pf, 1.0, 0.3), 0.817, 0.012);
+    EXPECT_NEAR(weight_share_near_heading(pf, 1.0, 0.1), 0.8 * 0.683 + 0.2 * 0.2 / (2 * wf::test::kPi), 0.014);
     // Disc of radius 1 m (std 0.5 m per axis) clipped by the corridor walls (y in [0, 2.5]).
     EXPECT_NEAR(std::sqrt(e.cov_xx), 0.5, 0.03);
     EXPECT_FALSE(e.localized);
@@ -316,7 +334,9 @@ TEST(ParticleFilter, CompassPriorAppliedAtFirstPredict) {
     ASSERT_EQ(pf.predict({0, 0, 0, 0.5, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);
     const auto &e = pf.estimate();
     EXPECT_NEAR(e.heading_rad, -2.0, 0.05);
-    EXPECT_LT(e.heading_std_rad, 0.3);
+    // Reweighting a uniform cloud by the mixture 0.8 N(-2, 0.15) + 0.2 / (2 pi): the weight within 3 sigma
+    // of the reading is 0.8 * 0.997 + 0.2 * 0.9 / (2 pi) = 0.826 (+-0.03: a sampled uniform cloud).
+    EXPECT_NEAR(weight_share_near_heading(pf, -2.0, 0.45), 0.826, 0.03);
 }
 
 namespace {
