@@ -3,13 +3,15 @@
 # (imported from ../shared/data at run time), replays each through the real pipeline and scores it against
 # truth; fails when an aggregate figure is worse than the committed baseline (Tests/Baselines/scenarios.json).
 # Then the same for the SKERI convergence study (Tests/ConvergenceStudy: 30 floor-only walks of 30 m or more,
-# gate Tests/Baselines/convergence-study.json).
+# gate Tests/Baselines/convergence-study.json), and the wrong-start recovery walks (Tests/Recovery: the traveler
+# names a start place they are not at; gate Tests/Baselines/recovery.json).
 # Usage: scripts/run-scenarios.sh [--write-baseline]
 set -euo pipefail
 cd "$(dirname "$0")/.."
 swift build -c release --product wayfinder >&2
 shared="${WAYFINDER_SHARED_DATA:-$(cd .. && pwd)/shared/data}"
-for suite in "Tests/Scenarios:Tests/Baselines/scenarios.json" "Tests/ConvergenceStudy:Tests/Baselines/convergence-study.json"; do
+for suite in "Tests/Scenarios:Tests/Baselines/scenarios.json" "Tests/ConvergenceStudy:Tests/Baselines/convergence-study.json" \
+             "Tests/Recovery:Tests/Baselines/recovery.json"; do
   dir="${suite%%:*}"; baseline="${suite#*:}"
   args=(--scenarios "$dir" --skeri "$shared")
   echo "== $dir"

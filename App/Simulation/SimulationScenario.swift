@@ -59,24 +59,30 @@ public struct SimulationScenario: Codable, Sendable, Equatable {
     /// north, before disturbance). nil takes the map's `compassHeadingOfMapNorthDeg`, or draws it from the seed
     /// when the map has none (the localizer then knows no north either).
     public var mapNorthOffsetDeg: Double?
+    /// The start place the traveler tells the app (a point-of-interest id or name), when it is not where the walk
+    /// really begins (`from`): session.json names it as the start, so the localizer starts from the wrong
+    /// place and must recover. Implies a known start. nil (the default): session.json names `from` when
+    /// `startKnown`, nothing otherwise.
+    public var declaredStart: String?
 
     /// Creates a scenario; every optional setting has its documented default.
     public init(name: String, description: String? = nil, map: String = "office", from: String, to: String, seed: UInt64,
                 carry: CarryMode = .handheld, orientation: PhoneOrientation = .portrait, startKnown: Bool = false,
                 trackingLossAt: Double? = nil, trackingLossDurationSeconds: Double = 4, vioResetAt: Double? = nil,
                 wrongTurn: Bool = false, rateHz: Double = 30, detectorRateHz: Double = 10, images: Bool = false,
-                imageRateHz: Double = 2, mapNorthOffsetDeg: Double? = nil) {
+                imageRateHz: Double = 2, mapNorthOffsetDeg: Double? = nil, declaredStart: String? = nil) {
         self.name = name; self.description = description; self.map = map; self.from = from; self.to = to; self.seed = seed
         self.carry = carry; self.orientation = orientation; self.startKnown = startKnown
         self.trackingLossAt = trackingLossAt; self.trackingLossDurationSeconds = trackingLossDurationSeconds
         self.vioResetAt = vioResetAt; self.wrongTurn = wrongTurn; self.rateHz = rateHz; self.detectorRateHz = detectorRateHz
         self.images = images; self.imageRateHz = imageRateHz; self.mapNorthOffsetDeg = mapNorthOffsetDeg
+        self.declaredStart = declaredStart
     }
 
     private enum CodingKeys: String, CodingKey {
         case name, description, map, from, to, seed, carry, orientation, startKnown, trackingLossAt
         case trackingLossDurationSeconds, vioResetAt, wrongTurn, rateHz, detectorRateHz, images, imageRateHz
-        case mapNorthOffsetDeg
+        case mapNorthOffsetDeg, declaredStart
     }
 
     /// Decodes, filling absent optional keys with their defaults.
@@ -100,6 +106,7 @@ public struct SimulationScenario: Codable, Sendable, Equatable {
         images = try c.decodeIfPresent(Bool.self, forKey: .images) ?? false
         imageRateHz = try c.decodeIfPresent(Double.self, forKey: .imageRateHz) ?? 2
         mapNorthOffsetDeg = try c.decodeIfPresent(Double.self, forKey: .mapNorthOffsetDeg)
+        declaredStart = try c.decodeIfPresent(String.self, forKey: .declaredStart)
     }
 
     /// Checks the settings' ranges; throws `SimulationError.invalidScenario` naming the first bad one.
@@ -115,6 +122,7 @@ public struct SimulationScenario: Codable, Sendable, Equatable {
         if let t = vioResetAt, !(t.isFinite && t >= 0) { throw bad("vioResetAt must be >= 0") }
         if let n = mapNorthOffsetDeg, !n.isFinite { throw bad("mapNorthOffsetDeg must be finite") }
         guard !from.isEmpty, !to.isEmpty else { throw bad("from and to must be non-empty") }
+        if let d = declaredStart, d.isEmpty { throw bad("declaredStart must be non-empty when given") }
     }
 
     /// Loads a scenario file (JSON); errors name the file.

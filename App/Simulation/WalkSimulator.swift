@@ -214,8 +214,17 @@ public enum WalkSimulator {
 
         let startFloor = body.first?.floorId ?? start.floorId
         let signHeight = building.floors.flatMap(\.signs).first?.heightMeters ?? 0.21
+        var declaredStartId: String?
+        if let declared = scenario.declaredStart {
+            guard let poi = building.pointOfInterest(idOrName: declared) else {
+                throw SimulationError.invalidScenario("\(scenario.name): declaredStart '\(declared)' is not a point of interest of the map")
+            }
+            declaredStartId = poi.poi.id
+        } else if scenario.startKnown {
+            declaredStartId = start.poi?.id ?? nodes[start.nodeIndex].id
+        }
         let info = SessionInfo(device: "simulator", appVersion: version, mapId: building.id, floorId: startFloor,
-                               start: scenario.startKnown ? (start.poi?.id ?? nodes[start.nodeIndex].id) : nil,
+                               start: declaredStartId,
                                destination: dest.poi?.id ?? nodes[dest.nodeIndex].id, signHeightMeters: signHeight,
                                intrinsics: intrinsics, carry: scenario.carry.rawValue,
                                source: "simulated: scenario \(scenario.name), seed \(scenario.seed)")

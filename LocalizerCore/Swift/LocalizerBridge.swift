@@ -111,7 +111,8 @@ enum LocalizerBridge {
             adaptiveParticleCount: o.adaptive_particle_count != 0, rangeSigmaBaseMeters: o.range_sigma_base_m,
             rangeSigmaPerMeter: o.range_sigma_per_meter, bearingSigmaRad: o.bearing_sigma_rad,
             clutterProbability: o.clutter_probability, wallClearanceMeters: o.wall_clearance_m,
-            gridCellMeters: o.grid_cell_m, maxViewAngleFromNormalRad: o.max_view_angle_from_normal_rad)
+            gridCellMeters: o.grid_cell_m, maxViewAngleFromNormalRad: o.max_view_angle_from_normal_rad,
+            startPointDoubtShare: o.start_point_doubt_share)
     }
 
     static func cOptions(_ s: LocalizerOptions) throws -> wf_localizer_options {
@@ -135,6 +136,7 @@ enum LocalizerBridge {
         o.wall_clearance_m = s.wallClearanceMeters
         o.grid_cell_m = s.gridCellMeters
         o.max_view_angle_from_normal_rad = s.maxViewAngleFromNormalRad
+        o.start_point_doubt_share = s.startPointDoubtShare
         return o
     }
 

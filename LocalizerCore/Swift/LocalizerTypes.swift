@@ -89,6 +89,9 @@ public struct LocalizerOptions: Sendable {
     /// A sign is expected to be seen only from at most this angle off its face normal, radians. Default 80
     /// degrees (more obliquely the face is a sliver no detector finds); pi/2 = from anywhere in front.
     public var maxViewAngleFromNormalRad: Double
+    /// Share of the particles a start-point reset spreads over the whole floor, because the traveler may have
+    /// named the wrong start. Default 0.05; 0 trusts the start completely.
+    public var startPointDoubtShare: Double
 
     /// The defaults of the C core.
     public init() {
@@ -99,7 +102,7 @@ public struct LocalizerOptions: Sendable {
          maxSignRangeMeters: Double, negativeInformation: Bool, recovery: Bool, adaptiveParticleCount: Bool,
          rangeSigmaBaseMeters: Double, rangeSigmaPerMeter: Double, bearingSigmaRad: Double,
          clutterProbability: Double, wallClearanceMeters: Double, gridCellMeters: Double,
-         maxViewAngleFromNormalRad: Double) {
+         maxViewAngleFromNormalRad: Double, startPointDoubtShare: Double) {
         self.particleCount = particleCount; self.minParticles = minParticles; self.maxParticles = maxParticles
         self.horizontalFieldOfViewRad = horizontalFieldOfViewRad; self.maxSignRangeMeters = maxSignRangeMeters
         self.negativeInformation = negativeInformation; self.recovery = recovery
@@ -107,6 +110,7 @@ public struct LocalizerOptions: Sendable {
         self.rangeSigmaPerMeter = rangeSigmaPerMeter; self.bearingSigmaRad = bearingSigmaRad
         self.clutterProbability = clutterProbability; self.wallClearanceMeters = wallClearanceMeters
         self.gridCellMeters = gridCellMeters; self.maxViewAngleFromNormalRad = maxViewAngleFromNormalRad
+        self.startPointDoubtShare = startPointDoubtShare
     }
 }
 

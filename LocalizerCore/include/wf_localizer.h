@@ -261,6 +261,12 @@ typedef struct wf_localizer_options {
      *  real sightings and feed negative information with misses that were never possible. Default 80 deg,
      *  looser than detectors manage (about 75 deg, the simulator's limit); pi/2 = any point in front. */
     double max_view_angle_from_normal_rad;
+    /** Share of the particles that wf_localizer_init_start_point spreads uniformly over the floor instead of the
+     *  disc: the traveler may have named the wrong start. Those hypotheses keep the `localized` flag off
+     *  (ambiguity guard) until the signs agree with the named start, and carry the recovery when they do not.
+     *  Default 0.05 (sparse enough, a few particles per clustering bin, not to join the start's cluster);
+     *  0 = trust the start completely. */
+    double start_point_doubt_share;
 } wf_localizer_options;
 
 /** Same defaults as wf_localizer_options_init(); a test checks they agree. */
@@ -272,7 +278,7 @@ typedef struct wf_localizer_options {
     0.25, 0.5, 0.2, \
     1.0, 0.7853981633974483, 0.05, 0.8, 1.0, 1.0, 0.5, 2.0, 0.001, 4.0, 5.0, \
     2.0, 0.3, 1.5, 3.0, 0.05, \
-    1.3962634015954636 }
+    1.3962634015954636, 0.05 }
 
 /** One VIO sample (one ARKit frame). */
 typedef struct wf_vio_sample {

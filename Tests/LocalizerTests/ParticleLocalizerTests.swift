@@ -121,6 +121,8 @@ final class ParticleLocalizerTests: XCTestCase {
         XCTAssertTrue(o.negativeInformation)
         XCTAssertTrue(o.recovery)
         XCTAssertTrue(o.adaptiveParticleCount)
+        XCTAssertEqual(o.maxViewAngleFromNormalRad, 80 * Double.pi / 180, accuracy: 1e-12)
+        XCTAssertEqual(o.startPointDoubtShare, 0.05)
     }
 
     func testConvergesOnSyntheticWalkFromFloorOnly() throws {
@@ -156,7 +158,9 @@ final class ParticleLocalizerTests: XCTestCase {
     }
 
     func testStartPointPriorAndCompass() throws {
-        let localizer = try ParticleLocalizer(building: Self.lBuilding(), options: smallOptions())
+        var options = smallOptions()
+        options.startPointDoubtShare = 0  // every particle in the disc
+        let localizer = try ParticleLocalizer(building: Self.lBuilding(), options: options)
         localizer.predict(VIOSample(t: 0, east: 0, north: 0, yawRad: 0.25, tracking: .normal))
         localizer.setCompassPrior(headingInMapRad: 1.5, sigmaRad: 0.1)
         try localizer.reset(prior: .startPoint(floorId: "1", position: Point2(10, 1.25), radiusMeters: 0.5))

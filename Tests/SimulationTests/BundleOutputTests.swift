@@ -65,4 +65,17 @@ final class BundleOutputTests: XCTestCase {
             name: "k", from: "Room 101", to: "room-103", seed: 1, startKnown: true, rateHz: 10))
         XCTAssertEqual(w.info.start, "room-101")
     }
+
+    func testDeclaredStartNamesTheWrongPlaceAndMustExist() throws {
+        var scenario = SimulationScenario(name: "d", from: "room-101", to: "room-103", seed: 1, rateHz: 10, declaredStart: "Room 112")
+        let w = try WalkSimulator.simulate(building: Fixtures.office, scenario: scenario)
+        XCTAssertEqual(w.info.start, "room-112")
+        let truthStart = try XCTUnwrap(w.truth.first)
+        let room101 = try XCTUnwrap(Fixtures.office.pointOfInterest(idOrName: "room-101")).poi.position
+        XCTAssertLessThan(hypot(truthStart.x - room101.x, truthStart.y - room101.y), 3, "the walk still begins at `from`")
+        scenario.declaredStart = "no-such-room"
+        XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office, scenario: scenario)) { e in
+            XCTAssertTrue("\(e)".contains("declaredStart") && "\(e)".contains("no-such-room"), "\(e)")
+        }
+    }
 }

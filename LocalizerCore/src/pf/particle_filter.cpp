@@ -84,6 +84,7 @@ int validate_options(const wf_localizer_options &o, std::string &error) {
         {"link_radius_m", o.link_radius_m, 0, 1000},
         {"far_from_link_weight", o.far_from_link_weight, 0, 1},
         {"max_view_angle_from_normal_rad", o.max_view_angle_from_normal_rad, 0.01, 1.5707963267948966},
+        {"start_point_doubt_share", o.start_point_doubt_share, 0, 1},
     };
     for (const Check &c : checks) {
         if (!in_range(c.value, c.lo, c.hi)) {
@@ -245,9 +246,15 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
     p_.resize(n);
     const float w = 1.0f / static_cast<float>(n);
     const float cx = static_cast<float>(x), cy = static_cast<float>(y), r = static_cast<float>(radius_m);
+    const double doubt = opts_.start_point_doubt_share;
     for (size_t i = 0; i < n; ++i) {
-        // Uniform in the disc, rejecting points behind a wall as seen from the centre (another room).
         float px = cx, py = cy;
+        // The traveler may have named the wrong place: a share of the particles covers the whole floor.
+        if (doubt > 0 && rng_.uniform(0.0, 1.0) < doubt && sample_walkable(f16, px, py)) {
+            init_particle(i, px, py, f16, w);
+            continue;
+        }
+        // Uniform in the disc, rejecting points behind a wall as seen from the centre (another room).
         for (int attempt = 0; attempt < 32; ++attempt) {
             const float rr = r * std::sqrt(rng_.uniform_float());
             const float a = kTwoPi * rng_.uniform_float();

@@ -294,6 +294,7 @@ TEST(ParticleFilter, DeterministicForASeed) {
 TEST(ParticleFilter, StartPointAndCompassPrior) {
     auto world = wf::test::l_world();
     auto o = test_options();
+    o.start_point_doubt_share = 0;  // every particle in the disc (the doubt share is tested below)
     ParticleFilter pf(wf::test::build_map(world, o), o, 6);
     ASSERT_EQ(pf.predict({0, 3, 4, 0.4, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);  // VIO yaw known: 0.4 rad
     ASSERT_EQ(pf.set_compass_prior(1.0, 0.1), WF_LOC_OK);
@@ -321,6 +322,29 @@ TEST(ParticleFilter, StartPointAndCompassPrior) {
     EXPECT_EQ(pf.init_start_point(0, 5, 1, -1), WF_LOC_ERR_INVALID_ARGUMENT);
     EXPECT_EQ(pf.set_compass_prior(1.0, 0.0), WF_LOC_ERR_INVALID_ARGUMENT);
     EXPECT_EQ(pf.init_floor_only(-1), WF_LOC_ERR_INVALID_ARGUMENT);
+}
+
+// A start point with the default doubt share: 5 % of the particles cover the floor (the named start may be
+// wrong), the rest the disc; the estimate is still the disc's cluster.
+TEST(ParticleFilter, StartPointKeepsADoubtShareOverTheFloor) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    ASSERT_DOUBLE_EQ(o.start_point_doubt_share, 0.05);
+    // The pipeline's particle count: the doubt particles then lie too thin (a few per clustering bin, under
+    // its min_cell_weight) to join the disc's cluster.
+    o.particle_count = o.max_particles = 100000;
+    ParticleFilter pf(wf::test::build_map(world, o), o, 12);
+    ASSERT_EQ(pf.init_start_point(0, 10, 1.25, 1.0), WF_LOC_OK);
+    const auto &p = pf.particles();
+    size_t far = 0;
+    for (size_t i = 0; i < p.size(); ++i) far += std::hypot(p.x[i] - 10.0f, p.y[i] - 1.25f) > 1.01f ? 1 : 0;
+    // 0.05 of 100,000 draws, minus the floor-wide ones that land in the disc (about 2 % of the walkable
+    // area): 3 binomial sigmas are 0.002.
+    EXPECT_NEAR(static_cast<double>(far) / p.size(), 0.05 * 0.98, 0.003);
+    const auto &e = pf.estimate();
+    EXPECT_NEAR(e.x, 10, 0.15);
+    EXPECT_NEAR(e.y, 1.25, 0.15);
+    EXPECT_FALSE(e.localized);
 }
 
 // A compass prior set before any VIO sample is applied at the first predict (reweighting).
@@ -363,6 +387,7 @@ void ride(ParticleFilter &pf, double from_m, double to_m, double t0) {
 TEST(ParticleFilter, AltitudeChangeNearLinkMovesToMatchingFloor) {
     auto world = two_storey_world();
     auto o = test_options();
+    o.start_point_doubt_share = 0;  // every particle at the elevator, so every one must change floor
     ParticleFilter pf(wf::test::build_map(world, o), o, 12);
     ASSERT_EQ(pf.init_start_point(0, 2.5, 2.5, 0.8), WF_LOC_OK);  // at the elevator
     ride(pf, 10.0, 14.1, 0.0);                                      // barometer up ~one storey
