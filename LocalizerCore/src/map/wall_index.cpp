@@ -46,23 +46,27 @@ bool segment_touches_box(float ax, float ay, float bx, float by, float x0, float
     return t0 <= t1;
 }
 
-float point_segment_distance(float x, float y, float ax, float ay, float bx, float by) {
-    const float ex = bx - ax, ey = by - ay;
-    const float len2 = ex * ex + ey * ey;
-    float t = len2 > 0.0f ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0f;
-    t = std::clamp(t, 0.0f, 1.0f);
-    const float dx = ax + t * ex - x, dy = ay + t * ey - y;
+namespace {
+// Distance from (x, y) to segment a-b in the precision T (one formula for the float hot path and the double
+// precomputation).
+template <class T>
+T point_segment_distance_t(T x, T y, T ax, T ay, T bx, T by) {
+    const T ex = bx - ax, ey = by - ay;
+    const T len2 = ex * ex + ey * ey;
+    T t = len2 > T(0) ? ((x - ax) * ex + (y - ay) * ey) / len2 : T(0);
+    t = std::clamp(t, T(0), T(1));
+    const T dx = ax + t * ex - x, dy = ay + t * ey - y;
     return std::sqrt(dx * dx + dy * dy);
+}
+}  // namespace
+
+float point_segment_distance(float x, float y, float ax, float ay, float bx, float by) {
+    return point_segment_distance_t<float>(x, y, ax, ay, bx, by);
 }
 
 // Distance from point (x, y) to segment a-b, double precision.
 double point_segment_distance_d(double x, double y, double ax, double ay, double bx, double by) {
-    const double ex = bx - ax, ey = by - ay;
-    const double len2 = ex * ex + ey * ey;
-    double t = len2 > 0.0 ? ((x - ax) * ex + (y - ay) * ey) / len2 : 0.0;
-    t = std::clamp(t, 0.0, 1.0);
-    const double dx = ax + t * ex - x, dy = ay + t * ey - y;
-    return std::sqrt(dx * dx + dy * dy);
+    return point_segment_distance_t<double>(x, y, ax, ay, bx, by);
 }
 
 // Distance from point (x, y) to the box [x0,x1]x[y0,y1] (0 inside).

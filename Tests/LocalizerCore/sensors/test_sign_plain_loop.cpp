@@ -15,6 +15,7 @@
 #include "common/rng.hpp"
 #include "sensors/sign_measurement_model.hpp"
 #include "support/filter_fixtures.hpp"
+#include "support/particle_spread.hpp"
 
 using namespace wf::loc;
 
@@ -124,23 +125,7 @@ wf::test::World signed_office(int extra_signs, int floors) {
 }
 
 ParticleSet spread(const LocalizerMap &map, size_t n, uint64_t seed) {
-    Rng r(seed);
-    ParticleSet p;
-    p.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        const int16_t fl = static_cast<int16_t>(i % map.floors.size());
-        const FloorData &f = map.floors[fl];
-        const int32_t c = f.walkable_cells[r.below(static_cast<uint32_t>(f.walkable_cells.size()))];
-        p.x[i] = f.grid.x0 + (static_cast<float>(c % f.grid.nx) + r.uniform_float()) * f.grid.cell_m;
-        p.y[i] = f.grid.y0 + (static_cast<float>(c / f.grid.nx) + r.uniform_float()) * f.grid.cell_m;
-        if (i % 101 == 0) p.y[i] = 50.0f;  // outside the grid
-        p.yaw_offset[i] = static_cast<float>(r.uniform(-3.2, 3.2));
-        p.scale[i] = 1;
-        p.weight[i] = 1.0f / static_cast<float>(n);
-        p.floor[i] = fl;
-        p.evidence[i] = 0;
-    }
-    return p;
+    return wf::test::spread_particles(map, n, seed, 101, 0);
 }
 
 void run_against_plain_loop(int extra_signs, int floors) {
