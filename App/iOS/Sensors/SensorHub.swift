@@ -50,7 +50,8 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate {
     }
 
     func locationManager(_ manager: CLLocationManager, didUpdateHeading newHeading: CLHeading) {
-        headingDeg = FrameConversion.compassHeadingDeg(newHeading.trueHeading >= 0 ? newHeading.trueHeading : newHeading.magneticHeading,
+        // Magnetic, not true, heading: the map's compassHeadingOfMapNorthDeg is what a compass reads.
+        headingDeg = FrameConversion.compassHeadingDeg(newHeading.magneticHeading,
                                                        accuracyDeg: newHeading.headingAccuracy)
     }
 
