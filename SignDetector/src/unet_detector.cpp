@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <iterator>
 #include <cstdio>
 
 namespace wf::sign {
@@ -41,7 +42,10 @@ bool UnetDetector::load(const std::string& path, const std::vector<std::string>&
         return false;
     }
     try {
-        net_ = cv::dnn::readNetFromONNX(path);
+        std::ifstream file(path, std::ios::binary);
+        modelBytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+        nets_.clear();
+        net_ = makeNet();
     } catch (const cv::Exception& e) {
         *error = "U-Net model " + path + " could not be read by cv::dnn: " + e.what();
         return false;
@@ -50,8 +54,6 @@ bool UnetDetector::load(const std::string& path, const std::vector<std::string>&
         *error = "U-Net model " + path + " is empty";
         return false;
     }
-    net_.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
-    net_.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
     inputSize_ = inputSize > 0 ? inputSize : 224;
     classNames_ = classNames;
     // Probe once: checks the input shape and learns K.
@@ -85,30 +87,89 @@ bool UnetDetector::load(const std::string& path, const std::vector<std::string>&
     return true;
 }
 
-cv::Mat UnetDetector::forwardBlob(const cv::Mat& blob) {
-    net_.setInput(blob, "image");
-    return net_.forward().clone();
+cv::dnn::Net UnetDetector::makeNet() const {
+    cv::dnn::Net net = cv::dnn::readNetFromONNX(modelBytes_.data(), modelBytes_.size());
+    net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
+    net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
+    return net;
 }
+
+cv::dnn::Net& UnetDetector::netFor(int rows, int cols) {
+    // cv::dnn re-plans the whole network (allocation, layer finalisation, fusion) whenever the input shape
+    // differs from the previous call's; one frame runs three shapes (coarse, band, zoom), so each shape gets
+    // its own Net, built once from the model bytes (least recently used one replaced beyond kMaxNets).
+    ++useClock_;
+    for (auto& e : nets_) {
+        if (e.rows == rows && e.cols == cols) {
+            e.lastUse = useClock_;
+            return e.net;
+        }
+    }
+    if (nets_.empty() && !net_.empty()) {
+        nets_.push_back({rows, cols, useClock_, net_});  // the loaded net serves the first shape
+        net_ = cv::dnn::Net();
+        return nets_.back().net;
+    }
+    if (static_cast<int>(nets_.size()) < kMaxNets) {
+        nets_.push_back({rows, cols, useClock_, makeNet()});
+        return nets_.back().net;
+    }
+    auto lru = std::min_element(nets_.begin(), nets_.end(),
+                                [](const CachedNet& a, const CachedNet& b) { return a.lastUse < b.lastUse; });
+    lru->rows = rows;
+    lru->cols = cols;
+    lru->lastUse = useClock_;
+    return lru->net;  // re-planned for the new shape on its next forward
+}
+
+cv::Mat UnetDetector::forwardShared(const cv::Mat& blob) {
+    CV_Assert(blob.dims == 4);
+    cv::dnn::Net& net = netFor(blob.size[2], blob.size[3]);
+    net.setInput(blob, "image");
+    return net.forward();
+}
+
+cv::Mat UnetDetector::forwardBlob(const cv::Mat& blob) { return forwardShared(blob).clone(); }
 
 std::vector<cv::Mat> UnetDetector::probabilities(const cv::Mat& rgb) {
     CV_Assert(rgb.type() == CV_8UC3 && !rgb.empty());
-    const cv::Mat logits = forwardBlob(cv::dnn::blobFromImage(rgb, 1.0 / 255.0, cv::Size(), cv::Scalar(),
-                                                              /*swapRB=*/false, /*crop=*/false, CV_32F));
+    // The blob (1x3xHxW, RGB / 255) is written into a reused buffer: split into reused byte planes, each
+    // converted straight into its plane of the blob.
+    const int dims[4] = {1, 3, rgb.rows, rgb.cols};
+    blob_.create(4, dims, CV_32F);
+    cv::split(rgb, planes_);
+    for (int c = 0; c < 3; ++c) {
+        cv::Mat dst(rgb.rows, rgb.cols, CV_32F, blob_.ptr<float>(0, c));
+        planes_[c].convertTo(dst, CV_32F, 1.0 / 255.0);
+    }
+    const cv::Mat logits = forwardShared(blob_);  // the net's own output buffer: read before the next forward
     CV_Assert(logits.dims == 4 && logits.size[2] == rgb.rows && logits.size[3] == rgb.cols);
     const int k = logits.size[1];
     std::vector<cv::Mat> channels(k);
+    std::vector<cv::Mat> in(k);
     for (int c = 0; c < k; ++c) {
-        channels[c] = cv::Mat(rgb.rows, rgb.cols, CV_32F, const_cast<float*>(logits.ptr<float>(0, c))).clone();
+        channels[c].create(rgb.rows, rgb.cols, CV_32F);
+        in[c] = cv::Mat(rgb.rows, rgb.cols, CV_32F, const_cast<float*>(logits.ptr<float>(0, c)));
     }
-    // Numerically stable softmax over classes.
-    cv::Mat maxLogit = channels[0].clone();
-    for (int c = 1; c < k; ++c) cv::max(maxLogit, channels[c], maxLogit);
-    cv::Mat sum = cv::Mat::zeros(rgb.rows, rgb.cols, CV_32F);
-    for (int c = 0; c < k; ++c) {
-        cv::exp(channels[c] - maxLogit, channels[c]);
-        sum += channels[c];
+    if (k == 2) {
+        // p1 = 1 / (1 + exp(l0 - l1)), p0 = 1 - p1 (vectorised cv:: calls).
+        cv::subtract(in[0], in[1], channels[1]);
+        cv::exp(channels[1], channels[1]);
+        cv::add(channels[1], 1.0, channels[1]);
+        cv::divide(1.0, channels[1], channels[1]);
+        cv::subtract(1.0, channels[1], channels[0]);
+    } else {
+        // Numerically stable softmax over classes.
+        cv::Mat maxLogit = in[0].clone();
+        for (int c = 1; c < k; ++c) cv::max(maxLogit, in[c], maxLogit);
+        cv::Mat sum = cv::Mat::zeros(rgb.rows, rgb.cols, CV_32F);
+        for (int c = 0; c < k; ++c) {
+            cv::subtract(in[c], maxLogit, channels[c]);
+            cv::exp(channels[c], channels[c]);
+            sum += channels[c];
+        }
+        for (int c = 0; c < k; ++c) cv::divide(channels[c], sum, channels[c]);
     }
-    for (int c = 0; c < k; ++c) cv::divide(channels[c], sum, channels[c]);
     return channels;
 }
 
@@ -269,6 +330,8 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
     const int s = inputSize_;
     // Zoom window side in network pixels: a multiple of 32 in [32, S].
     const int win = params.zoomWindowPx > 0 ? std::clamp(params.zoomWindowPx / 32 * 32, 32, s) : s;
+    // Window height: signs are wider than tall, so less context above and below costs nothing (same scale).
+    const int winH = params.zoomWindowHeightPx > 0 ? std::clamp(params.zoomWindowHeightPx / 32 * 32, 32, win) : win;
     cv::Rect2d target = candidate.boxInUnrolled;
     // When the mask reaches the crop border the sign is larger than the coarse blob suggested (e.g. the
     // blob was part of the plate): re-centre on the mask and zoom out, at most twice.
@@ -279,14 +342,15 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         const double scale = double(sideI) / s;  // unrolled px per network px: the crop of `side` fills S
         // Only the central win x win network pixels of that crop are run (same scale, less context).
         const double windowSide = win * scale;  // unrolled px
+        const double windowHeight = winH * scale;
         const double centreX = target.x + 0.5 * target.width, centreY = target.y + 0.5 * target.height;
         // Top-left pixel edge of the window, on the unrolled pixel grid's edges.
-        const double c0 = std::round(centreX - 0.5 * windowSide), r0 = std::round(centreY - 0.5 * windowSide);
-        const cv::Rect2d cropRect(c0, r0, windowSide, windowSide);
+        const double c0 = std::round(centreX - 0.5 * windowSide), r0 = std::round(centreY - 0.5 * windowHeight);
+        const cv::Rect2d cropRect(c0, r0, windowSide, windowHeight);
         if ((cropRect & cv::Rect2d(-0.5, -0.5, unrolling.unrolledSize().width, unrolling.unrolledSize().height)).area() <= 0) {
             return false;
         }
-        const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(c0, r0), scale, scale, cv::Size(win, win));
+        const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(c0, r0), scale, scale, cv::Size(win, winH));
         const std::vector<cv::Mat> prob = probabilities(square);
         const cv::Mat& p = prob[candidate.classIndex];
         const cv::Mat mask = p > params.maskThreshold;
@@ -298,13 +362,13 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         // The component nearest the crop centre (containing it, if any).
         int best = -1;
         double bestDistance = 1e300;
-        const double mid = 0.5 * (win - 1);
+        const double midX = 0.5 * (win - 1), midY = 0.5 * (winH - 1);
         for (int i = 1; i < n; ++i) {
             if (stats.at<int>(i, cv::CC_STAT_AREA) < std::max(1, params.minBlobAreaPx)) continue;
             const int bx = stats.at<int>(i, cv::CC_STAT_LEFT), by = stats.at<int>(i, cv::CC_STAT_TOP);
             const int bw = stats.at<int>(i, cv::CC_STAT_WIDTH), bh = stats.at<int>(i, cv::CC_STAT_HEIGHT);
-            const double dx = std::max({0.0, bx - mid, mid - (bx + bw - 1)});
-            const double dy = std::max({0.0, by - mid, mid - (by + bh - 1)});
+            const double dx = std::max({0.0, bx - midX, midX - (bx + bw - 1)});
+            const double dy = std::max({0.0, by - midY, midY - (by + bh - 1)});
             const double d = std::hypot(dx, dy);
             if (d < bestDistance) {
                 bestDistance = d;
@@ -328,7 +392,7 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         const SliceMeasurement inUnrolled = m.mapped(scale, cv::Point2d(c0, r0));
         const int bx = stats.at<int>(best, cv::CC_STAT_LEFT), by = stats.at<int>(best, cv::CC_STAT_TOP);
         const int bw = stats.at<int>(best, cv::CC_STAT_WIDTH), bh = stats.at<int>(best, cv::CC_STAT_HEIGHT);
-        const bool touchesBorder = bx == 0 || by == 0 || bx + bw == win || by + bh == win;
+        const bool touchesBorder = bx == 0 || by == 0 || bx + bw == win || by + bh == winH;
         if (touchesBorder && attempt < 2) {
             const cv::Rect2d grown = inUnrolled.box;
             // Only retry if the crop did not already cover the whole frame around the sign.

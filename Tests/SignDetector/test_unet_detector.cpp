@@ -84,6 +84,25 @@ TEST(UnetDetector, ProbabilitiesAreASoftmaxOverClasses) {
     EXPECT_LT(p[1].at<float>(50, 50), 0.01f);
 }
 
+TEST(UnetDetector, AlternatingInputShapesGiveTheSameProbabilities) {
+    // One cached cv::dnn::Net per input shape (more shapes than the cache holds): results must not depend
+    // on which shape ran before, and the returned maps must not alias the net's output buffer.
+    UnetDetector d = loadTiny();
+    cv::Mat a(192, 224, CV_8UC3, cv::Scalar(235, 235, 235));
+    a(cv::Rect(100, 100, 20, 10)).setTo(cv::Scalar(220, 20, 20));
+    const std::vector<cv::Mat> first = d.probabilities(a);
+    const cv::Mat firstCopy = first[1].clone();
+    for (int rows = 32; rows <= 256; rows += 32) {
+        cv::Mat b(rows, 160, CV_8UC3, cv::Scalar(20, 200, 20));
+        const std::vector<cv::Mat> p = d.probabilities(b);
+        ASSERT_EQ(p[1].size(), b.size());
+    }
+    const std::vector<cv::Mat> again = d.probabilities(a);
+    EXPECT_EQ(cv::norm(first[1], firstCopy, cv::NORM_INF), 0.0);
+    EXPECT_LE(cv::norm(again[1], first[1], cv::NORM_INF), 1e-6);
+    EXPECT_LE(cv::norm(again[0], first[0], cv::NORM_INF), 1e-6);
+}
+
 TEST(UnetDetector, CoarseCandidateMapsBackToTheSign) {
     UnetDetector d = loadTiny();
     const Scene s = portraitScene(4.0, 0.1, 0.05, 5);
