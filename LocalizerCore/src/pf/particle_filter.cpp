@@ -291,7 +291,7 @@ int ParticleFilter::set_compass_prior(double heading_in_map_rad, double sigma_ra
 void ParticleFilter::apply_compass_reweight() {
     // w *= (1 - u) N(heading - compass; 0, sigma) + u / (2 pi): the mixture of sample_yaw_offset, so a wrong
     // compass (magnetic disturbance indoors is common) only lowers the other headings, by about
-    // u / (1 - u) * sigma / sqrt(2 pi) relative to the reading's direction (0.04 for 30 degrees).
+    // u / (1 - u) * sigma / sqrt(2 pi) relative to the reading's direction (0.05 for 30 degrees).
     const double inv = 1.0 / compass_sigma_;
     const double floor_rel = kCompassUniformShare / (1.0 - kCompassUniformShare) * compass_sigma_ / std::sqrt(2.0 * kPiD);
     double sum = 0;
