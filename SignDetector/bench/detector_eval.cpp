@@ -318,8 +318,10 @@ int main(int argc, char** argv) {
 
     const int bins[] = {2, 3, 4, 5, 6, 7, 8, 9};
     std::cout << "Test set: " << testset << " (" << frames.size() << " frames)\n\n";
+    // One per-distance table of medians over `errors`; with `cornerErrors`, a reference row on the labelled
+    // corners follows (product-estimator builds only).
     auto errorTable = [&](const char* heading, std::map<int, std::vector<double>> Row::*errors,
-                          const std::map<int, std::vector<double>>& cornerErrors, const char* cornerTitle) {
+                          const std::map<int, std::vector<double>>* cornerErrors, const char* cornerTitle) {
         std::cout << heading << "\n\n| Method |";
         for (int b : bins) std::cout << " " << b << " m |";
         std::cout << "\n|---|";
@@ -333,11 +335,11 @@ int main(int argc, char** argv) {
             }
             std::cout << "\n";
         }
-        if (kProductEstimator) {
+        if (kProductEstimator && cornerErrors != nullptr) {
             std::cout << "| " << cornerTitle << " |";
             for (int b : bins) {
-                const auto it = cornerErrors.find(b);
-                std::cout << " " << percent(median(it != cornerErrors.end() ? it->second : std::vector<double>{})) << " |";
+                const auto it = cornerErrors->find(b);
+                std::cout << " " << percent(median(it != cornerErrors->end() ? it->second : std::vector<double>{})) << " |";
             }
             std::cout << "\n";
         }
@@ -347,24 +349,13 @@ int main(int argc, char** argv) {
                      "LocalizerCore wf_range_apparent_height_slices, ray-elevation model)"
                    : "Median percent range error |e - a| / a per true distance (matched signs only; paper eq. 3: "
                      "standalone build without LocalizerCore)",
-               &Row::errorsPercent, cornerProductErrors, "(reference) labelled corners, product estimator");
+               &Row::errorsPercent, &cornerProductErrors, "(reference) labelled corners, product estimator");
     std::cout << "\n";
     errorTable("Median percent range error with the paper's equation 3 (column ignored: biased short off-axis)",
-               &Row::eq3ErrorsPercent, cornerEq3Errors, "(reference) labelled corners, paper eq. 3");
-    std::cout << "\nMedian signed range error (e - a) / a per true distance (bias; negative = estimated too near)\n\n"
-                 "| Method |";
-    for (int b : bins) std::cout << " " << b << " m |";
-    std::cout << "\n|---|";
-    for (size_t i = 0; i < std::size(bins); ++i) std::cout << "---|";
+               &Row::eq3ErrorsPercent, &cornerEq3Errors, "(reference) labelled corners, paper eq. 3");
     std::cout << "\n";
-    for (const Row& r : rows) {
-        std::cout << "| " << r.title << " |";
-        for (int b : bins) {
-            const auto it = r.signedErrorsPercent.find(b);
-            std::cout << " " << (r.skipped.empty() ? percent(median(it != r.signedErrorsPercent.end() ? it->second : std::vector<double>{})) : "-") << " |";
-        }
-        std::cout << "\n";
-    }
+    errorTable("Median signed range error (e - a) / a per true distance (bias; negative = estimated too near)",
+               &Row::signedErrorsPercent, nullptr, nullptr);
     std::cout << "\nMissed signs per true distance (missed / labelled)\n\n| Method |";
     for (int b : bins) std::cout << " " << b << " m |";
     std::cout << "\n|---|";
