@@ -14,7 +14,6 @@ constexpr double kMaxWalkSpeedMps = 2.0;
 constexpr double kMaxTurnRateRadps = 3.0;
 // Cap on the position noise injected after tracking was unavailable for a long time, meters.
 constexpr double kMaxLostPositionSigmaM = 5.0;
-inline float sq(float v) { return v * v; }
 }  // namespace
 
 MotionNoise MotionNoise::from_options(const wf_localizer_options &o) {
@@ -125,12 +124,7 @@ double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &no
     // Random-walk noise: variances add over frames (std = k * sqrt(distance or turn) per frame).
     MotionNoiseAccumulator local;
     MotionNoiseAccumulator &a = acc ? *acc : local;
-    a.var_position += k2 * (sq(noise.position_per_sqrt_meter) * dist + sq(noise.position_per_sqrt_rad) * turn);
-    a.var_yaw += k2 * (sq(noise.yaw_per_sqrt_meter) * dist + sq(noise.yaw_per_sqrt_rad) * turn);
-    a.var_scale += k2 * sq(noise.scale_per_sqrt_meter) * dist;
-    a.distance_m += dist;
-    a.turn_rad += turn;
-    ++a.frames;
+    a.add_frame(noise, dist, turn, k2);
     const bool inject = !acc || a.due();
 
     // Particles are processed in blocks of kBlock that stay in L1. Each block takes two passes: a branch-free

@@ -86,6 +86,17 @@ struct MotionNoiseAccumulator {
     double distance_m = 0, turn_rad = 0;
     int frames = 0;
     bool due() const { return distance_m >= 0.25 - 1e-9 || turn_rad >= 0.25 - 1e-9 || frames >= 10; }
+    /// Adds one frame's random-walk noise variances (std = k * sqrt(distance or turn) per frame, so variances
+    /// add): `dist_m` walked, `turn_rad` turned, `k2` the squared noise multiplier (limited tracking).
+    void add_frame(const MotionNoise &noise, float dist_m, float turn, float k2) {
+        auto sq = [](float v) { return v * v; };
+        var_position += k2 * (sq(noise.position_per_sqrt_meter) * dist_m + sq(noise.position_per_sqrt_rad) * turn);
+        var_yaw += k2 * (sq(noise.yaw_per_sqrt_meter) * dist_m + sq(noise.yaw_per_sqrt_rad) * turn);
+        var_scale += k2 * sq(noise.scale_per_sqrt_meter) * dist_m;
+        distance_m += dist_m;
+        turn_rad += turn;
+        ++frames;
+    }
     void clear() { *this = MotionNoiseAccumulator{}; }
 };
 

@@ -26,13 +26,7 @@ double plain_apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoi
     const float dist = std::sqrt(de * de + dn * dn);
     const float turn = std::fabs(delta.d_yaw);
     const float k2 = delta.noise_factor * delta.noise_factor;
-    auto sq = [](float v) { return v * v; };
-    a.var_position += k2 * (sq(noise.position_per_sqrt_meter) * dist + sq(noise.position_per_sqrt_rad) * turn);
-    a.var_yaw += k2 * (sq(noise.yaw_per_sqrt_meter) * dist + sq(noise.yaw_per_sqrt_rad) * turn);
-    a.var_scale += k2 * sq(noise.scale_per_sqrt_meter) * dist;
-    a.distance_m += dist;
-    a.turn_rad += turn;
-    ++a.frames;
+    a.add_frame(noise, dist, turn, k2);
     double weight_sum = 0;
     float partial = 0;
     for (size_t i = 0; i < n; ++i) {
