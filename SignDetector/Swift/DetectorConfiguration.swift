@@ -51,6 +51,9 @@ public struct DetectorConfiguration: Sendable, Equatable {
     public var unetZoomFactor: Double = 0
     public var unetMinCropPx: Int = 0
     public var unetMaxCandidates: Int = 0
+    /// U-Net coarse pass: rows whose ray elevation is below this are skipped (radians; 0 = the C default
+    /// -0.10: Exit signs hang above eye level). nil = the whole frame (kinds mounted low).
+    public var unetCoarseMinElevationRad: Double? = 0
     /// Slices: 0 = every column of the middle band, N = N columns; band fraction (0 = 0.6).
     public var sliceCount: Int = 0
     public var sliceBandFraction: Double = 0

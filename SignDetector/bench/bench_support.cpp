@@ -115,11 +115,12 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     return d;
 }
 
-std::unique_ptr<DetectorHandle> makeUnet(const std::string& path) {
+std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_UNET;
     opts.unet_path = path.c_str();
+    opts.unet_coarse_min_elevation_rad = coarseMinElevationRad;
     if (wf_detector_create(&d->handle, &opts) != WF_OK) d->error = wf_thread_last_error();
     return d;
 }

@@ -64,8 +64,9 @@ struct DetectorHandle {
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
                                             double maxWindowFactor = 0, double minElevationRad = std::nan(""),
                                             bool fullSearch = false);
-/// Creates a U-Net detector (class names from classes.json next to the model).
-std::unique_ptr<DetectorHandle> makeUnet(const std::string& path);
+/// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
+/// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).
+std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0);
 
 /// Runs a detector on a prepared frame; returns the status and fills `observations`.
 int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations);

@@ -4,7 +4,8 @@
 //   wf_detector_bench [--benchmark_filter=...]        (Google Benchmark flags)
 //
 // Frames: 8 synthetic portrait frames (bench/synthetic_scene: an Exit sign at 2..9 m, roll -1.58 rad as in a
-// real recording), or the first 16 frames of a rendered test set when WF_BENCH_TESTSET=DIR is set.
+// real recording), or 16 frames of a rendered test set when WF_BENCH_TESTSET=DIR is set: the first 16, or every
+// k-th with WF_BENCH_STRIDE=k (20: two frames per distance 2..9 m of the fixed test set).
 // Benchmarks (each iteration = one frame, frames cycled):
 //   cascade_ours/VGA, cascade_ours/HR       SignDetector/models/exit_sign_cascade.xml (skipped if absent), with
 //                                           the default colour gate (search around red/green regions only)
@@ -14,6 +15,7 @@
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
 //                                           tiny test model (then it times only the pipeline around the net)
+//   unet_coarse_zoom_whole_frame/HR         the same with the coarse pass over the whole frame (no elevation cut)
 //   detectMultiScale_only_reference/VGA     the cascade call alone on pre-unrolled frames (pipeline overhead =
 //                                           cascade_reference/VGA minus this)
 //   unet_forward/224                        one 224 x 224 forward pass + softmax of that model
@@ -55,12 +57,15 @@ std::vector<Source> loadSources(std::string* description) {
             std::cerr << "wf_detector_bench: " << error << "\n";
             std::exit(1);
         }
-        for (const auto& f : frames) {
-            if (sources.size() >= 16) break;
-            Source s{cv::imread(f.imagePath, cv::IMREAD_COLOR), f};
+        // Every k-th frame (WF_BENCH_STRIDE, default 1): a rendered test set stores 40 frames per distance
+        // 2, 3, ..., 9 m and then the sign-free ones, so stride 20 gives 2 frames per distance.
+        const char* strideText = std::getenv("WF_BENCH_STRIDE");
+        const size_t stride = strideText ? std::max(1, std::atoi(strideText)) : 1;
+        for (size_t i = 0; i < frames.size() && sources.size() < 16; i += stride) {
+            Source s{cv::imread(frames[i].imagePath, cv::IMREAD_COLOR), frames[i]};
             if (!s.bgr.empty()) sources.push_back(std::move(s));
         }
-        *description = std::string("first ") + std::to_string(sources.size()) + " frames of " + dir;
+        *description = std::to_string(sources.size()) + " frames (every " + std::to_string(stride) + ") of " + dir;
         return sources;
     }
     for (int i = 0; i < 8; ++i) {
@@ -198,6 +203,7 @@ public:
         ratio("cascade_ours/HR", "cascade_ours_full_search/HR");
         ratio("unet_coarse_zoom/HR", "cascade_reference/VGA");
         ratio("unet_coarse_zoom/HR", "cascade_ours/VGA");
+        ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_whole_frame/HR");
     }
 
 private:
@@ -222,7 +228,7 @@ int main(int argc, char** argv) {
     static const auto vgaGray = prepareAllGray(sources, {640, 480});
 
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
-    static std::unique_ptr<DetectorHandle> oursCascade, oursAbove, oursFull, refCascade, unet;
+    static std::unique_ptr<DetectorHandle> oursCascade, oursAbove, oursFull, refCascade, unet, unetWholeFrame;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
         oursAbove = makeCascade(ours, 0, 0, 0, -0.15);
@@ -234,6 +240,7 @@ int main(int argc, char** argv) {
                                   : fileExists(productModelsDir() + "/sign_unet.onnx") ? productModelsDir() + "/sign_unet.onnx"
                                                                                        : tinyUnetPath();
     unet = makeUnet(unetModel);
+    unetWholeFrame = makeUnet(unetModel, -2.0);
 
     std::printf("frames: %s\nour cascade: %s\nreference cascade: %s\nU-Net: %s\nOpenCV threads: %d\n\n",
                 description.c_str(), oursCascade && *oursCascade ? ours.c_str() : "(absent: SignDetector/models/exit_sign_cascade.xml)",
@@ -262,6 +269,8 @@ int main(int argc, char** argv) {
     static const std::string unetModelPath = unetModel;
     if (unet && *unet) {
         benchmark::RegisterBenchmark("unet_coarse_zoom/HR", runPipeline, unet.get(), &hr)->Unit(benchmark::kMillisecond);
+        benchmark::RegisterBenchmark("unet_coarse_zoom_whole_frame/HR", runPipeline, unetWholeFrame.get(), &hr)
+            ->Unit(benchmark::kMillisecond);
         benchmark::RegisterBenchmark("unet_forward/224", runForward, &unetModelPath)->Unit(benchmark::kMillisecond);
     } else {
         std::fprintf(stderr, "U-Net not benchmarked: %s\n", unet->error.c_str());

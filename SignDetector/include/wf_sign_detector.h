@@ -151,9 +151,9 @@ typedef enum wf_detector_kind {
     WF_DETECTOR_UNET = 1
 } wf_detector_kind;
 
-/** Version of wf_detector_options understood by this header. Version 1 (without the fields marked
- *  "version 2") is still accepted: its callers get the version-2 defaults. */
-#define WF_DETECTOR_OPTIONS_VERSION 2
+/** Version of wf_detector_options understood by this header. Versions 1 and 2 (without the fields marked
+ *  "version 2" / "version 3") are still accepted: their callers get the defaults of the missing fields. */
+#define WF_DETECTOR_OPTIONS_VERSION 3
 
 /**
  * Detector options. Initialise with WF_DETECTOR_OPTIONS_INIT (all defaults) and set what you need.
@@ -230,6 +230,13 @@ typedef struct wf_detector_options {
     int cascade_full_search;
     /** Colour gate: minimum |(R - G) - local mean| of a candidate pixel, 8-bit levels; 0 = 25. */
     double cascade_gate_min_contrast;
+
+    /* Version 3 (read only when version >= 3). */
+    /** U-Net coarse pass: unrolled rows whose ray elevation (pitch + atan((cy' - v) / fy')) is below this are
+     *  not run through the network, radians. 0 = default -0.10 (Exit signs hang above eye level; the margin
+     *  covers a low sign or a pitch error of about 6 degrees); -1.5 or lower = the whole frame (e.g. for
+     *  kinds mounted low). Frames without a finite pitch are always searched whole. Must not be NaN. */
+    double unet_coarse_min_elevation_rad;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */

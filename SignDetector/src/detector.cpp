@@ -15,8 +15,8 @@ std::string directoryOf(const std::string& path) {
 }  // namespace
 
 int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOptions* out, std::string* error) {
-    if (opts.version != 1 && opts.version != WF_DETECTOR_OPTIONS_VERSION) {
-        *error = "wf_detector_options version " + std::to_string(opts.version) + " is not supported (expected " +
+    if (opts.version < 1 || opts.version > WF_DETECTOR_OPTIONS_VERSION) {
+        *error = "wf_detector_options version " + std::to_string(opts.version) + " is not supported (expected 1 to " +
                  std::to_string(WF_DETECTOR_OPTIONS_VERSION) + ")";
         return WF_ERR_VERSION;
     }
@@ -108,6 +108,18 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
             return WF_ERR_INVALID_ARGUMENT;
         }
         if (opts.cascade_gate_min_contrast > 0) r.cascade.colourGate.minContrast = opts.cascade_gate_min_contrast;
+    }
+    if (opts.version >= 3) {  // a version-1 or -2 struct ends before these fields
+        const double cut = opts.unet_coarse_min_elevation_rad;
+        if (std::isnan(cut) || cut >= 1.5) {
+            *error = "unet_coarse_min_elevation_rad must be a number below 1.5 rad (0 = default, <= -1.5 = off)";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        if (cut <= -1.5) {
+            r.unet.coarseMinElevationRad = std::nan("");
+        } else if (cut != 0) {
+            r.unet.coarseMinElevationRad = cut;
+        }
     }
     *out = std::move(r);
     return WF_OK;

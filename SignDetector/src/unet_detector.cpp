@@ -211,8 +211,14 @@ cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d 
     return out;
 }
 
+/// Unrolled row (v grows downwards) of the ray at elevation `elevationRad` for a camera pitched `pitchRad`:
+/// v = cy' - fy' tan(elevation - pitch), the angle clamped to +-1.5 rad so tan() stays finite.
+static double unrolledRowAtElevation(const Intrinsics& k, double elevationRad, double pitchRad) {
+    return k.cy - k.fy * std::tan(std::clamp(elevationRad - pitchRad, -1.5, 1.5));
+}
+
 std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const Unrolling& unrolling,
-                                                          const UnetParams& params) {
+                                                          const UnetParams& params, double pitchRad) {
     const int s = inputSize_;
     const cv::Size unrolledSize = unrolling.unrolledSize();
     const double scale = double(s) / std::max(unrolledSize.width, unrolledSize.height);  // network px per unrolled px
@@ -220,8 +226,17 @@ std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const
     const int h = std::max(1, static_cast<int>(std::lround(unrolledSize.height * scale)));
     // The letterbox is cut to the content rounded up to a multiple of 32 (the U-Net's down-sampling): a
     // 4:3 frame runs 224 x 192 instead of 224 x 224 at the same scale (0.86 x the cost).
-    const int inW = std::min(s, (w + 31) / 32 * 32), inH = std::min(s, (h + 31) / 32 * 32);
+    const int inW = std::min(s, (w + 31) / 32 * 32);
+    int inH = std::min(s, (h + 31) / 32 * 32);
     const int offX = (inW - w) / 2, offY = (inH - h) / 2;
+    if (std::isfinite(params.coarseMinElevationRad) && std::isfinite(pitchRad)) {
+        // Rows below the lowest elevation a sign can have are left out: the input ends at the first multiple of
+        // 32 network rows at or below the cut (same scale and origin as the full letterbox, so the rows kept
+        // are exactly the ones the full pass would see).
+        const double cutRow = unrolledRowAtElevation(unrolling.unrolledIntrinsics(), params.coarseMinElevationRad, pitchRad);
+        const double cutNetworkRow = offY + (cutRow + 0.5) * h / double(unrolledSize.height);
+        inH = std::clamp(static_cast<int>(std::ceil(cutNetworkRow / 32.0)) * 32, 32, inH);
+    }
     // Exact map network -> unrolled: the letterboxed content's scale is (cols / w, rows / h) unrolled px per
     // network px, its first pixel edge at network (offX - 0.5, offY - 0.5).
     const double sx = double(unrolledSize.width) / w, sy = double(unrolledSize.height) / h;
@@ -239,10 +254,7 @@ std::vector<UnetCandidate> UnetDetector::farBandCandidates(RawPyramid& raw, cons
     const cv::Size unrolledSize = unrolling.unrolledSize();
     const Intrinsics& k = unrolling.unrolledIntrinsics();
     // Unrolled row of the ray at elevation e: v = cy' - fy' tan(e - pitch) (rows grow downwards).
-    const double limit = 1.5;  // rad: keep tan() finite
-    auto rowAt = [&](double elevation) {
-        return k.cy - k.fy * std::tan(std::clamp(elevation - pitchRad, -limit, limit));
-    };
+    auto rowAt = [&](double elevation) { return unrolledRowAtElevation(k, elevation, pitchRad); };
     const double top = std::max(-0.5, rowAt(params.farBandMaxElevationRad));
     const double bottom = std::min(unrolledSize.height - 0.5, rowAt(params.farBandMinElevationRad));
     if (!(bottom - top >= 1.0)) return {};
@@ -422,7 +434,7 @@ std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolli
                                             double pitchRad) {
     CV_Assert(rgbRaw.type() == CV_8UC3 && rgbRaw.size() == unrolling.rawSize());
     RawPyramid raw(rgbRaw);
-    const std::vector<UnetCandidate> coarse = coarseCandidates(raw, unrolling, params);
+    const std::vector<UnetCandidate> coarse = coarseCandidates(raw, unrolling, params, pitchRad);
     std::vector<Detection> detections;
     std::vector<char> found(coarse.size(), 0);
     for (size_t i = 0; i < coarse.size(); ++i) {

@@ -43,6 +43,15 @@ struct UnetParams {
     /// Slicing of the fine mask.
     SliceParams slices;
 
+    /// Coarse pass: the unrolled rows whose ray elevation, pitch + atan((cy' - v) / fy'), is below this are not
+    /// run through the network (radians; needs the camera pitch, NaN = off, the whole frame). Exit signs hang
+    /// above eye level (bottom edge >= ~2 m, camera at 1.2-1.6 m), so their faces are above the horizon; the
+    /// 0.10 rad margin keeps a sign whose centre is 0.1 x its distance below the camera (a low sign, a pitch
+    /// error of ~6 degrees). At a typical pitch of 0-20 degrees this skips a fifth to a half of the coarse
+    /// input; the cut is rounded up to the U-Net's 32-pixel grid, and frames where it would save nothing run
+    /// the full letterbox unchanged.
+    double coarseMinElevationRad = -0.10;
+
     /// Far-sign band pass (needs the camera pitch). Signs beyond ~5 m are only a few network pixels in the
     /// whole-frame coarse pass (a 9 m Exit sign: ~4 x 7 of 224), and the network misses them. A second coarse
     /// pass samples only the band of unrolled rows whose ray elevation, pitch + atan((cy' - v) / fy'), lies
@@ -157,7 +166,8 @@ public:
 
     /// Coarse pass: the whole unrolled frame letterboxed to SxS (sampled from the raw pyramid); returns the
     /// candidate blobs in unrolled pixels.
-    std::vector<UnetCandidate> coarseCandidates(RawPyramid& raw, const Unrolling& unrolling, const UnetParams& params);
+    std::vector<UnetCandidate> coarseCandidates(RawPyramid& raw, const Unrolling& unrolling, const UnetParams& params,
+                                                double pitchRad);
 
     /// Far-sign band pass (UnetParams::farBand): the unrolled rows whose elevation lies in the band, full
     /// width, at farBandScale x the coarse resolution; returns its blobs in unrolled pixels (empty when the

@@ -36,11 +36,14 @@ const char* wf_sign_detector_version(void) { return "1.0.0"; }
 
 int wf_detector_options_init(wf_detector_options* opts, unsigned int version) {
     if (opts == nullptr) return fail(WF_ERR_INVALID_ARGUMENT, "wf_detector_options_init: opts is NULL");
-    if (version != 1 && version != WF_DETECTOR_OPTIONS_VERSION) {
+    if (version < 1 || version > WF_DETECTOR_OPTIONS_VERSION) {
         return fail(WF_ERR_VERSION, "wf_detector_options_init: unsupported version " + std::to_string(version));
     }
-    // A version-1 caller's struct ends before the version-2 fields: never write past it.
-    std::memset(opts, 0, version == 1 ? offsetof(wf_detector_options, cascade_full_search) : sizeof *opts);
+    // An older caller's struct ends before the later versions' fields: never write past it.
+    const size_t size = version == 1   ? offsetof(wf_detector_options, cascade_full_search)
+                        : version == 2 ? offsetof(wf_detector_options, unet_coarse_min_elevation_rad)
+                                       : sizeof *opts;
+    std::memset(opts, 0, size);
     opts->version = version;
     return WF_OK;
 }

@@ -80,6 +80,19 @@ final class SignDetectorTests: XCTestCase {
         XCTAssertEqual(sign.boxInUnrolled.width, 60, accuracy: 2)
     }
 
+    func testUnetCoarseElevationCutIsPassedToTheDetector() throws {
+        // Camera pitched 0.3 rad down: the plate's centre is at elevation ~-0.3 rad, below the default cut
+        // (-0.10 rad) and below the far-band pass, so only a whole-frame coarse pass (nil) finds it.
+        var config = DetectorConfiguration(kind: .unet, unetPath: Self.tinyUnet)
+        let cut = try SignDetector(configuration: config)
+        XCTAssertEqual(try cut.detect(image: redPlateFrame(), fx: 534, fy: 530, cx: 319.5, cy: 239.5,
+                                      pitchRad: -0.3, rollRad: -Double.pi / 2).count, 0)
+        config.unetCoarseMinElevationRad = nil
+        let whole = try SignDetector(configuration: config)
+        XCTAssertEqual(try whole.detect(image: redPlateFrame(), fx: 534, fy: 530, cx: 319.5, cy: 239.5,
+                                        pitchRad: -0.3, rollRad: -Double.pi / 2).count, 1)
+    }
+
     func testBadFramesThrowBadFrame() throws {
         let detector = try unetDetector()
         let frame = redPlateFrame()

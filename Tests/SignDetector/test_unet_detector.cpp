@@ -31,7 +31,8 @@ struct Scene {
 };
 
 /// A portrait 1920 x 1440 frame with a red-plate Exit sign at `rangeMeters`, unrolled.
-Scene portraitScene(double rangeMeters, double bearingRad, double pitchRad, uint32_t seed) {
+Scene portraitScene(double rangeMeters, double bearingRad, double pitchRad, uint32_t seed,
+                    double bottomAboveCameraMeters = 0.8) {
     Scene s;
     s.camera.pitchRad = pitchRad;
     cv::Mat bgr = synthetic::renderBackground(s.camera, seed);
@@ -39,6 +40,7 @@ Scene portraitScene(double rangeMeters, double bearingRad, double pitchRad, uint
     sign.rangeMeters = rangeMeters;
     sign.bearingRad = bearingRad;
     sign.style = synthetic::SignStyle::WhiteLettersOnRed;
+    sign.bottomAboveCameraMeters = bottomAboveCameraMeters;
     s.truth = synthetic::drawSign(bgr, s.camera, sign);
     s.unrolling = Unrolling::forRoll(s.camera.rollRad, {s.camera.fx, s.camera.fy, s.camera.cx, s.camera.cy}, bgr.size());
     cv::cvtColor(bgr, s.rgbRaw, cv::COLOR_BGR2RGB);
@@ -108,7 +110,7 @@ TEST(UnetDetector, CoarseCandidateMapsBackToTheSign) {
     const Scene s = portraitScene(4.0, 0.1, 0.05, 5);
     ASSERT_TRUE(s.truth.visible);
     RawPyramid raw(s.rgbRaw);
-    const std::vector<UnetCandidate> c = d.coarseCandidates(raw, s.unrolling, UnetParams{});
+    const std::vector<UnetCandidate> c = d.coarseCandidates(raw, s.unrolling, UnetParams{}, std::nan(""));
     ASSERT_EQ(c.size(), 1u);
     EXPECT_EQ(c[0].classIndex, 1);
     // The truth box in unrolled pixels; the coarse box agrees within two network pixels (~17 px).
@@ -121,6 +123,32 @@ TEST(UnetDetector, CoarseCandidateMapsBackToTheSign) {
     const cv::Rect2d truthBox(minX, minY, maxX - minX, maxY - minY);
     EXPECT_NEAR(c[0].boxInUnrolled.x, truthBox.x, 18);
     EXPECT_NEAR(c[0].boxInUnrolled.y + c[0].boxInUnrolled.height, truthBox.y + truthBox.height, 18);
+}
+
+TEST(UnetDetector, CoarsePassSkipsRowsBelowTheLowestSignElevation) {
+    UnetDetector d = loadTiny();
+    const double pitch = 0.05;
+    // A sign above eye level (bottom 0.8 m above the camera at 4 m: elevation >= 0.2 rad) is found with the
+    // cut at its default (-0.10 rad) exactly where the full pass finds it.
+    const Scene high = portraitScene(4.0, 0.1, pitch, 5);
+    ASSERT_TRUE(high.truth.visible);
+    RawPyramid rawHigh(high.rgbRaw);
+    const std::vector<UnetCandidate> full = d.coarseCandidates(rawHigh, high.unrolling, UnetParams{}, std::nan(""));
+    const std::vector<UnetCandidate> cut = d.coarseCandidates(rawHigh, high.unrolling, UnetParams{}, pitch);
+    ASSERT_EQ(full.size(), 1u);
+    ASSERT_EQ(cut.size(), 1u);
+    EXPECT_EQ(cut[0].boxInUnrolled, full[0].boxInUnrolled);
+    EXPECT_NEAR(cut[0].meanProbability, full[0].meanProbability, 1e-6);
+    // A plate 1.5 m below the camera at 4 m (elevation about -0.3 rad, e.g. a red poster near the floor) is
+    // left out by the cut and found by the full pass: the rows really are skipped.
+    const Scene low = portraitScene(4.0, 0.1, pitch, 5, -1.5);
+    ASSERT_TRUE(low.truth.visible);
+    RawPyramid rawLow(low.rgbRaw);
+    EXPECT_EQ(d.coarseCandidates(rawLow, low.unrolling, UnetParams{}, std::nan("")).size(), 1u);
+    EXPECT_TRUE(d.coarseCandidates(rawLow, low.unrolling, UnetParams{}, pitch).empty());
+    UnetParams off;
+    off.coarseMinElevationRad = std::nan("");
+    EXPECT_EQ(d.coarseCandidates(rawLow, low.unrolling, off, pitch).size(), 1u);
 }
 
 class UnetRange : public ::testing::TestWithParam<double> {};

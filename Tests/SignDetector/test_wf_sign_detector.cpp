@@ -10,6 +10,7 @@
 #include <opencv2/imgproc.hpp>
 
 #include <cmath>
+#include <cstddef>
 #include <cstdio>
 #include <cstring>
 #include <limits>
@@ -22,9 +23,10 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-wf_detector* makeUnet() {
+wf_detector* makeUnet(double coarseMinElevationRad = 0) {
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_UNET;
+    opts.unet_coarse_min_elevation_rad = coarseMinElevationRad;
     const std::string path = wf::sign::testing::tinyUnetPath();
     opts.unet_path = path.c_str();
     wf_detector* d = nullptr;
@@ -39,7 +41,7 @@ struct PortraitFrame {
     cv::Mat bgr;
 };
 
-PortraitFrame portraitFrame() {
+PortraitFrame portraitFrame(double bottomAboveCameraMeters = 0.8) {
     PortraitFrame f;
     f.camera.pitchRad = 0.1;
     f.camera.rollRad = -kPi / 2;
@@ -47,6 +49,7 @@ PortraitFrame portraitFrame() {
     synthetic::SignPlacement sign;
     sign.rangeMeters = 3;
     sign.bearingRad = 0.15;
+    sign.bottomAboveCameraMeters = bottomAboveCameraMeters;
     sign.style = synthetic::SignStyle::WhiteLettersOnRed;
     f.truth = synthetic::drawSign(f.bgr, f.camera, sign);
     return f;
@@ -90,6 +93,58 @@ TEST(CApi, OptionsInitAndVersion) {
     EXPECT_EQ(wf_detector_options_init(&opts, 99), WF_ERR_VERSION);
     EXPECT_EQ(wf_detector_options_init(nullptr, WF_DETECTOR_OPTIONS_VERSION), WF_ERR_INVALID_ARGUMENT);
     EXPECT_STRNE(wf_sign_detector_version(), "");
+}
+
+TEST(CApi, OlderOptionVersionsAreInitialisedWithoutWritingPastTheirEnd) {
+    const size_t end[] = {offsetof(wf_detector_options, cascade_full_search),
+                          offsetof(wf_detector_options, unet_coarse_min_elevation_rad), sizeof(wf_detector_options)};
+    for (unsigned version = 1; version <= WF_DETECTOR_OPTIONS_VERSION; ++version) {
+        std::vector<unsigned char> bytes(sizeof(wf_detector_options) + 16, 0xAB);
+        wf_detector_options* opts = reinterpret_cast<wf_detector_options*>(bytes.data());
+        ASSERT_EQ(wf_detector_options_init(opts, version), WF_OK);
+        EXPECT_EQ(opts->version, version);
+        const size_t n = end[version - 1];
+        for (size_t i = sizeof(unsigned); i < n; ++i) {
+            if (bytes[i] != 0 && bytes[i] != 0xAB) ADD_FAILURE() << "byte " << i;  // padding may stay
+        }
+        for (size_t i = n; i < bytes.size(); ++i) ASSERT_EQ(bytes[i], 0xAB) << "version " << version << " byte " << i;
+    }
+    wf_detector_options opts;
+    EXPECT_EQ(wf_detector_options_init(&opts, 0), WF_ERR_VERSION);
+    EXPECT_EQ(wf_detector_options_init(&opts, WF_DETECTOR_OPTIONS_VERSION + 1), WF_ERR_VERSION);
+}
+
+TEST(CApi, UnetCoarseElevationCutIsValidatedAndCanBeTurnedOff) {
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.kind = WF_DETECTOR_UNET;
+    const std::string path = wf::sign::testing::tinyUnetPath();
+    opts.unet_path = path.c_str();
+    opts.unet_coarse_min_elevation_rad = std::nan("");
+    wf_detector* bad = nullptr;
+    EXPECT_EQ(wf_detector_create(&bad, &opts), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("unet_coarse_min_elevation_rad"), std::string::npos);
+    EXPECT_EQ(bad, nullptr);
+    // A red plate 1.0 m below the camera at 3 m (elevation about -0.3 rad): skipped by the default cut, found
+    // with the cut off. The sign above eye level is found either way.
+    wf_detector* withCut = makeUnet();
+    wf_detector* noCut = makeUnet(-2.0);
+    ASSERT_NE(withCut, nullptr);
+    ASSERT_NE(noCut, nullptr);
+    for (const double bottomAboveCamera : {0.8, -1.0}) {
+        const PortraitFrame f = portraitFrame(bottomAboveCamera);
+        ASSERT_TRUE(f.truth.visible);
+        cv::Mat rgb;
+        cv::cvtColor(f.bgr, rgb, cv::COLOR_BGR2RGB);
+        const wf_frame frame = frameOf(f, {rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0});
+        wf_detector_observation obs[4];
+        size_t count = 0;
+        ASSERT_EQ(wf_detector_detect(noCut, &frame, obs, 4, &count), WF_OK) << wf_detector_last_error(noCut);
+        EXPECT_EQ(count, 1u) << "no cut, bottom " << bottomAboveCamera << " m above the camera";
+        ASSERT_EQ(wf_detector_detect(withCut, &frame, obs, 4, &count), WF_OK) << wf_detector_last_error(withCut);
+        EXPECT_EQ(count, bottomAboveCamera > 0 ? 1u : 0u) << "cut, bottom " << bottomAboveCamera << " m above the camera";
+    }
+    wf_detector_free(withCut);
+    wf_detector_free(noCut);
 }
 
 TEST(CApi, CreateErrorsLeaveNoHandleAndAMessage) {

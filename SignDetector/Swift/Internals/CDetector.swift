@@ -27,6 +27,7 @@ final class CDetector {
         opts.unet_zoom_factor = c.unetZoomFactor
         opts.unet_min_crop_px = Int32(clamping: c.unetMinCropPx)
         opts.unet_max_candidates = Int32(clamping: c.unetMaxCandidates)
+        opts.unet_coarse_min_elevation_rad = c.unetCoarseMinElevationRad ?? -2  // <= -1.5: no cut
         opts.min_score = c.minScore
         opts.slice_count = Int32(clamping: c.sliceCount)
         opts.slice_band_fraction = c.sliceBandFraction
