@@ -155,20 +155,31 @@ def best_stump(X: np.ndarray, y: np.ndarray, w: np.ndarray, offsets: np.ndarray)
 
 
 def train_stage(Xp: np.ndarray, Xn: np.ndarray, min_hit: float, max_fa: float, max_weak: int,
-                offsets: np.ndarray, log, rng: np.random.Generator, feature_frac: float = 1.0) -> Tuple[Stage, float, float]:
+                offsets: np.ndarray, log, rng: np.random.Generator, feature_frac: float = 1.0,
+                neg_weights: np.ndarray = None, pos_weight: float = 0.5,
+                trim_rate: float = 0.95) -> Tuple[Stage, float, float]:
     """Gentle AdaBoost until the stage meets min_hit on positives and max_fa on negatives; each
-    round searches a random `feature_frac` of the features."""
+    round searches a random `feature_frac` of the features. `neg_weights` (optional, (len(Xn),))
+    sets the negatives' relative starting weights (default: equal); positives and negatives start
+    with `pos_weight` and 1 - pos_weight of the total weight (default half each; more on the positives
+    makes the stumps keep nearly all positives on one side, which a stage of very few stumps with a
+    high hit rate needs). The false-alarm rate reported is weighted as the negatives' start weights."""
     X = np.concatenate([Xp, Xn])
     y = np.concatenate([np.ones(len(Xp)), -np.ones(len(Xn))])
-    w = np.concatenate([np.full(len(Xp), 0.5 / len(Xp)), np.full(len(Xn), 0.5 / len(Xn))])
+    wn = np.ones(len(Xn)) if neg_weights is None else np.asarray(neg_weights, np.float64)
+    wn = wn / wn.sum()
+    w = np.concatenate([np.full(len(Xp), pos_weight / len(Xp)), (1.0 - pos_weight) * wn])
     F = np.zeros(len(X), np.float64)
     stage = Stage()
     hit = fa = 1.0
     for _ in range(max_weak):
-        # weight trimming (keep the heaviest samples carrying 95 % of the weight)
-        ws = np.sort(w)[::-1]
-        cut = ws[min(np.searchsorted(np.cumsum(ws), 0.95), len(ws) - 1)]
-        keep = np.nonzero(w >= cut)[0]
+        # weight trimming (keep the heaviest samples carrying trim_rate, default 95 %, of the weight)
+        if trim_rate < 1.0:
+            ws = np.sort(w)[::-1]
+            cut = ws[min(np.searchsorted(np.cumsum(ws), trim_rate), len(ws) - 1)]
+            keep = np.nonzero(w >= cut)[0]
+        else:
+            keep = np.arange(len(w))
         # random feature subset per round (speed; as in randomised boosting), indices mapped back
         cols = np.sort(rng.choice(X.shape[1], max(1, int(round(feature_frac * X.shape[1]))), replace=False))
         st = best_stump(X[np.ix_(keep, cols)], y[keep], w[keep], offsets[:len(cols)])
@@ -182,7 +193,7 @@ def train_stage(Xp: np.ndarray, Xn: np.ndarray, min_hit: float, max_fa: float, m
         k = int(math.floor((1.0 - min_hit) * len(sp)))
         thr = float(sp[k]) - 1e-4
         hit = float(np.mean(stage.score(Xp) >= thr))
-        fa = float(np.mean(stage.score(Xn) >= thr))
+        fa = float(np.mean(stage.score(Xn) >= thr)) if neg_weights is None else float(np.sum(wn * (stage.score(Xn) >= thr)))
         stage.threshold = thr
         if fa <= max_fa and len(stage.stumps) >= 2:
             break
@@ -387,6 +398,114 @@ def load_stages_full_index(path: str, rects_all: np.ndarray) -> List[Stage]:
     return stages
 
 
+# --------------------------------------------------------------------------------------------------
+# Cheap stages in front of an existing cascade (speed)
+# --------------------------------------------------------------------------------------------------
+
+def detection_windows(g: np.ndarray, scale_factor: float = 1.2, max_windows: int = 0,
+                      rng: np.random.Generator = None) -> np.ndarray:
+    """The 24 x 16 windows cv::CascadeClassifier::detectMultiScale evaluates on grey image `g` with
+    `scale_factor` and the training window as smallest window: for each factor 1, s, s^2, ... while
+    the window fits, the image resized (INTER_LINEAR_EXACT) to round(size / factor), windows at
+    x < width - 24, y < height - 16 with step 2 for factor <= 2, else 1 (OpenCV's scan; the extra
+    step OpenCV takes after a stage-0 rejection is ignored). Returns (N, 16, 24) uint8, a random
+    subset of at most `max_windows` when that is > 0."""
+    H, W = g.shape
+    out = []
+    f = 1.0
+    while int(round(WIN_W * f)) <= W and int(round(WIN_H * f)) <= H:
+        sw, sh = int(round(W / f)), int(round(H / f))
+        S = cv2.resize(g, (sw, sh), interpolation=cv2.INTER_LINEAR_EXACT)
+        step = 1 if f > 2 else 2
+        nx, ny = sw - WIN_W, sh - WIN_H
+        if nx > 0 and ny > 0:
+            V = np.lib.stride_tricks.sliding_window_view(S, (WIN_H, WIN_W))[0:ny:step, 0:nx:step]
+            out.append(V.reshape(-1, WIN_H, WIN_W))
+        f *= scale_factor
+    if not out:
+        return np.zeros((0, WIN_H, WIN_W), np.uint8)
+    P = np.concatenate(out)
+    if max_windows and len(P) > max_windows:
+        P = P[(rng or np.random.default_rng(0)).choice(len(P), max_windows, replace=False)]
+    return np.ascontiguousarray(P)
+
+
+def stump_cost(stages: List[Stage], rects: np.ndarray, patches: np.ndarray) -> Tuple[np.ndarray, np.ndarray]:
+    """Per window: weak classifiers evaluated before the cascade (stages with stumps indexing `rects`)
+    rejects or accepts it, and whether it is accepted. Returns (cost float (N,), accepted bool (N,))."""
+    used = sorted({st.feature for s in stages for st in s.stumps})
+    remap = {f: i for i, f in enumerate(used)}
+    C = codes_for(patches, rects[used]) if used else np.zeros((len(patches), 0), np.uint8)
+    alive = np.ones(len(patches), bool)
+    cost = np.zeros(len(patches))
+    for s in stages:
+        idx = np.nonzero(alive)[0]
+        if len(idx) == 0:
+            break
+        sc = np.zeros(len(idx), np.float32)
+        for st in s.stumps:
+            sc += st.predict(C[idx, remap[st.feature]])
+        cost[idx] += len(s.stumps)
+        alive[idx[sc < s.threshold]] = False
+    return cost, alive
+
+
+def prepend_stages(base: List[Stage], rects: np.ndarray, Xp_all: np.ndarray, frames: List[np.ndarray],
+                   weak_counts: List[int], min_hit: float, num_neg: int, windows_per_frame: int,
+                   offsets: np.ndarray, rng: np.random.Generator, log, feature_frac: float = 1.0,
+                   cost_weighted: bool = True, pos_weight: float = 0.5, trim_rate: float = 1.0,
+                   after: int = 0) -> List[Stage]:
+    """Train small stages (weak_counts[i] stumps each) to run before the cascade `base` (its stumps
+    indexing `rects`, the full feature list): OpenCV's LBP cascade evaluates stages independently, so
+    stages put in front only remove windows, and cheap ones that reject most windows early cut the
+    average number of weak classifiers per window. Positives: the training positives `base` accepts
+    (features Xp_all, full feature list); each new stage keeps min_hit of those still accepted.
+    Negatives of new stage i: windows detectMultiScale evaluates (detection_windows) on the sign-free
+    frames that new stages 0..i-1 accept; when cost_weighted, each starts with a boosting weight
+    proportional to the weak classifiers `base` spends on it (1 + cost), so the stage concentrates on
+    windows that are expensive to reject later. Boosting starts with `pos_weight` of the weight on the
+    positives and trims no weights by default (trimming would drop the light negatives when the
+    positives carry most of the weight). With `after` = k > 0 the new stages go after the first k
+    stages of `base` (their negatives are windows those k stages accept): detectMultiScale skips the
+    next position after a window its first stage rejects, so keeping `base`'s first stage first keeps
+    its scan pattern (new first stages that reject more windows skip more positions and lose weak
+    detections of far signs). Returns the new stages only."""
+    Xp = Xp_all[cascade_pass(base, Xp_all)]
+    log("prepend: %d of %d positives pass the base cascade" % (len(Xp), len(Xp_all)))
+    new: List[Stage] = []
+    for i, nw in enumerate(weak_counts):
+        # Fresh negatives per stage: exact windows of random frames that the new stages so far accept.
+        negs, scanned = [], 0
+        have = 0
+        for fi in rng.permutation(len(frames)):
+            P = detection_windows(frames[fi], 1.2, windows_per_frame, rng)
+            scanned += 1
+            if (new or after) and len(P):
+                P = P[cascade_pass(base[:after] + new, compute_features(P))]
+            if len(P):
+                negs.append(P)
+                have += len(P)
+            if have >= num_neg:
+                break
+        if not negs:
+            log("prepend: no negatives left after %d new stages" % len(new))
+            break
+        neg = np.concatenate(negs)
+        neg = neg[rng.permutation(len(neg))[:num_neg]]
+        Xn = compute_features(neg)
+        w_neg = None
+        if cost_weighted:
+            cost, _ = stump_cost(base, rects, neg)
+            w_neg = 1.0 + cost
+            log("prepend stage %d: base cascade spends %.1f weak classifiers per negative window" % (i, float(cost.mean())))
+        log("prepend stage %d: %d positives, %d negatives from %d frames" % (i, len(Xp), len(Xn), scanned))
+        stage, hit, fa = train_stage(Xp, Xn, min_hit, 0.0, nw, offsets, log, rng, feature_frac, neg_weights=w_neg,
+                                     pos_weight=pos_weight, trim_rate=trim_rate)
+        new.append(stage)
+        Xp = Xp[stage.score(Xp) >= stage.threshold]
+    return new
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Train the Exit-sign LBP cascade from rendered samples.")
     ap.add_argument("--out", required=True, help="output cascade XML")
@@ -401,6 +520,23 @@ def main(argv=None) -> int:
     ap.add_argument("--time-limit-min", type=float, default=35.0, help="stop adding stages after this wall time (excluding sample rendering)")
     ap.add_argument("--feature-frac", type=float, default=0.35, help="fraction of features searched per boosting round")
     ap.add_argument("--resume", default=None, help="continue from the stages of this cascade XML")
+    ap.add_argument("--prepend-to", default=None, metavar="CASCADE.xml",
+                    help="speed: train small stages to run in front of this cascade (which is kept as it is) and "
+                         "write new stages + its stages to --out (see prepend_stages)")
+    ap.add_argument("--prepend-weak", default="2,3,4", help="weak classifiers of each prepended stage, comma-separated")
+    ap.add_argument("--prepend-min-hit", type=float, default=0.999,
+                    help="hit rate of each prepended stage on the positives the cascade accepts")
+    ap.add_argument("--prepend-windows-per-frame", type=int, default=400,
+                    help="random detection windows taken per sign-free frame as negatives of a prepended stage")
+    ap.add_argument("--prepend-pos-weight", type=float, default=0.5,
+                    help="share of the starting boosting weight on the positives in prepended stages")
+    ap.add_argument("--prepend-neg-images", default=None, metavar="GLOB",
+                    help="grey images (e.g. the colour gate's search regions of rendered sign-free frames) to take the "
+                         "prepended stages' negative windows from instead of the cached sign-free frames")
+    ap.add_argument("--prepend-after", type=int, default=0,
+                    help="put the new stages after this many of the cascade's first stages (default 0: in front)")
+    ap.add_argument("--prepend-uniform", action="store_true",
+                    help="equal starting weights for the negatives (default: weighted by the cascade's cost)")
     ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
     a = ap.parse_args(argv)
     t0 = time.time()
@@ -428,6 +564,32 @@ def main(argv=None) -> int:
     log("%d MB-LBP features" % len(rects))
     Xp_all = compute_features(pos)
     rng = np.random.default_rng([a.seed, 12])
+    if a.prepend_to:
+        base = load_stages_full_index(a.prepend_to, rects)
+        rng_p = np.random.default_rng([a.seed, 13])
+        if a.prepend_neg_images:
+            import glob
+            paths = sorted(glob.glob(a.prepend_neg_images))
+            frames = [g for g in (cv2.imread(p_, cv2.IMREAD_GRAYSCALE) for p_ in paths) if g is not None]
+            log("prepend: %d negative images from %s" % (len(frames), a.prepend_neg_images))
+        # images held out for the cost report: every 10th; new stages train on the others
+        train_frames = [g for i, g in enumerate(frames) if i % 10]
+        report_frames = frames[::10]
+        new = prepend_stages(base, rects, Xp_all, train_frames, [int(v) for v in a.prepend_weak.split(",")],
+                             a.prepend_min_hit, a.num_neg, a.prepend_windows_per_frame, offsets, rng_p, log,
+                             a.feature_frac, cost_weighted=not a.prepend_uniform,
+                             pos_weight=a.prepend_pos_weight, after=a.prepend_after)
+        stages = base[:a.prepend_after] + new + base[a.prepend_after:]
+        write_xml(a.out, stages, rects, a.min_hit, a.max_fa, a.max_weak)
+        P = np.concatenate([detection_windows(g, 1.2, 2000, rng_p) for g in report_frames])
+        c0, acc0 = stump_cost(base, rects, P)
+        c1, acc1 = stump_cost(stages, rects, P)
+        log("held-out frames (%d windows): weak classifiers per window %.2f -> %.2f, accepted %d -> %d" %
+            (len(P), float(c0.mean()), float(c1.mean()), int(acc0.sum()), int(acc1.sum())))
+        log("done: %d + %d stages, %d weak classifiers, training-positive hit rate %.4f -> %.4f -> %s" %
+            (len(new), len(base), sum(len(s.stumps) for s in stages), float(np.mean(cascade_pass(base, Xp_all))),
+             float(np.mean(cascade_pass(stages, Xp_all))), a.out))
+        return 0
     stages: List[Stage] = load_stages_full_index(a.resume, rects) if a.resume else []
     if stages:
         log("resumed %d stages from %s" % (len(stages), a.resume))

@@ -53,3 +53,26 @@ def test_numpy_evaluator_matches_opencv():
 if __name__ == "__main__":
     test_numpy_evaluator_matches_opencv()
     print("ok")
+
+
+def test_detection_windows_and_stump_cost():
+    """detection_windows enumerates OpenCV's scan (step 2 up to factor 2, then 1); stump_cost's accepted
+    set is cascade_pass's and its cost counts the weak classifiers of every stage a window reaches."""
+    rng = np.random.default_rng(5)
+    g = rng.integers(0, 256, (48, 64)).astype(np.uint8)
+    P = tc.detection_windows(g, 1.2)
+    expected, f = 0, 1.0
+    while round(tc.WIN_W * f) <= 64 and round(tc.WIN_H * f) <= 48:
+        sw, sh = int(round(64 / f)), int(round(48 / f))
+        step = 1 if f > 2 else 2
+        expected += len(range(0, sh - tc.WIN_H, step)) * len(range(0, sw - tc.WIN_W, step))
+        f *= 1.2
+    assert P.shape == (expected, tc.WIN_H, tc.WIN_W)
+    assert (P[0] == g[:tc.WIN_H, :tc.WIN_W]).all()
+    assert len(tc.detection_windows(g, 1.2, 10, rng)) == 10
+    rects = tc.enumerate_features()
+    stages = _random_cascade(rng, len(rects))
+    cost, accepted = tc.stump_cost(stages, rects, P)
+    assert (accepted == tc.cascade_pass(stages, tc.compute_features(P))).all()
+    assert set(np.unique(cost)) <= {4.0, 8.0, 12.0}
+    assert (cost[accepted] == 12).all()
