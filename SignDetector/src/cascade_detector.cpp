@@ -42,10 +42,8 @@ cv::Size CascadeDetector::trainedWindow(size_t index) const {
 }
 
 int CascadeDetector::searchRowLimit(double minElevationRad, double pitchRad, double fyPx, double cyPx, int rows) {
-    const double angle = minElevationRad - pitchRad;
-    if (angle <= -1.5) return rows;  // the limit is below any row of a forward-looking camera
-    if (angle >= 1.5) return 0;
-    const double v = cyPx - fyPx * std::tan(angle);  // elevation(v) >= min  <=>  v <= cy - fy tan(min - pitch)
+    // elevation(v) >= min  <=>  v <= cy - fy tan(min - pitch); beyond +-1.5 rad the row is far outside the image.
+    const double v = unrolledRowAtElevation(Intrinsics{fyPx, fyPx, 0, cyPx}, minElevationRad, pitchRad);
     return static_cast<int>(std::clamp(std::floor(v) + 1.0, 0.0, double(rows)));
 }
 

@@ -211,12 +211,6 @@ cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d 
     return out;
 }
 
-/// Unrolled row (v grows downwards) of the ray at elevation `elevationRad` for a camera pitched `pitchRad`:
-/// v = cy' - fy' tan(elevation - pitch), the angle clamped to +-1.5 rad so tan() stays finite.
-static double unrolledRowAtElevation(const Intrinsics& k, double elevationRad, double pitchRad) {
-    return k.cy - k.fy * std::tan(std::clamp(elevationRad - pitchRad, -1.5, 1.5));
-}
-
 std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const Unrolling& unrolling,
                                                           const UnetParams& params, double pitchRad) {
     const int s = inputSize_;

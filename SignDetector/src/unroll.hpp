@@ -12,6 +12,12 @@ struct Intrinsics {
     double fx = 0, fy = 0, cx = 0, cy = 0;
 };
 
+/// Row v (pixels, growing downwards) of an unrolled image with intrinsics `unrolled` where rays at elevation
+/// `elevationRad` (radians above the horizontal) appear, for a camera pitched up by `pitchRad`:
+/// v = cy' - fy' tan(elevation - pitch) (pinhole model, roll already removed). The angle is clamped to +-1.5 rad,
+/// so the row is always finite (far outside the image for rays behind or beside the frame).
+double unrolledRowAtElevation(const Intrinsics& unrolled, double elevationRad, double pitchRad);
+
 /// The exact geometric map between a raw image and its unrolled image, for one roll and one set of
 /// intrinsics. A value: cheap to copy, no image data.
 ///

@@ -160,3 +160,15 @@ TEST(Unroll, GeneralAngleKeepsFocalLengthGeometricMean) {
     EXPECT_NEAR(u.unrolledIntrinsics().fx, std::sqrt(kIphone.fx * kIphone.fy), 1e-9);
     EXPECT_NEAR(u.unrolledIntrinsics().fy, std::sqrt(kIphone.fx * kIphone.fy), 1e-9);
 }
+
+TEST(Unroll, RowAtElevationFollowsThePinholeModelAndStaysFinite) {
+    const Intrinsics k{534, 530, 319.5, 239.5};
+    EXPECT_DOUBLE_EQ(unrolledRowAtElevation(k, 0.0, 0.0), 239.5);   // the horizon through the principal point
+    EXPECT_DOUBLE_EQ(unrolledRowAtElevation(k, 0.2, 0.2), 239.5);   // the optical axis at the pitch
+    EXPECT_NEAR(unrolledRowAtElevation(k, 0.1, 0.0), 239.5 - 530 * std::tan(0.1), 1e-9);  // above: smaller v
+    EXPECT_GT(unrolledRowAtElevation(k, -0.1, 0.0), 239.5);
+    // Rays beside or behind the camera: clamped to +-1.5 rad, far outside the image but finite.
+    EXPECT_TRUE(std::isfinite(unrolledRowAtElevation(k, 2.0, -1.0)));
+    EXPECT_LT(unrolledRowAtElevation(k, 2.0, -1.0), -5000);
+    EXPECT_GT(unrolledRowAtElevation(k, -2.0, 1.0), 5000);
+}
