@@ -229,6 +229,7 @@ std::vector<UnetCandidate> UnetDetector::coarseCandidates(RawPyramid& raw, const
         // are exactly the ones the full pass would see).
         const double cutRow = unrolledRowAtElevation(unrolling.unrolledIntrinsics(), params.coarseMinElevationRad, pitchRad);
         const double cutNetworkRow = offY + (cutRow + 0.5) * h / double(unrolledSize.height);
+        if (cutNetworkRow <= offY) return {};  // the whole frame is below the cut (camera looking down)
         inH = std::clamp(static_cast<int>(std::ceil(cutNetworkRow / 32.0)) * 32, 32, inH);
     }
     // Exact map network -> unrolled: the letterboxed content's scale is (cols / w, rows / h) unrolled px per

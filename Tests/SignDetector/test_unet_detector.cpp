@@ -149,6 +149,9 @@ TEST(UnetDetector, CoarsePassSkipsRowsBelowTheLowestSignElevation) {
     UnetParams off;
     off.coarseMinElevationRad = std::nan("");
     EXPECT_EQ(d.coarseCandidates(rawLow, low.unrolling, off, pitch).size(), 1u);
+    // Camera looking steeply down (pitch -1.2 rad): every row is below the cut, the pass is skipped.
+    EXPECT_TRUE(d.coarseCandidates(rawLow, low.unrolling, UnetParams{}, -1.2).empty());
+    EXPECT_EQ(d.coarseCandidates(rawLow, low.unrolling, off, -1.2).size(), 1u);
 }
 
 class UnetRange : public ::testing::TestWithParam<double> {};
