@@ -41,10 +41,10 @@ public struct DetectorConfiguration: Sendable, Equatable {
     public var cascadeMinWindowWidth: Int = 0
     public var cascadeMinWindowHeight: Int = 0
     public var cascadeMaxWindowFactor: Double = 0
-    /// If set, the cascade searches only unrolled rows whose ray elevation is at least this (radians, e.g.
+    /// If set, the cascade searches only unrolled rows whose ray elevation is at least this (radians; default
     /// -0.15): signs above eye level never appear far below the horizon, where floors and doors give false
-    /// alarms. nil = the whole frame.
-    public var cascadeMinElevationRad: Double?
+    /// alarms. nil = the whole frame (kinds mounted low).
+    public var cascadeMinElevationRad: Double? = -0.15
     /// U-Net mask threshold (0 = 0.5), zoom factor (0 = 3.5), smallest crop in original pixels (0 = 64),
     /// most candidates zoomed per frame (0 = 8).
     public var unetMaskThreshold: Double = 0

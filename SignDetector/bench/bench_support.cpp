@@ -107,7 +107,9 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     opts.cascade_min_window_height = minWindowHeight;
     opts.cascade_max_window_factor = maxWindowFactor;
     opts.cascade_full_search = fullSearch ? 1 : 0;
-    if (!std::isnan(minElevationRad)) {
+    if (std::isnan(minElevationRad)) {
+        opts.cascade_search_above_elevation = -1;  // the whole frame
+    } else if (minElevationRad != 0) {
         opts.cascade_search_above_elevation = 1;
         opts.cascade_min_elevation_rad = minElevationRad;
     }

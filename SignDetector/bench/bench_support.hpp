@@ -58,11 +58,12 @@ struct DetectorHandle {
 
 /// Creates a cascade detector for one Exit cascade with the given smallest window and largest-window factor
 /// (the reference app's exit_sign_config.yaml: 36 x 24, factor 5; 0 = unlimited).
-/// `minElevationRad`: NaN = search the whole frame, else only rows at least this elevation (radians).
+/// `minElevationRad`: 0 = the detector's default (rows above -0.15 rad), NaN = the whole frame, else only rows at
+/// least this elevation (radians).
 /// `minWindowWidth/Height` 0 = the cascade's training window. `fullSearch`: true = no colour gate (search the
 /// whole frame, as before the gate); false = the default colour gate.
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
-                                            double maxWindowFactor = 0, double minElevationRad = std::nan(""),
+                                            double maxWindowFactor = 0, double minElevationRad = 0,
                                             bool fullSearch = false);
 /// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
 /// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).

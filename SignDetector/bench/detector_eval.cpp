@@ -148,7 +148,8 @@ void usage() {
                  "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full] [--threads N]\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
                  "  --limit N   use the first N frames (after --every)\n"
-                 "  --min-elevation RAD  our cascade rows search only rows at least RAD above the horizon\n"
+                 "  --min-elevation RAD  our cascade rows search only rows at least RAD above the horizon (default:\n"
+                 "               the detector's -0.15 rad; nan = every row)\n"
                  "  --dump FILE  write every observation as CSV (row, frame, true distance or -1, matched, score, box,\n"
                  "               median height and bottom edge, extent width, elevation of the box centre in rad)\n";
 }
@@ -159,7 +160,7 @@ int main(int argc, char** argv) {
     std::string testset, models = productModelsDir(), reference = referenceCascadePath();
     std::string rowsArg = "cascade-vga,cascade-hr,unet,reference";
     long limit = -1, every = 1;
-    double minElevation = std::nan("");
+    double minElevation = 0;  // the detector's default row limit (-0.15 rad); NaN = every row
     int threads = 1;
     std::string dumpPath;
     for (int i = 1; i < argc; ++i) {
@@ -215,8 +216,11 @@ int main(int argc, char** argv) {
             r.size = vga ? cv::Size(640, 480) : cv::Size(1920, 1440);
             r.title = vga ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
             if (full) r.title += ", full search";
-            if (!std::isnan(minElevation)) r.title += ", rows above " + std::to_string(minElevation).substr(0, 5) + " rad";
-            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, minElevation, full);
+            // Full search: no gate and every row (the cascade before the gate and the row limit).
+            const double rowLimit = full ? std::nan("") : minElevation;
+            if (std::isnan(rowLimit) && !full) r.title += ", all rows";
+            if (!std::isnan(rowLimit) && rowLimit != 0) r.title += ", rows above " + std::to_string(rowLimit).substr(0, 5) + " rad";
+            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
@@ -226,7 +230,7 @@ int main(int argc, char** argv) {
             model = reference;
             r.size = cv::Size(640, 480);
             r.title = "Reference cascade (iNavigate), VGA";
-            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0);
+            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0, std::nan(""));  // all rows, as the app did
         } else {
             std::cerr << "wf_detector_eval: unknown row " << id << "\n";
             return 2;

@@ -25,7 +25,10 @@ struct CascadeParams {
     /// Largest window as a multiple of the smallest window; 0 = unlimited.
     double maxWindowFactor = 0;
     /// When set, only rows whose ray elevation is >= minElevationRad are searched (Detector computes the row).
+    /// The C ABI turns it on by default from options version 3 (wf_sign_detector.h).
     bool searchAboveElevation = false;
+    /// Lowest searched elevation, radians: -0.15 by default (signs hang above eye level; the margin covers a low
+    /// sign or a pitch error of about 8 degrees).
     double minElevationRad = -0.15;
     /// How the box is sliced (a box gives the same height in every slice).
     SliceParams slices;

@@ -78,8 +78,19 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
                               ? cv::Size(opts.cascade_min_window_width, opts.cascade_min_window_height)
                               : cv::Size();  // each cascade's training window
     r.cascade.maxWindowFactor = positiveOr(opts.cascade_max_window_factor, 0);
-    r.cascade.searchAboveElevation = opts.cascade_search_above_elevation != 0;
-    r.cascade.minElevationRad = opts.cascade_min_elevation_rad;
+    // cascade_search_above_elevation: 1 = rows above cascade_min_elevation_rad; 0 = the version's default (whole
+    // frame before version 3, rows above CascadeParams' -0.15 rad since); -1 = whole frame (version 3).
+    const int above = opts.cascade_search_above_elevation;
+    if (opts.version >= 3 && (above < -1 || above > 1)) {
+        *error = "cascade_search_above_elevation must be -1 (whole frame), 0 (default) or 1, not " + std::to_string(above);
+        return WF_ERR_INVALID_ARGUMENT;
+    }
+    if (opts.version >= 3 ? above == 1 : above != 0) {
+        r.cascade.searchAboveElevation = true;
+        r.cascade.minElevationRad = opts.cascade_min_elevation_rad;
+    } else {
+        r.cascade.searchAboveElevation = opts.version >= 3 && above == 0;  // minElevationRad keeps its default
+    }
     if (r.cascade.searchAboveElevation && !(std::abs(r.cascade.minElevationRad) < 1.5)) {
         *error = "cascade_min_elevation_rad must be finite and within (-1.5, 1.5) rad";
         return WF_ERR_INVALID_ARGUMENT;

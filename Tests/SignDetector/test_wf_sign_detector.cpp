@@ -358,6 +358,57 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_INVALID_ARGUMENT);
 }
 
+TEST(CApi, CascadeSearchesAboveMinus015RadByDefaultFromVersion3) {
+    // The portrait frame of the previous test (sign about 0.12 rad above the horizon for a level camera), handed
+    // over with a pitch of -0.5 rad: the sign's rows then lie at about -0.38 rad, below the default limit.
+    synthetic::Camera cam;
+    cam.rollRad = -kPi / 2;
+    cam = cam.resized({640, 480});
+    cv::Mat bgr = synthetic::renderBackground(cam, 11);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = 2.5;
+    sign.bottomAboveCameraMeters = 0.3;
+    ASSERT_TRUE(synthetic::drawSign(bgr, cam, sign).visible);
+    cv::Mat gray;
+    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
+    wf_frame frame{};
+    frame.image = wf_image{gray.data, gray.cols, gray.rows, gray.step, WF_PIXEL_GRAY8, nullptr, 0};
+    frame.intrinsics = wf_intrinsics{cam.fx, cam.fy, cam.cx, cam.cy};
+    frame.roll_rad = cam.rollRad;
+    const std::string path = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {path.c_str()};
+    auto found = [&](unsigned version, int searchAbove, double pitch) {
+        wf_detector_options opts;
+        EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
+        opts.cascade_paths = paths;
+        opts.cascade_count = 1;
+        opts.cascade_min_neighbors = 1;
+        opts.cascade_search_above_elevation = searchAbove;
+        wf_detector* d = nullptr;
+        EXPECT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+        if (d == nullptr) return size_t(99);
+        wf_frame f = frame;
+        f.pitch_rad = pitch;
+        wf_detector_observation obs[8];
+        size_t count = 0;
+        EXPECT_EQ(wf_detector_detect(d, &f, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
+        wf_detector_free(d);
+        return count;
+    };
+    EXPECT_GE(found(3, 0, 0.0), 1u);          // level camera: the sign is above the default limit
+    EXPECT_EQ(found(3, 0, -0.5), 0u);         // version 3 default: rows below -0.15 rad are not searched
+    EXPECT_GE(found(3, -1, -0.5), 1u);        // -1: the whole frame
+    EXPECT_GE(found(2, 0, -0.5), 1u);         // a version-2 caller keeps the whole frame
+    wf_detector_options bad;
+    ASSERT_EQ(wf_detector_options_init(&bad, WF_DETECTOR_OPTIONS_VERSION), WF_OK);
+    bad.cascade_paths = paths;
+    bad.cascade_count = 1;
+    bad.cascade_search_above_elevation = 2;
+    wf_detector* d = nullptr;
+    EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_search_above_elevation"), std::string::npos);
+}
+
 TEST(CApi, CapacityTooSmallTruncates) {
     wf_detector* d = makeUnet();
     ASSERT_NE(d, nullptr);

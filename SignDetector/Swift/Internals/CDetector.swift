@@ -21,7 +21,7 @@ final class CDetector {
         opts.cascade_min_window_width = Int32(clamping: c.cascadeMinWindowWidth)
         opts.cascade_min_window_height = Int32(clamping: c.cascadeMinWindowHeight)
         opts.cascade_max_window_factor = c.cascadeMaxWindowFactor
-        opts.cascade_search_above_elevation = c.cascadeMinElevationRad == nil ? 0 : 1
+        opts.cascade_search_above_elevation = c.cascadeMinElevationRad == nil ? -1 : 1
         opts.cascade_min_elevation_rad = c.cascadeMinElevationRad ?? 0
         opts.unet_mask_threshold = c.unetMaskThreshold
         opts.unet_zoom_factor = c.unetZoomFactor
