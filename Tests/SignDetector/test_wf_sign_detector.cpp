@@ -64,6 +64,32 @@ wf_frame frameOf(const PortraitFrame& f, const wf_image& image) {
     return frame;
 }
 
+/// A portrait VGA GRAY8 frame with a red sign 2.5 m ahead, 0.3 m above the camera (about 0.12 rad of elevation
+/// for a level camera): on its side in the raw image; unrolling stands it up for the cascade. `frame` points
+/// into `gray`.
+struct GrayPortraitFrame {
+    synthetic::Camera camera;
+    synthetic::RenderedSign truth;
+    cv::Mat gray;
+    wf_frame frame{};
+};
+
+GrayPortraitFrame grayPortraitFrame() {
+    GrayPortraitFrame f;
+    f.camera.rollRad = -kPi / 2;
+    f.camera = f.camera.resized({640, 480});
+    cv::Mat bgr = synthetic::renderBackground(f.camera, 11);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = 2.5;
+    sign.bottomAboveCameraMeters = 0.3;
+    f.truth = synthetic::drawSign(bgr, f.camera, sign);
+    cv::cvtColor(bgr, f.gray, cv::COLOR_BGR2GRAY);
+    f.frame.image = wf_image{f.gray.data, f.gray.cols, f.gray.rows, f.gray.step, WF_PIXEL_GRAY8, nullptr, 0};
+    f.frame.intrinsics = wf_intrinsics{f.camera.fx, f.camera.fy, f.camera.cx, f.camera.cy};
+    f.frame.roll_rad = f.camera.rollRad;
+    return f;
+}
+
 /// Full-range BT.601 NV12 planes of a BGR image (the inverse of the detector's conversion).
 void toNv12(const cv::Mat& bgr, std::vector<uint8_t>* y, std::vector<uint8_t>* uv) {
     const int w = bgr.cols, h = bgr.rows;
@@ -300,18 +326,9 @@ TEST(CApi, EveryPixelFormatFindsThePortraitSign) {
 }
 
 TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
-    // Portrait VGA gray frame: the sign is on its side in the raw image; unrolling stands it up for the cascade.
-    synthetic::Camera cam;
-    cam.rollRad = -kPi / 2;
-    cam = cam.resized({640, 480});
-    cv::Mat bgr = synthetic::renderBackground(cam, 11);
-    synthetic::SignPlacement sign;
-    sign.rangeMeters = 2.5;
-    sign.bottomAboveCameraMeters = 0.3;
-    const synthetic::RenderedSign truth = synthetic::drawSign(bgr, cam, sign);
+    const GrayPortraitFrame g = grayPortraitFrame();
+    const synthetic::RenderedSign& truth = g.truth;
     ASSERT_TRUE(truth.visible);
-    cv::Mat gray;
-    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     const std::string path = wf::sign::testing::referenceCascadePath();
     const char* paths[] = {path.c_str()};
@@ -320,10 +337,7 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
     opts.cascade_min_neighbors = 1;
     wf_detector* d = nullptr;
     ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
-    wf_frame frame{};
-    frame.image = wf_image{gray.data, gray.cols, gray.rows, gray.step, WF_PIXEL_GRAY8, nullptr, 0};
-    frame.intrinsics = wf_intrinsics{cam.fx, cam.fy, cam.cx, cam.cy};
-    frame.roll_rad = cam.rollRad;
+    const wf_frame frame = g.frame;
     wf_detector_observation obs[8];
     size_t count = 0;
     ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
@@ -359,22 +373,11 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
 }
 
 TEST(CApi, CascadeSearchesAboveMinus015RadByDefaultFromVersion3) {
-    // The portrait frame of the previous test (sign about 0.12 rad above the horizon for a level camera), handed
-    // over with a pitch of -0.5 rad: the sign's rows then lie at about -0.38 rad, below the default limit.
-    synthetic::Camera cam;
-    cam.rollRad = -kPi / 2;
-    cam = cam.resized({640, 480});
-    cv::Mat bgr = synthetic::renderBackground(cam, 11);
-    synthetic::SignPlacement sign;
-    sign.rangeMeters = 2.5;
-    sign.bottomAboveCameraMeters = 0.3;
-    ASSERT_TRUE(synthetic::drawSign(bgr, cam, sign).visible);
-    cv::Mat gray;
-    cv::cvtColor(bgr, gray, cv::COLOR_BGR2GRAY);
-    wf_frame frame{};
-    frame.image = wf_image{gray.data, gray.cols, gray.rows, gray.step, WF_PIXEL_GRAY8, nullptr, 0};
-    frame.intrinsics = wf_intrinsics{cam.fx, cam.fy, cam.cx, cam.cy};
-    frame.roll_rad = cam.rollRad;
+    // The sign is about 0.12 rad above the horizon for a level camera; handed over with a pitch of -0.5 rad, its
+    // rows lie at about -0.38 rad, below the default limit.
+    const GrayPortraitFrame g = grayPortraitFrame();
+    ASSERT_TRUE(g.truth.visible);
+    const wf_frame frame = g.frame;
     const std::string path = wf::sign::testing::referenceCascadePath();
     const char* paths[] = {path.c_str()};
     auto found = [&](unsigned version, int searchAbove, double pitch) {
