@@ -19,6 +19,16 @@ std::vector<float> flatten(const std::vector<std::array<float, 4>> &walls) {
     for (const auto &w : walls) v.insert(v.end(), w.begin(), w.end());
     return v;
 }
+/// `count` random walls in a 40 m square, each up to 4 m long in x and y (draws from `gen`, in order).
+std::vector<std::array<float, 4>> random_maze(std::mt19937& gen, int count) {
+    std::uniform_real_distribution<float> u(0, 40);
+    std::vector<std::array<float, 4>> walls;
+    for (int i = 0; i < count; ++i) {
+        const float x = u(gen), y = u(gen);
+        walls.push_back({x, y, x + (u(gen) - 20) / 5, y + (u(gen) - 20) / 5});
+    }
+    return walls;
+}
 }  // namespace
 
 TEST(WallIndex, MoveThroughWallCrossesMoveInCorridorDoesNot) {
@@ -49,11 +59,7 @@ TEST(WallIndex, SegmentsIntersectCases) {
 TEST(WallIndex, AgreesWithBruteForce) {
     std::mt19937 gen(11);
     std::uniform_real_distribution<float> u(0, 40);
-    std::vector<std::array<float, 4>> walls;
-    for (int i = 0; i < 150; ++i) {
-        const float x = u(gen), y = u(gen);
-        walls.push_back({x, y, x + (u(gen) - 20) / 5, y + (u(gen) - 20) / 5});
-    }
+    const std::vector<std::array<float, 4>> walls = random_maze(gen, 150);
     const auto flat = flatten(walls);
     for (float cell : {0.5f, 1.0f, 3.0f}) {
         const WallIndex idx(FloorGrid(-5, -5, 45, 45, cell), flat.data(), walls.size());
@@ -83,11 +89,7 @@ TEST(WallIndex, DistanceToNearest) {
 TEST(WallIndex, ClearanceGridIsConservative) {
     std::mt19937 gen(5);
     std::uniform_real_distribution<float> u(0, 40);
-    std::vector<std::array<float, 4>> walls;
-    for (int i = 0; i < 120; ++i) {
-        const float x = u(gen), y = u(gen);
-        walls.push_back({x, y, x + (u(gen) - 20) / 5, y + (u(gen) - 20) / 5});
-    }
+    std::vector<std::array<float, 4>> walls = random_maze(gen, 120);
     walls.push_back({10, 10, 10, 10});  // a zero-length wall
     const auto flat = flatten(walls);
     for (float cell : {0.5f, 1.0f}) {
