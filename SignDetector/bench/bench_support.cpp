@@ -96,7 +96,8 @@ std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFr
 }
 
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth, int minWindowHeight,
-                                            double maxWindowFactor, double minElevationRad, bool fullSearch) {
+                                            double maxWindowFactor, double minElevationRad, bool fullSearch,
+                                            bool version4Search) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_CASCADE;
@@ -107,6 +108,10 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     opts.cascade_min_window_height = minWindowHeight;
     opts.cascade_max_window_factor = maxWindowFactor;
     opts.cascade_full_search = fullSearch ? 1 : 0;
+    if (!version4Search) {
+        opts.cascade_placement_prior = -1;
+        opts.cascade_gate_crowded_contrast_factor = 1;
+    }
     if (std::isnan(minElevationRad)) {
         opts.cascade_search_above_elevation = -1;  // the whole frame
     } else if (minElevationRad != 0) {

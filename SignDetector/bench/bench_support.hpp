@@ -61,10 +61,11 @@ struct DetectorHandle {
 /// `minElevationRad`: 0 = the detector's default (rows above -0.15 rad), NaN = the whole frame, else only rows at
 /// least this elevation (radians).
 /// `minWindowWidth/Height` 0 = the cascade's training window. `fullSearch`: true = no colour gate (search the
-/// whole frame, as before the gate); false = the default colour gate.
+/// whole frame, as before the gate); false = the default colour gate. `version4Search`: true = the defaults of
+/// options version 4 (placement prior, crowded-frame gate); false = both off (the search of options version 3).
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
                                             double maxWindowFactor = 0, double minElevationRad = 0,
-                                            bool fullSearch = false);
+                                            bool fullSearch = false, bool version4Search = true);
 /// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
 /// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0);

@@ -8,10 +8,13 @@
 // k-th with WF_BENCH_STRIDE=k (20: two frames per distance 2..9 m of the fixed test set).
 // Benchmarks (each iteration = one frame, frames cycled):
 //   cascade_ours/VGA, cascade_ours/HR       SignDetector/models/exit_sign_cascade.xml (skipped if absent), with
-//                                           the defaults: colour gate (search around red/green regions only),
-//                                           rows at elevation >= -0.15 rad only
-//   cascade_ours_whole_frame/VGA            the same with every row searched (no elevation limit)
-//   cascade_ours_full_search/VGA, .../HR    the same cascade searching the whole frame (no gate, no row limit)
+//                                           the defaults: colour gate (search around red/green regions only, the
+//                                           threshold raised in crowded frames), rows at elevation >= -0.15 rad
+//                                           only, placement prior (per scale, only the rows a sign can hang in)
+//   cascade_ours_v3_search/VGA              the same without the placement prior and the crowded-frame gate (the
+//                                           defaults of options version 3)
+//   cascade_ours_full_search/VGA, .../HR    the same cascade searching the whole frame (no gate, no row limit,
+//                                           no placement prior)
 //   cascade_ours_gray/VGA                   GRAY8 frames: no colour, so the gate falls back to the full search
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
@@ -200,7 +203,7 @@ public:
         ratio("cascade_ours/HR", "cascade_reference/HR");
         ratio("cascade_ours_full_search/VGA", "cascade_reference/VGA");
         ratio("cascade_ours_full_search/HR", "cascade_reference/HR");
-        ratio("cascade_ours/VGA", "cascade_ours_whole_frame/VGA");
+        ratio("cascade_ours/VGA", "cascade_ours_v3_search/VGA");
         ratio("cascade_ours/VGA", "cascade_ours_full_search/VGA");
         ratio("cascade_ours/HR", "cascade_ours_full_search/HR");
         ratio("unet_coarse_zoom/HR", "cascade_reference/VGA");
@@ -230,13 +233,14 @@ int main(int argc, char** argv) {
     static const auto vgaGray = prepareAllGray(sources, {640, 480});
 
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
-    static std::unique_ptr<DetectorHandle> oursCascade, oursWholeFrame, oursFull, refCascade, unet, unetWholeFrame;
+    static std::unique_ptr<DetectorHandle> oursCascade, oursV3, oursFull, refCascade, unet, unetWholeFrame;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
-        oursWholeFrame = makeCascade(ours, 0, 0, 0, std::nan(""));
-        oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true);
+        oursV3 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, /*version4Search=*/false);
+        oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true, /*version4Search=*/false);
     }
-    refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0, std::nan(""));  // the reference app searched all rows
+    // The reference app searched all rows, with no placement prior.
+    refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0, std::nan(""), false, /*version4Search=*/false);
     const char* unetOverride = std::getenv("WF_BENCH_UNET");
     const std::string unetModel = unetOverride ? std::string(unetOverride)
                                   : fileExists(productModelsDir() + "/sign_unet.onnx") ? productModelsDir() + "/sign_unet.onnx"
@@ -260,7 +264,7 @@ int main(int argc, char** argv) {
     if (oursCascade && *oursCascade) {
         pipeline("cascade_ours/VGA", oursCascade.get(), &vga);
         pipeline("cascade_ours/HR", oursCascade.get(), &hr);
-        pipeline("cascade_ours_whole_frame/VGA", oursWholeFrame.get(), &vga);
+        pipeline("cascade_ours_v3_search/VGA", oursV3.get(), &vga);
         pipeline("cascade_ours_full_search/VGA", oursFull.get(), &vga);
         pipeline("cascade_ours_full_search/HR", oursFull.get(), &hr);
         pipeline("cascade_ours_gray/VGA", oursCascade.get(), &vgaGray);

@@ -145,11 +145,12 @@ CornerRanges cornerRanges(const LabelledFrame& frame, const LabelledSign& sign) 
 
 void usage() {
     std::cerr << "usage: wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N]\n"
-                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full] [--threads N]\n"
+                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3] [--threads N]\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
                  "  --limit N   use the first N frames (after --every)\n"
                  "  --min-elevation RAD  our cascade rows search only rows at least RAD above the horizon (default:\n"
                  "               the detector's -0.15 rad; nan = every row)\n"
+                 "  --times FILE  write the detection time of every frame and row as CSV (row, frame, true distance or -1, ms)\n"
                  "  --dump FILE  write every observation as CSV (row, frame, true distance or -1, matched, score, box,\n"
                  "               median height and bottom edge, extent width, elevation of the box centre in rad)\n";
 }
@@ -162,7 +163,7 @@ int main(int argc, char** argv) {
     long limit = -1, every = 1;
     double minElevation = 0;  // the detector's default row limit (-0.15 rad); NaN = every row
     int threads = 1;
-    std::string dumpPath;
+    std::string dumpPath, timesPath;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
         auto next = [&]() -> std::string {
@@ -181,6 +182,7 @@ int main(int argc, char** argv) {
         else if (a == "--min-elevation") minElevation = std::stod(next());
         else if (a == "--threads") threads = std::stoi(next());
         else if (a == "--dump") dumpPath = next();
+        else if (a == "--times") timesPath = next();
         else {
             usage();
             return 2;
@@ -210,17 +212,22 @@ int main(int argc, char** argv) {
         Row r;
         r.id = id;
         std::string model;
-        if (id == "cascade-vga" || id == "cascade-hr" || id == "cascade-vga-full" || id == "cascade-hr-full") {
+        if (id == "cascade-vga" || id == "cascade-hr" || id == "cascade-vga-full" || id == "cascade-hr-full" ||
+            id == "cascade-vga-v3" || id == "cascade-hr-v3") {
             model = models + "/exit_sign_cascade.xml";
-            const bool vga = id.rfind("cascade-vga", 0) == 0, full = id.size() > 5 && id.substr(id.size() - 5) == "-full";
+            const auto endsWith = [&](const std::string& tail) {
+                return id.size() > tail.size() && id.compare(id.size() - tail.size(), tail.size(), tail) == 0;
+            };
+            const bool vga = id.rfind("cascade-vga", 0) == 0, full = endsWith("-full"), v3 = endsWith("-v3");
             r.size = vga ? cv::Size(640, 480) : cv::Size(1920, 1440);
             r.title = vga ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
             if (full) r.title += ", full search";
+            if (v3) r.title += ", options v3 search (no placement prior, no crowded gate)";
             // Full search: no gate and every row (the cascade before the gate and the row limit).
             const double rowLimit = full ? std::nan("") : minElevation;
             if (std::isnan(rowLimit) && !full) r.title += ", all rows";
             if (!std::isnan(rowLimit) && rowLimit != 0) r.title += ", rows above " + std::to_string(rowLimit).substr(0, 5) + " rad";
-            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full);
+            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full, !full && !v3);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
@@ -230,7 +237,8 @@ int main(int argc, char** argv) {
             model = reference;
             r.size = cv::Size(640, 480);
             r.title = "Reference cascade (iNavigate), VGA";
-            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0, std::nan(""));  // all rows, as the app did
+            // All rows and no placement prior, as the app did.
+            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0, std::nan(""), false, false);
         } else {
             std::cerr << "wf_detector_eval: unknown row " << id << "\n";
             return 2;
@@ -245,6 +253,11 @@ int main(int argc, char** argv) {
     if (!dumpPath.empty()) {
         dump.open(dumpPath);
         dump << "row,frame,truth_m,matched,score,box_x,box_y,box_w,box_h,height_px,bottom_px,extent_px,elevation_rad\n";
+    }
+    std::ofstream times;
+    if (!timesPath.empty()) {
+        times.open(timesPath);
+        times << "row,frame,truth_m,ms\n";
     }
     std::map<int, std::vector<double>> cornerProductErrors, cornerEq3Errors;  // reference rows, |e - a| / a %
     for (size_t fi = 0; fi < frames.size(); ++fi) {
@@ -265,7 +278,12 @@ int main(int argc, char** argv) {
             const auto prepared = prepareFrame(bgr, labels, r.size);
             const auto t0 = std::chrono::steady_clock::now();
             const int status = detect(*r.detector, *prepared, &observations);
-            r.seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+            r.seconds += seconds;
+            if (times) {
+                const int truth = labels.signs.empty() ? -1 : static_cast<int>(std::lround(labels.signs[0].rangeMeters));
+                times << r.id << "," << fi << "," << truth << "," << 1e3 * seconds << "\n";
+            }
             ++r.frames;
             if (status < 0) {
                 ++r.rejected;

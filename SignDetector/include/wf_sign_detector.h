@@ -151,9 +151,10 @@ typedef enum wf_detector_kind {
     WF_DETECTOR_UNET = 1
 } wf_detector_kind;
 
-/** Version of wf_detector_options understood by this header. Versions 1 and 2 (without the fields marked
- *  "version 2" / "version 3") are still accepted: their callers get the defaults of the missing fields. */
-#define WF_DETECTOR_OPTIONS_VERSION 3
+/** Version of wf_detector_options understood by this header. Versions 1 to 3 (without the fields marked
+ *  "version 2" / "version 3" / "version 4") are still accepted: their callers get the defaults of the missing
+ *  fields, and the cascade search of their version. */
+#define WF_DETECTOR_OPTIONS_VERSION 4
 
 /**
  * Detector options. Initialise with WF_DETECTOR_OPTIONS_INIT (all defaults) and set what you need.
@@ -239,6 +240,21 @@ typedef struct wf_detector_options {
      *  covers a low sign or a pitch error of about 6 degrees); -1.5 or lower = the whole frame (e.g. for
      *  kinds mounted low). Frames without a finite pitch are always searched whole. Must not be NaN. */
     double unet_coarse_min_elevation_rad;
+
+    /* Version 4 (read only when version >= 4). */
+    /** Cascade placement prior: 1 = at each scale, search only the rows where a sign whose window is that size
+     *  can hang (its centre cascade_sign_above_camera_min_m .. _max_m above the camera; pinhole model with the
+     *  frame's pitch; docs/sign-detection.md "placement prior"); 0 = default: on for version 4, off before;
+     *  -1 = off (every row at every scale). */
+    int cascade_placement_prior;
+    /** Height of a sign's centre above the camera for the placement prior, metres; 0 = 0.3 and 2.0 (Exit signs:
+     *  bottom edge 2.03 to about 2.6 m above the floor; phone 1.0 to 1.7 m). Min < max when both are set. */
+    double cascade_sign_above_camera_min_m;
+    double cascade_sign_above_camera_max_m;
+    /** Colour gate, crowded frames: when the gate's regions cover more than 15 % of the searched image (or it
+     *  would fall back to the full search), the contrast threshold is multiplied by this once and the stricter
+     *  regions are searched. 0 = default: 2.5 for version 4, off before; 1 = off; otherwise must be > 1. */
+    double cascade_gate_crowded_contrast_factor;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */

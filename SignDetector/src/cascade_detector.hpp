@@ -5,6 +5,7 @@
 
 #include "colour_gate.hpp"
 #include "detection.hpp"
+#include "placement_prior.hpp"
 
 #include <opencv2/objdetect.hpp>
 
@@ -34,6 +35,17 @@ struct CascadeParams {
     SliceParams slices;
     /// Colour gate: search only around strongly red/green regions when the frame has colour (colour_gate.hpp).
     ColourGateParams colourGate;
+    /// Placement prior: at each scale, search only the rows a sign of that size can hang in (placement_prior.hpp).
+    /// Needs the frame's geometry (CascadeDetector::detect's `geometry`); without it every row is searched.
+    PlacementPrior placement;
+};
+
+/// Camera geometry of the frame being searched, for the placement prior.
+struct FrameGeometry {
+    /// Camera pitch, radians, positive looking up (ARKit Euler pitch).
+    double pitchRad = 0;
+    /// Intrinsics of the unrolled image, pixels.
+    Intrinsics unrolled;
 };
 
 /// A list of (kind, cascade) pairs. Not thread-safe (OpenCV's classifier keeps scratch state).
@@ -42,17 +54,21 @@ public:
     /// Loads one cascade XML per kind. Returns false and sets `error` (naming the file) on failure.
     bool load(const std::vector<std::string>& paths, const std::vector<std::string>& kinds, std::string* error);
 
-    /// Detects every kind on `grayUnrolled` (CV_8UC1), searching rows 0 .. lastRow - 1 only (-1 = all).
-    /// Detections carry box measurements in its pixels.
-    std::vector<Detection> detect(const cv::Mat& grayUnrolled, const CascadeParams& params, int lastRow = -1);
+    /// Detects every kind on `grayUnrolled` (CV_8UC1), searching rows 0 .. lastRow - 1 only (-1 = all), and at
+    /// each scale only the rows of params.placement's band when it is enabled and `geometry` is given (borrowed
+    /// for the call). Detections carry box measurements in its pixels.
+    std::vector<Detection> detect(const cv::Mat& grayUnrolled, const CascadeParams& params, int lastRow = -1,
+                                  const FrameGeometry* geometry = nullptr);
 
     /// Detects every kind inside each of `regions` (rectangles of `grayUnrolled`, unrolled pixels; each is
     /// searched on its own with windows from the smallest window, or the region's minWindowWidthPx if larger, up to
     /// the region's size) and maps the boxes
     /// back to `grayUnrolled`'s pixel coordinates (box + region origin, exact). Rows at or below `lastRow`
-    /// (>= 0) are not searched. Boxes of overlapping regions are not merged here (suppressOverlaps does).
+    /// (>= 0) are not searched; the placement band applies as in detect(). Boxes of overlapping regions are not
+    /// merged here (suppressOverlaps does).
     std::vector<Detection> detectInRegions(const cv::Mat& grayUnrolled, const std::vector<SearchRegion>& regions,
-                                           const CascadeParams& params, int lastRow = -1);
+                                           const CascadeParams& params, int lastRow = -1,
+                                           const FrameGeometry* geometry = nullptr);
 
     /// First unrolled row below the search region: rows v with pitch + atan((cy - v) / fy) >= minElevationRad,
     /// clamped to [0, rows].
@@ -65,10 +81,13 @@ public:
     cv::Size trainedWindow(size_t index) const;
 
 private:
-    /// detectMultiScale of cascade `index` on `image` with `params`; boxes shifted by `origin` (unrolled px).
-    /// `minWindowWidthPx` > 0 raises the smallest window to at least that width (aspect kept).
+    /// The search of cascade `index` on `image` (a view whose top-left is `origin` in unrolled pixels): the scales
+    /// detectMultiScale would scan, each restricted to its placement band (when enabled and `geometry` is given),
+    /// scanned in as few detectMultiScale calls as pays (one call per run of scales whose bands are alike), raw
+    /// hits grouped as detectMultiScale groups them (cv::groupRectangles, eps 0.2, minNeighbors); boxes shifted
+    /// by `origin`. `minWindowWidthPx` > 0 raises the smallest window to at least that width (aspect kept).
     void detectOne(size_t index, const cv::Mat& image, cv::Point origin, const CascadeParams& params,
-                   std::vector<Detection>* out, int minWindowWidthPx = 0);
+                   const FrameGeometry* geometry, std::vector<Detection>* out, int minWindowWidthPx = 0);
 
     std::vector<std::string> kinds_;
     std::vector<std::unique_ptr<cv::CascadeClassifier>> cascades_;

@@ -56,21 +56,31 @@ cv::Mat redGreenOpponent(const wf_image& image, const ColourGateParams& params, 
     }
 }
 
-ColourBlobs findColourBlobs(const wf_image& image, const ColourGateParams& params) {
-    ColourBlobs blobs;
-    cv::Point2d scale;
-    const cv::Mat opponent = redGreenOpponent(image, params, &scale);
-    if (opponent.empty()) return blobs;
+ColourContrast localColourContrast(const wf_image& image, const ColourGateParams& params) {
+    ColourContrast out;
+    const cv::Mat opponent = redGreenOpponent(image, params, &out.rawPerWorkingPx);
+    if (opponent.empty()) return out;
     double minD = 0, maxD = 0;
     cv::minMaxLoc(opponent, &minD, &maxD);
-    if (std::max(-minD, maxD) < params.minColourfulness) return blobs;  // a gray frame: no usable colour
-    blobs.colourAvailable = true;
-
+    if (std::max(-minD, maxD) < params.minColourfulness) return out;  // a gray frame: no usable colour
     const int k = std::max(3, params.localWindowPx | 1);
-    cv::Mat localMean, contrast, mask;
+    cv::Mat localMean;
     cv::blur(opponent, localMean, cv::Size(k, k), cv::Point(-1, -1), cv::BORDER_REFLECT);
-    cv::absdiff(opponent, localMean, contrast);
-    cv::compare(contrast, params.minContrast, mask, cv::CMP_GE);
+    cv::absdiff(opponent, localMean, out.contrast);
+    return out;
+}
+
+ColourBlobs findColourBlobs(const wf_image& image, const ColourGateParams& params) {
+    return colourBlobsAbove(localColourContrast(image, params), params.minContrast, params);
+}
+
+ColourBlobs colourBlobsAbove(const ColourContrast& colour, double minContrast, const ColourGateParams& params) {
+    ColourBlobs blobs;
+    if (colour.contrast.empty()) return blobs;
+    blobs.colourAvailable = true;
+    const cv::Point2d scale = colour.rawPerWorkingPx;
+    cv::Mat mask;
+    cv::compare(colour.contrast, minContrast, mask, cv::CMP_GE);
     cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
 
     cv::Mat labels, stats, centroids;
@@ -166,6 +176,25 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
         return decision;
     }
     decision.regions = std::move(regions);
+    return decision;
+}
+
+GateDecision gateFrame(const wf_image& image, const Unrolling& unrolling, int lastRow, const ColourGateParams& params) {
+    if (!params.enabled) return GateDecision{};
+    const ColourContrast colour = localColourContrast(image, params);
+    GateDecision decision = gateRegions(colourBlobsAbove(colour, params.minContrast, params), unrolling, lastRow, params);
+    decision.minContrast = params.minContrast;
+    if (params.crowdedContrastFactor <= 1.0 || colour.contrast.empty()) return decision;
+    const cv::Size canvas = unrolling.unrolledSize();
+    const double searched = double(canvas.width) * std::clamp(lastRow < 0 ? canvas.height : lastRow, 0, canvas.height);
+    double area = 0;
+    for (const SearchRegion& r : decision.regions) area += r.unrolledRect.area();
+    if (!decision.fullSearch && !(area > params.crowdedAreaFraction * searched)) return decision;
+    // A crowded frame (colourful clutter, posters): Exit lettering is among the most saturated things in view, so
+    // the threshold is raised once and the regions of the raised threshold are searched.
+    const double raised = params.minContrast * params.crowdedContrastFactor;
+    decision = gateRegions(colourBlobsAbove(colour, raised, params), unrolling, lastRow, params);
+    decision.minContrast = raised;
     return decision;
 }
 

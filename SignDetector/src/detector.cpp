@@ -132,6 +132,36 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
             r.unet.coarseMinElevationRad = cut;
         }
     }
+    // Version 4: the placement prior and the crowded-frame gate, on by default; older structs keep the search of
+    // their version (CascadeParams' placement is off and the gate's crowded factor 1 = off).
+    r.cascade.colourGate.crowdedContrastFactor = 1.0;
+    if (opts.version >= 4) {  // older structs end before these fields
+        const int prior = opts.cascade_placement_prior;
+        if (prior < -1 || prior > 1) {
+            *error = "cascade_placement_prior must be -1 (off), 0 (default) or 1, not " + std::to_string(prior);
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        r.cascade.placement.enabled = prior >= 0;
+        const double low = opts.cascade_sign_above_camera_min_m, high = opts.cascade_sign_above_camera_max_m;
+        if (!std::isfinite(low) || !std::isfinite(high)) {
+            *error = "cascade_sign_above_camera_min_m and _max_m must be finite";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        if (low != 0) r.cascade.placement.centreAboveCameraMinMeters = low;
+        if (high != 0) r.cascade.placement.centreAboveCameraMaxMeters = high;
+        if (!(r.cascade.placement.centreAboveCameraMinMeters < r.cascade.placement.centreAboveCameraMaxMeters)) {
+            *error = "cascade_sign_above_camera_min_m (" + std::to_string(r.cascade.placement.centreAboveCameraMinMeters) +
+                     ") must be below cascade_sign_above_camera_max_m (" +
+                     std::to_string(r.cascade.placement.centreAboveCameraMaxMeters) + ")";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        const double factor = opts.cascade_gate_crowded_contrast_factor;
+        if (!std::isfinite(factor) || factor < 0 || (factor > 0 && factor < 1)) {
+            *error = "cascade_gate_crowded_contrast_factor must be 0 (default), 1 (off) or above 1";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        r.cascade.colourGate.crowdedContrastFactor = factor == 0 ? ColourGateParams{}.crowdedContrastFactor : factor;
+    }
     *out = std::move(r);
     return WF_OK;
 }
@@ -216,21 +246,30 @@ FrameResult Detector::detect(const wf_frame& frame) {
             Unrolling::forRoll(frame.roll_rad, k, gray.size(), options_.rollSnapToleranceRad);
         std::vector<Detection> detections;
         if (options_.kind == WF_DETECTOR_CASCADE) {
-            const cv::Mat grayUnrolled = unrolling.apply(gray);
+            const cv::Size unrolledSize = unrolling.unrolledSize();
             int lastRow = -1;
             if (options_.cascade.searchAboveElevation) {
                 const Intrinsics& ku = unrolling.unrolledIntrinsics();
                 lastRow = CascadeDetector::searchRowLimit(options_.cascade.minElevationRad, frame.pitch_rad, ku.fy, ku.cy,
-                                                          grayUnrolled.rows);
+                                                          unrolledSize.height);
             }
             // Colour gate (colour_gate.hpp): only around strongly red/green regions when the frame has colour.
-            const GateDecision gate =
-                options_.cascade.colourGate.enabled
-                    ? gateRegions(findColourBlobs(frame.image, options_.cascade.colourGate), unrolling, lastRow,
-                                  options_.cascade.colourGate)
-                    : GateDecision{};
-            detections = gate.fullSearch ? cascade_.detect(grayUnrolled, options_.cascade, lastRow)
-                                         : cascade_.detectInRegions(grayUnrolled, gate.regions, options_.cascade, lastRow);
+            const GateDecision gate = gateFrame(frame.image, unrolling, lastRow, options_.cascade.colourGate);
+            // A quarter turn is a cheap pixel permutation of the whole frame; otherwise only the pixels the cascade
+            // reads are warped: the searched rows, or the gate's regions.
+            const bool permutation = unrolling.quarterTurns() >= 0;
+            const FrameGeometry geometry{frame.pitch_rad, unrolling.unrolledIntrinsics()};
+            cv::Mat grayUnrolled = permutation ? unrolling.apply(gray) : cv::Mat::zeros(unrolledSize, CV_8UC1);
+            if (gate.fullSearch) {
+                const int rows = lastRow < 0 ? unrolledSize.height : lastRow;
+                if (!permutation) unrolling.applyToRegion(gray, cv::Rect(0, 0, unrolledSize.width, rows), &grayUnrolled);
+                detections = cascade_.detect(grayUnrolled, options_.cascade, lastRow, &geometry);
+            } else {
+                for (const SearchRegion& region : gate.regions) {
+                    if (!permutation) unrolling.applyToRegion(gray, region.unrolledRect, &grayUnrolled);
+                }
+                detections = cascade_.detectInRegions(grayUnrolled, gate.regions, options_.cascade, lastRow, &geometry);
+            }
             detections = suppressOverlaps(std::move(detections), 0.5);
         } else {
             detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet, frame.pitch_rad);

@@ -86,6 +86,23 @@ cv::Mat Unrolling::apply(const cv::Mat& raw, int interpolation) const {
     }
 }
 
+void Unrolling::applyToRegion(const cv::Mat& raw, const cv::Rect& unrolledRoi, cv::Mat* canvas, int interpolation) const {
+    CV_Assert(raw.size() == rawSize_ && canvas->size() == unrolledSize_ && canvas->type() == raw.type());
+    const cv::Rect roi = unrolledRoi & cv::Rect(cv::Point(0, 0), unrolledSize_);
+    if (roi.empty()) return;
+    cv::Mat target = (*canvas)(roi);  // a view: writing it writes the canvas
+    if (quarterTurns_ >= 0) {
+        apply(raw, interpolation)(roi).copyTo(target);  // a pixel permutation: cheap for the whole frame
+        return;
+    }
+    // The same affine map with the ROI's origin moved to (0, 0): destination pixel (x, y) of the ROI is
+    // unrolled pixel (x + roi.x, y + roi.y).
+    cv::Matx23d m = rawToUnrolled_;
+    m(0, 2) -= roi.x;
+    m(1, 2) -= roi.y;
+    cv::warpAffine(raw, target, cv::Mat(m), roi.size(), interpolation, cv::BORDER_CONSTANT, cv::Scalar::all(0));
+}
+
 cv::Point2d Unrolling::rawToUnrolled(cv::Point2d p) const {
     const auto& m = rawToUnrolled_;
     return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};

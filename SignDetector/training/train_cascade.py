@@ -519,6 +519,10 @@ def main(argv=None) -> int:
     ap.add_argument("--max-weak", type=int, default=100)
     ap.add_argument("--time-limit-min", type=float, default=35.0, help="stop adding stages after this wall time (excluding sample rendering)")
     ap.add_argument("--feature-frac", type=float, default=0.35, help="fraction of features searched per boosting round")
+    ap.add_argument("--first-negatives", choices=["random", "detection"], default="random",
+                    help="stage 0's negatives: 'random' windows (log-uniform scale, the committed model's recipe) or "
+                         "'detection': drawn uniformly from the windows detectMultiScale evaluates (scale 1.2, "
+                         "most of them at the smallest scales), as the run-time search sees them")
     ap.add_argument("--resume", default=None, help="continue from the stages of this cascade XML")
     ap.add_argument("--prepend-to", default=None, metavar="CASCADE.xml",
                     help="speed: train small stages to run in front of this cascade (which is kept as it is) and "
@@ -599,7 +603,12 @@ def main(argv=None) -> int:
             log("time limit reached")
             break
         Xp = Xp_all[cascade_pass(stages, Xp_all)]
-        if not stages:
+        if not stages and a.first_negatives == "detection":
+            per_frame = max(1, -(-a.num_neg // len(frames)))
+            neg = np.concatenate([detection_windows(g, 1.2, per_frame, rng) for g in frames])
+            neg = neg[rng.permutation(len(neg))[:a.num_neg]]
+            scanned = len(frames)
+        elif not stages:
             neg = sample_windows_random(frames, a.num_neg, rng)
             scanned = 0
         else:

@@ -137,3 +137,57 @@ TEST(CascadeDetector, RowLimitExcludesSignsBelowIt) {
     EXPECT_TRUE(d.detect(gray, params, static_cast<int>(top) - 1).empty());  // everything above the sign only
     EXPECT_TRUE(d.detect(gray, params, 0).empty());
 }
+
+TEST(CascadeDetector, PlacementPriorKeepsSignsInItsBandAndDropsOthers) {
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    synthetic::RenderedSign truth;
+    const cv::Mat gray = uprightSignFrame(2.5, &truth);  // centre about 0.4 m above the camera, level camera
+    synthetic::Camera cam;
+    cam.rollRad = 0;
+    cam = cam.resized({640, 480});
+    const FrameGeometry geometry{0.0, Intrinsics{cam.fx, cam.fy, cam.cx, cam.cy}};
+    CascadeParams params;
+    params.minNeighbors = 1;
+    const cv::Rect2d truthBox = cv::boundingRect(std::vector<cv::Point2f>(truth.cornersRaw.begin(), truth.cornersRaw.end()));
+    auto hitsOnSign = [&](const std::vector<Detection>& found) {
+        int hits = 0;
+        for (const auto& det : found) hits += (det.measurement.box & truthBox).area() > 0;
+        return hits;
+    };
+    ASSERT_GE(hitsOnSign(d.detect(gray, params)), 1);
+    params.placement.enabled = true;  // defaults: centre 0.3 .. 2.0 m above the camera
+    EXPECT_GE(hitsOnSign(d.detect(gray, params, -1, &geometry)), 1);
+    EXPECT_GE(hitsOnSign(d.detect(gray, params)), 1) << "without the frame's geometry every row is searched";
+    params.placement.centreAboveCameraMinMeters = 1.5;  // a prior for signs hung high: this one is too low
+    EXPECT_EQ(hitsOnSign(d.detect(gray, params, -1, &geometry)), 0);
+}
+
+TEST(CascadeDetector, BandsCoveringEveryRowGiveDetectMultiScalesOwnResult) {
+    // With a prior so wide that every scale's band is the whole image, the scales merge into one call and the
+    // hits are grouped as detectMultiScale groups them: the same boxes and neighbour counts.
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    synthetic::RenderedSign truth;
+    const cv::Mat gray = uprightSignFrame(2.5, &truth);
+    CascadeParams params;
+    params.minNeighbors = 1;
+    params.placement.enabled = true;
+    params.placement.centreAboveCameraMinMeters = -100;
+    params.placement.centreAboveCameraMaxMeters = 100;
+    params.placement.elevationMarginRad = 1.0;
+    const FrameGeometry geometry{0.0, Intrinsics{534, 534, 319.5, 239.5}};
+    const std::vector<Detection> ours = d.detect(gray, params, -1, &geometry);
+    cv::CascadeClassifier plain(referenceCascadePath());
+    std::vector<cv::Rect> boxes;
+    std::vector<int> neighbours;
+    plain.detectMultiScale(gray, boxes, neighbours, params.scaleFactor, params.minNeighbors, 0, plain.getOriginalWindowSize());
+    ASSERT_EQ(ours.size(), boxes.size());
+    ASSERT_FALSE(boxes.empty());
+    for (size_t i = 0; i < boxes.size(); ++i) {
+        EXPECT_DOUBLE_EQ(ours[i].measurement.box.width, boxes[i].width);
+        EXPECT_DOUBLE_EQ(ours[i].score, neighbours[i]);
+    }
+}

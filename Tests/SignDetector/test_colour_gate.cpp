@@ -208,3 +208,41 @@ TEST(ColourGate, BoxesFoundInARegionMapBackExactly) {
     // A region with a minimum window wider than the region itself searches nothing.
     EXPECT_TRUE(d.detectInRegions(gray, {SearchRegion{region, 400}}, params).empty());
 }
+
+TEST(ColourGate, CrowdedFramesRaiseTheThresholdOnceAndKeepTheSign) {
+    // The red sign on a wall covered with weakly red and green patches (contrast about 40 levels: above the
+    // normal threshold of 25, below the raised 62.5): the regions at 25 cover most of the frame.
+    SignFrame f = redSignFrame(3.0, 0.0);
+    cv::RNG rng(5);
+    const cv::Rect2d sign = cv::boundingRect(std::vector<cv::Point2f>(f.truth.cornersRaw.begin(), f.truth.cornersRaw.end()));
+    for (int i = 0; i < 60; ++i) {
+        const cv::Rect patch(rng.uniform(0, 600), rng.uniform(0, 440), rng.uniform(10, 40), rng.uniform(10, 40));
+        if ((cv::Rect2d(patch) & sign).area() > 0) continue;
+        const bool reddish = rng.uniform(0, 2) == 0;
+        cv::Mat view = f.rgb(patch & cv::Rect(0, 0, f.rgb.cols, f.rgb.rows));
+        view += reddish ? cv::Scalar(45, 0, 0) : cv::Scalar(0, 45, 0);
+    }
+    const Unrolling u = unrollingOf(f);
+    ColourGateParams params;
+    params.crowdedContrastFactor = 1.0;  // off: the regions at 25 levels
+    const GateDecision plain = gateFrame(f.image, u, -1, params);
+    EXPECT_DOUBLE_EQ(plain.minContrast, 25.0);
+    double plainArea = 0;
+    for (const auto& r : plain.regions) plainArea += r.unrolledRect.area();
+    ASSERT_TRUE(plain.fullSearch || plainArea > 0.15 * 640 * 480) << "the clutter must crowd the frame";
+
+    params.crowdedContrastFactor = 2.5;
+    const GateDecision crowded = gateFrame(f.image, u, -1, params);
+    EXPECT_DOUBLE_EQ(crowded.minContrast, 62.5);
+    EXPECT_FALSE(crowded.fullSearch);
+    double crowdedArea = 0;
+    for (const auto& r : crowded.regions) crowdedArea += r.unrolledRect.area();
+    EXPECT_LT(crowdedArea, 0.15 * 640 * 480);
+    EXPECT_TRUE(someRegionContains(crowded, unrolledSignBox(f, u)));
+
+    // An uncrowded frame keeps the normal threshold.
+    SignFrame clean = redSignFrame(3.0, 0.0);
+    const GateDecision normal = gateFrame(clean.image, unrollingOf(clean), -1, params);
+    EXPECT_DOUBLE_EQ(normal.minContrast, 25.0);
+    EXPECT_TRUE(someRegionContains(normal, unrolledSignBox(clean, unrollingOf(clean))));
+}

@@ -172,3 +172,37 @@ TEST(Unroll, RowAtElevationFollowsThePinholeModelAndStaysFinite) {
     EXPECT_LT(unrolledRowAtElevation(k, 2.0, -1.0), -5000);
     EXPECT_GT(unrolledRowAtElevation(k, -2.0, 1.0), 5000);
 }
+
+TEST(Unroll, RegionWarpWritesOnlyTheRegionWithApplysPixels) {
+    const cv::Size size(320, 240);
+    const Intrinsics k{300, 300, 159.5, 119.5};
+    cv::Mat raw(size, CV_8UC1);
+    cv::randu(raw, 0, 256);
+    for (double roll : {0.35, -kPi / 2}) {  // a general angle (warpAffine) and a quarter turn (pixel permutation)
+        const Unrolling u = Unrolling::forRoll(roll, k, size);
+        const cv::Mat whole = u.apply(raw);
+        cv::Mat canvas(u.unrolledSize(), CV_8UC1, cv::Scalar(7));
+        const cv::Rect region(40, 30, 90, 70);
+        u.applyToRegion(raw, region, &canvas);
+        // Inside: apply()'s pixels, up to warpAffine's fixed-point rounding of the sample position (1/32 px: a
+        // level or two on random pixels); quarter turns exactly.
+        cv::Mat diff;
+        cv::absdiff(canvas(region), whole(region), diff);
+        double maxDiff = 0;
+        cv::minMaxLoc(diff, nullptr, &maxDiff);
+        EXPECT_LE(maxDiff, roll == 0.35 ? 8.0 : 0.0) << "roll " << roll;
+        EXPECT_LT(cv::mean(diff)[0], roll == 0.35 ? 0.5 : 1e-9) << "roll " << roll;
+        // Outside: untouched.
+        cv::Mat outside = canvas.clone();
+        outside(region).setTo(7);
+        EXPECT_EQ(cv::countNonZero(outside != 7), 0) << "roll " << roll;
+        // A region partly outside the image is clipped; one wholly outside writes nothing.
+        const cv::Mat before = canvas.clone();
+        u.applyToRegion(raw, cv::Rect(5000, 5000, 10, 10), &canvas);
+        EXPECT_EQ(cv::countNonZero(canvas != before), 0) << "roll " << roll;
+        u.applyToRegion(raw, cv::Rect(-20, -20, 30, 30), &canvas);
+        cv::absdiff(canvas(cv::Rect(0, 0, 10, 10)), whole(cv::Rect(0, 0, 10, 10)), diff);
+        cv::minMaxLoc(diff, nullptr, &maxDiff);
+        EXPECT_LE(maxDiff, roll == 0.35 ? 8.0 : 0.0) << "roll " << roll;
+    }
+}

@@ -123,7 +123,8 @@ TEST(CApi, OptionsInitAndVersion) {
 
 TEST(CApi, OlderOptionVersionsAreInitialisedWithoutWritingPastTheirEnd) {
     const size_t end[] = {offsetof(wf_detector_options, cascade_full_search),
-                          offsetof(wf_detector_options, unet_coarse_min_elevation_rad), sizeof(wf_detector_options)};
+                          offsetof(wf_detector_options, unet_coarse_min_elevation_rad),
+                          offsetof(wf_detector_options, cascade_placement_prior), sizeof(wf_detector_options)};
     for (unsigned version = 1; version <= WF_DETECTOR_OPTIONS_VERSION; ++version) {
         std::vector<unsigned char> bytes(sizeof(wf_detector_options) + 16, 0xAB);
         wf_detector_options* opts = reinterpret_cast<wf_detector_options*>(bytes.data());
@@ -410,6 +411,63 @@ TEST(CApi, CascadeSearchesAboveMinus015RadByDefaultFromVersion3) {
     wf_detector* d = nullptr;
     EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_search_above_elevation"), std::string::npos);
+}
+
+TEST(CApi, PlacementPriorAndCrowdedGateAreVersion4DefaultsAndValidated) {
+    // The drawn sign's centre is about 0.4 m above the camera: inside the default prior (0.3 .. 2.0 m), outside a
+    // prior for signs hung 1.5 .. 2.0 m above it.
+    const GrayPortraitFrame g = grayPortraitFrame();
+    ASSERT_TRUE(g.truth.visible);
+    const std::string path = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {path.c_str()};
+    auto options = [&](unsigned version) {
+        wf_detector_options opts;
+        EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
+        opts.cascade_paths = paths;
+        opts.cascade_count = 1;
+        opts.cascade_min_neighbors = 1;
+        return opts;
+    };
+    auto found = [&](const wf_detector_options& opts) {
+        wf_detector* d = nullptr;
+        EXPECT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+        if (d == nullptr) return size_t(99);
+        const wf_frame frame = g.frame;
+        wf_detector_observation obs[8];
+        size_t count = 0;
+        EXPECT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
+        wf_detector_free(d);
+        return count;
+    };
+    wf_detector_options opts = options(4);
+    EXPECT_GE(found(opts), 1u);  // version 4 defaults: prior on, sign inside it
+    opts.cascade_sign_above_camera_min_m = 1.5;
+    EXPECT_EQ(found(opts), 0u);  // the sign hangs below this prior's band
+    opts.cascade_placement_prior = -1;
+    EXPECT_GE(found(opts), 1u);  // prior off: every row
+    wf_detector_options v3 = options(3);
+    EXPECT_GE(found(v3), 1u);    // a version-3 caller has no prior
+
+    auto rejected = [&](const wf_detector_options& bad, const char* field) {
+        wf_detector* d = nullptr;
+        EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT) << field;
+        EXPECT_EQ(d, nullptr);
+        EXPECT_NE(std::string(wf_thread_last_error()).find(field), std::string::npos) << wf_thread_last_error();
+    };
+    wf_detector_options bad = options(4);
+    bad.cascade_placement_prior = 2;
+    rejected(bad, "cascade_placement_prior");
+    bad = options(4);
+    bad.cascade_sign_above_camera_min_m = 2.5;  // above the default maximum of 2.0
+    rejected(bad, "cascade_sign_above_camera_min_m");
+    bad = options(4);
+    bad.cascade_sign_above_camera_max_m = std::nan("");
+    rejected(bad, "cascade_sign_above_camera_min_m and _max_m");
+    bad = options(4);
+    bad.cascade_gate_crowded_contrast_factor = 0.5;
+    rejected(bad, "cascade_gate_crowded_contrast_factor");
+    bad.cascade_gate_crowded_contrast_factor = 1.0;  // off is valid
+    EXPECT_GE(found(bad), 1u);
 }
 
 TEST(CApi, CapacityTooSmallTruncates) {
