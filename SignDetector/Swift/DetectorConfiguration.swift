@@ -45,6 +45,14 @@ public struct DetectorConfiguration: Sendable, Equatable {
     /// -0.15): signs above eye level never appear far below the horizon, where floors and doors give false
     /// alarms. nil = the whole frame (kinds mounted low).
     public var cascadeMinElevationRad: Double? = -0.15
+    /// Placement prior: height of a sign's centre above the camera, metres (default 0.3...2.0: Exit signs'
+    /// bottom edges 2.03 to about 2.6 m above the floor, the phone 1.0 to 1.7 m). At each scale the cascade
+    /// searches only the rows where a sign of that window size at such a height can appear (about 3 x fewer
+    /// windows on the rendered test set). nil = every row (kinds whose height is not known).
+    public var cascadeSignAboveCameraMeters: ClosedRange<Double>? = 0.3...2.0
+    /// Colour gate, crowded frames: when the gate's regions cover more than 15 % of the searched frame, its
+    /// contrast threshold is multiplied by this once (0 = the C default 2.5; 1 = off; otherwise > 1).
+    public var cascadeGateCrowdedContrastFactor: Double = 0
     /// U-Net mask threshold (0 = 0.5), zoom factor (0 = 3.5), smallest crop in original pixels (0 = 64),
     /// most candidates zoomed per frame (0 = 8).
     public var unetMaskThreshold: Double = 0

@@ -47,6 +47,29 @@ final class SignDetectorTests: XCTestCase {
         XCTAssertTrue(found.isEmpty)
     }
 
+    func testCascadePlacementPriorAndCrowdedGateOptionsReachTheDetector() throws {
+        var config = DetectorConfiguration(kind: .cascade, cascadePath: Self.referenceCascade)
+        XCTAssertEqual(config.cascadeSignAboveCameraMeters, 0.3...2.0)
+        XCTAssertNoThrow(try SignDetector(configuration: config))
+        config.cascadeSignAboveCameraMeters = nil  // every row
+        XCTAssertNoThrow(try SignDetector(configuration: config))
+        func expectInvalid(_ fragment: String, _ c: DetectorConfiguration, line: UInt = #line) {
+            XCTAssertThrowsError(try SignDetector(configuration: c), line: line) { error in
+                guard case SignDetectorError.invalidArgument(let message) = error else {
+                    return XCTFail("expected invalidArgument, got \(error)", line: line)
+                }
+                XCTAssertTrue(message.contains(fragment), message, line: line)
+            }
+        }
+        config.cascadeSignAboveCameraMeters = 1.0...1.0  // an empty band: the C side rejects min == max
+        expectInvalid("cascade_sign_above_camera_min_m", config)
+        config.cascadeSignAboveCameraMeters = 0.3...2.0
+        config.cascadeGateCrowdedContrastFactor = 0.5
+        expectInvalid("cascade_gate_crowded_contrast_factor", config)
+        config.cascadeGateCrowdedContrastFactor = 1  // off
+        XCTAssertNoThrow(try SignDetector(configuration: config))
+    }
+
     func testTwoCascadeKindsAreReported() throws {
         var config = DetectorConfiguration(kind: .cascade)
         config.cascades = [CascadeModel(kind: "exit", path: Self.referenceCascade),

@@ -23,6 +23,10 @@ final class CDetector {
         opts.cascade_max_window_factor = c.cascadeMaxWindowFactor
         opts.cascade_search_above_elevation = c.cascadeMinElevationRad == nil ? -1 : 1
         opts.cascade_min_elevation_rad = c.cascadeMinElevationRad ?? 0
+        opts.cascade_placement_prior = c.cascadeSignAboveCameraMeters == nil ? -1 : 1
+        opts.cascade_sign_above_camera_min_m = c.cascadeSignAboveCameraMeters?.lowerBound ?? 0
+        opts.cascade_sign_above_camera_max_m = c.cascadeSignAboveCameraMeters?.upperBound ?? 0
+        opts.cascade_gate_crowded_contrast_factor = c.cascadeGateCrowdedContrastFactor
         opts.unet_mask_threshold = c.unetMaskThreshold
         opts.unet_zoom_factor = c.unetZoomFactor
         opts.unet_min_crop_px = Int32(clamping: c.unetMinCropPx)
