@@ -29,6 +29,14 @@ cv::Mat uprightSignFrame(double rangeMeters, synthetic::RenderedSign* truth) {
     return gray;
 }
 
+/// The reference cascade as kind "exit" (a failed load is a test failure).
+CascadeDetector referenceDetector() {
+    CascadeDetector d;
+    std::string error;
+    EXPECT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    return d;
+}
+
 }  // namespace
 
 TEST(CascadeDetector, MissingFileIsAnErrorNamingIt) {
@@ -56,9 +64,7 @@ TEST(CascadeDetector, ReferenceCascadeLoadsWithItsTrainedWindow) {
 }
 
 TEST(CascadeDetector, ReferenceCascadeRunsOnADrawnSign) {
-    CascadeDetector d;
-    std::string error;
-    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    CascadeDetector d = referenceDetector();
     synthetic::RenderedSign truth;
     const cv::Mat gray = uprightSignFrame(2.5, &truth);
     ASSERT_TRUE(truth.visible);
@@ -124,9 +130,7 @@ TEST(CascadeDetector, SearchRowLimitFollowsTheElevation) {
 }
 
 TEST(CascadeDetector, RowLimitExcludesSignsBelowIt) {
-    CascadeDetector d;
-    std::string error;
-    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    CascadeDetector d = referenceDetector();
     synthetic::RenderedSign truth;
     const cv::Mat gray = uprightSignFrame(2.5, &truth);
     CascadeParams params;
@@ -139,9 +143,7 @@ TEST(CascadeDetector, RowLimitExcludesSignsBelowIt) {
 }
 
 TEST(CascadeDetector, PlacementPriorKeepsSignsInItsBandAndDropsOthers) {
-    CascadeDetector d;
-    std::string error;
-    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    CascadeDetector d = referenceDetector();
     synthetic::RenderedSign truth;
     const cv::Mat gray = uprightSignFrame(2.5, &truth);  // centre about 0.4 m above the camera, level camera
     synthetic::Camera cam;
@@ -167,9 +169,7 @@ TEST(CascadeDetector, PlacementPriorKeepsSignsInItsBandAndDropsOthers) {
 TEST(CascadeDetector, BandsCoveringEveryRowGiveDetectMultiScalesOwnResult) {
     // With a prior so wide that every scale's band is the whole image, the scales merge into one call and the
     // hits are grouped as detectMultiScale groups them: the same boxes and neighbour counts.
-    CascadeDetector d;
-    std::string error;
-    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    CascadeDetector d = referenceDetector();
     synthetic::RenderedSign truth;
     const cv::Mat gray = uprightSignFrame(2.5, &truth);
     CascadeParams params;
