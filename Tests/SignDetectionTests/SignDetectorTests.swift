@@ -63,6 +63,10 @@ final class SignDetectorTests: XCTestCase {
         }
         config.cascadeSignAboveCameraMeters = 1.0...1.0  // an empty band: the C side rejects min == max
         expectInvalid("cascade_sign_above_camera_min_m", config)
+        config.cascadeSignAboveCameraMeters = -1.0...0.0  // signs at or below camera height: a valid band
+        XCTAssertNoThrow(try SignDetector(configuration: config))
+        config.cascadeSignAboveCameraMeters = 0.0...0.0  // sent as 1 nm ... 1 nm: empty, rejected (not the defaults)
+        expectInvalid("cascade_sign_above_camera_min_m", config)
         config.cascadeSignAboveCameraMeters = 0.3...2.0
         config.cascadeGateCrowdedContrastFactor = 0.5
         expectInvalid("cascade_gate_crowded_contrast_factor", config)

@@ -24,8 +24,10 @@ final class CDetector {
         opts.cascade_search_above_elevation = c.cascadeMinElevationRad == nil ? -1 : 1
         opts.cascade_min_elevation_rad = c.cascadeMinElevationRad ?? 0
         opts.cascade_placement_prior = c.cascadeSignAboveCameraMeters == nil ? -1 : 1
-        opts.cascade_sign_above_camera_min_m = c.cascadeSignAboveCameraMeters?.lowerBound ?? 0
-        opts.cascade_sign_above_camera_max_m = c.cascadeSignAboveCameraMeters?.upperBound ?? 0
+        // 0 means "the C default" there: a bound of exactly 0 m (a sign centred at camera height) is sent as 1 nm.
+        func bound(_ metres: Double?) -> Double { metres.map { $0 == 0 ? 1e-9 : $0 } ?? 0 }
+        opts.cascade_sign_above_camera_min_m = bound(c.cascadeSignAboveCameraMeters?.lowerBound)
+        opts.cascade_sign_above_camera_max_m = bound(c.cascadeSignAboveCameraMeters?.upperBound)
         opts.cascade_gate_crowded_contrast_factor = c.cascadeGateCrowdedContrastFactor
         opts.unet_mask_threshold = c.unetMaskThreshold
         opts.unet_zoom_factor = c.unetZoomFactor
