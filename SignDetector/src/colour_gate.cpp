@@ -171,6 +171,7 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
     }
     double area = 0;
     for (const SearchRegion& r : regions) area += r.unrolledRect.area();
+    decision.coveredFraction = area / searched.area();
     if (static_cast<int>(regions.size()) > params.maxRegions || area > params.maxAreaFraction * searched.area()) {
         decision.fullSearch = true;
         return decision;
@@ -185,11 +186,7 @@ GateDecision gateFrame(const wf_image& image, const Unrolling& unrolling, int la
     GateDecision decision = gateRegions(colourBlobsAbove(colour, params.minContrast, params), unrolling, lastRow, params);
     decision.minContrast = params.minContrast;
     if (params.crowdedContrastFactor <= 1.0 || colour.contrast.empty()) return decision;
-    const cv::Size canvas = unrolling.unrolledSize();
-    const double searched = double(canvas.width) * std::clamp(lastRow < 0 ? canvas.height : lastRow, 0, canvas.height);
-    double area = 0;
-    for (const SearchRegion& r : decision.regions) area += r.unrolledRect.area();
-    if (!decision.fullSearch && !(area > params.crowdedAreaFraction * searched)) return decision;
+    if (!decision.fullSearch && !(decision.coveredFraction > params.crowdedAreaFraction)) return decision;
     // A crowded frame (colourful clutter, posters): Exit lettering is among the most saturated things in view, so
     // the threshold is raised once and the regions of the raised threshold are searched.
     const double raised = params.minContrast * params.crowdedContrastFactor;

@@ -100,6 +100,9 @@ struct GateDecision {
     std::vector<SearchRegion> regions;
     /// Contrast threshold the regions come from, 8-bit levels (gateFrame; 0 when not set).
     double minContrast = 0;
+    /// Summed area of the merged regions over the searched image's area (gateRegions; 0 when it did not get as far
+    /// as merging: gate off, no colour, nothing searched). Overlaps count twice, so it may exceed 1.
+    double coveredFraction = 0;
 };
 
 /// The red-green opponent image d = R - G of `image` at working resolution, CV_32FC1; empty when the format
