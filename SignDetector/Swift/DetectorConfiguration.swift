@@ -53,6 +53,14 @@ public struct DetectorConfiguration: Sendable, Equatable {
     /// Colour gate, crowded frames: when the gate's regions cover more than 15 % of the searched frame, its
     /// contrast threshold is multiplied by this once (0 = the C default 2.5; 1 = off; otherwise > 1).
     public var cascadeGateCrowdedContrastFactor: Double = 0
+    /// Colour gate: smallest margin around a colour blob's search region, pixels of the frame (0 = the C default
+    /// 16; options version 4 used 24).
+    public var cascadeGateMinMarginPixels: Int = 0
+    /// Colour gate, large colour components (cut into tiles): the smallest window searched in a tile's region as a
+    /// fraction of the whole component's width (0 = the C default 0.4; nil = off, every window size: also finds a
+    /// small sign merged into a large coloured stripe or poster edge, at about 1.6 x the time on the rendered test
+    /// set). Otherwise in (0, 1].
+    public var cascadeGateComponentWindowFraction: Double? = 0
     /// U-Net mask threshold (0 = 0.5), zoom factor (0 = 3.5), smallest crop in original pixels (0 = 64),
     /// most candidates zoomed per frame (0 = 8).
     public var unetMaskThreshold: Double = 0

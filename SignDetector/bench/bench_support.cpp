@@ -65,7 +65,7 @@ bool readLabels(const std::string& dir, std::vector<LabelledFrame>* frames, std:
     return true;
 }
 
-std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFrame& labels, cv::Size size) {
+std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFrame& labels, cv::Size size, int shiftPx) {
     auto p = std::make_unique<PreparedFrame>();
     cv::Mat resized;
     if (bgr.size() == size) {
@@ -88,6 +88,17 @@ std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFr
     for (auto& s : l.signs) {
         for (auto& c : s.cornersRaw) c = {((c.x + 0.5) * lx) * sx - 0.5, ((c.y + 0.5) * ly) * sy - 0.5};
     }
+    if (shiftPx > 0 && shiftPx < std::min(size.width, size.height)) {
+        // Drop the first shiftPx columns and rows: the same scene on a scan grid moved by shiftPx pixels.
+        p->rgb = p->rgb(cv::Rect(shiftPx, shiftPx, size.width - shiftPx, size.height - shiftPx)).clone();
+        l.cx -= shiftPx;
+        l.cy -= shiftPx;
+        l.width = p->rgb.cols;
+        l.height = p->rgb.rows;
+        for (auto& s : l.signs) {
+            for (auto& c : s.cornersRaw) c -= cv::Point2d(shiftPx, shiftPx);
+        }
+    }
     p->frame.image = wf_image{p->rgb.data, p->rgb.cols, p->rgb.rows, p->rgb.step, WF_PIXEL_RGB8, nullptr, 0};
     p->frame.intrinsics = wf_intrinsics{l.fx, l.fy, l.cx, l.cy};
     p->frame.pitch_rad = l.pitchRad;
@@ -97,7 +108,7 @@ std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFr
 
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth, int minWindowHeight,
                                             double maxWindowFactor, double minElevationRad, bool fullSearch,
-                                            bool version4Search) {
+                                            int searchVersion) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_CASCADE;
@@ -108,7 +119,11 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     opts.cascade_min_window_height = minWindowHeight;
     opts.cascade_max_window_factor = maxWindowFactor;
     opts.cascade_full_search = fullSearch ? 1 : 0;
-    if (!version4Search) {
+    if (searchVersion <= 4) {
+        opts.cascade_gate_min_margin_px = 24;
+        opts.cascade_gate_component_window_fraction = -1;
+    }
+    if (searchVersion <= 3) {
         opts.cascade_placement_prior = -1;
         opts.cascade_gate_crowded_contrast_factor = 1;
     }

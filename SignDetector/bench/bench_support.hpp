@@ -46,7 +46,10 @@ struct PreparedFrame {
 };
 
 /// Resizes `bgr` (the labelled image) to `size` (INTER_AREA down, INTER_LINEAR up) and fills a wf_frame.
-std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFrame& labels, cv::Size size);
+/// `shiftPx` > 0 then drops the first shiftPx columns and rows (intrinsics and labels follow): the same scene
+/// with every search grid moved, to tell a search change's real effect from where its scan grid happens to fall.
+std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFrame& labels, cv::Size size,
+                                            int shiftPx = 0);
 
 /// Owning wrapper of a wf_detector handle.
 struct DetectorHandle {
@@ -61,11 +64,12 @@ struct DetectorHandle {
 /// `minElevationRad`: 0 = the detector's default (rows above -0.15 rad), NaN = the whole frame, else only rows at
 /// least this elevation (radians).
 /// `minWindowWidth/Height` 0 = the cascade's training window. `fullSearch`: true = no colour gate (search the
-/// whole frame, as before the gate); false = the default colour gate. `version4Search`: true = the defaults of
-/// options version 4 (placement prior, crowded-frame gate); false = both off (the search of options version 3).
+/// whole frame, as before the gate); false = the default colour gate. `searchVersion`: the cascade search of that
+/// options version, set through the current struct: 5 (default) = all defaults; 4 = 24-pixel gate margins and
+/// every window size in a large component's tiles; 3 = also no placement prior and no crowded-frame gate.
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
                                             double maxWindowFactor = 0, double minElevationRad = 0,
-                                            bool fullSearch = false, bool version4Search = true);
+                                            bool fullSearch = false, int searchVersion = 5);
 /// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
 /// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0);

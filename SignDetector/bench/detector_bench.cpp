@@ -10,8 +10,11 @@
 //   cascade_ours/VGA, cascade_ours/HR       SignDetector/models/exit_sign_cascade.xml (skipped if absent), with
 //                                           the defaults: colour gate (search around red/green regions only, the
 //                                           threshold raised in crowded frames), rows at elevation >= -0.15 rad
-//                                           only, placement prior (per scale, only the rows a sign can hang in)
-//   cascade_ours_v3_search/VGA              the same without the placement prior and the crowded-frame gate (the
+//                                           only, placement prior (per scale, only the rows a sign can hang in),
+//                                           16-pixel gate margins, component-width windows in large components' tiles
+//   cascade_ours_v4_search/VGA              the same with the gate regions of options version 4 (24-pixel margins,
+//                                           every window size in tiles)
+//   cascade_ours_v3_search/VGA              ... and without the placement prior and the crowded-frame gate (the
 //                                           defaults of options version 3)
 //   cascade_ours_full_search/VGA, .../HR    the same cascade searching the whole frame (no gate, no row limit,
 //                                           no placement prior)
@@ -203,6 +206,7 @@ public:
         ratio("cascade_ours/HR", "cascade_reference/HR");
         ratio("cascade_ours_full_search/VGA", "cascade_reference/VGA");
         ratio("cascade_ours_full_search/HR", "cascade_reference/HR");
+        ratio("cascade_ours/VGA", "cascade_ours_v4_search/VGA");
         ratio("cascade_ours/VGA", "cascade_ours_v3_search/VGA");
         ratio("cascade_ours/VGA", "cascade_ours_full_search/VGA");
         ratio("cascade_ours/HR", "cascade_ours_full_search/HR");
@@ -233,14 +237,15 @@ int main(int argc, char** argv) {
     static const auto vgaGray = prepareAllGray(sources, {640, 480});
 
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
-    static std::unique_ptr<DetectorHandle> oursCascade, oursV3, oursFull, refCascade, unet, unetWholeFrame;
+    static std::unique_ptr<DetectorHandle> oursCascade, oursV4, oursV3, oursFull, refCascade, unet, unetWholeFrame;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
-        oursV3 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, /*version4Search=*/false);
-        oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true, /*version4Search=*/false);
+        oursV4 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, /*searchVersion=*/4);
+        oursV3 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, /*searchVersion=*/3);
+        oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true, /*searchVersion=*/3);
     }
     // The reference app searched all rows, with no placement prior.
-    refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0, std::nan(""), false, /*version4Search=*/false);
+    refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0, std::nan(""), false, /*searchVersion=*/3);
     const char* unetOverride = std::getenv("WF_BENCH_UNET");
     const std::string unetModel = unetOverride ? std::string(unetOverride)
                                   : fileExists(productModelsDir() + "/sign_unet.onnx") ? productModelsDir() + "/sign_unet.onnx"
@@ -264,6 +269,7 @@ int main(int argc, char** argv) {
     if (oursCascade && *oursCascade) {
         pipeline("cascade_ours/VGA", oursCascade.get(), &vga);
         pipeline("cascade_ours/HR", oursCascade.get(), &hr);
+        pipeline("cascade_ours_v4_search/VGA", oursV4.get(), &vga);
         pipeline("cascade_ours_v3_search/VGA", oursV3.get(), &vga);
         pipeline("cascade_ours_full_search/VGA", oursFull.get(), &vga);
         pipeline("cascade_ours_full_search/HR", oursFull.get(), &hr);

@@ -145,9 +145,12 @@ CornerRanges cornerRanges(const LabelledFrame& frame, const LabelledSign& sign) 
 
 void usage() {
     std::cerr << "usage: wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N]\n"
-                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3] [--threads N]\n"
+                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3,\n"
+                 "                        cascade-vga-v4,cascade-hr-v4] [--threads N]\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
                  "  --limit N   use the first N frames (after --every)\n"
+                 "  --shift K   drop the first K columns and rows of every resized frame (moves every scan grid by K px;\n"
+                 "               compare search settings over several K: single far signs come and go with the grid)\n"
                  "  --min-elevation RAD  our cascade rows search only rows at least RAD above the horizon (default:\n"
                  "               the detector's -0.15 rad; nan = every row)\n"
                  "  --times FILE  write the detection time of every frame and row as CSV (row, frame, true distance or -1, ms)\n"
@@ -162,7 +165,7 @@ int main(int argc, char** argv) {
     std::string rowsArg = "cascade-vga,cascade-hr,unet,reference";
     long limit = -1, every = 1;
     double minElevation = 0;  // the detector's default row limit (-0.15 rad); NaN = every row
-    int threads = 1;
+    int threads = 1, shiftPx = 0;
     std::string dumpPath, timesPath;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -181,6 +184,7 @@ int main(int argc, char** argv) {
         else if (a == "--every") every = std::max(1L, std::stol(next()));
         else if (a == "--min-elevation") minElevation = std::stod(next());
         else if (a == "--threads") threads = std::stoi(next());
+        else if (a == "--shift") shiftPx = std::max(0, std::stoi(next()));
         else if (a == "--dump") dumpPath = next();
         else if (a == "--times") timesPath = next();
         else {
@@ -213,21 +217,23 @@ int main(int argc, char** argv) {
         r.id = id;
         std::string model;
         if (id == "cascade-vga" || id == "cascade-hr" || id == "cascade-vga-full" || id == "cascade-hr-full" ||
-            id == "cascade-vga-v3" || id == "cascade-hr-v3") {
+            id == "cascade-vga-v3" || id == "cascade-hr-v3" || id == "cascade-vga-v4" || id == "cascade-hr-v4") {
             model = models + "/exit_sign_cascade.xml";
             const auto endsWith = [&](const std::string& tail) {
                 return id.size() > tail.size() && id.compare(id.size() - tail.size(), tail.size(), tail) == 0;
             };
-            const bool vga = id.rfind("cascade-vga", 0) == 0, full = endsWith("-full"), v3 = endsWith("-v3");
+            const bool vga = id.rfind("cascade-vga", 0) == 0, full = endsWith("-full"), v3 = endsWith("-v3"),
+                       v4 = endsWith("-v4");
             r.size = vga ? cv::Size(640, 480) : cv::Size(1920, 1440);
             r.title = vga ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
             if (full) r.title += ", full search";
             if (v3) r.title += ", options v3 search (no placement prior, no crowded gate)";
+            if (v4) r.title += ", options v4 search (24 px gate margins, every window in tiles)";
             // Full search: no gate and every row (the cascade before the gate and the row limit).
             const double rowLimit = full ? std::nan("") : minElevation;
             if (std::isnan(rowLimit) && !full) r.title += ", all rows";
             if (!std::isnan(rowLimit) && rowLimit != 0) r.title += ", rows above " + std::to_string(rowLimit).substr(0, 5) + " rad";
-            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full, !full && !v3);
+            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full, full || v3 ? 3 : v4 ? 4 : 5);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
@@ -238,7 +244,7 @@ int main(int argc, char** argv) {
             r.size = cv::Size(640, 480);
             r.title = "Reference cascade (iNavigate), VGA";
             // All rows and no placement prior, as the app did.
-            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0, std::nan(""), false, false);
+            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0, std::nan(""), false, 3);
         } else {
             std::cerr << "wf_detector_eval: unknown row " << id << "\n";
             return 2;
@@ -275,7 +281,7 @@ int main(int argc, char** argv) {
         }
         for (Row& r : rows) {
             if (!r.skipped.empty()) continue;
-            const auto prepared = prepareFrame(bgr, labels, r.size);
+            const auto prepared = prepareFrame(bgr, labels, r.size, shiftPx);
             const auto t0 = std::chrono::steady_clock::now();
             const int status = detect(*r.detector, *prepared, &observations);
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

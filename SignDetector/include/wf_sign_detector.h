@@ -151,10 +151,10 @@ typedef enum wf_detector_kind {
     WF_DETECTOR_UNET = 1
 } wf_detector_kind;
 
-/** Version of wf_detector_options understood by this header. Versions 1 to 3 (without the fields marked
- *  "version 2" / "version 3" / "version 4") are still accepted: their callers get the defaults of the missing
- *  fields, and the cascade search of their version. */
-#define WF_DETECTOR_OPTIONS_VERSION 4
+/** Version of wf_detector_options understood by this header. Versions 1 to 4 (without the fields marked
+ *  "version 2" ... "version 5") are still accepted: their callers get the defaults of the missing fields, and
+ *  the cascade search of their version. */
+#define WF_DETECTOR_OPTIONS_VERSION 5
 
 /**
  * Detector options. Initialise with WF_DETECTOR_OPTIONS_INIT (all defaults) and set what you need.
@@ -255,6 +255,16 @@ typedef struct wf_detector_options {
      *  would fall back to the full search), the contrast threshold is multiplied by this once and the stricter
      *  regions are searched. 0 = default: 2.5 for version 4, off before; 1 = off; otherwise must be > 1. */
     double cascade_gate_crowded_contrast_factor;
+
+    /* Version 5 (read only when version >= 5). */
+    /** Colour gate: smallest margin added around a colour blob's region, pixels of the frame; 0 = default: 16 for
+     *  version 5, 24 before. Must not be negative. */
+    int cascade_gate_min_margin_px;
+    /** Colour gate, large colour components (cut into tiles): the smallest window searched in a tile's region is
+     *  this fraction of the whole component's width. 0 = default: 0.4 for version 5, off before; -1 = off (every
+     *  window size); otherwise in (0, 1]. Gives up small signs merged into a large coloured component (a stripe,
+     *  a poster's edge); docs/benchmarks.md "options version 5" has the measured trade. */
+    double cascade_gate_component_window_fraction;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */

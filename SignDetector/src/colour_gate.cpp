@@ -18,7 +18,8 @@ cv::Mat wrapPlane(const uint8_t* data, int width, int height, size_t stride, int
 
 /// Integer shrink factor for a frame of `width` x `height` (see ColourGateParams::workingLongSidePx).
 int shrinkFactor(int width, int height, const ColourGateParams& params) {
-    return std::max(1, std::max(width, height) / std::max(1, params.workingLongSidePx));
+    const double ratio = double(std::max(width, height)) / std::max(1, params.workingLongSidePx);
+    return std::max(1, static_cast<int>(std::lround(ratio)));
 }
 
 }  // namespace
@@ -85,15 +86,21 @@ ColourBlobs colourBlobsAbove(const ColourContrast& colour, double minContrast, c
 
     cv::Mat labels, stats, centroids;
     const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+    // Working pixel j covers raw [j s - 0.5, (j + 1) s - 0.5] (pixel-centre convention).
+    auto rawBox = [&](int x, int y, int w, int h) {
+        return cv::Rect2d(x * scale.x - 0.5, y * scale.y - 0.5, w * scale.x, h * scale.y);
+    };
+    cv::Rect2d component;  // the current component's raw box
     auto addBlob = [&](int x, int y, int w, int h, bool whole) {
         blobs.wholeComponent.push_back(whole);
-        // Working pixel j covers raw [j s - 0.5, (j + 1) s - 0.5] (pixel-centre convention).
-        blobs.rawBoxes.emplace_back(x * scale.x - 0.5, y * scale.y - 0.5, w * scale.x, h * scale.y);
+        blobs.rawBoxes.push_back(rawBox(x, y, w, h));
+        blobs.componentRawBoxes.push_back(component);
     };
     const int tile = std::max(4, params.tileSidePx);
     for (int i = 1; i < n; ++i) {
         const int x = stats.at<int>(i, cv::CC_STAT_LEFT), y = stats.at<int>(i, cv::CC_STAT_TOP);
         const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+        component = rawBox(x, y, w, h);
         if (std::max(w, h) <= tile) {
             addBlob(x, y, w, h, true);
             continue;
@@ -128,18 +135,22 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
     decision.fullSearch = false;
     if (searched.area() == 0) return decision;
 
-    std::vector<SearchRegion> regions;
-    regions.reserve(blobs.rawBoxes.size());
-    for (size_t bi = 0; bi < blobs.rawBoxes.size(); ++bi) {
-        const cv::Rect2d& b = blobs.rawBoxes[bi];
-        // Bounding box of the blob's four raw corners in the unrolled image (pixel edges).
-        double x0 = 1e300, y0 = 1e300, x1 = -1e300, y1 = -1e300;
+    // Bounding box (x0, y0, x1, y1) of a raw box's four corners in the unrolled image (pixel edges).
+    auto unrolledBounds = [&](const cv::Rect2d& b) {
+        cv::Vec4d e(1e300, 1e300, -1e300, -1e300);
         const cv::Point2d corners[4] = {{b.x, b.y}, {b.x + b.width, b.y}, {b.x, b.y + b.height},
                                         {b.x + b.width, b.y + b.height}};
         for (const cv::Point2d& c : corners) {
             const cv::Point2d u = unrolling.rawToUnrolled(c);
-            x0 = std::min(x0, u.x), y0 = std::min(y0, u.y), x1 = std::max(x1, u.x), y1 = std::max(y1, u.y);
+            e = cv::Vec4d(std::min(e[0], u.x), std::min(e[1], u.y), std::max(e[2], u.x), std::max(e[3], u.y));
         }
+        return e;
+    };
+    std::vector<SearchRegion> regions;
+    regions.reserve(blobs.rawBoxes.size());
+    for (size_t bi = 0; bi < blobs.rawBoxes.size(); ++bi) {
+        const cv::Vec4d e = unrolledBounds(blobs.rawBoxes[bi]);
+        const double x0 = e[0], y0 = e[1], x1 = e[2], y1 = e[3];
         const double margin = std::max(double(params.minMarginPx), params.marginFactor * std::max(x1 - x0, y1 - y0));
         // Edges -> integer pixel indices: pixel i covers [i - 0.5, i + 0.5].
         const int left = static_cast<int>(std::floor(x0 - margin + 0.5));
@@ -148,7 +159,11 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
         const int bottom = static_cast<int>(std::ceil(y1 + margin - 0.5));  // last row, inclusive
         const cv::Rect r = cv::Rect(left, top, right - left + 1, bottom - top + 1) & searched;
         const bool whole = bi < blobs.wholeComponent.size() && blobs.wholeComponent[bi];
-        const int minWidth = whole ? static_cast<int>(params.minWindowBlobFraction * (x1 - x0)) : 0;
+        int minWidth = whole ? static_cast<int>(params.minWindowBlobFraction * (x1 - x0)) : 0;
+        if (!whole && params.componentWindowFraction > 0 && bi < blobs.componentRawBoxes.size()) {
+            const cv::Vec4d c = unrolledBounds(blobs.componentRawBoxes[bi]);
+            minWidth = static_cast<int>(params.componentWindowFraction * (c[2] - c[0]));
+        }
         if (r.area() > 0) regions.push_back({r, minWidth});
     }
     // Merge overlapping regions when the union costs no more than searching both (a sign whose letters fell

@@ -29,7 +29,8 @@ struct ColourGateParams {
     /// When false, the cascade always searches the whole frame.
     bool enabled = true;
     /// Long side of the working resolution, pixels; the raw frame is shrunk by the integer factor
-    /// max(1, floor(long side / this)) with INTER_AREA (VGA and 1920 x 1440 -> 320 x 240).
+    /// max(1, round(long side / this)) with INTER_AREA (VGA and 1920 x 1440 -> 320 x 240). Rounded, not
+    /// floored: a 639-pixel-wide frame must not be gated at full resolution (4 times the pixels, other tiles).
     int workingLongSidePx = 320;
     /// Side of the box over which the local mean of R - G is taken, working pixels (odd).
     int localWindowPx = 31;
@@ -44,10 +45,16 @@ struct ColourGateParams {
     /// Margin added on each side of a blob, as a multiple of its larger side in unrolled pixels (the letters
     /// cover about 2/3 of the face's width and 3/4 of its height; the cascade's box is 1.1 x the face) ...
     double marginFactor = 0.5;
-    /// ... but at least this many unrolled pixels (about the cascade's training window width).
-    int minMarginPx = 24;
+    /// ... but at least this many unrolled pixels (2/3 of the cascade's training window width; 24 before options
+    /// version 5: the same recall over shifted scan grids, docs/benchmarks.md "options version 5").
+    int minMarginPx = 16;
     /// Smallest searched window width as a fraction of a compact blob's width (unrolled pixels); 0 = off.
     double minWindowBlobFraction = 0.6;
+    /// Smallest searched window width in a tile's region as a fraction of its whole component's width (unrolled
+    /// pixels); 0 = off (every window size, as before options version 5). A sign's letters that form a large
+    /// component give a window at least about this wide; a small sign merged into a large coloured component
+    /// (a stripe, a poster's edge) is the case this gives up (docs/sign-detection.md "colour gate").
+    double componentWindowFraction = 0.4;
     /// Full search when the merged regions cover more than this fraction of the searched image (the
     /// regions' own calls would then cost about as much as one call on the whole image).
     double maxAreaFraction = 0.8;
@@ -80,6 +87,8 @@ struct ColourBlobs {
     std::vector<cv::Rect2d> rawBoxes;
     /// Per box: true when it is a whole (compact) component, false for a tile of a large one.
     std::vector<bool> wholeComponent;
+    /// Per box: the bounding box of its whole component in raw pixels (edges); the box itself for a whole one.
+    std::vector<cv::Rect2d> componentRawBoxes;
 };
 
 /// One region for the cascade: a rectangle of the unrolled image, unrolled pixels (integer pixel indices:
@@ -88,7 +97,8 @@ struct SearchRegion {
     cv::Rect unrolledRect;
     /// Smallest window width worth searching in this region, unrolled pixels (0 = the cascade's own): a
     /// compact blob is (part of) a sign's lettering, so the sign's box is at least about as wide as the
-    /// blob (ColourGateParams::minWindowBlobFraction of it); tiles of large components give 0.
+    /// blob (ColourGateParams::minWindowBlobFraction of it); tiles of large components give
+    /// ColourGateParams::componentWindowFraction of the whole component's width (0 when that is off).
     int minWindowWidthPx = 0;
 };
 

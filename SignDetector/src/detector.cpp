@@ -162,6 +162,25 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
         }
         r.cascade.colourGate.crowdedContrastFactor = factor == 0 ? ColourGateParams{}.crowdedContrastFactor : factor;
     }
+    // Version 5: the gate's smaller margins and the component-width window floor in tiles; older structs keep the
+    // regions of their version (24-pixel margins, every window size in tiles).
+    r.cascade.colourGate.minMarginPx = 24;
+    r.cascade.colourGate.componentWindowFraction = 0;
+    if (opts.version >= 5) {  // older structs end before these fields
+        const int margin = opts.cascade_gate_min_margin_px;
+        if (margin < 0) {
+            *error = "cascade_gate_min_margin_px must be 0 (default) or positive, not " + std::to_string(margin);
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        r.cascade.colourGate.minMarginPx = margin == 0 ? ColourGateParams{}.minMarginPx : margin;
+        const double fraction = opts.cascade_gate_component_window_fraction;
+        if (!std::isfinite(fraction) || fraction > 1 || (fraction < 0 && fraction != -1)) {
+            *error = "cascade_gate_component_window_fraction must be 0 (default), -1 (off) or in (0, 1]";
+            return WF_ERR_INVALID_ARGUMENT;
+        }
+        r.cascade.colourGate.componentWindowFraction =
+            fraction == 0 ? ColourGateParams{}.componentWindowFraction : std::max(0.0, fraction);
+    }
     *out = std::move(r);
     return WF_OK;
 }

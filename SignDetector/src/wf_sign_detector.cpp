@@ -43,6 +43,7 @@ int wf_detector_options_init(wf_detector_options* opts, unsigned int version) {
     const size_t size = version == 1   ? offsetof(wf_detector_options, cascade_full_search)
                         : version == 2 ? offsetof(wf_detector_options, unet_coarse_min_elevation_rad)
                         : version == 3 ? offsetof(wf_detector_options, cascade_placement_prior)
+                        : version == 4 ? offsetof(wf_detector_options, cascade_gate_min_margin_px)
                                        : sizeof *opts;
     std::memset(opts, 0, size);
     opts->version = version;

@@ -72,6 +72,16 @@ final class SignDetectorTests: XCTestCase {
         expectInvalid("cascade_gate_crowded_contrast_factor", config)
         config.cascadeGateCrowdedContrastFactor = 1  // off
         XCTAssertNoThrow(try SignDetector(configuration: config))
+        config.cascadeGateMinMarginPixels = -1
+        expectInvalid("cascade_gate_min_margin_px", config)
+        config.cascadeGateMinMarginPixels = 24  // the margins of options version 4
+        XCTAssertNoThrow(try SignDetector(configuration: config))
+        config.cascadeGateComponentWindowFraction = 1.5
+        expectInvalid("cascade_gate_component_window_fraction", config)
+        config.cascadeGateComponentWindowFraction = nil  // off: sent as -1
+        XCTAssertNoThrow(try SignDetector(configuration: config))
+        config.cascadeGateComponentWindowFraction = 0.5
+        XCTAssertNoThrow(try SignDetector(configuration: config))
     }
 
     func testTwoCascadeKindsAreReported() throws {

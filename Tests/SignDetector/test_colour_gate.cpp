@@ -246,3 +246,65 @@ TEST(ColourGate, CrowdedFramesRaiseTheThresholdOnceAndKeepTheSign) {
     EXPECT_DOUBLE_EQ(normal.minContrast, 25.0);
     EXPECT_TRUE(someRegionContains(normal, unrolledSignBox(clean, unrollingOf(clean))));
 }
+
+TEST(ColourGate, TilesOfALargeComponentSearchOnlyWindowsNearItsWidth) {
+    // A red stripe 400 x 12 px on a gray wall (VGA, level camera): one component far larger than a tile, so it is
+    // cut into tiles; with componentWindowFraction f, every tile's region asks for windows of at least f x the
+    // stripe's width (about 400 px), not of any size.
+    cv::Mat rgb(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
+    cv::rectangle(rgb, cv::Rect(100, 200, 400, 12), cv::Scalar(200, 30, 30), cv::FILLED);
+    const wf_image image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    const Unrolling u = Unrolling::forRoll(0.0, Intrinsics{534, 534, 319.5, 239.5}, rgb.size());
+    ColourGateParams params;
+    const ColourBlobs blobs = findColourBlobs(image, params);
+    ASSERT_EQ(blobs.componentRawBoxes.size(), blobs.rawBoxes.size());
+    ASSERT_GT(blobs.rawBoxes.size(), 2u) << "the stripe is tiled";
+    for (size_t i = 0; i < blobs.rawBoxes.size(); ++i) {
+        EXPECT_FALSE(blobs.wholeComponent[i]);
+        EXPECT_GT(blobs.componentRawBoxes[i].width, 400.0);  // the dilated stripe, not the tile
+        EXPECT_LE(blobs.rawBoxes[i].width, 2.0 * params.tileSidePx + 1e-9);
+    }
+    params.componentWindowFraction = 0.4;
+    GateDecision d = gateRegions(blobs, u, -1, params);
+    ASSERT_FALSE(d.fullSearch);
+    ASSERT_FALSE(d.regions.empty());
+    for (const auto& r : d.regions) {
+        EXPECT_GE(r.minWindowWidthPx, static_cast<int>(0.4 * 400));
+        EXPECT_LE(r.minWindowWidthPx, static_cast<int>(0.4 * 410));
+    }
+    params.componentWindowFraction = 0;  // off (options before version 5): every window size in tiles
+    d = gateRegions(blobs, u, -1, params);
+    for (const auto& r : d.regions) EXPECT_EQ(r.minWindowWidthPx, 0);
+}
+
+TEST(ColourGate, MarginIsAtLeastMinMarginAroundASmallBlob) {
+    // A 10 x 6 px red patch: its region is the patch plus the minimum margin on each side (0.5 x its size is less).
+    cv::Mat rgb(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
+    cv::rectangle(rgb, cv::Rect(300, 200, 10, 6), cv::Scalar(220, 20, 20), cv::FILLED);
+    const wf_image image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    const Unrolling u = Unrolling::forRoll(0.0, Intrinsics{534, 534, 319.5, 239.5}, rgb.size());
+    for (const int margin : {16, 24}) {
+        ColourGateParams params;
+        params.minMarginPx = margin;
+        const GateDecision d = gateRegions(findColourBlobs(image, params), u, -1, params);
+        ASSERT_EQ(d.regions.size(), 1u);
+        const cv::Rect r = d.regions[0].unrolledRect;
+        // The dilated blob at working resolution (2 px per working pixel) spans about 298..312 x 198..208.
+        EXPECT_NEAR(r.x, 298 - margin, 3) << margin;
+        EXPECT_NEAR(r.br().x, 312 + margin, 3) << margin;
+        EXPECT_NEAR(r.y, 198 - margin, 3) << margin;
+        EXPECT_NEAR(r.br().y, 208 + margin, 3) << margin;
+    }
+}
+
+TEST(ColourGate, WorkingResolutionIsRoundedNotFloored) {
+    // A 639 x 479 frame is gated at 320 x 240 like VGA (factor 2), not at its full size (factor 1).
+    cv::Mat rgb(479, 639, CV_8UC3, cv::Scalar(128, 128, 128));
+    cv::rectangle(rgb, cv::Rect(300, 200, 40, 14), cv::Scalar(220, 20, 20), cv::FILLED);
+    const wf_image image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    const ColourContrast c = localColourContrast(image, ColourGateParams{});
+    ASSERT_FALSE(c.contrast.empty());
+    EXPECT_EQ(c.contrast.cols, 319);
+    EXPECT_EQ(c.contrast.rows, 239);
+    EXPECT_NEAR(c.rawPerWorkingPx.x, 639.0 / 319.0, 1e-12);
+}

@@ -1,5 +1,6 @@
 // Tests of the C ABI (src/wf_sign_detector.cpp): options, handle lifetime, status codes and messages,
 // pixel formats end to end, capacity handling, image reading.
+#include "detector.hpp"
 #include "wf_sign_detector.h"
 
 #include "synthetic_scene.hpp"
@@ -124,7 +125,8 @@ TEST(CApi, OptionsInitAndVersion) {
 TEST(CApi, OlderOptionVersionsAreInitialisedWithoutWritingPastTheirEnd) {
     const size_t end[] = {offsetof(wf_detector_options, cascade_full_search),
                           offsetof(wf_detector_options, unet_coarse_min_elevation_rad),
-                          offsetof(wf_detector_options, cascade_placement_prior), sizeof(wf_detector_options)};
+                          offsetof(wf_detector_options, cascade_placement_prior),
+                          offsetof(wf_detector_options, cascade_gate_min_margin_px), sizeof(wf_detector_options)};
     for (unsigned version = 1; version <= WF_DETECTOR_OPTIONS_VERSION; ++version) {
         std::vector<unsigned char> bytes(sizeof(wf_detector_options) + 16, 0xAB);
         wf_detector_options* opts = reinterpret_cast<wf_detector_options*>(bytes.data());
@@ -468,6 +470,52 @@ TEST(CApi, PlacementPriorAndCrowdedGateAreVersion4DefaultsAndValidated) {
     rejected(bad, "cascade_gate_crowded_contrast_factor");
     bad.cascade_gate_crowded_contrast_factor = 1.0;  // off is valid
     EXPECT_GE(found(bad), 1u);
+}
+
+TEST(CApi, GateMarginAndComponentWindowAreVersion5DefaultsAndValidated) {
+    const std::string path = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {path.c_str()};
+    auto options = [&](unsigned version) {
+        wf_detector_options opts;
+        EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
+        opts.cascade_paths = paths;
+        opts.cascade_count = 1;
+        return opts;
+    };
+    auto resolved = [](const wf_detector_options& opts) {
+        wf::sign::ResolvedOptions r;
+        std::string error;
+        EXPECT_EQ(wf::sign::ResolvedOptions::fromOptions(opts, &r, &error), WF_OK) << error;
+        return r.cascade.colourGate;
+    };
+    // Version 5 defaults: 16-pixel margins, windows of at least 0.4 x a large component's width in its tiles.
+    EXPECT_EQ(resolved(options(5)).minMarginPx, 16);
+    EXPECT_DOUBLE_EQ(resolved(options(5)).componentWindowFraction, 0.4);
+    // A version-4 caller keeps the regions of version 4.
+    EXPECT_EQ(resolved(options(4)).minMarginPx, 24);
+    EXPECT_DOUBLE_EQ(resolved(options(4)).componentWindowFraction, 0.0);
+    wf_detector_options set = options(5);
+    set.cascade_gate_min_margin_px = 30;
+    set.cascade_gate_component_window_fraction = -1;  // off
+    EXPECT_EQ(resolved(set).minMarginPx, 30);
+    EXPECT_DOUBLE_EQ(resolved(set).componentWindowFraction, 0.0);
+    set.cascade_gate_component_window_fraction = 0.7;
+    EXPECT_DOUBLE_EQ(resolved(set).componentWindowFraction, 0.7);
+
+    auto rejected = [&](const wf_detector_options& bad, const char* field) {
+        wf_detector* d = nullptr;
+        EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT) << field;
+        EXPECT_EQ(d, nullptr);
+        EXPECT_NE(std::string(wf_thread_last_error()).find(field), std::string::npos) << wf_thread_last_error();
+    };
+    wf_detector_options bad = options(5);
+    bad.cascade_gate_min_margin_px = -1;
+    rejected(bad, "cascade_gate_min_margin_px");
+    for (const double fraction : {1.5, -0.5, std::nan("")}) {
+        bad = options(5);
+        bad.cascade_gate_component_window_fraction = fraction;
+        rejected(bad, "cascade_gate_component_window_fraction");
+    }
 }
 
 TEST(CApi, CapacityTooSmallTruncates) {

@@ -29,6 +29,8 @@ final class CDetector {
         opts.cascade_sign_above_camera_min_m = bound(c.cascadeSignAboveCameraMeters?.lowerBound)
         opts.cascade_sign_above_camera_max_m = bound(c.cascadeSignAboveCameraMeters?.upperBound)
         opts.cascade_gate_crowded_contrast_factor = c.cascadeGateCrowdedContrastFactor
+        opts.cascade_gate_min_margin_px = Int32(clamping: c.cascadeGateMinMarginPixels)
+        opts.cascade_gate_component_window_fraction = c.cascadeGateComponentWindowFraction ?? -1  // -1: off
         opts.unet_mask_threshold = c.unetMaskThreshold
         opts.unet_zoom_factor = c.unetZoomFactor
         opts.unet_min_crop_px = Int32(clamping: c.unetMinCropPx)
