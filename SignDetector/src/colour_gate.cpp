@@ -35,11 +35,18 @@ cv::Mat redGreenOpponent(const wf_image& image, const ColourGateParams& params, 
         case WF_PIXEL_BGRA8: {
             const bool rgb = format == WF_PIXEL_RGB8;
             const cv::Mat full = wrapPlane(image.data, image.width, image.height, image.stride, rgb ? CV_8UC3 : CV_8UC4);
-            cv::resize(full, small, working, 0, 0, cv::INTER_AREA);
-            small.convertTo(small, CV_32F);
+            // The first working x factor columns and rows only, so INTER_AREA shrinks by exactly `factor` (its fast
+            // path; a 639 x 479 frame took 1.6 ms instead of 0.09 ms); the last factor - 1 columns and rows at most
+            // are left out of the gate.
+            const cv::Rect exact(0, 0, std::min(image.width, working.width * factor),
+                                 std::min(image.height, working.height * factor));
+            *rawPerWorkingPx = {double(exact.width) / working.width, double(exact.height) / working.height};
+            cv::resize(full(exact), small, working, 0, 0, cv::INTER_AREA);
             // d = R - G: RGB8 channels (R, G, B), BGRA8 channels (B, G, R, A).
-            if (rgb) cv::transform(small, opponent, cv::Matx13f(1.f, -1.f, 0.f));
-            else cv::transform(small, opponent, cv::Matx14f(0.f, -1.f, 1.f, 0.f));
+            cv::Mat red, green;
+            cv::extractChannel(small, red, rgb ? 0 : 2);
+            cv::extractChannel(small, green, 1);
+            cv::subtract(red, green, opponent, cv::noArray(), CV_32F);
             return opponent;
         }
         case WF_PIXEL_NV12: {
@@ -84,8 +91,6 @@ ColourBlobs colourBlobsAbove(const ColourContrast& colour, double minContrast, c
     cv::compare(colour.contrast, minContrast, mask, cv::CMP_GE);
     cv::dilate(mask, mask, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
 
-    cv::Mat labels, stats, centroids;
-    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
     // Working pixel j covers raw [j s - 0.5, (j + 1) s - 0.5] (pixel-centre convention).
     auto rawBox = [&](int x, int y, int w, int h) {
         return cv::Rect2d(x * scale.x - 0.5, y * scale.y - 0.5, w * scale.x, h * scale.y);
@@ -96,30 +101,64 @@ ColourBlobs colourBlobsAbove(const ColourContrast& colour, double minContrast, c
         blobs.rawBoxes.push_back(rawBox(x, y, w, h));
         blobs.componentRawBoxes.push_back(component);
     };
-    const int tile = std::max(4, params.tileSidePx);
-    for (int i = 1; i < n; ++i) {
-        const int x = stats.at<int>(i, cv::CC_STAT_LEFT), y = stats.at<int>(i, cv::CC_STAT_TOP);
-        const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
-        component = rawBox(x, y, w, h);
-        if (std::max(w, h) <= tile) {
-            addBlob(x, y, w, h, true);
-            continue;
+    // Components (8-connected) and their bounding boxes, computed here in one pass over the labels: OpenCV's
+    // connectedComponentsWithStats also computes centroids and took 0.45 ms at 320 x 240 against 0.14 ms for the
+    // labels alone.
+    cv::Mat labels;
+    const int n = cv::connectedComponents(mask, labels, 8, CV_32S);
+    std::vector<cv::Vec4i> extent(static_cast<size_t>(std::max(n, 1)), cv::Vec4i(INT32_MAX, INT32_MAX, -1, -1));
+    for (int r = 0; r < labels.rows; ++r) {
+        const int* row = labels.ptr<int>(r);
+        for (int c = 0; c < labels.cols; ++c) {
+            if (row[c] == 0) continue;
+            cv::Vec4i& e = extent[static_cast<size_t>(row[c])];
+            e[0] = std::min(e[0], c), e[1] = std::min(e[1], r), e[2] = std::max(e[2], c), e[3] = std::max(e[3], r);
         }
-        // A large component (a line across the frame, the outline of a coloured wall or door): its bounding
-        // box would cover far more than its pixels, so it is cut into tile x tile cells and each cell's part
-        // of the component becomes a blob of its own.
-        const int tilesX = (w + tile - 1) / tile, tilesY = (h + tile - 1) / tile;
-        std::vector<cv::Vec4i> extent(static_cast<size_t>(tilesX) * tilesY, cv::Vec4i(INT32_MAX, INT32_MAX, -1, -1));
-        for (int r = y; r < y + h; ++r) {
+    }
+    // A large component (a line across the frame, the outline of a coloured wall or door): its bounding box would
+    // cover far more than its pixels, so it is cut into tile x tile cells anchored at its top-left corner and each
+    // cell's part of the component becomes a blob of its own. Cell extents of all large components, one pass.
+    const int tile = std::max(4, params.tileSidePx);
+    std::vector<int> firstCell(static_cast<size_t>(std::max(n, 1)), -1), cellsX(static_cast<size_t>(std::max(n, 1)), 0);
+    int cells = 0;
+    for (int i = 1; i < n; ++i) {
+        const cv::Vec4i& e = extent[static_cast<size_t>(i)];
+        const int w = e[2] - e[0] + 1, h = e[3] - e[1] + 1;
+        if (std::max(w, h) <= tile) continue;
+        firstCell[static_cast<size_t>(i)] = cells;
+        cellsX[static_cast<size_t>(i)] = (w + tile - 1) / tile;
+        cells += cellsX[static_cast<size_t>(i)] * ((h + tile - 1) / tile);
+    }
+    std::vector<cv::Vec4i> cellExtent(static_cast<size_t>(cells), cv::Vec4i(INT32_MAX, INT32_MAX, -1, -1));
+    if (cells > 0) {
+        for (int r = 0; r < labels.rows; ++r) {
             const int* row = labels.ptr<int>(r);
-            for (int c = x; c < x + w; ++c) {
-                if (row[c] != i) continue;
-                cv::Vec4i& e = extent[static_cast<size_t>((r - y) / tile) * tilesX + (c - x) / tile];
+            for (int c = 0; c < labels.cols; ++c) {
+                const int l = row[c];
+                if (l == 0 || firstCell[static_cast<size_t>(l)] < 0) continue;
+                const cv::Vec4i& box = extent[static_cast<size_t>(l)];
+                const size_t cell = static_cast<size_t>(firstCell[static_cast<size_t>(l)] +
+                                                        ((r - box[1]) / tile) * cellsX[static_cast<size_t>(l)] +
+                                                        (c - box[0]) / tile);
+                cv::Vec4i& e = cellExtent[cell];
                 e[0] = std::min(e[0], c), e[1] = std::min(e[1], r), e[2] = std::max(e[2], c), e[3] = std::max(e[3], r);
             }
         }
-        for (const cv::Vec4i& e : extent) {
-            if (e[2] >= 0) addBlob(e[0], e[1], e[2] - e[0] + 1, e[3] - e[1] + 1, false);
+    }
+    for (int i = 1; i < n; ++i) {
+        const cv::Vec4i& e = extent[static_cast<size_t>(i)];
+        if (e[2] < 0) continue;
+        const int x = e[0], y = e[1], w = e[2] - e[0] + 1, h = e[3] - e[1] + 1;
+        component = rawBox(x, y, w, h);
+        if (firstCell[static_cast<size_t>(i)] < 0) {
+            addBlob(x, y, w, h, true);
+            continue;
+        }
+        const int first = firstCell[static_cast<size_t>(i)];
+        const int count = cellsX[static_cast<size_t>(i)] * ((h + tile - 1) / tile);
+        for (int k = first; k < first + count; ++k) {
+            const cv::Vec4i& c = cellExtent[static_cast<size_t>(k)];
+            if (c[2] >= 0) addBlob(c[0], c[1], c[2] - c[0] + 1, c[3] - c[1] + 1, false);
         }
     }
     return blobs;

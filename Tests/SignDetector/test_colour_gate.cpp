@@ -298,7 +298,8 @@ TEST(ColourGate, MarginIsAtLeastMinMarginAroundASmallBlob) {
 }
 
 TEST(ColourGate, WorkingResolutionIsRoundedNotFloored) {
-    // A 639 x 479 frame is gated at 320 x 240 like VGA (factor 2), not at its full size (factor 1).
+    // A 639 x 479 frame is gated at 319 x 239 like VGA (factor 2), not at its full size (factor 1); the shrink is
+    // exactly 2 (its first 638 x 478 pixels), so working pixel j covers raw pixels 2j and 2j + 1.
     cv::Mat rgb(479, 639, CV_8UC3, cv::Scalar(128, 128, 128));
     cv::rectangle(rgb, cv::Rect(300, 200, 40, 14), cv::Scalar(220, 20, 20), cv::FILLED);
     const wf_image image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0};
@@ -306,5 +307,12 @@ TEST(ColourGate, WorkingResolutionIsRoundedNotFloored) {
     ASSERT_FALSE(c.contrast.empty());
     EXPECT_EQ(c.contrast.cols, 319);
     EXPECT_EQ(c.contrast.rows, 239);
-    EXPECT_NEAR(c.rawPerWorkingPx.x, 639.0 / 319.0, 1e-12);
+    EXPECT_DOUBLE_EQ(c.rawPerWorkingPx.x, 2.0);
+    EXPECT_DOUBLE_EQ(c.rawPerWorkingPx.y, 2.0);
+    // The red patch (columns 300..339) is where the contrast is, at working columns 150..169.
+    double peak = 0;
+    cv::Point at;
+    cv::minMaxLoc(c.contrast, nullptr, &peak, nullptr, &at);
+    EXPECT_GE(at.x, 148);
+    EXPECT_LE(at.x, 171);
 }
