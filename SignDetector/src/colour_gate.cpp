@@ -190,19 +190,20 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
     for (size_t bi = 0; bi < blobs.rawBoxes.size(); ++bi) {
         const cv::Vec4d e = unrolledBounds(blobs.rawBoxes[bi]);
         const double x0 = e[0], y0 = e[1], x1 = e[2], y1 = e[3];
-        const double margin = std::max(double(params.minMarginPx), params.marginFactor * std::max(x1 - x0, y1 - y0));
+        const bool whole = bi < blobs.wholeComponent.size() && blobs.wholeComponent[bi];
+        const cv::Vec4d c = bi < blobs.componentRawBoxes.size() ? unrolledBounds(blobs.componentRawBoxes[bi]) : e;
+        const double componentSide = std::max(c[2] - c[0], c[3] - c[1]);
+        double minMargin = params.minMarginPx;
+        if (!whole && componentSide <= params.nearSignComponentMaxPx) minMargin = std::max(minMargin, double(params.nearSignMarginPx));
+        const double margin = std::max(minMargin, params.marginFactor * std::max(x1 - x0, y1 - y0));
         // Edges -> integer pixel indices: pixel i covers [i - 0.5, i + 0.5].
         const int left = static_cast<int>(std::floor(x0 - margin + 0.5));
         const int top = static_cast<int>(std::floor(y0 - margin + 0.5));
         const int right = static_cast<int>(std::ceil(x1 + margin - 0.5));   // last column, inclusive
         const int bottom = static_cast<int>(std::ceil(y1 + margin - 0.5));  // last row, inclusive
         const cv::Rect r = cv::Rect(left, top, right - left + 1, bottom - top + 1) & searched;
-        const bool whole = bi < blobs.wholeComponent.size() && blobs.wholeComponent[bi];
         int minWidth = whole ? static_cast<int>(params.minWindowBlobFraction * (x1 - x0)) : 0;
-        if (!whole && params.componentWindowFraction > 0 && bi < blobs.componentRawBoxes.size()) {
-            const cv::Vec4d c = unrolledBounds(blobs.componentRawBoxes[bi]);
-            minWidth = static_cast<int>(params.componentWindowFraction * (c[2] - c[0]));
-        }
+        if (!whole && params.componentWindowFraction > 0) minWidth = static_cast<int>(params.componentWindowFraction * (c[2] - c[0]));
         if (r.area() > 0) regions.push_back({r, minWidth});
     }
     // Merge overlapping regions when the union costs no more than searching both (a sign whose letters fell

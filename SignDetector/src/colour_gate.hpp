@@ -48,6 +48,12 @@ struct ColourGateParams {
     /// ... but at least this many unrolled pixels (2/3 of the cascade's training window width; 24 before options
     /// version 5: the same recall over shifted scan grids, docs/benchmarks.md "options version 5").
     int minMarginPx = 16;
+    /// Tiles of a component no larger than this (either side, unrolled pixels: a sign's lettering at about 1.3 m at
+    /// VGA) keep at least nearSignMarginPx: such a component may be a near sign, whose face reaches beyond its
+    /// lettering by more than minMarginPx (at 16 px, 13 of 160 signs at 2 m were missed over four shifted scan
+    /// grids against 4 of 160 with 24 px; docs/benchmarks.md "options version 5").
+    int nearSignComponentMaxPx = 96;
+    int nearSignMarginPx = 24;
     /// Smallest searched window width as a fraction of a compact blob's width (unrolled pixels); 0 = off.
     double minWindowBlobFraction = 0.6;
     /// Smallest searched window width in a tile's region as a fraction of its whole component's width (unrolled

@@ -316,3 +316,41 @@ TEST(ColourGate, WorkingResolutionIsRoundedNotFloored) {
     EXPECT_GE(at.x, 148);
     EXPECT_LE(at.x, 171);
 }
+
+TEST(ColourGate, TilesOfASignSizedComponentKeepTheNearSignMargin) {
+    // A 44 x 20 px red block (a near sign's lettering: larger than a tile, so tiled) and a 400 x 12 px stripe (far
+    // larger than any sign): the block's merged region reaches nearSignMarginPx beyond it, the stripe's only
+    // minMarginPx.
+    cv::Mat rgb(480, 640, CV_8UC3, cv::Scalar(128, 128, 128));
+    cv::rectangle(rgb, cv::Rect(100, 100, 44, 20), cv::Scalar(220, 20, 20), cv::FILLED);
+    cv::rectangle(rgb, cv::Rect(100, 350, 400, 12), cv::Scalar(220, 20, 20), cv::FILLED);
+    const wf_image image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    const Unrolling u = Unrolling::forRoll(0.0, Intrinsics{534, 534, 319.5, 239.5}, rgb.size());
+    ColourGateParams params;
+    ASSERT_EQ(params.minMarginPx, 16);
+    ASSERT_EQ(params.nearSignMarginPx, 24);
+    const ColourBlobs blobs = findColourBlobs(image, params);
+    const GateDecision d = gateRegions(blobs, u, -1, params);
+    ASSERT_FALSE(d.fullSearch);
+    // The two components' boxes (raw = unrolled pixels here: level camera, no roll). The mask reaches beyond the
+    // painted shapes (the local mean spreads their colour), so margins are measured from the components.
+    cv::Rect2d block, stripe;
+    for (const cv::Rect2d& c : blobs.componentRawBoxes) (c.y < 250 ? block : stripe) = c;
+    ASSERT_GT(block.width, 2.0 * params.tileSidePx);
+    ASSERT_LE(std::max(block.width, block.height), params.nearSignComponentMaxPx);
+    ASSERT_GT(stripe.width, params.nearSignComponentMaxPx);
+    bool sawBlock = false, sawStripe = false;
+    for (const auto& r : d.regions) {
+        if (r.unrolledRect.y < 250) {  // the block's region (its tiles merged): 24 px beyond its rows
+            sawBlock = true;
+            EXPECT_LE(r.unrolledRect.y, block.y + 0.5 - 24 + 1);
+            EXPECT_GE(r.unrolledRect.br().y, block.br().y - 0.5 + 24 - 1);
+        } else {  // the stripe's: 16 px beyond its rows
+            sawStripe = true;
+            EXPECT_GE(r.unrolledRect.y, stripe.y + 0.5 - 16 - 1);
+            EXPECT_LE(r.unrolledRect.br().y, stripe.br().y - 0.5 + 16 + 1);
+        }
+    }
+    EXPECT_TRUE(sawBlock);
+    EXPECT_TRUE(sawStripe);
+}
