@@ -110,6 +110,23 @@ void toNv12(const cv::Mat& bgr, std::vector<uint8_t>* y, std::vector<uint8_t>* u
         }
 }
 
+/// Options of `version` (wf_detector_options_init) for one cascade at paths[0] (borrowed), the rest defaults.
+wf_detector_options cascadeOptions(unsigned version, const char* const* paths) {
+    wf_detector_options opts;
+    EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
+    opts.cascade_paths = paths;
+    opts.cascade_count = 1;
+    return opts;
+}
+
+/// wf_detector_create must refuse `bad` with WF_ERR_INVALID_ARGUMENT, no handle, and an error naming `field`.
+void expectRejected(const wf_detector_options& bad, const char* field) {
+    wf_detector* d = nullptr;
+    EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT) << field;
+    EXPECT_EQ(d, nullptr);
+    EXPECT_NE(std::string(wf_thread_last_error()).find(field), std::string::npos) << wf_thread_last_error();
+}
+
 }  // namespace
 
 TEST(CApi, OptionsInitAndVersion) {
@@ -423,10 +440,7 @@ TEST(CApi, PlacementPriorAndCrowdedGateAreVersion4DefaultsAndValidated) {
     const std::string path = wf::sign::testing::referenceCascadePath();
     const char* paths[] = {path.c_str()};
     auto options = [&](unsigned version) {
-        wf_detector_options opts;
-        EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
-        opts.cascade_paths = paths;
-        opts.cascade_count = 1;
+        wf_detector_options opts = cascadeOptions(version, paths);
         opts.cascade_min_neighbors = 1;
         return opts;
     };
@@ -450,24 +464,18 @@ TEST(CApi, PlacementPriorAndCrowdedGateAreVersion4DefaultsAndValidated) {
     wf_detector_options v3 = options(3);
     EXPECT_GE(found(v3), 1u);    // a version-3 caller has no prior
 
-    auto rejected = [&](const wf_detector_options& bad, const char* field) {
-        wf_detector* d = nullptr;
-        EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT) << field;
-        EXPECT_EQ(d, nullptr);
-        EXPECT_NE(std::string(wf_thread_last_error()).find(field), std::string::npos) << wf_thread_last_error();
-    };
     wf_detector_options bad = options(4);
     bad.cascade_placement_prior = 2;
-    rejected(bad, "cascade_placement_prior");
+    expectRejected(bad, "cascade_placement_prior");
     bad = options(4);
     bad.cascade_sign_above_camera_min_m = 2.5;  // above the default maximum of 2.0
-    rejected(bad, "cascade_sign_above_camera_min_m");
+    expectRejected(bad, "cascade_sign_above_camera_min_m");
     bad = options(4);
     bad.cascade_sign_above_camera_max_m = std::nan("");
-    rejected(bad, "cascade_sign_above_camera_min_m and _max_m");
+    expectRejected(bad, "cascade_sign_above_camera_min_m and _max_m");
     bad = options(4);
     bad.cascade_gate_crowded_contrast_factor = 0.5;
-    rejected(bad, "cascade_gate_crowded_contrast_factor");
+    expectRejected(bad, "cascade_gate_crowded_contrast_factor");
     bad.cascade_gate_crowded_contrast_factor = 1.0;  // off is valid
     EXPECT_GE(found(bad), 1u);
 }
@@ -475,13 +483,7 @@ TEST(CApi, PlacementPriorAndCrowdedGateAreVersion4DefaultsAndValidated) {
 TEST(CApi, GateMarginAndComponentWindowAreVersion5DefaultsAndValidated) {
     const std::string path = wf::sign::testing::referenceCascadePath();
     const char* paths[] = {path.c_str()};
-    auto options = [&](unsigned version) {
-        wf_detector_options opts;
-        EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
-        opts.cascade_paths = paths;
-        opts.cascade_count = 1;
-        return opts;
-    };
+    auto options = [&](unsigned version) { return cascadeOptions(version, paths); };
     auto resolved = [](const wf_detector_options& opts) {
         wf::sign::ResolvedOptions r;
         std::string error;
@@ -502,19 +504,13 @@ TEST(CApi, GateMarginAndComponentWindowAreVersion5DefaultsAndValidated) {
     set.cascade_gate_component_window_fraction = 0.7;
     EXPECT_DOUBLE_EQ(resolved(set).componentWindowFraction, 0.7);
 
-    auto rejected = [&](const wf_detector_options& bad, const char* field) {
-        wf_detector* d = nullptr;
-        EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT) << field;
-        EXPECT_EQ(d, nullptr);
-        EXPECT_NE(std::string(wf_thread_last_error()).find(field), std::string::npos) << wf_thread_last_error();
-    };
     wf_detector_options bad = options(5);
     bad.cascade_gate_min_margin_px = -1;
-    rejected(bad, "cascade_gate_min_margin_px");
+    expectRejected(bad, "cascade_gate_min_margin_px");
     for (const double fraction : {1.5, -0.5, std::nan("")}) {
         bad = options(5);
         bad.cascade_gate_component_window_fraction = fraction;
-        rejected(bad, "cascade_gate_component_window_fraction");
+        expectRejected(bad, "cascade_gate_component_window_fraction");
     }
 }
 
