@@ -194,7 +194,9 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
         const cv::Vec4d c = bi < blobs.componentRawBoxes.size() ? unrolledBounds(blobs.componentRawBoxes[bi]) : e;
         const double componentSide = std::max(c[2] - c[0], c[3] - c[1]);
         double minMargin = params.minMarginPx;
-        if (!whole && componentSide <= params.nearSignComponentMaxPx) minMargin = std::max(minMargin, double(params.nearSignMarginPx));
+        if (!whole && componentSide <= params.nearSignComponentMaxPx) {
+            minMargin = std::max(minMargin, double(params.nearSignMarginPx));  // may be a near sign's lettering
+        }
         const double margin = std::max(minMargin, params.marginFactor * std::max(x1 - x0, y1 - y0));
         // Edges -> integer pixel indices: pixel i covers [i - 0.5, i + 0.5].
         const int left = static_cast<int>(std::floor(x0 - margin + 0.5));
@@ -203,7 +205,9 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
         const int bottom = static_cast<int>(std::ceil(y1 + margin - 0.5));  // last row, inclusive
         const cv::Rect r = cv::Rect(left, top, right - left + 1, bottom - top + 1) & searched;
         int minWidth = whole ? static_cast<int>(params.minWindowBlobFraction * (x1 - x0)) : 0;
-        if (!whole && params.componentWindowFraction > 0) minWidth = static_cast<int>(params.componentWindowFraction * (c[2] - c[0]));
+        if (!whole && params.componentWindowFraction > 0) {
+            minWidth = static_cast<int>(params.componentWindowFraction * (c[2] - c[0]));
+        }
         if (r.area() > 0) regions.push_back({r, minWidth});
     }
     // Merge overlapping regions when the union costs no more than searching both (a sign whose letters fell
