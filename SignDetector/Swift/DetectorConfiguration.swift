@@ -58,7 +58,7 @@ public struct DetectorConfiguration: Sendable, Equatable {
     public var cascadeGateMinMarginPixels: Int = 0
     /// Colour gate, large colour components (cut into tiles): the smallest window searched in a tile's region as a
     /// fraction of the whole component's width (0 = the C default 0.4; nil = off, every window size: also finds a
-    /// small sign merged into a large coloured stripe or poster edge, at about 1.6 x the time on the rendered test
+    /// small sign merged into a large coloured stripe or poster edge, at about 1.2 x the time on the rendered test
     /// set). Otherwise in (0, 1].
     public var cascadeGateComponentWindowFraction: Double? = 0
     /// U-Net mask threshold (0 = 0.5), zoom factor (0 = 3.5), smallest crop in original pixels (0 = 64),
