@@ -28,7 +28,6 @@ cv::Mat redGreenOpponent(const wf_image& image, const ColourGateParams& params, 
     const int format = enumValue(image.format);
     const int factor = shrinkFactor(image.width, image.height, params);
     const cv::Size working(std::max(1, image.width / factor), std::max(1, image.height / factor));
-    *rawPerWorkingPx = {double(image.width) / working.width, double(image.height) / working.height};
     cv::Mat small, opponent;
     switch (format) {
         case WF_PIXEL_RGB8:
@@ -51,6 +50,7 @@ cv::Mat redGreenOpponent(const wf_image& image, const ColourGateParams& params, 
         }
         case WF_PIXEL_NV12: {
             if (image.data_uv == nullptr) return {};
+            *rawPerWorkingPx = {double(image.width) / working.width, double(image.height) / working.height};
             const cv::Mat chroma =
                 wrapPlane(image.data_uv, (image.width + 1) / 2, (image.height + 1) / 2, image.stride_uv, CV_8UC2);
             cv::resize(chroma, small, working, 0, 0, cv::INTER_AREA);
@@ -191,7 +191,9 @@ GateDecision gateRegions(const ColourBlobs& blobs, const Unrolling& unrolling, i
         const cv::Vec4d e = unrolledBounds(blobs.rawBoxes[bi]);
         const double x0 = e[0], y0 = e[1], x1 = e[2], y1 = e[3];
         const bool whole = bi < blobs.wholeComponent.size() && blobs.wholeComponent[bi];
-        const cv::Vec4d c = bi < blobs.componentRawBoxes.size() ? unrolledBounds(blobs.componentRawBoxes[bi]) : e;
+        // A tile's whole component in the unrolled image (a whole blob is its own component: not needed).
+        const cv::Vec4d c =
+            !whole && bi < blobs.componentRawBoxes.size() ? unrolledBounds(blobs.componentRawBoxes[bi]) : e;
         const double componentSide = std::max(c[2] - c[0], c[3] - c[1]);
         double minMargin = params.minMarginPx;
         if (!whole && componentSide <= params.nearSignComponentMaxPx) {
