@@ -129,6 +129,29 @@ int wf_localizer_update_altitude(wf_localizer *loc, double relative_altitude_m, 
     return guarded(loc, [&] { return loc->filter->update_altitude(relative_altitude_m, t); });
 }
 
+int wf_localizer_update_compass(wf_localizer *loc, double heading_in_map_rad, double accuracy_rad, double t) {
+    if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
+    return guarded(loc, [&] { return loc->filter->update_compass(heading_in_map_rad, accuracy_rad, t); });
+}
+
+int wf_localizer_set_parameter(wf_localizer *loc, const char *name, double value) {
+    if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
+    if (!name) {
+        loc->last_error = "parameter name is NULL";
+        return WF_LOC_ERR_INVALID_ARGUMENT;
+    }
+    return guarded(loc, [&] { return loc->filter->set_parameter(name, value); });
+}
+
+int wf_localizer_get_parameter(wf_localizer *loc, const char *name, double *value) {
+    if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
+    if (!name || !value) {
+        loc->last_error = "parameter name or value pointer is NULL";
+        return WF_LOC_ERR_INVALID_ARGUMENT;
+    }
+    return guarded(loc, [&] { return loc->filter->get_parameter(name, *value); });
+}
+
 int wf_localizer_get_estimate(wf_localizer *loc, wf_localizer_estimate *out) {
     if (!loc || !out) return WF_LOC_ERR_INVALID_ARGUMENT;
     return guarded(loc, [&] {

@@ -111,6 +111,21 @@ ParticleFilter::ParticleFilter(LocalizerMap map, const wf_localizer_options &opt
       sign_model_(SignModelParams::from_options(opts)),
       rng_(seed),
       tracker_(opts) {
+    floor_params_.storey_threshold_m = opts.storey_threshold_m;
+    floor_params_.settle_tolerance_m = opts.altitude_settle_tolerance_m;
+    floor_params_.settle_s = opts.altitude_settle_s;
+    floor_params_.link_radius_m = opts.link_radius_m;
+    floor_params_.far_from_link_weight = opts.far_from_link_weight;
+    floor_detector_ = BarometricFloorDetector(floor_params_);
+    LocalizedHysteresisParams hp;
+    hp.localize_weight = opts.localize_weight;
+    hp.localize_std_m = opts.localize_std_m;
+    hp.localize_hold_s = opts.localize_hold_s;
+    hp.unlocalize_weight = opts.unlocalize_weight;
+    hp.unlocalize_std_m = opts.unlocalize_std_m;
+    hp.rival_min_weight = opts.rival_min_weight;
+    hp.rival_refute_nats = opts.rival_refute_nats;
+    hysteresis_ = LocalizedHysteresis(hp);
     estimate_.floor_index = -1;
     estimate_.scale = 1;
 }
@@ -178,8 +193,8 @@ void ParticleFilter::reset_filter_state() {
     w_slow_ = w_fast_ = 0;
     has_evidence_t_ = false;
     motion_acc_.clear();
-    localized_ = false;
-    has_candidate_ = false;
+    hysteresis_.reset();
+    compass_.reset();
     estimate_dirty_ = true;
     // A compass prior given before the first VIO yaw is applied at the next predict.
     compass_pending_ = compass_set_ && !tracker_.has_yaw();
@@ -330,6 +345,7 @@ int ParticleFilter::predict(const wf_vio_sample &s) {
     if (tracker_.has_yaw()) vio_yaw_ = wrap_angle(tracker_.last_yaw());
     if (!initialized_) return WF_LOC_OK;
     if (compass_pending_ && tracker_.has_yaw()) apply_compass_reweight();
+    if (d.kind == DeltaKind::kMove) compass_.add_distance(std::hypot(d.d_east, d.d_north));
     if (d.kind != DeltaKind::kNone) {
         const double sum = apply_motion(p_, d, motion_, map_, rng_, &motion_acc_);
         normalize(sum);
@@ -351,16 +367,7 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         log_likelihood_.resize(n);
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
                                                  log_likelihood_.data());
-        if (!z.empty()) {
-            // Recent evidence per particle: exponentially forgotten sum of (ll - max ll) over sign frames.
-            const double dt = has_evidence_t_ ? std::max(0.0, t - evidence_t_) : 0.0;
-            const float decay = static_cast<float>(std::exp(-dt / opts_.evidence_time_constant_s));
-            float *ev = p_.evidence.data();
-            const float *llp = log_likelihood_.data();
-            for (size_t i = 0; i < n; ++i) ev[i] = decay * ev[i] + std::max(llp[i] - max_ll, -50.0f);
-            evidence_t_ = t;
-            has_evidence_t_ = true;
-        }
+        if (!z.empty()) accumulate_evidence(log_likelihood_.data(), max_ll, t);
         const double beta = tempering_exponent(max_ll);
         last_beta_ = beta;
         // w_i <- w_i * L_i^beta / sum_j w_j L_j^beta, in the log domain relative to the best particle (no
@@ -574,58 +581,125 @@ int ParticleFilter::update_altitude(double relative_altitude_m, double t) {
         return fail(WF_LOC_ERR_NON_FINITE_INPUT, "relative altitude or time is not finite (ignored)");
     }
     t_last_ = t;
-    if (!has_altitude_) {
-        has_altitude_ = true;
-        settled_altitude_ = stable_ref_altitude_ = relative_altitude_m;
-        stable_since_t_ = t;
-        return WF_LOC_OK;
-    }
-    if (std::fabs(relative_altitude_m - stable_ref_altitude_) > opts_.altitude_settle_tolerance_m) {
-        stable_ref_altitude_ = relative_altitude_m;
-        stable_since_t_ = t;
-    }
-    const bool settled = t - stable_since_t_ >= opts_.altitude_settle_s;
-    const double delta = relative_altitude_m - settled_altitude_;
-    if (settled && std::fabs(delta) > opts_.storey_threshold_m) {
-        if (initialized_) apply_floor_change(delta);
-        settled_altitude_ = relative_altitude_m;
-    } else if (settled && std::fabs(delta) < opts_.altitude_settle_tolerance_m) {
-        settled_altitude_ = relative_altitude_m;  // absorb slow barometric drift, not half storeys
-    }
+    const double delta = floor_detector_.push(relative_altitude_m, t);
+    if (delta != 0 && initialized_) apply_floor_change(delta);
     return WF_LOC_OK;
 }
 
 void ParticleFilter::apply_floor_change(double delta_m) {
-    const size_t nf = map_.floors.size();
-    // For each source floor: the floor whose elevation matches elevation + delta (within half the change).
-    std::vector<int16_t> dest(nf, -1);
-    for (size_t f = 0; f < nf; ++f) {
-        const double target = map_.floors[f].elevation_m + delta_m;
-        double best = std::max(1.0, 0.5 * std::fabs(delta_m));
-        for (size_t g = 0; g < nf; ++g) {
-            const double e = std::fabs(map_.floors[g].elevation_m - target);
-            if (g != f && e < best) {
-                best = e;
-                dest[f] = static_cast<int16_t>(g);
-            }
-        }
-    }
-    const float radius = static_cast<float>(opts_.link_radius_m);
-    const float far = static_cast<float>(opts_.far_from_link_weight);
-    double sum = 0;
-    for (size_t i = 0; i < p_.size(); ++i) {
-        const int16_t f = p_.floor[i];
-        if (dest[f] >= 0 && map_.floors[f].distance_to_link(p_.x[i], p_.y[i]) <= radius) {
-            p_.floor[i] = dest[f];
-        } else {
-            p_.weight[i] *= far;  // cannot explain a storey change from here
-        }
-        sum += p_.weight[i];
-    }
+    const double sum = wf::loc::apply_floor_change(p_, map_, delta_m, floor_params_, rng_,
+                                                    [this] { return sample_yaw_offset(); });
     normalize(sum);
     maybe_resample(false);
     estimate_dirty_ = true;
     compute_estimate();
+}
+
+void ParticleFilter::accumulate_evidence(const float *ll, float max_ll, double t) {
+    const double dt = has_evidence_t_ ? std::max(0.0, t - evidence_t_) : 0.0;
+    const float decay = static_cast<float>(std::exp(-dt / opts_.evidence_time_constant_s));
+    float *ev = p_.evidence.data();
+    const size_t n = p_.size();
+    for (size_t i = 0; i < n; ++i) ev[i] = decay * ev[i] + std::max(ll[i] - max_ll, -50.0f);
+    evidence_t_ = t;
+    has_evidence_t_ = true;
+}
+
+int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_rad, double t) {
+    if (!std::isfinite(heading_in_map_rad) || !std::isfinite(t)) {
+        return fail(WF_LOC_ERR_NON_FINITE_INPUT, "compass heading or time is not finite (ignored)");
+    }
+    if (!initialized_) return fail(WF_LOC_ERR_NOT_INITIALIZED, "update_compass before an init");
+    if (std::isnan(accuracy_rad) || accuracy_rad > kPiD) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "compass accuracy " + std::to_string(accuracy_rad) +
+                                                     " rad is outside [0, pi] (reading ignored)");
+    }
+    t_last_ = t;
+    if (!tracker_.has_yaw() || !compass_.due()) return WF_LOC_OK;
+    const size_t n = p_.size();
+    log_likelihood_.resize(n);
+    compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, log_likelihood_.data());
+    compass_.mark_applied();
+    ++compass_update_count_;
+    // The log-likelihoods are relative to the best heading (max 0), so the evidence adds them as they are.
+    accumulate_evidence(log_likelihood_.data(), 0.0f, t);
+    double s = 0;
+    float *w = p_.weight.data();
+    const float *ll = log_likelihood_.data();
+    for (size_t i = 0; i < n; ++i) {
+        w[i] *= std::exp(ll[i]);
+        s += w[i];
+    }
+    normalize(s);
+    maybe_resample(false);
+    estimate_dirty_ = true;
+    return WF_LOC_OK;
+}
+
+namespace {
+
+/// One named internal parameter: where it lives and its allowed range.
+struct NamedParameter {
+    const char *name;
+    double lo, hi;
+};
+
+constexpr NamedParameter kParameters[] = {
+    {"compass.enabled", 0, 1},
+    {"compass.kappa", 0.01, 1e4},
+    {"compass.outlier_share", 1e-4, 1},
+    {"compass.min_distance_m", 0, 1e4},
+    {"compass.max_nats", 0, 50},
+    {"lock.rival_weight", 0, 1},
+    {"lock.rival_margin_nats", 0, 1e3},
+    {"lock.jump_m", 0.1, 1e4},
+};
+
+}  // namespace
+
+const char *ParticleFilter::parameter_names() {
+    return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,"
+           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m";
+}
+
+int ParticleFilter::set_parameter(const std::string &name, double value) {
+    const NamedParameter *found = nullptr;
+    for (const NamedParameter &p : kParameters) {
+        if (name == p.name) found = &p;
+    }
+    if (!found) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
+    }
+    if (!in_range(value, found->lo, found->hi)) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "parameter " + name + " = " + std::to_string(value) + " is outside [" +
+                                                     std::to_string(found->lo) + ", " + std::to_string(found->hi) + "]");
+    }
+    CompassModelParams &c = compass_.mutable_params();
+    LocalizedHysteresisParams &h = hysteresis_.mutable_params();
+    if (name == "compass.enabled") c.enabled = value != 0;
+    else if (name == "compass.kappa") c.kappa = value;
+    else if (name == "compass.outlier_share") c.outlier_share = value;
+    else if (name == "compass.min_distance_m") c.min_distance_m = value;
+    else if (name == "compass.max_nats") c.max_nats = value;
+    else if (name == "lock.rival_weight") h.lock_rival_weight = value;
+    else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
+    else if (name == "lock.jump_m") h.lock_jump_m = value;
+    return WF_LOC_OK;
+}
+
+int ParticleFilter::get_parameter(const std::string &name, double &value) {
+    const CompassModelParams &c = compass_.params();
+    const LocalizedHysteresisParams &h = hysteresis_.params();
+    if (name == "compass.enabled") value = c.enabled ? 1 : 0;
+    else if (name == "compass.kappa") value = c.kappa;
+    else if (name == "compass.outlier_share") value = c.outlier_share;
+    else if (name == "compass.min_distance_m") value = c.min_distance_m;
+    else if (name == "compass.max_nats") value = c.max_nats;
+    else if (name == "lock.rival_weight") value = h.lock_rival_weight;
+    else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
+    else if (name == "lock.jump_m") value = h.lock_jump_m;
+    else return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
+    return WF_LOC_OK;
 }
 
 void ParticleFilter::compute_estimate() {
@@ -668,38 +742,34 @@ void ParticleFilter::compute_estimate() {
     e.position_std_m = std_m;
     e.confidence = e.dominant_weight / (1.0 + std_m * std_m);
     e.hypothesis_count = hyps;
-    // Ambiguity: the heaviest rival that the recent evidence has not refuted.
-    double unrefuted_rival = 0;
+    // Ambiguity: the heaviest rival that the recent evidence has not refuted; and for the lock, the rival
+    // (heavy enough to matter) whose evidence comes closest to the dominant's.
+    HysteresisInput hin;
+    hin.t = t_last_;
+    hin.dominant_weight = e.dominant_weight;
+    hin.std_m = std_m;
+    hin.x = d.x;
+    hin.y = d.y;
+    hin.floor = d.floor;
+    const LocalizedHysteresisParams &hp = hysteresis_.params();
     for (size_t k = 1; k < clusters.size(); ++k) {
         const ClusterSummary &r = clusters[k];
         if (r.weight < opts_.rival_min_weight) break;  // sorted by weight
-        if (d.evidence - r.evidence < opts_.rival_refute_nats) unrefuted_rival = std::max(unrefuted_rival, r.weight);
-    }
-    const bool ambiguous = unrefuted_rival > 0;
-    // Localized flag with hysteresis: on after the dominant cluster stays heavy and tight, with every rival
-    // refuted, for localize_hold_s; off as soon as it gets light or wide or an unrefuted rival grows.
-    // Two mirrored clusters keep it off whatever their weights.
-    if (localized_) {
-        if (e.dominant_weight < opts_.unlocalize_weight || std_m > opts_.unlocalize_std_m || unrefuted_rival >= 0.2) {
-            localized_ = false;
-            has_candidate_ = false;
+        if (d.evidence - r.evidence < opts_.rival_refute_nats) {
+            hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, r.weight);
         }
-    } else if (e.dominant_weight > opts_.localize_weight && std_m < opts_.localize_std_m && !ambiguous) {
-        if (!has_candidate_) {
-            has_candidate_ = true;
-            candidate_since_t_ = t_last_;
+        if (r.weight >= hp.lock_rival_weight) {
+            hin.strongest_rival_evidence_margin = std::max(hin.strongest_rival_evidence_margin, r.evidence - d.evidence);
         }
-        if (t_last_ - candidate_since_t_ >= opts_.localize_hold_s) localized_ = true;
-    } else {
-        has_candidate_ = false;
     }
-    e.localized = localized_ ? 1 : 0;
+    const bool localized = hysteresis_.update(hin);
+    e.localized = localized ? 1 : 0;
     // Never hand out NaN: fall back to zeros (cannot happen with finite particles; kept as a guard).
     const double fields[] = {e.x, e.y, e.heading_rad, e.cov_xx, e.cov_xy, e.cov_yy, e.heading_std_rad, e.confidence};
     for (double v : fields) {
         if (!std::isfinite(v)) {
             e.localized = 0;
-            localized_ = false;
+            hysteresis_.drop();
             e.x = e.y = e.heading_rad = e.cov_xy = e.confidence = 0;
             e.cov_xx = e.cov_yy = 1e6;
             e.heading_std_rad = kPiD;

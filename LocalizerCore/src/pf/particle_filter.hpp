@@ -14,7 +14,10 @@
 #include "motion/vio_motion_model.hpp"
 #include "pf/clustering.hpp"
 #include "pf/particle_set.hpp"
+#include "pf/localized_hysteresis.hpp"
 #include "pf/resampling.hpp"
+#include "sensors/barometric_floor_model.hpp"
+#include "sensors/compass_model.hpp"
 #include "sensors/sign_measurement_model.hpp"
 #include "wf_localizer.h"
 
@@ -38,6 +41,17 @@ public:
     int predict(const wf_vio_sample &s);
     int update_signs(const wf_sign_observation *obs, size_t count, double t);
     int update_altitude(double relative_altitude_m, double t);
+    /// Compass evidence (sensors/compass_model): camera heading in the map `heading_in_map_rad` (CCW from +x)
+    /// with accuracy `accuracy_rad` (<= 0: unknown) at time t. Applied at most once per
+    /// CompassModelParams::min_distance_m walked; readings in between are ignored (status OK).
+    int update_compass(double heading_in_map_rad, double accuracy_rad, double t);
+    /// Sets / reads an internal model parameter by name ("compass.kappa", ...; see parameter_names()).
+    int set_parameter(const std::string &name, double value);
+    int get_parameter(const std::string &name, double &value);
+    /// Every name set_parameter knows, comma-separated.
+    static const char *parameter_names();
+    /// Compass readings applied so far (diagnostics, tests).
+    size_t compass_update_count() const { return compass_update_count_; }
 
     /// Current estimate, recomputed (clustering) when particles changed since the last call. The localized
     /// flag's hysteresis advances on these reads, with the time of the last input: read it once per frame.
@@ -76,6 +90,9 @@ private:
     void apply_compass_reweight();
     double tempering_exponent(float max_ll);
     void apply_floor_change(double delta_m);
+    /// Adds (ll - max ll), floored at -50 nats, to each particle's recent evidence, forgetting the old with the
+    /// evidence time constant since the last evidence at time t.
+    void accumulate_evidence(const float *ll, float max_ll, double t);
     void compute_estimate();
 
     LocalizerMap map_;
@@ -110,13 +127,13 @@ private:
     bool has_evidence_t_ = false;
     size_t resample_count_ = 0, injected_count_ = 0;
 
-    bool has_altitude_ = false;
-    double settled_altitude_ = 0, stable_ref_altitude_ = 0, stable_since_t_ = 0;
+    BarometricFloorParams floor_params_;
+    BarometricFloorDetector floor_detector_;
+    CompassModel compass_;
+    size_t compass_update_count_ = 0;
+    LocalizedHysteresis hysteresis_;
 
     bool estimate_dirty_ = true;
-    bool localized_ = false;
-    double candidate_since_t_ = -1;
-    bool has_candidate_ = false;
     wf_localizer_estimate estimate_{};
 };
 

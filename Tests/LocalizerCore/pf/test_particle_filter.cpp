@@ -141,6 +141,76 @@ TEST(ParticleFilter, SymmetricCorridorStaysUnlocalized) {
     EXPECT_GT(cl[1].weight, 0.05);
 }
 
+// The same symmetric corridor with a compass: the mirror hypothesis faces the other way, so the compass
+// (applied once per 4 m, capped) refutes it and the filter localizes on the truth. With a compass biased by a
+// constant 40 degrees (steel nearby) it must never be confidently wrong; and with the compass switched off it
+// stays unlocalized as before.
+namespace {
+struct CompassRun {
+    int localized_frames = 0, wrong_localized_frames = 0;
+    size_t compass_updates = 0;
+};
+CompassRun run_with_compass(double bias_rad, bool enabled) {
+    auto world = wf::test::symmetric_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 3);
+    if (!enabled) EXPECT_EQ(pf.set_parameter("compass.enabled", 0), WF_LOC_OK);
+    EXPECT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    wf::test::WalkParams wp;
+    const auto frames = wf::test::make_walk(world.floors[0], {{15, 1}, {25, 1}, {5, 1}, {25, 1}, {12, 1}}, 0.0, wp);
+    CompassRun r;
+    wf::loc::Rng noise(99);
+    for (const WalkFrame &f : frames) {
+        EXPECT_EQ(pf.predict(f.vio), WF_LOC_OK);
+        const double reading = f.true_heading + bias_rad + 0.1 * noise.normal();
+        EXPECT_EQ(pf.update_compass(reading, 0.0, f.vio.t), WF_LOC_OK);
+        EXPECT_EQ(pf.update_signs(f.sightings.data(), f.sightings.size(), f.vio.t), WF_LOC_OK);
+        const wf_localizer_estimate &e = pf.estimate();
+        EXPECT_TRUE(std::isfinite(e.x) && std::isfinite(e.y));
+        if (e.localized) {
+            ++r.localized_frames;
+            if (position_error(e, f) > 3.0) ++r.wrong_localized_frames;
+        }
+    }
+    r.compass_updates = pf.compass_update_count();
+    return r;
+}
+}  // namespace
+
+TEST(ParticleFilter, CompassEvidenceSettlesTheSymmetricCorridor) {
+    const CompassRun good = run_with_compass(0.0, true);
+    EXPECT_GT(good.localized_frames, 0);
+    EXPECT_EQ(good.wrong_localized_frames, 0);
+    EXPECT_GE(good.compass_updates, 5u);  // about 70 m walked, once per 4 m
+    EXPECT_LE(good.compass_updates, 25u);
+    const CompassRun biased = run_with_compass(40 * wf::test::kPi / 180, true);
+    EXPECT_EQ(biased.wrong_localized_frames, 0);
+    const CompassRun off = run_with_compass(0.0, false);
+    EXPECT_EQ(off.localized_frames, 0);
+    EXPECT_EQ(off.compass_updates, 0u);
+}
+
+TEST(ParticleFilter, NamedParametersAreRangeCheckedAndReadBack) {
+    auto world = wf::test::symmetric_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 3);
+    double v = 0;
+    EXPECT_EQ(pf.set_parameter("compass.kappa", 20.0), WF_LOC_OK);
+    EXPECT_EQ(pf.get_parameter("compass.kappa", v), WF_LOC_OK);
+    EXPECT_DOUBLE_EQ(v, 20.0);
+    EXPECT_EQ(pf.set_parameter("compass.kappa", -1.0), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_NE(pf.error().find("compass.kappa"), std::string::npos);
+    EXPECT_EQ(pf.set_parameter("compass.nonsense", 1.0), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_NE(pf.error().find("compass.min_distance_m"), std::string::npos);  // lists the known names
+    EXPECT_EQ(pf.set_parameter("lock.jump_m", std::nan("")), WF_LOC_ERR_INVALID_ARGUMENT);
+    // Compass input checks.
+    EXPECT_EQ(pf.update_compass(1.0, 0.0, 0.0), WF_LOC_ERR_NOT_INITIALIZED);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    EXPECT_EQ(pf.update_compass(std::nan(""), 0.0, 0.0), WF_LOC_ERR_NON_FINITE_INPUT);
+    EXPECT_EQ(pf.update_compass(1.0, std::nan(""), 0.0), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(pf.update_compass(1.0, 4.0, 0.0), WF_LOC_ERR_INVALID_ARGUMENT);
+}
+
 // Kidnapped traveler: after converging, the walker is carried elsewhere while VIO reports a continuous
 // path. Augmented MCL must notice (w_fast drops below w_slow, also from plainly visible signs that never
 // show up), inject random and sighting-driven particles (sensor resetting) and end up on the truth again,
@@ -400,7 +470,7 @@ TEST(ParticleFilter, AltitudeChangeNearLinkMovesToMatchingFloor) {
     EXPECT_EQ(pf.estimate().floor_index, 0);
 }
 
-TEST(ParticleFilter, AltitudeChangeFarFromLinkKeepsFloorAndLosesWeight) {
+TEST(ParticleFilter, AltitudeChangeFarFromLinkRedrawsBesideTheDestinationLink) {
     auto world = two_storey_world();
     auto o = test_options();
     o.adaptive_particle_count = 0;
@@ -408,21 +478,27 @@ TEST(ParticleFilter, AltitudeChangeFarFromLinkKeepsFloorAndLosesWeight) {
     o.resample_ess_fraction = 0;  // look at the weights before any resampling
     ParticleFilter pf(wf::test::build_map(world, o), o, 13);
     ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
-    ride(pf, 0.0, 4.0, 0.0);
-    // Only particles within 3 m of the link moved up and kept their weight; the others stayed and were
-    // multiplied by 0.05. With a fraction f moved, the floor-1 weight is f / (f + 0.05 (1 - f)).
-    double up_weight = 0;
-    size_t up = 0;
-    for (size_t i = 0; i < pf.particles().size(); ++i) {
-        if (pf.particles().floor[i] == 1) {
-            ++up;
-            up_weight += pf.particles().weight[i];
-        }
+    // Which particles start within 3 m of the floor-0 link at (2, 2): they ride where they are.
+    std::vector<uint8_t> near(pf.particles().size());
+    size_t near_count = 0;
+    for (size_t i = 0; i < near.size(); ++i) {
+        near[i] = std::hypot(pf.particles().x[i] - 2.0f, pf.particles().y[i] - 2.0f) <= 3.0f;
+        near_count += near[i];
     }
-    EXPECT_GT(up, 0u);
-    EXPECT_LT(up, pf.particles().size() / 4);  // a quarter disc of radius 3 m in a 20 m x 10 m room
-    const double f = double(up) / pf.particles().size();
-    EXPECT_NEAR(up_weight, f / (f + 0.05 * (1 - f)), 1e-3);
+    ASSERT_GT(near_count, 0u);
+    ASSERT_LT(near_count, near.size() / 4);  // a quarter disc of radius 3 m in a 20 m x 10 m room
+    ride(pf, 0.0, 4.0, 0.0);
+    // Every particle is now on floor 1 beside its link (the traveler must have arrived by it): the far ones
+    // were re-drawn within the link radius with 0.05 of their weight. With a fraction f near, the near ones
+    // hold f / (f + 0.05 (1 - f)) of the weight.
+    double near_weight = 0;
+    for (size_t i = 0; i < near.size(); ++i) {
+        ASSERT_EQ(pf.particles().floor[i], 1);
+        ASSERT_LE(std::hypot(pf.particles().x[i] - 2.0f, pf.particles().y[i] - 2.0f), 3.0f + 1e-4f);
+        if (near[i]) near_weight += pf.particles().weight[i];
+    }
+    const double f = double(near_count) / near.size();
+    EXPECT_NEAR(near_weight, f / (f + 0.05 * (1 - f)), 1e-3);
 }
 
 TEST(ParticleFilter, ZeroAreaFloorAndFloorWithoutSigns) {

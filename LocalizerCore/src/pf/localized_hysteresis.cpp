@@ -1,0 +1,44 @@
+#include "pf/localized_hysteresis.hpp"
+
+#include <cmath>
+
+namespace wf::loc {
+
+void LocalizedHysteresis::reset() {
+    localized_ = false;
+    has_candidate_ = false;
+    has_last_ = false;
+}
+
+bool LocalizedHysteresis::update(const HysteresisInput &in) {
+    // A jump on the same floor means another hypothesis became the dominant cluster. A floor change that
+    // the cloud followed (barometer) is not one.
+    const bool jumped = has_last_ && in.floor == last_floor_ && std::hypot(in.x - last_x_, in.y - last_y_) > p_.lock_jump_m;
+    has_last_ = true;
+    last_x_ = in.x;
+    last_y_ = in.y;
+    last_floor_ = in.floor;
+    if (localized_) {
+        const bool spread = in.std_m > p_.unlocalize_std_m;
+        const bool rival_explains = in.dominant_weight < p_.unlocalize_weight &&
+                                    in.strongest_rival_evidence_margin >= -p_.lock_rival_margin_nats;
+        if (spread || rival_explains || jumped) {
+            localized_ = false;
+            has_candidate_ = false;
+        }
+        return localized_;
+    }
+    const bool ambiguous = in.unrefuted_rival_weight > 0;
+    if (in.dominant_weight > p_.localize_weight && in.std_m < p_.localize_std_m && !ambiguous && !jumped) {
+        if (!has_candidate_) {
+            has_candidate_ = true;
+            candidate_since_t_ = in.t;
+        }
+        if (in.t - candidate_since_t_ >= p_.localize_hold_s) localized_ = true;
+    } else {
+        has_candidate_ = false;
+    }
+    return localized_;
+}
+
+}  // namespace wf::loc

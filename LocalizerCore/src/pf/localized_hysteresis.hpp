@@ -1,0 +1,75 @@
+// The `localized` flag: when the filter is sure enough to guide. A state machine over the cluster summary
+// of each estimate (pf/clustering), kept apart from the filter so its rules can be read and tested alone.
+//
+// Becoming localized (unchanged since options version 1): the dominant cluster holds > localize_weight, its
+// position std is < localize_std_m, and no rival holding >= rival_min_weight is unrefuted (its recent evidence,
+// nats, is less than rival_refute_nats below the dominant's), all for localize_hold_s.
+//
+// Staying localized ("a steady lock"): once on, the flag drops only when the evidence refutes the estimate,
+// not when Monte Carlo noise or recovery injection shuffles the weights:
+//  - the dominant cluster spreads beyond unlocalize_std_m (e.g. a long tracking loss);
+//  - the dominant cluster is no longer the locked hypothesis (the estimate jumped more than `lock_jump_m`
+//    between two estimates: a rival overtook it);
+//  - the dominant cluster's weight fell below unlocalize_weight AND a rival holding >= `lock_rival_weight`
+//    explains the recent evidence at least as well (its evidence is within `lock_rival_margin_nats` of the
+//    dominant's or better). A rival revived by injection starts with the worst evidence present and does
+//    not qualify until the sightings favour it.
+#pragma once
+
+#include <cstdint>
+
+namespace wf::loc {
+
+/// Thresholds of the localized flag (the localize_* / unlocalize_* / rival_* options, plus internal lock
+/// parameters that are not part of the C ABI).
+struct LocalizedHysteresisParams {
+    double localize_weight = 0.8, localize_std_m = 1.0, localize_hold_s = 1.0;
+    double unlocalize_weight = 0.5, unlocalize_std_m = 2.0;
+    double rival_min_weight = 0.001, rival_refute_nats = 4.0;
+    /// Rival weight that can break a lock, and how close its evidence must come to the dominant's, nats.
+    double lock_rival_weight = 0.2, lock_rival_margin_nats = 1.0;
+    /// A jump of the estimate larger than this between two reads means another hypothesis took over, meters.
+    double lock_jump_m = 3.0;
+};
+
+/// What the flag looks at, from one clustering of the particles.
+struct HysteresisInput {
+    /// Time of the estimate, seconds.
+    double t = 0;
+    /// Dominant cluster: weight (0..1), position std (m), mean position (m, map frame), floor index.
+    double dominant_weight = 0, std_m = 0, x = 0, y = 0;
+    int32_t floor = -1;
+    /// Heaviest rival (>= rival_min_weight) whose evidence is less than rival_refute_nats below the dominant's
+    /// (0 when none).
+    double unrefuted_rival_weight = 0;
+    /// Largest (rival evidence - dominant evidence), nats, over rivals holding >= lock_rival_weight
+    /// (-infinity when there is none).
+    double strongest_rival_evidence_margin = -1e300;
+};
+
+/// The flag's state machine. Value type; reset() on every init of the filter.
+class LocalizedHysteresis {
+public:
+    explicit LocalizedHysteresis(const LocalizedHysteresisParams &p = {}) : p_(p) {}
+    const LocalizedHysteresisParams &params() const { return p_; }
+    LocalizedHysteresisParams &mutable_params() { return p_; }
+
+    /// Advances the state with one estimate and returns the flag.
+    bool update(const HysteresisInput &in);
+    /// Not localized, no candidate, no locked pose.
+    void reset();
+    bool localized() const { return localized_; }
+    /// Forces the flag off (a non-finite estimate).
+    void drop() { localized_ = false; has_candidate_ = false; }
+
+private:
+    LocalizedHysteresisParams p_;
+    bool localized_ = false;
+    bool has_candidate_ = false;
+    double candidate_since_t_ = 0;
+    bool has_last_ = false;
+    double last_x_ = 0, last_y_ = 0;
+    int32_t last_floor_ = -1;
+};
+
+}  // namespace wf::loc

@@ -1,0 +1,75 @@
+// The localized flag's state machine (pf/localized_hysteresis): how it turns on, and the steady lock.
+#include <gtest/gtest.h>
+
+#include "pf/localized_hysteresis.hpp"
+
+using wf::loc::HysteresisInput;
+using wf::loc::LocalizedHysteresis;
+
+namespace {
+
+HysteresisInput sure(double t, double x = 10, double y = 5) {
+    HysteresisInput in;
+    in.t = t;
+    in.dominant_weight = 0.95;
+    in.std_m = 0.4;
+    in.x = x;
+    in.y = y;
+    in.floor = 0;
+    return in;
+}
+
+LocalizedHysteresis locked() {
+    LocalizedHysteresis h;
+    for (int k = 0; k <= 12; ++k) h.update(sure(0.1 * k));
+    EXPECT_TRUE(h.localized());
+    return h;
+}
+
+}  // namespace
+
+TEST(LocalizedHysteresis, TurnsOnAfterTheHoldTimeWithoutRivals) {
+    LocalizedHysteresis h;
+    EXPECT_FALSE(h.update(sure(0.0)));
+    EXPECT_FALSE(h.update(sure(0.5)));
+    EXPECT_TRUE(h.update(sure(1.0)));
+    // An unrefuted rival, however light, keeps it off (the symmetric-building guard).
+    LocalizedHysteresis g;
+    for (int k = 0; k <= 30; ++k) {
+        HysteresisInput in = sure(0.1 * k);
+        in.unrefuted_rival_weight = 0.01;
+        EXPECT_FALSE(g.update(in));
+    }
+}
+
+TEST(LocalizedHysteresis, InjectedRivalWithPoorEvidenceDoesNotBreakTheLock) {
+    LocalizedHysteresis h = locked();
+    // Recovery injection took weight: the dominant is down to 0.45 and an unrefuted rival holds 0.3, but its
+    // evidence is 3 nats worse than the dominant's: it explains the sightings worse. The lock holds.
+    HysteresisInput in = sure(2.0);
+    in.dominant_weight = 0.45;
+    in.unrefuted_rival_weight = 0.3;
+    in.strongest_rival_evidence_margin = -3.0;
+    EXPECT_TRUE(h.update(in));
+    // The same rival, once the sightings favour it (margin above -1 nat), breaks it.
+    in.t = 2.1;
+    in.strongest_rival_evidence_margin = -0.5;
+    EXPECT_FALSE(h.update(in));
+}
+
+TEST(LocalizedHysteresis, SpreadOrAJumpToAnotherHypothesisBreaksTheLock) {
+    LocalizedHysteresis a = locked();
+    HysteresisInput wide = sure(2.0);
+    wide.std_m = 2.5;
+    EXPECT_FALSE(a.update(wide));
+
+    LocalizedHysteresis b = locked();
+    EXPECT_TRUE(b.update(sure(2.0, 10.05, 5)));   // walking: 5 cm per frame
+    EXPECT_FALSE(b.update(sure(2.1, 18.0, 5)));   // another cluster took over, 8 m away
+
+    // A floor change that the lock followed is not a jump.
+    LocalizedHysteresis c = locked();
+    HysteresisInput up = sure(2.0);
+    up.floor = 1;
+    EXPECT_TRUE(c.update(up));
+}
