@@ -19,6 +19,7 @@ enum EvalCommand: Subcommand {
     distance at arrival; then the aggregate. --json prints JSON instead. --baseline fails (exit 1) when an
     aggregate figure is worse than the baseline by more than its tolerance; --write-baseline writes one.
     --scenarios simulates and scores every scenario definition (*.json) in DIR in memory.
+    \(EvidenceSwitches.usage)
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
@@ -29,6 +30,7 @@ enum EvalCommand: Subcommand {
         let skeriDir = try arguments.option("skeri")
         let mapPath = try arguments.option("map")
         var pipeline = PipelineOptions()
+        try EvidenceSwitches.apply(&arguments, to: &pipeline)
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
         let bundles = try arguments.positionals()
 

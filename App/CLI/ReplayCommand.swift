@@ -22,12 +22,14 @@ enum ReplayCommand: Subcommand {
       --seed N         particle filter seed (default 1)
       --trace FILE     write one JSON line per frame: t, x, y, floorId, headingRad, confidence, localized,
                        hypotheses, sightings, announcements, haptics
+    \(EvidenceSwitches.usage)
     Exit codes: 0 ok, 1 bad input (map, bundle), 2 usage.
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
         let mapPath = try arguments.requiredOption("map")
         var pipeline = PipelineOptions()
+        try EvidenceSwitches.apply(&arguments, to: &pipeline)
         pipeline.destinationId = try arguments.option("to")
         pipeline.startPointOfInterestId = try arguments.option("from")
         pipeline.floorId = try arguments.option("floor")

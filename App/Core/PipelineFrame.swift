@@ -21,6 +21,8 @@ public struct PipelineFrame: Sendable {
     public var relativeAltitudeMeters: Double?
     /// Compass heading, degrees clockwise from north.
     public var compassHeadingDeg: Double?
+    /// Core Location's accuracy of that heading, degrees (nil = unknown).
+    public var compassAccuracyDeg: Double?
     /// The frame's pixels, when the detector should run on them (the phone: ARKit's captured image, luma
     /// plane or NV12). Takes precedence over `imagePath`.
     public var image: ImageBuffer?
@@ -46,5 +48,6 @@ public struct PipelineFrame: Sendable {
                   relativeAltitudeMeters: record.relativeAltitudeMeters, compassHeadingDeg: record.compassHeadingDeg,
                   imagePath: record.image.flatMap { name in imagesDirectory?.appendingPathComponent(name).path },
                   measuredObservations: observations)
+        compassAccuracyDeg = record.compassAccuracyDeg
     }
 }

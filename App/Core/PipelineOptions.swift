@@ -47,6 +47,13 @@ public struct PipelineOptions: Sendable {
     /// a compass reading, when the map knows its north (`Building.compassHeadingOfMapNorthDeg`); a fifth of the
     /// prior stays uniform over all headings (LocalizerCore kCompassUniformShare). nil = no compass prior.
     public var compassPriorSigmaDeg: Double? = 30
+    /// Compass as evidence (and as the start prior): each finite reading is weighed by the localizer, at most
+    /// once per few meters walked (LocalizerCore sensors/compass_model, calibrated in docs/compass.md). Needs
+    /// the map's north. false = ignore the compass entirely (CLI `--no-compass`).
+    public var useCompass: Bool = true
+    /// Internal localizer model parameters by name (`ParticleLocalizer.setParameter`), e.g.
+    /// `["compass.kappa": 8]`; `useCompass == false` overrides its "compass.enabled".
+    public var localizerParameters: [String: Double] = [:]
     /// Guidance settings.
     public var navigator: NavigatorOptions = NavigatorOptions()
     /// Random seed of the particle filter (replays are deterministic for a seed).

@@ -42,7 +42,10 @@ public final class WayfinderPipeline {
         self.building = building
         self.options = options
         guard let firstFloor = building.floors.first else { throw PipelineError.invalidConfiguration("the map has no floors") }
-        localizer = try ParticleLocalizer(building: building, options: options.localizer, seed: options.seed)
+        var parameters = options.localizerParameters
+        if !options.useCompass { parameters["compass.enabled"] = 0 }
+        localizer = try ParticleLocalizer(building: building, options: options.localizer, parameters: parameters,
+                                          seed: options.seed)
         if let start = options.startPointOfInterestId {
             guard let poi = building.pointOfInterest(idOrName: start) else {
                 throw PipelineError.invalidConfiguration("unknown start '\(start)'")
@@ -68,13 +71,16 @@ public final class WayfinderPipeline {
         var warnings: [String] = []
         if let pose = frame.cameraPose {
             localizer.predict(VIOConversion.sample(t: frame.t, pose: pose, tracking: frame.tracking))
+            noteInputError("motion update", &warnings)
         } else {
             warnings.append("t=\(frame.t): camera pose is not finite; motion update skipped")
             localizer.predict(VIOSample(t: frame.t, east: .nan, north: .nan, yawRad: .nan, tracking: .notAvailable))
         }
         applyCompassPriorIfDue(frame)
+        applyCompassEvidence(frame, &warnings)
         if let altitude = frame.relativeAltitudeMeters, altitude.isFinite {
             localizer.updateAltitude(relativeAltitudeMeters: altitude, t: frame.t)
+            noteInputError("altitude", &warnings)
         }
 
         var sightings: [SignSighting] = []
@@ -88,6 +94,7 @@ public final class WayfinderPipeline {
                     detectorRan = true
                     lastDetectionT = frame.t
                     localizer.update(sightings: sightings, t: frame.t)
+                    noteInputError("sign update", &warnings)
                 }
             case .failure(let error):
                 warnings.append("t=\(frame.t): \(error)")
@@ -111,13 +118,34 @@ public final class WayfinderPipeline {
     /// clockwise from magnetic north; in the map frame (radians counter-clockwise from +x) that is
     /// pi/2 - (reading - compassHeadingOfMapNorthDeg) in radians.
     private func applyCompassPriorIfDue(_ frame: PipelineFrame) {
-        guard !compassPriorApplied, let sigmaDeg = options.compassPriorSigmaDeg, sigmaDeg > 0,
+        guard options.useCompass, !compassPriorApplied, let sigmaDeg = options.compassPriorSigmaDeg, sigmaDeg > 0,
               let northDeg = building.compassHeadingOfMapNorthDeg,
               let readingDeg = frame.compassHeadingDeg, readingDeg.isFinite, frame.cameraPose != nil else { return }
         compassPriorApplied = true
         let headingInMapRad = Double.pi / 2 - (readingDeg - northDeg) * Double.pi / 180
         localizer.setCompassPrior(headingInMapRad: atan2(sin(headingInMapRad), cos(headingInMapRad)),
                                   sigmaRad: sigmaDeg * Double.pi / 180)
+    }
+
+    /// Gives the localizer every finite compass reading as evidence (it applies one at most once per few meters
+    /// walked), converted to the map frame like the prior, with Core Location's accuracy when recorded.
+    private func applyCompassEvidence(_ frame: PipelineFrame, _ warnings: inout [String]) {
+        guard options.useCompass, let northDeg = building.compassHeadingOfMapNorthDeg,
+              let readingDeg = frame.compassHeadingDeg, frame.cameraPose != nil else { return }
+        guard readingDeg.isFinite, readingDeg >= 0, readingDeg <= 360 else {
+            warnings.append("t=\(frame.t): compass heading \(readingDeg) is outside 0...360 degrees; ignored")
+            return
+        }
+        let headingInMapRad = Double.pi / 2 - (readingDeg - northDeg) * Double.pi / 180
+        let accuracyRad = frame.compassAccuracyDeg.flatMap { $0.isFinite && $0 > 0 && $0 <= 180 ? $0 * Double.pi / 180 : nil }
+        localizer.updateCompass(headingInMapRad: atan2(sin(headingInMapRad), cos(headingInMapRad)),
+                                accuracyRad: accuracyRad, t: frame.t)
+        noteInputError("compass", &warnings)
+    }
+
+    /// Reports the localizer's last rejected input (NaN, out of range) as a warning of this frame.
+    private func noteInputError(_ what: String, _ warnings: inout [String]) {
+        if let error = localizer.lastInputError { warnings.append("\(what) ignored by the localizer: \(error)") }
     }
 
     /// "Where am I?" on request.

@@ -84,6 +84,9 @@ extension FrameRecord: BundleLineRecord {
         if let c = compassHeadingDeg, !(c.isFinite && c >= 0 && c <= 360) {
             return "compassHeadingDeg \(c) is outside 0...360 (write nil when the heading is unknown)"
         }
+        if let a = compassAccuracyDeg, !(a.isFinite && a >= 0 && a <= 180) {
+            return "compassAccuracyDeg \(a) is outside 0...180 (write nil when the accuracy is unknown or invalid)"
+        }
         if let image, !isSafeImageName(image) {
             return "image name '\(image)' is not a plain file name inside images/"
         }

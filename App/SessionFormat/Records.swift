@@ -68,16 +68,20 @@ public struct FrameRecord: Codable, Hashable, Sendable {
     public var relativeAltitudeMeters: Double?
     /// Compass heading, degrees clockwise from magnetic north (Core Location), if available.
     public var compassHeadingDeg: Double?
+    /// Core Location's heading accuracy for that reading (`CLHeading.headingAccuracy`: the largest expected
+    /// deviation), degrees in [0, 180]; nil when unknown (older bundles, or a negative = invalid reading).
+    public var compassAccuracyDeg: Double?
     /// Image file name under images/, if this frame's image was recorded.
     public var image: String?
 
     /// Creates a frame record.
     public init(t: Double, cameraToWorld: [Double], tracking: TrackingState = .normal, trackingReason: TrackingReason? = nil,
                 intrinsics: CameraIntrinsics, relativeAltitudeMeters: Double? = nil, compassHeadingDeg: Double? = nil,
-                image: String? = nil) {
+                image: String? = nil, compassAccuracyDeg: Double? = nil) {
         self.t = t; self.cameraToWorld = cameraToWorld; self.tracking = tracking; self.trackingReason = trackingReason
         self.intrinsics = intrinsics; self.relativeAltitudeMeters = relativeAltitudeMeters
         self.compassHeadingDeg = compassHeadingDeg; self.image = image
+        self.compassAccuracyDeg = compassAccuracyDeg
     }
 }
 

@@ -54,6 +54,20 @@ enum LocalizerBridge {
             try check(wf_localizer_update_altitude(raw, meters, t))
         }
 
+        func updateCompass(headingInMapRad: Double, accuracyRad: Double, t: Double) throws {
+            try check(wf_localizer_update_compass(raw, headingInMapRad, accuracyRad, t))
+        }
+
+        func setParameter(_ name: String, _ value: Double) throws {
+            try check(name.withCString { wf_localizer_set_parameter(raw, $0, value) })
+        }
+
+        func parameter(_ name: String) throws -> Double {
+            var v = 0.0
+            try check(name.withCString { wf_localizer_get_parameter(raw, $0, &v) })
+            return v
+        }
+
         func estimate(floorIds: [String]) -> LocalizationEstimate {
             var e = wf_localizer_estimate()
             _ = wf_localizer_get_estimate(raw, &e)

@@ -14,7 +14,10 @@ public final class ParticleLocalizer {
 
     /// Builds the filter's map from `building` (walls, signs, vertical-link nodes, graph nodes as flood-fill
     /// seeds per floor) and precomputes its grids. Throws `LocalizerError.invalidMap` / `.invalidArgument`.
-    public init(building: Building, options: LocalizerOptions = LocalizerOptions(), seed: UInt64 = 1) throws {
+    ///
+    /// `parameters` sets internal model parameters by name (`setParameter`), e.g. `["compass.enabled": 0]`.
+    public init(building: Building, options: LocalizerOptions = LocalizerOptions(), parameters: [String: Double] = [:],
+                seed: UInt64 = 1) throws {
         floorIds = building.floors.map(\.id)
         var byId: [String: Int32] = [:]
         for (i, f) in building.floors.enumerated() { byId[f.id] = Int32(i) }
@@ -24,7 +27,16 @@ public final class ParticleLocalizer {
         for (i, k) in kinds.enumerated() { kindIds[k] = Int32(i) }
         self.kindIds = kindIds
         handle = try LocalizerBridge.create(building: building, kindIds: kindIds, options: options, seed: seed)
+        for (name, value) in parameters.sorted(by: { $0.key < $1.key }) { try handle.setParameter(name, value) }
     }
+
+    /// Sets an internal model parameter by name ("compass.enabled", "compass.kappa", "compass.outlier_share",
+    /// "compass.min_distance_m", "compass.max_nats", "lock.rival_weight", "lock.rival_margin_nats",
+    /// "lock.jump_m"; docs/localizer.md). Throws `.invalidArgument` naming the known names or the range.
+    public func setParameter(_ name: String, _ value: Double) throws { try handle.setParameter(name, value) }
+
+    /// Reads an internal model parameter by name. Throws `.invalidArgument` for an unknown name.
+    public func parameter(_ name: String) throws -> Double { try handle.parameter(name) }
 
     /// Restarts the filter from `prior`. Throws `.unknownFloor`, `.noWalkableSpace`, `.invalidArgument`.
     public func reset(prior: LocalizerPrior) throws {
@@ -55,6 +67,14 @@ public final class ParticleLocalizer {
     /// without detections (negative information). Before a reset this does nothing (`lastInputError`).
     public func update(sightings: [SignSighting], t: Double) {
         record { try handle.updateSigns(sightings, kindIds: kindIds, t: t) }
+    }
+
+    /// Compass evidence: the camera heading in the map `headingInMapRad` (radians CCW from map +x) with Core
+    /// Location's accuracy `accuracyRad` (nil = unknown) at `t`. Give every reading: the filter applies one at
+    /// most once per few meters walked (spatially correlated indoor disturbance, docs/compass.md). Invalid
+    /// readings are ignored and reported in `lastInputError`.
+    public func updateCompass(headingInMapRad: Double, accuracyRad: Double?, t: Double) {
+        record { try handle.updateCompass(headingInMapRad: headingInMapRad, accuracyRad: accuracyRad ?? 0, t: t) }
     }
 
     /// Barometric relative altitude (meters, any origin) at time `t`: a settled change of about a storey

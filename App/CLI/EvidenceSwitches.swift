@@ -1,0 +1,25 @@
+import WayfinderCore
+
+/// The localizer's evidence switches shared by `replay` and `eval`: each evidence source can be turned off,
+/// and internal model parameters set by name, for studies (docs/benchmarks.md "Evidence sources").
+enum EvidenceSwitches {
+    /// Usage lines for the subcommands that accept the switches.
+    static let usage = """
+      --no-compass     ignore the compass (no start prior, no compass evidence)
+      --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
+                       may be repeated
+    """
+
+    /// Removes the switches from `arguments` and applies them to `options`. Throws a usage error for a
+    /// malformed `--param`.
+    static func apply(_ arguments: inout ArgumentList, to options: inout PipelineOptions) throws {
+        if arguments.flag("no-compass") { options.useCompass = false }
+        while let assignment = try arguments.option("param") {
+            let parts = assignment.split(separator: "=", maxSplits: 1).map(String.init)
+            guard parts.count == 2, !parts[0].isEmpty, let value = Double(parts[1]), value.isFinite else {
+                throw CLIError.usage("--param wants NAME=NUMBER, got '\(assignment)'")
+            }
+            options.localizerParameters[parts[0]] = value
+        }
+    }
+}
