@@ -107,7 +107,12 @@ public final class WayfinderPipeline {
             events = navigator.update(NavigationInput(t: frame.t, positionInMap: estimate.positionInMap,
                                                       floorId: estimate.floorId, headingRad: estimate.headingRad,
                                                       isLocalized: estimate.isLocalized,
-                                                      confidence: estimate.confidence))
+                                                      confidence: estimate.confidence,
+                                                      hypotheses: estimate.hypotheses.map {
+                                                          PoseCandidate(weight: $0.weight, floorId: $0.floorId,
+                                                                        positionInMap: $0.positionInMap,
+                                                                        headingRad: $0.headingRad)
+                                                      }))
         }
         return PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
                               events: events, warnings: warnings)

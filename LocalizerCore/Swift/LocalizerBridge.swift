@@ -72,11 +72,28 @@ enum LocalizerBridge {
             var e = wf_localizer_estimate()
             _ = wf_localizer_get_estimate(raw, &e)
             let floor = (e.floor_index >= 0 && Int(e.floor_index) < floorIds.count) ? floorIds[Int(e.floor_index)] : ""
-            return LocalizationEstimate(
+            var estimate = LocalizationEstimate(
                 t: e.t, positionInMap: Point2(x: e.x, y: e.y), floorId: floor, headingRad: e.heading_rad,
                 covarianceXX: e.cov_xx, covarianceXY: e.cov_xy, covarianceYY: e.cov_yy,
                 headingStdRad: e.heading_std_rad, confidence: e.confidence, isLocalized: e.localized != 0,
                 hypothesisCount: Int(e.hypothesis_count), particleCount: Int(e.particle_count))
+            estimate.hypotheses = hypotheses(floorIds: floorIds)
+            return estimate
+        }
+
+        private func hypotheses(floorIds: [String]) -> [PoseHypothesis] {
+            var buffer = [wf_localizer_hypothesis](repeating: wf_localizer_hypothesis(), count: 16)
+            var count = 0
+            let status = buffer.withUnsafeMutableBufferPointer {
+                wf_localizer_get_hypotheses(raw, $0.baseAddress, $0.count, &count)
+            }
+            guard status == WF_LOC_OK.rawValue else { return [] }
+            return buffer.prefix(count).compactMap { h in
+                guard h.floor_index >= 0, Int(h.floor_index) < floorIds.count else { return nil }
+                return PoseHypothesis(weight: h.weight, floorId: floorIds[Int(h.floor_index)],
+                                      positionInMap: Point2(x: h.x, y: h.y), headingRad: h.heading_rad,
+                                      positionStdMeters: h.position_std_m, evidenceNats: h.evidence_nats)
+            }
         }
 
         func particles(maxCount: Int, floorIds: [String]) -> [ParticleSample] {

@@ -139,6 +139,9 @@ public struct LocalizationEstimate: Sendable {
     public var hypothesisCount: Int
     /// Current number of particles.
     public var particleCount: Int
+    /// The pose hypotheses behind the estimate, heaviest first (clusters holding >= 1 % of the weight, at
+    /// most 16; the first is the dominant one the estimate describes). Empty for fakes.
+    public var hypotheses: [PoseHypothesis] = []
 
     /// Creates an estimate (for fakes and replays; the localizer makes its own).
     public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, covarianceXX: Double,
@@ -148,6 +151,29 @@ public struct LocalizationEstimate: Sendable {
         self.covarianceXX = covarianceXX; self.covarianceXY = covarianceXY; self.covarianceYY = covarianceYY
         self.headingStdRad = headingStdRad; self.confidence = confidence; self.isLocalized = isLocalized
         self.hypothesisCount = hypothesisCount; self.particleCount = particleCount
+    }
+}
+
+/// One pose hypothesis of the localizer: a cluster of the particle cloud.
+public struct PoseHypothesis: Sendable, Equatable {
+    /// Normalised weight, 0...1.
+    public var weight: Double
+    /// Floor id.
+    public var floorId: String
+    /// Mean position, meters, map frame.
+    public var positionInMap: Point2
+    /// Camera heading, radians CCW from map +x.
+    public var headingRad: Double
+    /// Position spread (largest axis), meters.
+    public var positionStdMeters: Double
+    /// Recent evidence relative to the dominant hypothesis, nats (0 for the dominant; negative = worse).
+    public var evidenceNats: Double
+
+    /// Creates a hypothesis.
+    public init(weight: Double, floorId: String, positionInMap: Point2, headingRad: Double, positionStdMeters: Double,
+                evidenceNats: Double) {
+        self.weight = weight; self.floorId = floorId; self.positionInMap = positionInMap; self.headingRad = headingRad
+        self.positionStdMeters = positionStdMeters; self.evidenceNats = evidenceNats
     }
 }
 

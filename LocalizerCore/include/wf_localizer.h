@@ -335,6 +335,21 @@ typedef struct wf_localizer_estimate {
     int32_t particle_count;
 } wf_localizer_estimate;
 
+/** One pose hypothesis: a cluster of the particle cloud (the estimate is the first, the dominant one). */
+typedef struct wf_localizer_hypothesis {
+    /** Normalised weight of the cluster, 0..1. */
+    double weight;
+    /** Floor index. */
+    int32_t floor_index;
+    /** Weighted mean position, meters, map frame; camera heading (circular mean), radians CCW from +x. */
+    double x, y, heading_rad;
+    /** sqrt of the largest eigenvalue of the position covariance, meters. */
+    double position_std_m;
+    /** Recent evidence (sign and compass log-likelihood, exponentially forgotten) relative to the dominant
+     *  cluster's, nats (0 for the dominant; negative = explains the recent sightings worse). */
+    double evidence_nats;
+} wf_localizer_hypothesis;
+
 /** One particle, for drawing. */
 typedef struct wf_localizer_particle {
     float x, y;
@@ -410,6 +425,10 @@ int wf_localizer_get_parameter(wf_localizer *loc, const char *name, double *valu
 
 /** Fills *out with the current estimate (valid fields also before init: particle_count 0, floor -1). */
 int wf_localizer_get_estimate(wf_localizer *loc, wf_localizer_estimate *out);
+
+/** Copies up to `capacity` hypotheses of the last estimate (clusters holding >= 1 % of the weight, heaviest
+ *  first, at most 16) into `out`; *count receives the number written. Read after wf_localizer_get_estimate. */
+int wf_localizer_get_hypotheses(wf_localizer *loc, wf_localizer_hypothesis *out, size_t capacity, size_t *count);
 
 /** Copies up to `capacity` particles (an even subsample when there are more) into `out`; *count receives
  *  the number written. */

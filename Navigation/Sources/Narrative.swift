@@ -16,7 +16,9 @@ public struct PhraseBook: Sendable {
         var keys = ["distance.one", "distance.other", "startWalking", "noRoute",
                     "depart.ahead", "depart.left", "depart.right", "depart.turnAround",
                     "continuation", "safety.wrongWay", "safety.offRoute",
-                    "whereAmI.between", "whereAmI.near", "whereAmI.unknown", "repeat.none", "cue.continue",
+                    "whereAmI.between", "whereAmI.near", "whereAmI.unknown", "whereAmI.probably",
+                    "disambiguate.ahead", "disambiguate.turnAround", "disambiguate.left", "disambiguate.right",
+                    "disambiguate.unsure", "repeat.none", "cue.continue",
                     "cue.continue.short"]
         let alerted: [ManeuverKind] = [.turnLeft, .turnRight, .slightLeft, .slightRight, .sharpLeft, .sharpRight,
                                        .uTurn, .takeElevator, .takeStairs, .goThroughDoor]

@@ -19,12 +19,15 @@ public struct NavigationInput: Sendable, Equatable {
     public var isLocalized: Bool
     /// Localizer confidence in [0, 1] (kept for logging; guidance does not use it yet).
     public var confidence: Double
+    /// The localizer's pose hypotheses (heaviest first). While not localized the navigator plans a safe,
+    /// informative instruction over them (DisambiguationPlanner); empty = unknown ("Start walking").
+    public var hypotheses: [PoseCandidate]
 
     /// Creates an input.
     public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, isLocalized: Bool,
-                confidence: Double = 1) {
+                confidence: Double = 1, hypotheses: [PoseCandidate] = []) {
         self.t = t; self.positionInMap = positionInMap; self.floorId = floorId; self.headingRad = headingRad
-        self.isLocalized = isLocalized; self.confidence = confidence
+        self.isLocalized = isLocalized; self.confidence = confidence; self.hypotheses = hypotheses
     }
 }
 
@@ -78,8 +81,14 @@ public struct NavigatorOptions: Sendable {
     /// A turn whose cue was not said before the estimate passed it (a jump near a corner) is still cued
     /// when the estimate is at most this far past it, meters.
     public var lateCueMeters = 1.5
-    /// "Start walking" is repeated this often while not localized.
+    /// "Start walking" (or the exploratory instruction) is repeated this often while not localized.
     public var startWalkingRepeatSeconds = 15.0
+    /// While not localized, the exploratory instruction is re-planned this often, seconds, and a changed
+    /// instruction is said at most this often (`disambiguationMinimumGapSeconds`).
+    public var disambiguationIntervalSeconds = 1.0
+    public var disambiguationMinimumGapSeconds = 5.0
+    /// Planner tunables (safety margins, look-ahead).
+    public var disambiguation = DisambiguationOptions()
     /// After localization is lost during a route, "Start walking" is said only once the loss has lasted
     /// this long.
     public var relocalizationGraceSeconds = 3.0
@@ -142,6 +151,14 @@ public final class Navigator {
     private var cueIssued: [Bool] = []
     private var continuationDue: Int? = nil
     private var lastStartWalkingT: Double? = nil
+    private let planner: DisambiguationPlanner
+    private var lastPlanT = -Double.infinity
+    private var lastAdvice: DisambiguationAdvice? = nil
+    private var lastSpokenAdviceKey: String? = nil
+    /// The last exploratory advice (nil when localized or before any); for the trainer's view and tests.
+    public private(set) var currentAdvice: DisambiguationAdvice? = nil
+    /// The dominant hypothesis of the last unlocalized update ("Where am I" answers "probably ...").
+    private var lastUnsureInput: NavigationInput? = nil
     private var lastInput: NavigationInput? = nil
     private var lastSnap: SnappedPosition? = nil
     private var history: [(t: Double, p: Vec2, floor: String)] = []
@@ -166,6 +183,7 @@ public final class Navigator {
         narrative = Narrative(phrases: try PhraseBook.load(language: options.language))
         policy = AnnouncementPolicy(config: options.announcements)
         builder = RouteBuilder(graph: graph)
+        planner = DisambiguationPlanner(building: building, options: options.disambiguation)
 
         let graph = self.graph
         var poi: (PointOfInterest, Floor)? = nil
@@ -213,16 +231,22 @@ public final class Navigator {
             unlocalizedSince = since
             let due = lastStartWalkingT.map { t - $0 >= options.startWalkingRepeatSeconds - 1e-6 } ?? true
             let graceOver = currentRoute == nil || t - since >= options.relocalizationGraceSeconds - 1e-6
-            if due && graceOver {
+            if graceOver && !input.hypotheses.isEmpty {
+                guideWhileUnsure(input, repeatDue: due)
+            } else if due && graceOver {
                 say(narrative.phrases.phrase("startWalking"), .information, t)
                 lastStartWalkingT = t
             }
+            lastUnsureInput = input
             lastInput = nil
             history.removeAll()
             wrongWaySince = nil
             return emit(t)
         }
         unlocalizedSince = nil
+        currentAdvice = nil
+        lastSpokenAdviceKey = nil
+        lastUnsureInput = nil
         lastInput = input
         let p = Vec2(input.positionInMap)
         history.append((t, p, input.floorId))
@@ -251,6 +275,11 @@ public final class Navigator {
     /// labelled places found by following the current corridor both ways.
     public func requestWhereAmI(t: Double) -> [TimedGuidanceEvent] {
         guard let input = lastInput, let snap = lastSnap else {
+            if let unsure = lastUnsureInput, let place = probablePlace(unsure) {
+                policy.submit(narrative.phrases.phrase("whereAmI.probably", ["place": place]), priority: .information,
+                              t: t, requested: true)
+                return emit(t)
+            }
             policy.submit(narrative.phrases.phrase("whereAmI.unknown"), priority: .information, t: t, requested: true)
             return emit(t)
         }
@@ -696,6 +725,46 @@ public final class Navigator {
         // "Go through the door now." are both said, while the same maneuver is not repeated after a re-route.
         if variant == "cue", let m { policy.discardPending(repeatKeyPrefix: maneuverKey(m, variant: "alert")) }
         policy.submit(text, priority: priority, t: t, repeatKey: m.map { maneuverKey($0, variant: variant) + text })
+    }
+
+    /// While not localized: re-plans the exploratory instruction now and then and says it when it is new
+    /// (a turn, or a different instruction after a gap) or when the repeat is due. A plain "walk ahead" right
+    /// after a turn instruction is not said: it is what the turn instruction already told.
+    private func guideWhileUnsure(_ input: NavigationInput, repeatDue: Bool) {
+        let t = input.t
+        if t - lastPlanT >= options.disambiguationIntervalSeconds - 1e-9 || lastAdvice == nil {
+            lastPlanT = t
+            lastAdvice = planner.advise(input.hypotheses)
+        }
+        guard let advice = lastAdvice else { return }
+        currentAdvice = advice
+        let key = advice.phraseKey
+        let changed = key != lastSpokenAdviceKey
+        let gapOver = lastStartWalkingT.map { t - $0 >= options.disambiguationMinimumGapSeconds - 1e-6 } ?? true
+        let redundant = advice.action == .ahead && lastSpokenAdviceKey.map { $0 != ExploratoryAction.ahead.phraseKey &&
+            $0 != "disambiguate.unsure" } ?? false
+        if repeatDue || (changed && gapOver && !redundant) {
+            say(narrative.phrases.phrase(key), .information, t)
+            lastStartWalkingT = t
+            lastSpokenAdviceKey = key
+        }
+    }
+
+    /// The labelled place nearest the dominant hypothesis on its floor, for "Probably near ...".
+    private func probablePlace(_ input: NavigationInput) -> String? {
+        guard let h = input.hypotheses.first, let floor = graph.building.floor(id: h.floorId) else { return nil }
+        let p = h.positionInMap
+        var best: (name: String, d: Double)?
+        for poi in floor.pointsOfInterest {
+            let d = poi.position.distance(to: p)
+            if d <= 15, best == nil || d < best!.d { best = (poi.name, d) }
+        }
+        for node in graph.building.graph.nodes where node.floorId == h.floorId {
+            guard let label = node.label else { continue }
+            let d = node.position.distance(to: p)
+            if d <= 15, best == nil || d < best!.d { best = (label, d) }
+        }
+        return best?.name
     }
 
     private func maneuverKey(_ m: Maneuver, variant: String) -> String {

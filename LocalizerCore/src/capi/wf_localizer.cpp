@@ -160,6 +160,19 @@ int wf_localizer_get_estimate(wf_localizer *loc, wf_localizer_estimate *out) {
     });
 }
 
+int wf_localizer_get_hypotheses(wf_localizer *loc, wf_localizer_hypothesis *out, size_t capacity, size_t *count) {
+    if (count) *count = 0;
+    if (!loc || !count || (capacity > 0 && !out)) return WF_LOC_ERR_INVALID_ARGUMENT;
+    return guarded(loc, [&] {
+        loc->filter->estimate();
+        const std::vector<wf_localizer_hypothesis> &h = loc->filter->hypotheses();
+        const size_t m = std::min(h.size(), capacity);
+        std::copy(h.begin(), h.begin() + static_cast<std::ptrdiff_t>(m), out);
+        *count = m;
+        return static_cast<int>(WF_LOC_OK);
+    });
+}
+
 int wf_localizer_get_particles(const wf_localizer *loc, wf_localizer_particle *out, size_t capacity, size_t *count) {
     if (count) *count = 0;
     if (!loc || !count || (capacity > 0 && !out)) return WF_LOC_ERR_INVALID_ARGUMENT;

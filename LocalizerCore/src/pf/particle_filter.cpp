@@ -709,6 +709,7 @@ void ParticleFilter::compute_estimate() {
     e.floor_index = -1;
     e.scale = 1;
     e.particle_count = static_cast<int32_t>(p_.size());
+    hypotheses_.clear();
     if (!initialized_ || p_.size() == 0) {
         estimate_ = e;
         return;
@@ -763,6 +764,22 @@ void ParticleFilter::compute_estimate() {
         }
     }
     const bool localized = hysteresis_.update(hin);
+    hypotheses_.clear();
+    for (const ClusterSummary &c : clusters) {
+        if (c.weight < 0.01 || hypotheses_.size() >= 16) break;
+        Eigen::Matrix2d cc;
+        cc << c.cov_xx, c.cov_xy, c.cov_xy, c.cov_yy;
+        const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> ce(cc, Eigen::EigenvaluesOnly);
+        wf_localizer_hypothesis h{};
+        h.weight = c.weight;
+        h.floor_index = c.floor;
+        h.x = c.x;
+        h.y = c.y;
+        h.heading_rad = wrap_angle(c.heading);
+        h.position_std_m = std::sqrt(std::max(0.0, ce.eigenvalues().maxCoeff()));
+        h.evidence_nats = c.evidence - d.evidence;
+        hypotheses_.push_back(h);
+    }
     e.localized = localized ? 1 : 0;
     // Never hand out NaN: fall back to zeros (cannot happen with finite particles; kept as a guard).
     const double fields[] = {e.x, e.y, e.heading_rad, e.cov_xx, e.cov_xy, e.cov_yy, e.heading_std_rad, e.confidence};

@@ -57,6 +57,9 @@ public:
     /// flag's hysteresis advances on these reads, with the time of the last input: read it once per frame.
     const wf_localizer_estimate &estimate();
 
+    /// Hypotheses of the last estimate (clusters holding >= 1 % of the weight, heaviest first, at most 16).
+    const std::vector<wf_localizer_hypothesis> &hypotheses() const { return hypotheses_; }
+
     bool initialized() const { return initialized_; }
     const ParticleSet &particles() const { return p_; }
     /// Heading of particle i = vio_yaw() + yaw_offset[i].
@@ -135,6 +138,7 @@ private:
 
     bool estimate_dirty_ = true;
     wf_localizer_estimate estimate_{};
+    std::vector<wf_localizer_hypothesis> hypotheses_;
 };
 
 }  // namespace wf::loc

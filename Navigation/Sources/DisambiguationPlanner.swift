@@ -1,0 +1,239 @@
+// Guidance while the localizer is not sure yet: an exploratory instruction that is safe under every live
+// hypothesis and leads soonest to a place where the hypotheses predict different sightings or walls, so that
+// the traveler's own walking settles where they are (active localization: expected information gain over
+// the hypotheses, as in Fox, Burgard & Thrun, "Active Markov localization for mobile robots", 1998, here
+// with a handful of cluster hypotheses instead of a grid and four body-frame actions instead of a path
+// planner). Hand-written: no library plans over a particle filter's hypotheses on a floor plan.
+//
+// For each action (walk ahead, turn around, turn left, turn right, then walk) and each live hypothesis
+// (weight >= `minimumLiveWeight`), the planner casts the walking direction against the floor's walls:
+//  - safety: the walk must stay `wallMarginMeters` short of the first wall, pass no stairs landing closer than
+//    `stairsClearanceMeters` and no door closer than half its width plus `doorClearanceMeters`, under EVERY
+//    live hypothesis; the safe walk length is the shortest over them, capped at `lookaheadMeters`;
+//  - information: every `stepMeters` along the walk each hypothesis predicts what the camera will see: the
+//    signs in its field of view (kind, range and side, bucketed) and how far the wall ahead is (ARKit planes
+//    see it). Hypotheses whose predictions differ will be told apart by the localizer; the partition's entropy
+//    (nats, over the live weights) is the expected information gain of walking that far.
+// The action with the best gain per meter walked (turns cost `turnCostMeters` of walking) wins; without any
+// gain, the safe action with the longest walk (ahead preferred) keeps the traveler moving along a corridor;
+// with no safe action the advice is to stop being confident and walk slowly.
+import Foundation
+import Maps
+
+/// One pose hypothesis as the planner sees it.
+public struct PoseCandidate: Sendable, Equatable {
+    /// Normalised weight, 0...1.
+    public var weight: Double
+    /// Floor id.
+    public var floorId: String
+    /// Position, meters, map frame.
+    public var positionInMap: Point2
+    /// Camera (walking) heading, radians CCW from map +x.
+    public var headingRad: Double
+    /// Creates a candidate.
+    public init(weight: Double, floorId: String, positionInMap: Point2, headingRad: Double) {
+        self.weight = weight; self.floorId = floorId; self.positionInMap = positionInMap; self.headingRad = headingRad
+    }
+}
+
+/// An exploratory action, in the traveler's body frame.
+public enum ExploratoryAction: String, Sendable, CaseIterable {
+    /// Walk straight ahead.
+    case ahead
+    /// Turn around, then walk.
+    case turnAround
+    /// Turn left (90 degrees), then walk.
+    case left
+    /// Turn right (90 degrees), then walk.
+    case right
+
+    /// Turn relative to the current heading, radians (CCW positive).
+    public var turnRad: Double {
+        switch self {
+        case .ahead: return 0
+        case .turnAround: return Double.pi
+        case .left: return Double.pi / 2
+        case .right: return -Double.pi / 2
+        }
+    }
+
+    /// Phrase-book key of the instruction.
+    public var phraseKey: String { "disambiguate.\(rawValue)" }
+}
+
+/// What the planner advises.
+public struct DisambiguationAdvice: Sendable, Equatable {
+    /// The instruction, or nil when no action is safe under every live hypothesis.
+    public var action: ExploratoryAction?
+    /// Length of the walk that is safe under every live hypothesis, meters (0 when none).
+    public var safeWalkMeters: Double
+    /// Expected information gain of the walk (entropy of the hypotheses' prediction partition), nats.
+    public var informationNats: Double
+    /// Distance at which the hypotheses' predictions first differ along the chosen walk, meters (nil if never).
+    public var distinguishingMeters: Double?
+    /// Phrase-book key to speak.
+    public var phraseKey: String { action?.phraseKey ?? "disambiguate.unsure" }
+}
+
+/// Tunables of the planner. Meters, radians.
+public struct DisambiguationOptions: Sendable {
+    /// Hypotheses lighter than this are ignored (their weight is not "real").
+    public var minimumLiveWeight = 0.05
+    /// The walk stops this far before the first wall ahead.
+    public var wallMarginMeters = 1.0
+    /// A walk shorter than this is not worth an instruction.
+    public var minimumWalkMeters = 2.0
+    /// How far ahead the planner looks.
+    public var lookaheadMeters = 10.0
+    /// Spacing of the predicted views along the walk.
+    public var stepMeters = 1.0
+    /// A stairs landing closer than this to the walk makes it unsafe.
+    public var stairsClearanceMeters = 1.5
+    /// A door closer than half its width plus this to the walk makes it unsafe (never through a door).
+    public var doorClearanceMeters = 0.3
+    /// Walking cost charged for turning before the walk (a turn is slower and less certain than walking on).
+    public var turnCostMeters = 2.0
+    /// Half the camera's horizontal field of view, and the range within which a sign is predicted visible.
+    public var halfFieldOfViewRad = 24.0 * Double.pi / 180
+    public var signRangeMeters = 10.0
+    /// Buckets of the predicted view: range (m), bearing (rad), wall-ahead distance (m).
+    public var rangeBucketMeters = 2.0
+    public var bearingBucketRad = 16.0 * Double.pi / 180
+    public var wallBucketMeters = 2.0
+    /// Creates the defaults.
+    public init() {}
+}
+
+/// Plans exploratory instructions over a building's floors. A value; cheap to copy (the building is shared).
+public struct DisambiguationPlanner: Sendable {
+    /// The building.
+    public let building: Building
+    /// Options.
+    public var options: DisambiguationOptions
+
+    /// Creates a planner.
+    public init(building: Building, options: DisambiguationOptions = DisambiguationOptions()) {
+        self.building = building
+        self.options = options
+    }
+
+    /// The advice for the given hypotheses (any order; weights need not sum to 1).
+    public func advise(_ hypotheses: [PoseCandidate]) -> DisambiguationAdvice {
+        let live = hypotheses.filter { $0.weight >= options.minimumLiveWeight && $0.weight.isFinite &&
+            $0.positionInMap.x.isFinite && $0.positionInMap.y.isFinite && $0.headingRad.isFinite &&
+            building.floor(id: $0.floorId) != nil }
+        let total = live.reduce(0) { $0 + $1.weight }
+        guard !live.isEmpty, total > 0 else {
+            return DisambiguationAdvice(action: nil, safeWalkMeters: 0, informationNats: 0, distinguishingMeters: nil)
+        }
+        var best: (advice: DisambiguationAdvice, utility: Double)?
+        var fallback: DisambiguationAdvice?
+        for action in ExploratoryAction.allCases {
+            let walk = safeWalkMeters(action, live)
+            guard walk >= options.minimumWalkMeters else { continue }
+            let (gain, at) = informationGain(action, live, walkMeters: walk, total: total)
+            let advice = DisambiguationAdvice(action: action, safeWalkMeters: walk, informationNats: gain,
+                                              distinguishingMeters: at)
+            if fallback == nil || walk > fallback!.safeWalkMeters + 1.0 { fallback = advice }
+            guard gain > 1e-9, let at else { continue }
+            let utility = gain / (at + (action == .ahead ? 0 : options.turnCostMeters))
+            if best == nil || utility > best!.utility + 1e-12 { best = (advice, utility) }
+        }
+        return best?.advice ?? fallback ??
+            DisambiguationAdvice(action: nil, safeWalkMeters: 0, informationNats: 0, distinguishingMeters: nil)
+    }
+
+    /// Free walking length of `action` that is safe under every hypothesis, meters.
+    func safeWalkMeters(_ action: ExploratoryAction, _ live: [PoseCandidate]) -> Double {
+        var walk = options.lookaheadMeters
+        for h in live {
+            guard let floor = building.floor(id: h.floorId) else { return 0 }
+            let direction = h.headingRad + action.turnRad
+            let free = freeDistance(floor, from: h.positionInMap, directionRad: direction) - options.wallMarginMeters
+            walk = min(walk, free)
+            let end = Point2(x: h.positionInMap.x + walk * cos(direction), y: h.positionInMap.y + walk * sin(direction))
+            for node in building.graph.nodes where node.floorId == h.floorId && node.verticalLink == .stairs {
+                if Geometry.distance(from: node.position, toSegmentFrom: h.positionInMap, to: end) < options.stairsClearanceMeters {
+                    // Stop short of the landing: the walk up to its clearance circle is still safe.
+                    let along = max(0, projection(of: node.position, from: h.positionInMap, directionRad: direction) -
+                                    options.stairsClearanceMeters)
+                    walk = min(walk, along)
+                }
+            }
+            for door in floor.doors {
+                let reach = door.widthMeters / 2 + options.doorClearanceMeters
+                let doorEnd = Point2(x: h.positionInMap.x + walk * cos(direction), y: h.positionInMap.y + walk * sin(direction))
+                if Geometry.distance(from: door.position, toSegmentFrom: h.positionInMap, to: doorEnd) < reach {
+                    let along = max(0, projection(of: door.position, from: h.positionInMap, directionRad: direction) - reach)
+                    walk = min(walk, along)
+                }
+            }
+            if walk < options.minimumWalkMeters { return max(0, walk) }
+        }
+        return max(0, walk)
+    }
+
+    /// Entropy of the partition of the hypotheses by their predicted views along the walk, and the first
+    /// distance at which the partition is no longer trivial.
+    func informationGain(_ action: ExploratoryAction, _ live: [PoseCandidate], walkMeters: Double,
+                         total: Double) -> (nats: Double, atMeters: Double?) {
+        var histories = [String](repeating: "", count: live.count)
+        var firstSplit: Double?
+        var entropy = 0.0
+        var s = options.stepMeters
+        while s <= walkMeters + 1e-9 {
+            for (i, h) in live.enumerated() {
+                guard let floor = building.floor(id: h.floorId) else { continue }
+                let direction = h.headingRad + action.turnRad
+                let p = Point2(x: h.positionInMap.x + s * cos(direction), y: h.positionInMap.y + s * sin(direction))
+                histories[i] += "|" + predictedView(floor, at: p, headingRad: direction)
+            }
+            var groups: [String: Double] = [:]
+            for (i, key) in histories.enumerated() { groups[key, default: 0] += live[i].weight / total }
+            let h = groups.values.reduce(0.0) { $0 - ($1 > 0 ? $1 * log($1) : 0) }
+            if h > 1e-9 && firstSplit == nil { firstSplit = s }
+            entropy = h
+            if firstSplit != nil { break }  // the nearest place where they differ is what the walk aims for
+            s += options.stepMeters
+        }
+        return (entropy, firstSplit)
+    }
+
+    /// What a camera at `p` looking along `headingRad` is predicted to see: visible signs (kind, range bucket,
+    /// bearing bucket) and the wall-ahead bucket, as a canonical string.
+    func predictedView(_ floor: Floor, at p: Point2, headingRad: Double) -> String {
+        var seen: [String] = []
+        for sign in floor.signs {
+            let dx = sign.position.x - p.x, dy = sign.position.y - p.y
+            let range = (dx * dx + dy * dy).squareRoot()
+            guard range > 0.3, range <= options.signRangeMeters else { continue }
+            let bearing = atan2(sin(atan2(dy, dx) - headingRad), cos(atan2(dy, dx) - headingRad))
+            guard abs(bearing) <= options.halfFieldOfViewRad else { continue }
+            // Readable only from in front of its face (the localizer's rule, loosely).
+            guard sign.facing.x * -dx + sign.facing.y * -dy > 0.17 * range else { continue }
+            // Not through a wall: stop 5 cm short of the sign (it hangs on one).
+            let t = max(0, (range - 0.05) / range)
+            let q = Point2(x: p.x + dx * t, y: p.y + dy * t)
+            guard !floor.walls.contains(where: { $0.intersects(from: p, to: q) }) else { continue }
+            seen.append("\(sign.kind):\(Int(range / options.rangeBucketMeters)):\(Int((bearing / options.bearingBucketRad).rounded()))")
+        }
+        let wall = min(freeDistance(floor, from: p, directionRad: headingRad), options.lookaheadMeters)
+        return seen.sorted().joined(separator: ",") + "#" + String(Int(wall / options.wallBucketMeters))
+    }
+
+    /// Distance from `p` along `directionRad` to the first wall, meters (`lookaheadMeters` + 1 when none is
+    /// that close).
+    func freeDistance(_ floor: Floor, from p: Point2, directionRad: Double) -> Double {
+        let far = options.lookaheadMeters + 1
+        let end = Point2(x: p.x + far * cos(directionRad), y: p.y + far * sin(directionRad))
+        var best = far
+        for wall in floor.walls {
+            if let hit = Geometry.segmentIntersection(p, end, wall.from, wall.to) { best = min(best, hit.t * far) }
+        }
+        return best
+    }
+
+    private func projection(of q: Point2, from p: Point2, directionRad: Double) -> Double {
+        (q.x - p.x) * cos(directionRad) + (q.y - p.y) * sin(directionRad)
+    }
+}
