@@ -1,0 +1,117 @@
+// The exploratory instruction while not localized (Navigation/Sources/DisambiguationPlanner.swift): safe under
+// every live hypothesis (walls, stairs, doors), informative when the hypotheses predict different views.
+import XCTest
+import Maps
+@testable import Navigation
+
+final class DisambiguationPlannerTests: XCTestCase {
+    /// A corridor 20 m long (x 0...20) and 2 m wide (y 0...2), closed at both ends. An Exit sign hangs on the
+    /// east end wall facing west; optional stairs landing and door.
+    private func corridor(stairsAt: Point2? = nil, doorAt: Point2? = nil) -> Building {
+        let walls = [Wall(from: Point2(0, 0), to: Point2(20, 0)), Wall(from: Point2(0, 2), to: Point2(20, 2)),
+                     Wall(from: Point2(0, 0), to: Point2(0, 2)), Wall(from: Point2(20, 0), to: Point2(20, 2))]
+        let sign = Sign(id: "s1", kind: "exit", position: Point2(19.95, 1), facing: Point2(-1, 0), widthMeters: 0.3,
+                        heightMeters: 0.2)
+        var nodes = [GraphNode(id: "a", kind: .control, floorId: "1", position: Point2(1, 1)),
+                     GraphNode(id: "b", kind: .control, floorId: "1", position: Point2(19, 1))]
+        if let stairsAt {
+            nodes.append(GraphNode(id: "st", kind: .verticalLink, floorId: "1", position: stairsAt, verticalLink: .stairs))
+        }
+        let doors = doorAt.map { [Door(id: "d1", position: $0, widthMeters: 0.9)] } ?? []
+        let floor = Floor(id: "1", name: "Floor 1", elevationMeters: 0, walls: walls, doors: doors, signs: [sign])
+        return Building(id: "c", name: "Corridor", floors: [floor],
+                        graph: NavigationGraph(nodes: nodes, edges: [GraphEdge(from: "a", to: "b")]))
+    }
+
+    func testFacingAWallTheAdviceIsToTurnAround() {
+        let planner = DisambiguationPlanner(building: corridor())
+        // Both hypotheses face a wall 1.5 m ahead (east end): walking ahead is unsafe under both.
+        let h = [PoseCandidate(weight: 0.6, floorId: "1", positionInMap: Point2(18.5, 1), headingRad: 0),
+                 PoseCandidate(weight: 0.4, floorId: "1", positionInMap: Point2(18.5, 1.2), headingRad: 0)]
+        let advice = planner.advise(h)
+        XCTAssertEqual(advice.action, .turnAround)
+        XCTAssertGreaterThanOrEqual(advice.safeWalkMeters, 2.0)
+        XCTAssertEqual(advice.phraseKey, "disambiguate.turnAround")
+    }
+
+    func testAnInstructionMustBeSafeUnderEveryLiveHypothesis() {
+        let planner = DisambiguationPlanner(building: corridor())
+        // Mirror hypotheses: one at x 3 facing east (10+ m free), one at x 17 facing west (10+ m free) - ahead
+        // is safe for both. A third, light (3 %) one facing the east wall at 19 m does not count.
+        let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(3, 1), headingRad: 0),
+                 PoseCandidate(weight: 0.47, floorId: "1", positionInMap: Point2(17, 1), headingRad: Double.pi),
+                 PoseCandidate(weight: 0.03, floorId: "1", positionInMap: Point2(19, 1), headingRad: 0)]
+        let advice = planner.advise(h)
+        // Turning around tells them apart soonest: the one now facing east at x 17 sees the Exit sign 3 m
+        // ahead at once, the other faces a wall - the nearest informative place, 2 m of safe walking for both.
+        // (Walking ahead would first split them only after about 7 m, when the east-facing one nears the sign.)
+        XCTAssertEqual(advice.action, .turnAround)
+        XCTAssertEqual(advice.distinguishingMeters ?? -1, 1.0, accuracy: 1e-9)
+        XCTAssertEqual(advice.informationNats, -(0.5 / 0.97 * log(0.5 / 0.97) + 0.47 / 0.97 * log(0.47 / 0.97)), accuracy: 1e-6)
+        XCTAssertGreaterThanOrEqual(advice.safeWalkMeters, 2.0)
+        let aheadGain = planner.informationGain(.ahead, Array(h.prefix(2)), walkMeters: 10, total: 0.97)
+        XCTAssertGreaterThan(aheadGain.atMeters ?? 0, 5.0)
+        // Made heavy (10 %), the third hypothesis vetoes walking ahead: it would walk into the end wall.
+        var heavy = h
+        heavy[2].weight = 0.10
+        let vetoed = planner.advise(heavy)
+        XCTAssertNotEqual(vetoed.action, .ahead)
+        if let action = vetoed.action {
+            for c in heavy {
+                let free = planner.freeDistance(planner.building.floors[0], from: c.positionInMap,
+                                                directionRad: c.headingRad + action.turnRad)
+                XCTAssertGreaterThanOrEqual(free, vetoed.safeWalkMeters + 1.0 - 1e-9)
+            }
+        } else {
+            XCTAssertEqual(vetoed.phraseKey, "disambiguate.unsure")
+        }
+    }
+
+    func testNeverTowardStairsOrThroughADoor() {
+        let h = [PoseCandidate(weight: 1.0, floorId: "1", positionInMap: Point2(2, 1), headingRad: 0)]
+        let free = DisambiguationPlanner(building: corridor()).advise(h)
+        XCTAssertEqual(free.action, .ahead)
+        XCTAssertEqual(free.safeWalkMeters, 10.0, accuracy: 1e-9)  // look-ahead cap
+        // Stairs landing 4 m ahead: the walk stops 1.5 m short of it.
+        let stairs = DisambiguationPlanner(building: corridor(stairsAt: Point2(6, 1))).safeWalkMeters(.ahead, h)
+        XCTAssertEqual(stairs, 2.5, accuracy: 1e-9)
+        // A door 2.5 m ahead: walking ahead would go through it, less than the minimum walk is left.
+        let door = DisambiguationPlanner(building: corridor(doorAt: Point2(4.5, 1))).advise(h)
+        XCTAssertNotEqual(door.action, .ahead)
+    }
+
+    func testNoSafeActionSaysSoPlainly() {
+        // A 2 m x 2 m closet: nothing is 3 m free in any direction.
+        let walls = [Wall(from: Point2(0, 0), to: Point2(2, 0)), Wall(from: Point2(0, 2), to: Point2(2, 2)),
+                     Wall(from: Point2(0, 0), to: Point2(0, 2)), Wall(from: Point2(2, 0), to: Point2(2, 2))]
+        let b = Building(id: "k", name: "Closet", floors: [Floor(id: "1", name: "F", elevationMeters: 0, walls: walls)],
+                         graph: NavigationGraph(nodes: [GraphNode(id: "a", kind: .control, floorId: "1", position: Point2(1, 1))],
+                                                edges: []))
+        let advice = DisambiguationPlanner(building: b).advise(
+            [PoseCandidate(weight: 1, floorId: "1", positionInMap: Point2(1, 1), headingRad: 0.3)])
+        XCTAssertNil(advice.action)
+        XCTAssertEqual(advice.phraseKey, "disambiguate.unsure")
+    }
+
+    func testNavigatorSpeaksTheAdviceInsteadOfStartWalking() throws {
+        let b = corridor()
+        let nav = try Navigator(building: b, destinationId: "b")
+        let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(18.5, 1), headingRad: 0),
+                 PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(1.5, 1), headingRad: Double.pi)]
+        var spoken: [String] = []
+        for k in 0..<40 {
+            let input = NavigationInput(t: Double(k) * 0.5, positionInMap: Point2(18.5, 1), floorId: "1", headingRad: 0,
+                                        isLocalized: false, confidence: 0.3, hypotheses: h)
+            for e in nav.update(input) { if case .speak(let text, _, _) = e.event { spoken.append(text) } }
+        }
+        XCTAssertFalse(spoken.isEmpty)
+        XCTAssertFalse(spoken.contains("Start walking."))
+        XCTAssertTrue(spoken.allSatisfy { $0.contains("Turn around") }, "\(spoken)")
+        XCTAssertLessThanOrEqual(spoken.count, 2)  // 20 s: said once, repeated at most once (15 s)
+        // "Where am I" names the dominant hypothesis' surroundings, with its doubt.
+        let answer = nav.requestWhereAmI(t: 20.5).compactMap { e -> String? in
+            if case .speak(let text, _, _) = e.event { return text } else { return nil }
+        }
+        XCTAssertEqual(answer.count, 1)
+    }
+}
