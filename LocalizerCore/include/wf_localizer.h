@@ -408,14 +408,15 @@ int wf_localizer_update_altitude(wf_localizer *loc, double relative_altitude_m, 
 /** Compass evidence: the camera heading in the map `heading_in_map_rad` (radians CCW from map +x; from Core
  *  Location's magnetic heading and the map's recorded north) with Core Location's heading accuracy
  *  `accuracy_rad` (0 or negative = unknown; NaN or > pi is rejected) at time t. A robust von Mises + uniform
- *  mixture on each particle's implied heading, applied at most once per "compass.min_distance_m" walked and
- *  capped at "compass.max_nats" (spatially correlated indoor disturbance, docs/compass.md); readings in
+ *  mixture on each particle's implied heading, applied at most once per "compass.min_distance_m" walked,
+ *  capped at "compass.max_nats" per application and "compass.max_total_nats" over a particle's history
+ *  (spatially correlated indoor disturbance, docs/compass.md); readings in
  *  between return WF_LOC_OK and change nothing. Give every reading; the filter decides. */
 int wf_localizer_update_compass(wf_localizer *loc, double heading_in_map_rad, double accuracy_rad, double t);
 
 /** Sets an internal model parameter by name (tuning knobs that are not part of the options struct, so that
  *  adding one is no ABI change): "compass.enabled" (0/1), "compass.kappa", "compass.outlier_share",
- *  "compass.min_distance_m", "compass.max_nats", "lock.rival_weight", "lock.rival_margin_nats",
+ *  "compass.min_distance_m", "compass.max_nats", "compass.max_total_nats", "lock.rival_weight", "lock.rival_margin_nats",
  *  "lock.jump_m" (docs/localizer.md). Unknown names and values out of range: WF_LOC_ERR_INVALID_ARGUMENT with
  *  the known names or the range in wf_localizer_last_error. `name` is NUL-terminated, owned by the caller. */
 int wf_localizer_set_parameter(wf_localizer *loc, const char *name, double value);

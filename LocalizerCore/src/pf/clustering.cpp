@@ -81,6 +81,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         cluster_of_cell_[c] = cluster_of_cell_[r];
     }
     const bool has_evidence = p.evidence.size() == n;
+    const bool has_compass = p.compass_ll.size() == n;
     for (size_t i = 0; i < n; ++i) {
         const int32_t cl = cluster_of_cell_[cell_of_[i]];
         if (cl < 0) continue;
@@ -96,6 +97,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         a.os += w * std::sin(static_cast<double>(p.yaw_offset[i]));
         a.sc += w * p.scale[i];
         if (has_evidence) a.ev += w * p.evidence[i];
+        if (has_compass) a.ev += w * p.compass_ll[i];
         a.floor = p.floor[i];
         ++a.count;
     }

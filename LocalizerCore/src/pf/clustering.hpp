@@ -24,7 +24,8 @@ struct ClusterSummary {
     /// Circular mean of the yaw offset, radians; weighted mean scale.
     double yaw_offset = 0, scale = 1;
     size_t particle_count = 0;
-    /// Weighted mean of the particles' recent evidence (nats, relative; 0 when the set carries none).
+    /// Weighted mean of the particles' recent sign evidence plus their capped compass log-weight (nats, relative;
+    /// 0 when the set carries none).
     double evidence = 0;
 };
 

@@ -3,6 +3,7 @@
 #include <Eigen/Eigenvalues>
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <utility>
 
 #include "common/fast_math.hpp"
@@ -215,6 +216,7 @@ void ParticleFilter::init_particle(size_t i, float x, float y, int16_t floor, fl
     p_.floor[i] = floor;
     p_.weight[i] = weight;
     p_.evidence[i] = 0;
+    p_.compass_ll[i] = 0;
 }
 
 int ParticleFilter::init_floor_only(int32_t floor) {
@@ -492,6 +494,7 @@ void ParticleFilter::resample(double inject_fraction) {
         scratch_.scale[out] = p_.scale[i];
         scratch_.floor[out] = p_.floor[i];
         scratch_.evidence[out] = p_.evidence[i];
+        scratch_.compass_ll[out] = p_.compass_ll[i];
         scratch_.weight[out] = w;
         ++out;
     };
@@ -566,6 +569,7 @@ void ParticleFilter::resample(double inject_fraction) {
         scratch_.floor[k] = inject_floor;
         scratch_.weight[k] = inject_w;
         scratch_.evidence[k] = worst_evidence;
+        scratch_.compass_ll[k] = 0;
     }
     p_.swap(scratch_);
     double sum = 0;
@@ -621,13 +625,22 @@ int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_ra
     compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, log_likelihood_.data());
     compass_.mark_applied();
     ++compass_update_count_;
-    // The log-likelihoods are relative to the best heading (max 0), so the evidence adds them as they are.
-    accumulate_evidence(log_likelihood_.data(), 0.0f, t);
+    // Each particle's history keeps its compass log-weight relative to the best history (max 0), floored at
+    // -max_total_nats: the weight changes only by what keeps it inside that band, so repeated readings with a
+    // persistent bias cannot push a hypothesis further than the cap. The same totals count as evidence for
+    // refuting rivals (clustering adds them to the sign evidence); they do not decay with time, since a
+    // heading seen 20 m ago is still the heading.
+    float *total = p_.compass_ll.data();
+    const float *ll = log_likelihood_.data();
+    float best = -std::numeric_limits<float>::infinity();
+    for (size_t i = 0; i < n; ++i) best = std::max(best, total[i] + ll[i]);
+    const float cap = static_cast<float>(-compass_.params().max_total_nats);
     double s = 0;
     float *w = p_.weight.data();
-    const float *ll = log_likelihood_.data();
     for (size_t i = 0; i < n; ++i) {
-        w[i] *= std::exp(ll[i]);
+        const float next = std::max(total[i] + ll[i] - best, cap);
+        w[i] *= std::exp(next - total[i]);
+        total[i] = next;
         s += w[i];
     }
     normalize(s);
@@ -650,6 +663,7 @@ constexpr NamedParameter kParameters[] = {
     {"compass.outlier_share", 1e-4, 1},
     {"compass.min_distance_m", 0, 1e4},
     {"compass.max_nats", 0, 50},
+    {"compass.max_total_nats", 0, 1e3},
     {"lock.rival_weight", 0, 1},
     {"lock.rival_margin_nats", 0, 1e3},
     {"lock.jump_m", 0.1, 1e4},
@@ -658,7 +672,7 @@ constexpr NamedParameter kParameters[] = {
 }  // namespace
 
 const char *ParticleFilter::parameter_names() {
-    return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,"
+    return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,compass.max_total_nats,"
            "lock.rival_weight,lock.rival_margin_nats,lock.jump_m";
 }
 
@@ -681,6 +695,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "compass.outlier_share") c.outlier_share = value;
     else if (name == "compass.min_distance_m") c.min_distance_m = value;
     else if (name == "compass.max_nats") c.max_nats = value;
+    else if (name == "compass.max_total_nats") c.max_total_nats = value;
     else if (name == "lock.rival_weight") h.lock_rival_weight = value;
     else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
     else if (name == "lock.jump_m") h.lock_jump_m = value;
@@ -695,6 +710,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "compass.outlier_share") value = c.outlier_share;
     else if (name == "compass.min_distance_m") value = c.min_distance_m;
     else if (name == "compass.max_nats") value = c.max_nats;
+    else if (name == "compass.max_total_nats") value = c.max_total_nats;
     else if (name == "lock.rival_weight") value = h.lock_rival_weight;
     else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
     else if (name == "lock.jump_m") value = h.lock_jump_m;

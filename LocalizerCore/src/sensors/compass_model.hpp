@@ -6,8 +6,9 @@
 // with kappa_eff = 1 / (1 / kappa + accuracy^2) when Core Location's heading accuracy is known (the two
 // spreads add as variances). Indoor magnetic disturbance is spatially correlated (steel, wiring: docs/compass.md
 // measures it on 31 real mall walks), so consecutive readings are not independent: the model applies a reading
-// at most once per `min_distance_m` walked, and caps the log-likelihood ratio one application can give
-// (`max_nats`), so a persistent bias near steel cannot build false certainty by repetition. Readings taken
+// at most once per `min_distance_m` walked, caps the log-likelihood ratio one application can give
+// (`max_nats`) and the total a particle's history can receive (`max_total_nats`, applied by the filter), so a
+// persistent bias near steel cannot build false certainty by repetition. Readings taken
 // while standing still add nothing new and are never applied twice.
 #pragma once
 
@@ -22,17 +23,25 @@ namespace wf::loc {
 struct CompassModelParams {
     /// Nonzero: compass readings are evidence. "compass.enabled".
     bool enabled = true;
-    /// Von Mises concentration of the core (1/rad^2 for small errors: sigma ~ 1/sqrt(kappa)). Default 11.4
-    /// (sigma ~ 17 deg): the core of the real indoor error distribution (docs/compass.md). "compass.kappa".
-    double kappa = 11.4;
-    /// Share of readings that are outliers (uniform over all headings). Default 0.15. "compass.outlier_share".
-    double outlier_share = 0.15;
-    /// A reading is applied at most once per this distance walked, meters (the decorrelation length of the
-    /// indoor disturbance). Default 4 m. "compass.min_distance_m".
-    double min_distance_m = 4.0;
+    /// Von Mises concentration of the core (1/rad^2 for small errors: sigma ~ 1/sqrt(kappa)). Default 10
+    /// (sigma ~ 18 deg): 31 real mall walks gave kappa 12.1 (sigma 16.4 deg, docs/compass.md), widened a little
+    /// for other phones and buildings. "compass.kappa".
+    double kappa = 10.0;
+    /// Share of readings that are outliers (uniform over all headings). Default 0.05: the real walks had none
+    /// beyond 72 deg in 1.2 km (1.8 % once each walk's own offset is removed); the rest is a margin for steel.
+    /// "compass.outlier_share".
+    double outlier_share = 0.05;
+    /// A reading is applied at most once per this distance walked, meters. Default 5 m: the real error's
+    /// correlation falls to 1/e after 4.0 m and below 0.2 after 5.5 m. "compass.min_distance_m".
+    double min_distance_m = 5.0;
     /// Cap on the log-likelihood ratio between the best and the worst particle of one application, nats.
     /// Default 2.5. "compass.max_nats".
     double max_nats = 2.5;
+    /// Cap on the total compass log-weight a particle's history can receive, nats (per particle, carried
+    /// through resampling): floor and walk offsets of 15-22 deg persist over a whole walk, so repeated
+    /// applications must not build more than ln 100 of certainty by themselves. Default 4.6.
+    /// "compass.max_total_nats".
+    double max_total_nats = 4.6;
 };
 
 /// Decides when a compass reading is due and scores the particles against it. Owns no particle data.

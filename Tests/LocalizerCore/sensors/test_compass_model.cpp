@@ -55,7 +55,7 @@ TEST(CompassModel, RelativeLogLikelihoodPeaksAtTheReadingAndIsCapped) {
     EXPECT_NEAR(ll[0], 0.0f, 1e-5);
     EXPECT_LT(ll[1], 0.0f);
     EXPECT_GT(ll[1], -2.5f);
-    // The uncapped ratio at 90 and 180 degrees is log((1-u) peak + u/2pi) - log(u/2pi) ~ 2.6 nats for u = 0.15:
+    // The uncapped ratio at 90 and 180 degrees is about log((1-u) peak / (u/2pi)) ~ 5 nats for u = 0.05, kappa 10:
     // the cap (2.5) holds.
     EXPECT_FLOAT_EQ(ll[2], -2.5f);
     EXPECT_FLOAT_EQ(ll[3], -2.5f);
