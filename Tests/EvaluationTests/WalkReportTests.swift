@@ -2,7 +2,7 @@ import XCTest
 import Maps
 import SessionFormat
 import Simulation
-import WayfinderCore
+@testable import WayfinderCore
 @testable import Evaluation
 
 /// The trainer's picture: a simulated SKERI walk rendered to HTML and, through headless Chromium, to PNG.
@@ -43,6 +43,36 @@ final class WalkReportTests: XCTestCase {
         XCTAssertEqual(size.height, 1100)
         let bytes = try FileManager.default.attributesOfItem(atPath: pngURL.path)[.size] as! Int
         XCTAssertGreaterThan(bytes, 40_000, "a blank page compresses to a few KB; the plan and paths do not")
+    }
+
+    func testHostileFloorIdNeverBecomesScript() throws {
+        // Issue 14: this floor id (made in code, past the map validator, which refuses it) used to close the
+        // string of onclick="showFloor('ID')" and run in the browser.
+        let hostile = "2');document.title='PWNED';//"
+        func floor(_ id: String, _ name: String) -> Floor {
+            Floor(id: id, name: name, elevationMeters: id == "1" ? 0 : 3,
+                  walls: [Wall(from: Point2(0, 0), to: Point2(10, 0)), Wall(from: Point2(10, 0), to: Point2(10, 4))])
+        }
+        let building = Building(id: "b", name: "B", floors: [floor("1", "One"), floor(hostile, "Two <b>\"'")],
+                                graph: NavigationGraph(nodes: [], edges: []))
+        func record(_ t: Double, _ f: String) -> TraceRecord {
+            TraceRecord(t: t, x: 1, y: 1, floorId: f, headingRad: 0, confidence: 1, localized: true, hypotheses: 1,
+                        sightings: 0, announcements: [], haptics: [])
+        }
+        let result = ReplayResult(trace: [record(0, "1"), record(1, hostile)], announcements: [], haptics: [], sightingRays: [],
+                                  particleSnapshots: [], routePolyline: [], warnings: [])
+        let truth = [TruthRecord(t: 0, x: 1, y: 1, floorId: "1", headingRad: 0), TruthRecord(t: 1, x: 1, y: 1, floorId: hostile, headingRad: 0)]
+        let html = WalkReport.html(title: "t", building: building, result: result, truth: truth, score: nil)
+        XCTAssertFalse(html.contains("onclick"), "no inline event handlers")
+        XCTAssertFalse(html.contains("showFloor("), "no script built around data")
+        XCTAssertFalse(html.contains("document.title='"), "the id's quotes are escaped wherever it appears")
+        XCTAssertTrue(html.contains("data-floor-id=\"2&#39;);document.title=&#39;PWNED&#39;;//\""), "the id survives as inert attribute text")
+        XCTAssertTrue(html.contains("<button type=\"button\" data-floor=\"1\" aria-controls=\"floor-section-1\">Two &lt;b&gt;&quot;&#39;</button>"))
+        // The only script is the fixed floor switcher, identical whatever the map says.
+        let scripts = html.components(separatedBy: "<script>").dropFirst().map { $0.components(separatedBy: "</script>")[0] }
+        XCTAssertEqual(scripts.count, 1)
+        XCTAssertEqual("<script>" + scripts[0] + "</script>", WalkReport.floorScript)
+        XCTAssertEqual(WalkReport.escape("a&<>\"'b"), "a&amp;&lt;&gt;&quot;&#39;b")
     }
 
     func testTrueTurnsOnAnLShapedPath() {
