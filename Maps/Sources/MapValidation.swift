@@ -87,7 +87,7 @@ public enum MapValidator {
             let u = scalars[i]
             let hex = String(u.value, radix: 16, uppercase: true)
             let code = "U+" + String(repeating: "0", count: max(0, 4 - hex.count)) + hex
-            let shown = u.value >= 0x21 && u.value < 0x7F ? " '\(Character(u))'" : ""
+            let shown = u.value >= 0x21 && u.value < 0x7F ? " (\(Character(u)))" : ""
             throw fail(path, "identifier contains the character \(code)\(shown) at position \(i + 1); identifiers may use only \(identifierCharacterSetDescription)")
         }
     }

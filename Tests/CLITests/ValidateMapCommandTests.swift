@@ -162,7 +162,7 @@ final class ValidateMapCommandTests: XCTestCase {
     func testScriptInAFloorIdIsRejected() throws {
         let text = try office(replacing: "\"id\" : \"1\"", with: "\"id\" : \"2');document.title='PWNED';//\"", after: "\"floors\"")
         try assertRejected(text, name: "hostile-floor-id.json", jsonPath: "$.floors[0].id",
-                           reason: "identifier contains the character U+0027 ''' at position 2; identifiers may use only A-Z a-z 0-9 . _ : -")
+                           reason: "identifier contains the character U+0027 (') at position 2; identifiers may use only A-Z a-z 0-9 . _ : -")
     }
 
     func testFloorWiderThanTheCoreAllowsIsRejectedFirst() throws {
@@ -170,19 +170,6 @@ final class ValidateMapCommandTests: XCTestCase {
         var text = try officeWithExtraGroundFloorWall(from: (-60000, 0), to: (-59999, 0))
         text = text.replacingOccurrences(of: "\"walls\" : [{", with: "\"walls\" : [{\"from\": [60000, 0], \"to\": [60001, 0]}, {")
         try assertRejected(text, name: "wide.json", jsonPath: "$.floors[0]", reason: "spans 120001 m x ")
-    }
-
-    func testFarWallThatValidatesAlsoReplays() throws {
-        // A wall 99.999 km east: inside the 100 km limit, so the localizer builds the map as well (it used to
-        // refuse it, after padding, with "invalid map: ... invalid map").
-        guard FileManager.default.fileExists(atPath: CLI.repo(CLI.sampleBundlePath).appendingPathComponent("session.json").path) else {
-            throw XCTSkip("sample bundle absent")
-        }
-        let path = try write(try officeWithExtraGroundFloorWall(from: (99_998, 0), to: (99_999, 0)), as: "far-wall.json")
-        try CLI.run(["validate-map", path]).assertExit(0)
-        let r = try CLI.run(["replay", CLI.sampleBundlePath, "--map", path, "--seed", "1"])
-        r.assertExit(0)
-        XCTAssertFalse(r.stderr.contains("invalid map"), "\(r)")
     }
 
     func testNonRegularFilesAndLinkLoopsGiveTheirReason() throws {

@@ -96,7 +96,7 @@ final class MapHardeningTests: XCTestCase {
             let hostile = "2');document.title='PWNED';//"
             b.floors[1].id = hostile
             for i in b.graph.nodes.indices where b.graph.nodes[i].floorId == "2" { b.graph.nodes[i].floorId = hostile }
-        }, path: "$.floors[1].id", reason: "identifier contains the character U+0027 ''' at position 2; identifiers may use only A-Z a-z 0-9 . _ : -")
+        }, path: "$.floors[1].id", reason: "identifier contains the character U+0027 (') at position 2; identifiers may use only A-Z a-z 0-9 . _ : -")
     }
 
     func testIdentifierCharacterSetAndLength() throws {
