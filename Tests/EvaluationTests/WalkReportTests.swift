@@ -73,6 +73,33 @@ final class WalkReportTests: XCTestCase {
         XCTAssertEqual(scripts.count, 1)
         XCTAssertEqual("<script>" + scripts[0] + "</script>", WalkReport.floorScript)
         XCTAssertEqual(WalkReport.escape("a&<>\"'b"), "a&amp;&lt;&gt;&quot;&#39;b")
+
+        // In a real browser: the id never runs, and the floor buttons still switch floors.
+        guard let chromium = ChromiumScreenshot.executable() else { throw XCTSkip("chromium not installed") }
+        let dir = FileManager.default.temporaryDirectory.appendingPathComponent("wf-render-hostile-\(getpid())")
+        try FileManager.default.createDirectory(at: dir, withIntermediateDirectories: true)
+        defer { try? FileManager.default.removeItem(at: dir) }
+        // A test-only probe after the page's own script: press the second floor's button.
+        let probe = "<script>document.querySelector('nav button[data-floor=\"1\"]').click();</script></body>"
+        let page = dir.appendingPathComponent("walk.html")
+        try Data(html.replacingOccurrences(of: "</body>", with: probe).utf8).write(to: page)
+        let p = Process()
+        p.executableURL = URL(fileURLWithPath: chromium)
+        p.arguments = ["--headless", "--disable-gpu", "--no-sandbox", "--disable-dev-shm-usage",
+                       "--user-data-dir=\(dir.appendingPathComponent("profile").path)", "--dump-dom", page.absoluteString]
+        let out = Pipe()
+        p.standardOutput = out
+        p.standardError = FileHandle.nullDevice
+        try p.run()
+        let dom = String(decoding: out.fileHandleForReading.readDataToEndOfFile(), as: UTF8.self)
+        p.waitUntilExit()
+        XCTAssertTrue(dom.contains("<title>t</title>"), "the title was not rewritten by the id: \(dom.prefix(300))")
+        XCTAssertFalse(dom.contains("PWNED</title>"))
+        XCTAssertTrue(dom.contains("id=\"floor-section-1\" data-floor=\"1\""), "\(dom.prefix(2000))")
+        let second = try XCTUnwrap(dom.range(of: "id=\"floor-section-1\""))
+        XCTAssertTrue(dom[second.upperBound...].prefix(400).contains("display: block"), "the second floor's button shows it")
+        let first = try XCTUnwrap(dom.range(of: "id=\"floor-section-0\""))
+        XCTAssertTrue(dom[first.upperBound...].prefix(400).contains("display: none"), "and hides the first")
     }
 
     func testTrueTurnsOnAnLShapedPath() {
