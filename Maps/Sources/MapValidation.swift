@@ -278,16 +278,23 @@ public enum MapValidator {
             adjacency[a].append(c); adjacency[c].append(a)
         }
 
-        // Points of interest must be reachable: each needs a node, from which it can be walked to in a straight
-        // line, and it must lie on walkable ground (not inside or against a wall).
+        // Coverage: every point of interest has a node; every vertical link a counterpart on another floor.
+        for (fi, f) in b.floors.enumerated() {
+            for (pi, p) in f.pointsOfInterest.enumerated() where !poisWithNode.contains(p.id) {
+                throw fail("$.floors[\(fi)].pointsOfInterest[\(pi)]", "point of interest \"\(p.id)\" has no graph node (add a pointOfInterest node naming it)")
+            }
+        }
+        for (ni, n) in g.nodes.enumerated() where n.kind == .verticalLink && !hasCounterpart[ni] {
+            throw fail("$.graph.nodes[\(ni)]", "verticalLink node \"\(n.id)\" has no counterpart: no edge joins it to a verticalLink node on another floor")
+        }
+
+        // Points of interest on walkable ground: clear of walls, and reachable in a straight line from their node.
         var poiNode: [String: GraphNode] = [:]
         for n in g.nodes where n.kind == .pointOfInterest { if let pid = n.pointOfInterestId, poiNode[pid] == nil { poiNode[pid] = n } }
         for (fi, f) in b.floors.enumerated() {
             for (pi, p) in f.pointsOfInterest.enumerated() {
                 let pp = "$.floors[\(fi)].pointsOfInterest[\(pi)]"
-                guard poisWithNode.contains(p.id), let node = poiNode[p.id] else {
-                    throw fail(pp, "point of interest \"\(p.id)\" has no graph node (add a pointOfInterest node naming it)")
-                }
+                guard let node = poiNode[p.id] else { continue }   // coverage above guarantees one
                 if let (wi, d) = f.nearestWall(to: p.position), d < minimumPointOfInterestWallClearanceMeters {
                     throw fail(pp + ".position", "point of interest \"\(p.id)\" is inside or against a wall: the wall $.floors[\(fi)].walls[\(wi)] is \(fmt(d)) m away (at least \(minimumPointOfInterestWallClearanceMeters) m needed, so that it lies on walkable ground a traveler can reach)")
                 }
@@ -305,9 +312,6 @@ public enum MapValidator {
             if r.width > maximumFloorExtentMeters || r.height > maximumFloorExtentMeters {
                 throw fail("$.floors[\(fi)]", "floor \"\(f.id)\" spans \(fmt(r.width)) m x \(fmt(r.height)) m (x from \(fmt(r.minX)) to \(fmt(r.maxX)), y from \(fmt(r.minY)) to \(fmt(r.maxY)), over its walls, doors, signs, points of interest and graph nodes); at most \(fmt(maximumFloorExtentMeters)) m (100 km) either way is allowed: a larger floor is a unit mistake, and the localizer refuses it")
             }
-        }
-        for (ni, n) in g.nodes.enumerated() where n.kind == .verticalLink && !hasCounterpart[ni] {
-            throw fail("$.graph.nodes[\(ni)]", "verticalLink node \"\(n.id)\" has no counterpart: no edge joins it to a verticalLink node on another floor")
         }
 
         // Connectivity over the whole building (vertical edges included).
