@@ -25,13 +25,16 @@ public enum WalkReport {
         body += String(format: "%.0f s", (result.trace.last?.t ?? 0) - (result.trace.first?.t ?? 0)) + "</p>\n"
         if let score { body += summary(score) }
         body += legend()
+        // Floor switching: the buttons and sections carry the floor's index (never its id) in data-floor, and one
+        // fixed script (floorScript) reads it; no script text is ever built from map data.
+        let shown = floors.isEmpty ? Array(building.floors.prefix(1)) : floors
         if floors.count > 1 {
             body += "<nav aria-label=\"Floors\">" + floors.enumerated().map { i, f in
-                "<button onclick=\"showFloor('\(escape(f.id))')\" aria-controls=\"floor-\(escape(f.id))\">\(escape(f.name))</button>"
+                "<button type=\"button\" data-floor=\"\(i)\" aria-controls=\"floor-section-\(i)\">\(escape(f.name))</button>"
             }.joined() + "</nav>\n"
         }
-        for (i, floor) in (floors.isEmpty ? Array(building.floors.prefix(1)) : floors).enumerated() {
-            body += "<section id=\"floor-\(escape(floor.id))\" class=\"floor\" style=\"display:\(i == 0 ? "block" : "none")\">"
+        for (i, floor) in shown.enumerated() {
+            body += "<section id=\"floor-section-\(i)\" data-floor=\"\(i)\" data-floor-id=\"\(escape(floor.id))\" class=\"floor\" style=\"display:\(i == 0 ? "block" : "none")\">"
             body += "<h2>\(escape(floor.name))</h2>"
             body += floorSVG(floor: floor, building: building, result: result, track: track)
             body += "</section>\n"
@@ -50,16 +53,44 @@ public enum WalkReport {
         svg{border:1px solid #ccc;background:#fbfbf8} table{border-collapse:collapse;margin-top:8px}
         td,th{border:1px solid #ddd;padding:2px 8px;text-align:left} nav button{margin-right:6px}
         </style>
-        <script>function showFloor(id){document.querySelectorAll('.floor').forEach(function(s){s.style.display=(s.id==='floor-'+id)?'block':'none';});}</script>
         </head><body>
         \(body)
+        \(floorScript)
         </body></html>
         """
     }
 
+    /// The page's only script, a constant: clicking a floor button shows the section with the same
+    /// `data-floor` index. Map data never becomes script text (no inline handlers, no generated code).
+    static let floorScript = """
+        <script>
+        document.querySelectorAll('nav button[data-floor]').forEach(function (b) {
+          b.addEventListener('click', function () {
+            var k = b.getAttribute('data-floor');
+            document.querySelectorAll('section.floor').forEach(function (s) {
+              s.style.display = s.getAttribute('data-floor') === k ? 'block' : 'none';
+            });
+          });
+        });
+        </script>
+        """
+
+    /// Escapes text for HTML element content and for quoted attribute values (either quote): `&`, `<`, `>`,
+    /// `"` and `'` become character references. Not for script or style contexts (nothing from data goes there).
     static func escape(_ s: String) -> String {
-        s.replacingOccurrences(of: "&", with: "&amp;").replacingOccurrences(of: "<", with: "&lt;")
-            .replacingOccurrences(of: ">", with: "&gt;").replacingOccurrences(of: "\"", with: "&quot;")
+        var out = ""
+        out.reserveCapacity(s.utf8.count)
+        for c in s.unicodeScalars {
+            switch c {
+            case "&": out += "&amp;"
+            case "<": out += "&lt;"
+            case ">": out += "&gt;"
+            case "\"": out += "&quot;"
+            case "'": out += "&#39;"
+            default: out.unicodeScalars.append(c)
+            }
+        }
+        return out
     }
 
     static func summary(_ s: WalkScore) -> String {

@@ -106,9 +106,15 @@ struct WalkPathBuilder {
         let floorId = wps[0].floorId
         let geo = geometry[floorId] ?? FloorGeometry(walls: [])
         let p = wps.map(\.position)
-        for i in 0..<(p.count - 1) where geo.segmentCrossesWall(p[i], p[i + 1]) {
-            throw SimulationError.routeCrossesWall(
-                "floor \(floorId): from (\(fmt(p[i]))) to (\(fmt(p[i + 1])))")
+        // The map validator's rule for graph edges (Floor.firstWallCrossed), applied to the route's straight
+        // pieces (graph edges or parts of them): a map that validates never fails here; a building made in
+        // code without validation is refused rather than walked through a wall.
+        if let floor = building.floors.first(where: { $0.id == floorId }) {
+            for i in 0..<(p.count - 1) {
+                guard let wi = floor.firstWallCrossed(from: p[i], to: p[i + 1]) else { continue }
+                throw SimulationError.routeCrossesWall(
+                    "floor \(floorId): from (\(fmt(p[i]))) to (\(fmt(p[i + 1]))) crosses wall \(wi) (a graph edge through a wall; wayfinder validate-map rejects such a map)")
+            }
         }
         // Corner replacements: for each interior vertex, (d, control point) or nil for a sharp corner.
         var corners = [(d: Double, control: Point2)?](repeating: nil, count: p.count)

@@ -216,9 +216,20 @@ enum LocalizerBridge {
             return wf_localizer_create(&out, &map, &opts, seed)
         }
         guard status == WF_LOC_OK.rawValue, let raw = out else {
-            throw error(status, message: "building '\(building.id)': " + String(cString: wf_localizer_status_string(status)))
+            // The core's own reason (kept per thread, read with a NULL handle), never just the status's name.
+            var reason = String(cString: wf_localizer_last_error(nil))
+            if reason.isEmpty { reason = String(cString: wf_localizer_status_string(status)) }
+            throw error(status, message: "building '\(building.id)': " + namingFloors(reason, floorIds: floors.map(\.id)))
         }
         return Handle(raw: raw)
+    }
+
+    /// The core names floors by index ("floor 1: ..."); adds the map's floor id: "floor 1 (id \"2\"): ...".
+    static func namingFloors(_ message: String, floorIds: [String]) -> String {
+        guard message.hasPrefix("floor "), let colon = message.firstIndex(of: ":") else { return message }
+        let digits = message[message.index(message.startIndex, offsetBy: 6)..<colon]
+        guard let i = Int(digits), floorIds.indices.contains(i) else { return message }
+        return "floor \(i) (id \"\(floorIds[i])\")" + message[colon...]
     }
 
     /// A heap copy of `values` (nil when empty), to be deallocated by the caller.

@@ -375,7 +375,9 @@ int wf_localizer_create(wf_localizer **out, const wf_localizer_map *map, const w
 /** Frees the filter. NULL is a no-op. */
 void wf_localizer_free(wf_localizer *loc);
 
-/** Message of the last failure on this handle ("" if none). Owned by the handle, valid until the next call. */
+/** Message of the last failure on this handle ("" if none). Owned by the handle, valid until the next call.
+ *  With NULL: why the calling thread's last wf_localizer_create failed (e.g. "floor 0: extent ... is larger
+ *  than 100 km"), "" when it succeeded; owned by the library, valid until that thread's next create. */
 const char *wf_localizer_last_error(const wf_localizer *loc);
 
 /** Static description of a status code (never NULL, not owned by the caller). */

@@ -130,7 +130,15 @@ extension Floor {
     }
 
     /// True when walking straight from `a` to `b` touches or crosses any wall. Linear scan.
-    public func crossesWall(from a: Point2, to b: Point2) -> Bool { walls.contains { $0.intersects(from: a, to: b) } }
+    public func crossesWall(from a: Point2, to b: Point2) -> Bool { firstWallCrossed(from: a, to: b) != nil }
+
+    /// Index of the first wall (in file order) that the straight walk from `a` to `b` crosses or touches, nil when
+    /// the way is clear. This is the one "walkable in a straight line" rule: `MapValidator` applies it to every
+    /// graph edge on a floor and the walk simulator to every leg of a route. Exact orientation test
+    /// (`Geometry.segmentsIntersect`), linear scan.
+    public func firstWallCrossed(from a: Point2, to b: Point2) -> Int? {
+        walls.firstIndex { $0.intersects(from: a, to: b) }
+    }
 
     /// The point of interest with this id on this floor.
     public func pointOfInterest(id poiId: String) -> PointOfInterest? { pointsOfInterest.first { $0.id == poiId } }

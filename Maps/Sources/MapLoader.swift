@@ -10,17 +10,22 @@ public enum MapLoader {
     /// The only format version this code reads and writes.
     public static let supportedFormatVersion = 1
 
+    /// Largest map file accepted, bytes (64 MiB; the imported Smith-Kettlewell building is about 0.25 MB).
+    /// Reading stops there, so a huge or endless input (`/dev/zero`) is refused rather than read into memory.
+    public static let maximumFileBytes = 64 << 20
+
     /// Loads and validates the map file at `url`. Errors name the file by its last path component.
+    ///
+    /// Only a regular file (or a symbolic link to one) is read: a FIFO, device, socket or directory is refused
+    /// without reading (a FIFO would block, `/dev/zero` never end), as is a file over `maximumFileBytes`.
     /// - Throws: `MapError` (unreadable file, bad JSON, schema or consistency violation).
     public static func load(contentsOf url: URL) throws -> Building {
         let name = url.lastPathComponent.isEmpty ? url.path : url.lastPathComponent
         let data: Data
         do {
-            data = try Data(contentsOf: url)
-        } catch {
-            let exists = FileManager.default.fileExists(atPath: url.path)
-            throw MapError(file: name, jsonPath: "$",
-                           reason: exists ? "cannot read the file (\(error.localizedDescription))" : "no such file: \(url.path)")
+            data = try MapFileReader.read(path: url.path, limitBytes: maximumFileBytes)
+        } catch let e as MapFileReader.Failure {
+            throw MapError(file: name, jsonPath: "$", reason: e.reason)
         }
         return try load(data: data, fileName: name)
     }

@@ -24,6 +24,25 @@ public enum MapValidator {
     public static let maximumMountingHeightMeters = 30.0
     /// Largest accepted door width, meters.
     public static let maximumDoorWidthMeters = 30.0
+    /// Largest accepted east-west or north-south extent of one floor, meters: the bounding box of its walls,
+    /// doors, signs, points of interest and graph nodes. The localizer core refuses larger floors with the
+    /// same limit (LocalizerCore/src/map/localizer_map.cpp, `kMaxFloorExtentM`); checking it here first
+    /// means a map that validates also builds.
+    public static let maximumFloorExtentMeters = 100_000.0
+    /// Most floors a building may have (the localizer core stores floor indices as 16-bit integers).
+    public static let maximumFloorCount = 32_767
+    /// Most distinct sign kinds a building may have (the localizer core's limit on kind ids).
+    public static let maximumSignKindCount = 4_096
+    /// Longest accepted identifier (building, floor, door, sign, point of interest, node), in characters.
+    public static let maximumIdentifierLength = 64
+    /// The characters an identifier may use: ASCII letters, digits and `.` `_` `:` `-` (docs/map-format.md,
+    /// "Identifiers"). Ids end up in HTML attributes, file names, logs and spoken text; a closed set means no
+    /// quote, bracket, space or control character ever reaches one of those contexts from a map.
+    public static let identifierCharacterSetDescription = "A-Z a-z 0-9 . _ : -"
+    /// A point of interest must be at least this far from every wall, meters: the localizer's walkable ground
+    /// keeps this clearance (wf_localizer_options.wall_clearance_m, default 0.2 m), so a destination closer to a
+    /// wall (or inside one) is a place no estimate can reach and the traveler is never told "Arrived".
+    public static let minimumPointOfInterestWallClearanceMeters = 0.2
 
     /// Throws the first rule `building` breaks; `file` is used in the error only.
     /// - Throws: `MapError`.
@@ -33,14 +52,44 @@ public enum MapValidator {
 
     private static func fail(_ path: String, _ reason: String) -> PathError { PathError(path: path, reason: reason) }
 
-    private static func fmt(_ v: Double) -> String {
-        guard v.isFinite else { return "\(v)" }
+    /// A point for an error message, `[x, y]` with `fmt` numbers.
+    static func fmt(_ p: Point2) -> String { "[\(fmt(p.x)), \(fmt(p.y))]" }
+
+    /// A number for an error message: rounded to 1 mm (0.001) and written without a fraction when whole;
+    /// magnitudes of 10^15 and more (and non-finite values) in Swift's shortest form, e.g. `1e+19`. Never traps
+    /// (an `Int` conversion of a double beyond 2^63 would).
+    static func fmt(_ v: Double) -> String {
+        guard v.isFinite, abs(v) < 1e15 else { return "\(v)" }
         let r = (v * 1000).rounded() / 1000
-        return r == r.rounded() ? String(Int(r)) : String(r)
+        if r == r.rounded(), let whole = Int64(exactly: r) { return String(whole) }
+        return String(r)
     }
 
+    /// True for the characters `identifierCharacterSetDescription` lists.
+    static func isIdentifierCharacter(_ u: Unicode.Scalar) -> Bool {
+        switch u.value {
+        case 0x30...0x39, 0x41...0x5A, 0x61...0x7A: return true            // 0-9 A-Z a-z
+        case 0x2E, 0x5F, 0x3A, 0x2D: return true                             // . _ : -
+        default: return false
+        }
+    }
+
+    /// Checks one identifier: non-empty, at most `maximumIdentifierLength` characters, only the documented
+    /// characters. The message names the first offending character by code point (never echoes the raw id,
+    /// which may hold control characters).
     private static func checkId(_ s: String, _ path: String) throws {
         if s.trimmingCharacters(in: .whitespacesAndNewlines).isEmpty { throw fail(path, "identifier must not be empty") }
+        let scalars = Array(s.unicodeScalars)
+        if scalars.count > maximumIdentifierLength {
+            throw fail(path, "identifier is \(scalars.count) characters long; at most \(maximumIdentifierLength) are allowed")
+        }
+        if let i = scalars.firstIndex(where: { !isIdentifierCharacter($0) }) {
+            let u = scalars[i]
+            let hex = String(u.value, radix: 16, uppercase: true)
+            let code = "U+" + String(repeating: "0", count: max(0, 4 - hex.count)) + hex
+            let shown = u.value >= 0x21 && u.value < 0x7F ? " (\(Character(u)))" : ""
+            throw fail(path, "identifier contains the character \(code)\(shown) at position \(i + 1); identifiers may use only \(identifierCharacterSetDescription)")
+        }
     }
 
     private static func checkNumber(_ v: Double, _ path: String, range: ClosedRange<Double>, what: String) throws {
@@ -62,6 +111,10 @@ public enum MapValidator {
         }
         try checkId(b.id, "$.id")
         guard !b.floors.isEmpty else { throw fail("$.floors", "the building has no floors (empty building)") }
+        guard b.floors.count <= maximumFloorCount else {
+            throw fail("$.floors", "the building has \(b.floors.count) floors; at most \(maximumFloorCount) are supported")
+        }
+        var signKinds = Set<String>()
 
         var floorIndex: [String: Int] = [:]
         var poiLocation: [String: (floor: Int, index: Int)] = [:]
@@ -104,6 +157,9 @@ public enum MapValidator {
                 if let first = signIds[s.id] { throw fail(sp + ".id", "duplicate sign id \"\(s.id)\" on floor \"\(f.id)\" (also \(fp).signs[\(first)])") }
                 signIds[s.id] = si
                 if s.kind.isEmpty { throw fail(sp + ".kind", "sign kind must not be empty (e.g. \"exit\")") }
+                if signKinds.insert(s.kind).inserted, signKinds.count > maximumSignKindCount {
+                    throw fail(sp + ".kind", "the building has more than \(maximumSignKindCount) distinct sign kinds")
+                }
                 try checkPoint(s.position, sp + ".position")
                 try checkPoint(s.facing, sp + ".facing")
                 let len = s.facing.vectorLength
@@ -212,11 +268,17 @@ public enum MapValidator {
                 let ea = b.floors[floorIndex[na.floorId]!].elevationMeters, ec = b.floors[floorIndex[nc.floorId]!].elevationMeters
                 if ea == ec { throw fail(ep, "vertical edge joins floors \"\(na.floorId)\" and \"\(nc.floorId)\" of equal elevation (zero length)") }
                 hasCounterpart[a] = true; hasCounterpart[c] = true
+            } else {
+                let fi = floorIndex[na.floorId]!
+                if let wi = b.floors[fi].firstWallCrossed(from: na.position, to: nc.position) {
+                    let w = b.floors[fi].walls[wi]
+                    throw fail(ep, "edge from \"\(na.id)\" to \"\(nc.id)\" crosses or touches the wall $.floors[\(fi)].walls[\(wi)] (from \(fmt(w.from)) to \(fmt(w.to))): an edge must be walkable in a straight line (open a door gap in the wall or route the edge around it)")
+                }
             }
             adjacency[a].append(c); adjacency[c].append(a)
         }
 
-        // Points of interest must be reachable: each needs a node.
+        // Coverage: every point of interest has a node; every vertical link a counterpart on another floor.
         for (fi, f) in b.floors.enumerated() {
             for (pi, p) in f.pointsOfInterest.enumerated() where !poisWithNode.contains(p.id) {
                 throw fail("$.floors[\(fi)].pointsOfInterest[\(pi)]", "point of interest \"\(p.id)\" has no graph node (add a pointOfInterest node naming it)")
@@ -224,6 +286,32 @@ public enum MapValidator {
         }
         for (ni, n) in g.nodes.enumerated() where n.kind == .verticalLink && !hasCounterpart[ni] {
             throw fail("$.graph.nodes[\(ni)]", "verticalLink node \"\(n.id)\" has no counterpart: no edge joins it to a verticalLink node on another floor")
+        }
+
+        // Points of interest on walkable ground: clear of walls, and reachable in a straight line from their node.
+        var poiNode: [String: GraphNode] = [:]
+        for n in g.nodes where n.kind == .pointOfInterest { if let pid = n.pointOfInterestId, poiNode[pid] == nil { poiNode[pid] = n } }
+        for (fi, f) in b.floors.enumerated() {
+            for (pi, p) in f.pointsOfInterest.enumerated() {
+                let pp = "$.floors[\(fi)].pointsOfInterest[\(pi)]"
+                guard let node = poiNode[p.id] else { continue }   // coverage above guarantees one
+                if let (wi, d) = f.nearestWall(to: p.position), d < minimumPointOfInterestWallClearanceMeters {
+                    throw fail(pp + ".position", "point of interest \"\(p.id)\" is inside or against a wall: the wall $.floors[\(fi)].walls[\(wi)] is \(fmt(d)) m away (at least \(minimumPointOfInterestWallClearanceMeters) m needed, so that it lies on walkable ground a traveler can reach)")
+                }
+                if let wi = f.firstWallCrossed(from: node.position, to: p.position) {
+                    throw fail(pp + ".position", "point of interest \"\(p.id)\" cannot be reached from its graph node \"\(node.id)\": the straight line between them crosses the wall $.floors[\(fi)].walls[\(wi)] (it lies inside a wall or on the far side of one)")
+                }
+            }
+        }
+
+        // Floor extents (what the localizer core builds its grids over).
+        for (fi, f) in b.floors.enumerated() {
+            let nodePoints = g.nodes.lazy.filter { $0.floorId == f.id }.map(\.position)
+            let fb = f.bounds
+            let r = Rect2(enclosing: [Point2(fb.minX, fb.minY), Point2(fb.maxX, fb.maxY)] + nodePoints)!
+            if r.width > maximumFloorExtentMeters || r.height > maximumFloorExtentMeters {
+                throw fail("$.floors[\(fi)]", "floor \"\(f.id)\" spans \(fmt(r.width)) m x \(fmt(r.height)) m (x from \(fmt(r.minX)) to \(fmt(r.maxX)), y from \(fmt(r.minY)) to \(fmt(r.maxY)), over its walls, doors, signs, points of interest and graph nodes); at most \(fmt(maximumFloorExtentMeters)) m (100 km) either way is allowed: a larger floor is a unit mistake, and the localizer refuses it")
+            }
         }
 
         // Connectivity over the whole building (vertical edges included).

@@ -1,5 +1,10 @@
 import Foundation
 import XCTest
+#if canImport(Glibc)
+import Glibc
+#elseif canImport(Darwin)
+import Darwin
+#endif
 
 /// `wayfinder validate-map` on the bundled office and on damaged copies written to a temporary directory:
 /// each damage must exit 1 with "error: FILE: JSONPATH: reason" on stderr (docs/map-format.md, validation rules).
@@ -106,5 +111,78 @@ final class ValidateMapCommandTests: XCTestCase {
         r.assertExit(1)
         r.assertStdout(contains: "ok: \(CLI.officeMapPath)")
         r.assertStderr(contains: "error: \(bad): $: ", "1 of 2 maps invalid")
+    }
+
+    // MARK: issue 14 (hardening)
+
+    /// The office with one wall added in front of the ground floor's walls (so it is $.floors[0].walls[0]).
+    private func officeWithExtraGroundFloorWall(from a: (Double, Double), to b: (Double, Double)) throws -> String {
+        try office(replacing: "\"walls\" : [", with: "\"walls\" : [{\"from\": [\(a.0), \(a.1)], \"to\": [\(b.0), \(b.1)]},",
+                   after: "\"floors\"")
+    }
+
+    func testHugeNumberIsReportedNotACrash() throws {
+        // The issue's reproducer: once SIGILL (exit 132) while formatting the error.
+        let text = #"{"formatVersion":1,"id":"b","name":"B","floors":[{"id":"1","name":"F","elevationMeters":1e19,"walls":[{"from":[0,0],"to":[1,0]}]}],"graph":{"nodes":[{"id":"n","kind":"control","floorId":"1","position":[0,1]}],"edges":[]}}"#
+        try assertRejected(text, name: "huge.json", jsonPath: "$.floors[0].elevationMeters",
+                           reason: "elevation (meters) 1e+19 is out of range [-1000, 1000]")
+    }
+
+    func testEdgeThroughAWallIsRejectedByValidateMapAndSimulateAlike() throws {
+        // The simulator's own check (WalkerTests.testRouteThroughAWallIsRefused) with the same wall across the
+        // south corridor: one rule, so validate-map refuses the map too, and simulate says the same.
+        let text = try officeWithExtraGroundFloorWall(from: (10, 6.2), to: (10, 7.8))
+        let path = try write(text, as: "wall-across-corridor.json")
+        let v = try CLI.run(["validate-map", path])
+        v.assertExit(1)
+        v.assertStderr(contains: "error: \(path): $.graph.edges[", "crosses or touches the wall $.floors[0].walls[0] (from [10, 6.2] to [10, 7.8])")
+        let out = directory.appendingPathComponent("bundle").path
+        let s = try CLI.run(["simulate", "--map", path, "--from", "room-101", "--to", "room-106", "--seed", "1", "-o", out])
+        s.assertExit(1)
+        s.assertStderr(contains: "crosses or touches the wall $.floors[0].walls[0]")
+        XCTAssertFalse(FileManager.default.fileExists(atPath: out + "/frames.jsonl"), "\(s)")
+    }
+
+    func testPointOfInterestInsideAWallIsRejected() throws {
+        // The office's first ground-floor point of interest moved onto the wall along y = 0.
+        let anchor = "\"pointsOfInterest\" : ["
+        guard let a = officeText.range(of: anchor),
+              let p = officeText.range(of: "\"position\" : [", range: a.upperBound..<officeText.endIndex),
+              let close = officeText.range(of: "]", range: p.upperBound..<officeText.endIndex) else {
+            return XCTFail("office layout changed: no point of interest position")
+        }
+        var text = officeText
+        text.replaceSubrange(p.lowerBound..<close.upperBound, with: "\"position\" : [0.5, 0]")
+        let r = try CLI.run(["validate-map", try write(text, as: "poi-in-wall.json")])
+        r.assertExit(1)
+        r.assertStderr(contains: "$.floors[0].pointsOfInterest[0].position: ", "is inside or against a wall",
+                       "is 0 m away (at least 0.2 m needed")
+    }
+
+    func testScriptInAFloorIdIsRejected() throws {
+        let text = try office(replacing: "\"id\" : \"1\"", with: "\"id\" : \"2');document.title='PWNED';//\"", after: "\"floors\"")
+        try assertRejected(text, name: "hostile-floor-id.json", jsonPath: "$.floors[0].id",
+                           reason: "identifier contains the character U+0027 (') at position 2; identifiers may use only A-Z a-z 0-9 . _ : -")
+    }
+
+    func testFloorWiderThanTheCoreAllowsIsRejectedFirst() throws {
+        // Within +-100 km per coordinate but 120 km across: validate-map (not the localizer, later) refuses it.
+        var text = try officeWithExtraGroundFloorWall(from: (-60000, 0), to: (-59999, 0))
+        text = text.replacingOccurrences(of: "\"walls\" : [{", with: "\"walls\" : [{\"from\": [60000, 0], \"to\": [60001, 0]}, {")
+        try assertRejected(text, name: "wide.json", jsonPath: "$.floors[0]", reason: "spans 120001 m x ")
+    }
+
+    func testNonRegularFilesAndLinkLoopsGiveTheirReason() throws {
+        let fifo = directory.appendingPathComponent("pipe.json").path
+        XCTAssertEqual(mkfifo(fifo, 0o644), 0)
+        let a = directory.appendingPathComponent("loop-a.json").path, b = directory.appendingPathComponent("loop-b.json").path
+        try FileManager.default.createSymbolicLink(atPath: a, withDestinationPath: b)
+        try FileManager.default.createSymbolicLink(atPath: b, withDestinationPath: a)
+        let r = try CLI.run(["validate-map", fifo, "/dev/zero", a], timeoutSeconds: 30)
+        r.assertExit(1)
+        r.assertStderr(contains: "error: \(fifo): $: not a regular file (it is a FIFO (named pipe))",
+                       "error: /dev/zero: $: not a regular file (it is a character device)",
+                       "error: \(a): $: too many levels of symbolic links (a symbolic-link loop)", "3 of 3 maps invalid")
+        XCTAssertFalse(r.stderr.contains("permission"), "\(r)")
     }
 }

@@ -2,7 +2,7 @@ import XCTest
 import Maps
 import SessionFormat
 import Simulation
-import WayfinderCore
+@testable import WayfinderCore
 @testable import Evaluation
 
 /// The trainer's picture: a simulated SKERI walk rendered to HTML and, through headless Chromium, to PNG.
@@ -43,6 +43,63 @@ final class WalkReportTests: XCTestCase {
         XCTAssertEqual(size.height, 1100)
         let bytes = try FileManager.default.attributesOfItem(atPath: pngURL.path)[.size] as! Int
         XCTAssertGreaterThan(bytes, 40_000, "a blank page compresses to a few KB; the plan and paths do not")
+    }
+
+    func testHostileFloorIdNeverBecomesScript() throws {
+        // Issue 14: this floor id (made in code, past the map validator, which refuses it) used to close the
+        // string of onclick="showFloor('ID')" and run in the browser.
+        let hostile = "2');document.title='PWNED';//"
+        func floor(_ id: String, _ name: String) -> Floor {
+            Floor(id: id, name: name, elevationMeters: id == "1" ? 0 : 3,
+                  walls: [Wall(from: Point2(0, 0), to: Point2(10, 0)), Wall(from: Point2(10, 0), to: Point2(10, 4))])
+        }
+        let building = Building(id: "b", name: "B", floors: [floor("1", "One"), floor(hostile, "Two <b>\"'")],
+                                graph: NavigationGraph(nodes: [], edges: []))
+        func record(_ t: Double, _ f: String) -> TraceRecord {
+            TraceRecord(t: t, x: 1, y: 1, floorId: f, headingRad: 0, confidence: 1, localized: true, hypotheses: 1,
+                        sightings: 0, announcements: [], haptics: [])
+        }
+        let result = ReplayResult(trace: [record(0, "1"), record(1, hostile)], announcements: [], haptics: [], sightingRays: [],
+                                  particleSnapshots: [], routePolyline: [], warnings: [])
+        let truth = [TruthRecord(t: 0, x: 1, y: 1, floorId: "1", headingRad: 0), TruthRecord(t: 1, x: 1, y: 1, floorId: hostile, headingRad: 0)]
+        let html = WalkReport.html(title: "t", building: building, result: result, truth: truth, score: nil)
+        XCTAssertFalse(html.contains("onclick"), "no inline event handlers")
+        XCTAssertFalse(html.contains("showFloor("), "no script built around data")
+        XCTAssertFalse(html.contains("document.title='"), "the id's quotes are escaped wherever it appears")
+        XCTAssertTrue(html.contains("data-floor-id=\"2&#39;);document.title=&#39;PWNED&#39;;//\""), "the id survives as inert attribute text")
+        XCTAssertTrue(html.contains("<button type=\"button\" data-floor=\"1\" aria-controls=\"floor-section-1\">Two &lt;b&gt;&quot;&#39;</button>"))
+        // The only script is the fixed floor switcher, identical whatever the map says.
+        let scripts = html.components(separatedBy: "<script>").dropFirst().map { $0.components(separatedBy: "</script>")[0] }
+        XCTAssertEqual(scripts.count, 1)
+        XCTAssertEqual("<script>" + scripts[0] + "</script>", WalkReport.floorScript)
+        XCTAssertEqual(WalkReport.escape("a&<>\"'b"), "a&amp;&lt;&gt;&quot;&#39;b")
+
+        // In a real browser: the id never runs, and the floor buttons still switch floors.
+        guard let chromium = ChromiumScreenshot.executable() else { throw XCTSkip("chromium not installed") }
+        let dir = FileManager.default.temporaryDirectory.appendingPathComponent("wf-render-hostile-\(getpid())")
+        try FileManager.default.createDirectory(at: dir, withIntermediateDirectories: true)
+        defer { try? FileManager.default.removeItem(at: dir) }
+        // A test-only probe after the page's own script: press the second floor's button.
+        let probe = "<script>document.querySelector('nav button[data-floor=\"1\"]').click();</script></body>"
+        let page = dir.appendingPathComponent("walk.html")
+        try Data(html.replacingOccurrences(of: "</body>", with: probe).utf8).write(to: page)
+        let p = Process()
+        p.executableURL = URL(fileURLWithPath: chromium)
+        p.arguments = ["--headless", "--disable-gpu", "--no-sandbox", "--disable-dev-shm-usage",
+                       "--user-data-dir=\(dir.appendingPathComponent("profile").path)", "--dump-dom", page.absoluteString]
+        let out = Pipe()
+        p.standardOutput = out
+        p.standardError = FileHandle.nullDevice
+        try p.run()
+        let dom = String(decoding: out.fileHandleForReading.readDataToEndOfFile(), as: UTF8.self)
+        p.waitUntilExit()
+        XCTAssertTrue(dom.contains("<title>t</title>"), "the title was not rewritten by the id: \(dom.prefix(300))")
+        XCTAssertFalse(dom.contains("PWNED</title>"))
+        XCTAssertTrue(dom.contains("id=\"floor-section-1\" data-floor=\"1\""), "\(dom.prefix(2000))")
+        let second = try XCTUnwrap(dom.range(of: "id=\"floor-section-1\""))
+        XCTAssertTrue(dom[second.upperBound...].prefix(400).contains("display: block"), "the second floor's button shows it")
+        let first = try XCTUnwrap(dom.range(of: "id=\"floor-section-0\""))
+        XCTAssertTrue(dom[first.upperBound...].prefix(400).contains("display: none"), "and hides the first")
     }
 
     func testTrueTurnsOnAnLShapedPath() {

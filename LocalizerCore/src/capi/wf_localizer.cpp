@@ -1,6 +1,7 @@
 // C ABI shell (include/wf_localizer.h): argument checks, exception firewall, per-handle last error.
 // Every entry point catches everything: std::bad_alloc becomes WF_LOC_ERR_OUT_OF_MEMORY, anything else
-// WF_LOC_ERR_INTERNAL with the message kept on the handle.
+// WF_LOC_ERR_INTERNAL with the message kept on the handle. wf_localizer_create has no handle to keep its
+// message on when it fails: that message is kept per thread and read with wf_localizer_last_error(NULL).
 #include "wf_localizer.h"
 
 #include <algorithm>
@@ -18,6 +19,14 @@ struct wf_localizer {
 };
 
 namespace {
+
+/// Why the calling thread's last wf_localizer_create failed ("" after a success).
+thread_local std::string t_create_error;
+
+int create_failed(int status, std::string message) {
+    t_create_error = std::move(message);
+    return status;
+}
 
 int record(wf_localizer *loc, int status) {
     if (loc) {
@@ -57,32 +66,37 @@ int wf_localizer_options_init(wf_localizer_options *opts, unsigned int version) 
 
 int wf_localizer_create(wf_localizer **out, const wf_localizer_map *map, const wf_localizer_options *opts,
                         uint64_t seed) {
-    if (!out) return WF_LOC_ERR_INVALID_ARGUMENT;
-    *out = nullptr;
-    if (!map) return WF_LOC_ERR_INVALID_ARGUMENT;
     try {
+        t_create_error.clear();
+        if (!out) return create_failed(WF_LOC_ERR_INVALID_ARGUMENT, "out (the handle's address) is NULL");
+        *out = nullptr;
+        if (!map) return create_failed(WF_LOC_ERR_INVALID_ARGUMENT, "map is NULL");
         wf_localizer_options o = WF_LOCALIZER_OPTIONS_INIT;
         if (opts) o = *opts;
         std::string error;
         int status = wf::loc::validate_options(o, error);
-        if (status != WF_LOC_OK) return status;
+        if (status != WF_LOC_OK) return create_failed(status, "options: " + error);
         wf::loc::LocalizerMap lm;
         status = wf::loc::build_localizer_map(*map, o, lm, error);
-        if (status != WF_LOC_OK) return status;
+        if (status != WF_LOC_OK) return create_failed(status, error);
         auto handle = std::make_unique<wf_localizer>();
         handle->filter = std::make_unique<wf::loc::ParticleFilter>(std::move(lm), o, seed);
         *out = handle.release();
         return WF_LOC_OK;
     } catch (const std::bad_alloc &) {
-        return WF_LOC_ERR_OUT_OF_MEMORY;
+        return create_failed(WF_LOC_ERR_OUT_OF_MEMORY, "out of memory while building the map's grids");
+    } catch (const std::exception &e) {
+        return create_failed(WF_LOC_ERR_INTERNAL, std::string("internal error: ") + e.what());
     } catch (...) {
-        return WF_LOC_ERR_INTERNAL;
+        return create_failed(WF_LOC_ERR_INTERNAL, "internal error: unknown exception");
     }
 }
 
 void wf_localizer_free(wf_localizer *loc) { delete loc; }
 
-const char *wf_localizer_last_error(const wf_localizer *loc) { return loc ? loc->last_error.c_str() : ""; }
+const char *wf_localizer_last_error(const wf_localizer *loc) {
+    return loc ? loc->last_error.c_str() : t_create_error.c_str();
+}
 
 const char *wf_localizer_status_string(int status) {
     switch (status) {

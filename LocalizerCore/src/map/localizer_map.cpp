@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 namespace wf::loc {
@@ -13,6 +14,19 @@ bool finite2(float a, float b) { return std::isfinite(a) && std::isfinite(b); }
 // Largest fine grid per floor; bigger floors get coarser cells (a 0.25 m grid over 500 m x 500 m would be
 // 4 M cells: still fine; beyond that the cell grows).
 constexpr int64_t kMaxGridCells = 4'000'000;
+
+// Largest east-west or north-south extent of one floor (walls, signs, link and seed points), meters. The Swift
+// map validator checks the same limit first (MapValidator.maximumFloorExtentMeters). Coordinates arrive as
+// floats, whose rounding near 100 km is under 4 mm per coordinate: the check allows 1 cm more, so that a floor
+// the validator accepts (extent <= 100 km in doubles) is never refused here.
+constexpr double kMaxFloorExtentM = 100'000.0;
+constexpr double kFloatRoundingSlackM = 0.01;
+
+std::string meters(double v) {
+    char buf[64];
+    std::snprintf(buf, sizeof buf, "%.1f", v);
+    return buf;
+}
 
 }  // namespace
 
@@ -199,12 +213,15 @@ int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options 
             grow(p[0], p[1]);
         }
         if (!(x0 <= x1)) { x0 = y0 = 0; x1 = y1 = 0; }  // empty floor: a small grid around the origin
-        const float pad = 2.0f;
-        x0 -= pad; y0 -= pad; x1 += pad; y1 += pad;
-        if (x1 - x0 > 1e5f || y1 - y0 > 1e5f) {
-            error = where + "extent is larger than 100 km";
+        const double width = static_cast<double>(x1) - x0, height = static_cast<double>(y1) - y0;
+        if (width > kMaxFloorExtentM + kFloatRoundingSlackM || height > kMaxFloorExtentM + kFloatRoundingSlackM) {
+            error = where + "extent " + meters(width) + " m x " + meters(height) + " m (x from " + meters(x0) +
+                    " to " + meters(x1) + ", y from " + meters(y0) + " to " + meters(y1) +
+                    ", over walls, signs and graph nodes) is larger than 100 km (100000 m) on one axis";
             return WF_LOC_ERR_INVALID_MAP;
         }
+        const float pad = 2.0f;
+        x0 -= pad; y0 -= pad; x1 += pad; y1 += pad;
         float cell = static_cast<float>(opts.grid_cell_m);
         while (static_cast<double>((x1 - x0) / cell) * static_cast<double>((y1 - y0) / cell) > kMaxGridCells) cell *= 2;
         f.grid = FloorGrid(x0, y0, x1, y1, cell);

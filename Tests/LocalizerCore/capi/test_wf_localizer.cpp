@@ -23,7 +23,6 @@ TEST(CApi, OptionsInitMatchesMacro) {
 
 TEST(CApi, FreeNullAndNullArguments) {
     wf_localizer_free(nullptr);
-    EXPECT_STREQ(wf_localizer_last_error(nullptr), "");
     EXPECT_EQ(wf_localizer_particle_count(nullptr), 0u);
     wf_localizer *loc = reinterpret_cast<wf_localizer *>(0x1);
     EXPECT_EQ(wf_localizer_create(&loc, nullptr, nullptr, 1), WF_LOC_ERR_INVALID_ARGUMENT);
@@ -121,6 +120,39 @@ TEST(CApi, MapIsCopiedAtCreate) {
     EXPECT_EQ(wf_localizer_init_start_point(loc, 0, 10, 1, 0.5), WF_LOC_OK);
     const wf_sign_observation z = {0, 10.0, 0.0, 1.0};
     EXPECT_EQ(wf_localizer_update_signs(loc, &z, 1, 0.0), WF_LOC_OK);
+    wf_localizer_free(loc);
+}
+
+TEST(CApi, CreateFailureReasonIsKeptPerThread) {
+    // wf_localizer_create has no handle when it fails: its reason is read with wf_localizer_last_error(NULL).
+    wf_localizer *loc = nullptr;
+    EXPECT_EQ(wf_localizer_create(&loc, nullptr, nullptr, 1), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_STREQ(wf_localizer_last_error(nullptr), "map is NULL");
+    wf::test::World w;
+    wf::test::FloorSpec f;
+    f.box(0, 0, 10, 4).seed(5, 2);
+    f.wall(-60000, 0, 60000, 0);  // 120 km across
+    w.floors.push_back(f);
+    EXPECT_EQ(wf_localizer_create(&loc, &w.map(), nullptr, 1), WF_LOC_ERR_INVALID_MAP);
+    EXPECT_EQ(loc, nullptr);
+    const std::string reason = wf_localizer_last_error(nullptr);
+    EXPECT_EQ(reason.rfind("floor 0: extent 120000.0 m x 4.0 m", 0), 0u) << reason;
+    EXPECT_NE(reason.find("larger than 100 km"), std::string::npos) << reason;
+    wf_localizer_options o = WF_LOCALIZER_OPTIONS_INIT;
+    o.min_particles = 50000;
+    o.max_particles = 1000;
+    EXPECT_EQ(wf_localizer_create(&loc, &w.map(), &o, 1), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_STREQ(wf_localizer_last_error(nullptr), "options: option min_particles is larger than max_particles");
+    // 99.999 km across (the map validator's limit is 100 km, unpadded): builds, and the reason is cleared.
+    wf::test::World ok;
+    wf::test::FloorSpec g;
+    g.box(0, 0, 10, 4).seed(5, 2);
+    g.wall(99998, 0, 99999, 0);
+    ok.floors.push_back(g);
+    wf_localizer_options small = WF_LOCALIZER_OPTIONS_INIT;
+    small.particle_count = 500;
+    ASSERT_EQ(wf_localizer_create(&loc, &ok.map(), &small, 1), WF_LOC_OK) << wf_localizer_last_error(nullptr);
+    EXPECT_STREQ(wf_localizer_last_error(nullptr), "");
     wf_localizer_free(loc);
 }
 
