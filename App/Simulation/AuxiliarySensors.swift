@@ -32,7 +32,8 @@ struct BarometerModel {
 ///
 /// - a constant bias per floor (normal, `floorBiasSigmaDeg`): the measured floors' offsets from map north
 ///   scatter by about 7 degrees;
-/// - a smooth stationary Gaussian random field over the floor (standard deviation `fieldSigmaDeg`, correlation
+/// - a smooth stationary Gaussian random field over the floor (standard deviation `fieldSigmaDeg` times a
+///   log-normal factor per floor of spread `fieldSigmaFloorLogSigma` and mean square 1, correlation
 ///   exp(-(d / L)^2) with L = `fieldCorrelationLengthMeters`, the distance where it falls to 1/e), made by the
 ///   spectral (random Fourier mode) method: `fieldModeCount` plane waves with wave vectors drawn from the
 ///   field's Gaussian spectral density, uniform phases and equal amplitudes sigma * sqrt(2 / N) (Shinozuka and
@@ -96,8 +97,10 @@ struct CompassModel {
         for _ in 0..<n {
             modes.append((rng.normal(sigma: kSigma), rng.normal(sigma: kSigma), rng.uniform(0, 2 * Double.pi)))
         }
+        let ls = p.fieldSigmaFloorLogSigma
+        let floorSigmaDeg = p.fieldSigmaDeg * exp(rng.normal(sigma: ls) - ls * ls)
         return Field(floorBiasDeg: rng.normal(sigma: p.floorBiasSigmaDeg), modes: modes,
-                     amplitudeDeg: p.fieldSigmaDeg * (2.0 / Double(n)).squareRoot(), hotspotSeed: rng.next())
+                     amplitudeDeg: floorSigmaDeg * (2.0 / Double(n)).squareRoot(), hotspotSeed: rng.next())
     }
 
     /// The hotspot deviation at a point, degrees (0 outside every disc), from the 3 x 3 cells around it.
