@@ -290,8 +290,8 @@ def distribution(e: np.ndarray) -> dict:
         "circ_mean_deg": circ_mean_deg(e), "circ_median_deg": circ_median_deg(e), "circ_std_deg": circ_std_deg(e),
         "rms_deg": float(np.sqrt((e ** 2).mean())),
         "abs_q50_deg": float(np.quantile(a, 0.5)), "abs_q90_deg": float(np.quantile(a, 0.9)),
-        "abs_q95_deg": float(np.quantile(a, 0.95)), "abs_q99_deg": float(np.quantile(a, 0.99)),
-        "share_gt30": float((a > 30).mean()), "share_gt45": float((a > 45).mean()), "share_gt90": float((a > 90).mean()),
+        "abs_q95_deg": float(np.quantile(a, 0.95)), "abs_q99_deg": float(np.quantile(a, 0.99)), "abs_max_deg": float(a.max()),
+        "share_gt30": float((a > 30).mean()), "share_gt45": float((a > 45).mean()), "share_gt60": float((a > 60).mean()), "share_gt90": float((a > 90).mean()),
         "vm_mu_deg": mu, "vm_kappa": kappa, "vm_sigma_deg": math.degrees(1 / math.sqrt(kappa)),
         "outlier_share": wout, "loglik_mixture": ll, "loglik_single_vm": ll1, "single_vm_kappa": k1,
     }
@@ -435,8 +435,8 @@ def main(argv=None) -> int:
                 d = res[name]
                 print(f"[{name}] n={d['n']} mean {d['circ_mean_deg']:+.1f} median {d['circ_median_deg']:+.1f} "
                       f"circ-std {d['circ_std_deg']:.1f} rms {d['rms_deg']:.1f} | |e| q50 {d['abs_q50_deg']:.1f} "
-                      f"q90 {d['abs_q90_deg']:.1f} q95 {d['abs_q95_deg']:.1f} q99 {d['abs_q99_deg']:.1f} | "
-                      f">30 {100 * d['share_gt30']:.1f}% >45 {100 * d['share_gt45']:.1f}% >90 {100 * d['share_gt90']:.1f}%")
+                      f"q90 {d['abs_q90_deg']:.1f} q95 {d['abs_q95_deg']:.1f} q99 {d['abs_q99_deg']:.1f} max {d['abs_max_deg']:.0f} | "
+                      f">30 {100 * d['share_gt30']:.1f}% >45 {100 * d['share_gt45']:.1f}% >60 {100 * d['share_gt60']:.2f}% >90 {100 * d['share_gt90']:.1f}%")
                 print(f"    von Mises+uniform: mu {d['vm_mu_deg']:+.1f} kappa {d['vm_kappa']:.1f} (sigma "
                       f"{d['vm_sigma_deg']:.1f} deg) outlier share {100 * d['outlier_share']:.1f}% "
                       f"(loglik {d['loglik_mixture']:.0f} vs single VM {d['loglik_single_vm']:.0f}, kappa {d['single_vm_kappa']:.1f})")
