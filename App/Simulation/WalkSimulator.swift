@@ -33,8 +33,14 @@ public struct SimulationDiagnostics: Sendable {
     public var barometerDriftMetersPerSecond: Double
     /// Angle from magnetic north to map +y used by the compass, degrees clockwise.
     public var mapNorthOffsetDeg: Double
-    /// Compass disturbance at each frame, degrees.
+    /// Compass disturbance at each frame (floor bias + field + hotspot, without white noise), degrees; 0 when
+    /// the compass is absent.
     public var compassDisturbanceDeg: [Double]
+    /// Whether each frame's compass reading lies in a steel hotspot (a large deviation).
+    public var compassInHotspot: [Bool]
+    /// Core Location's `headingAccuracy` per frame, degrees (the bundle has no field for it); nil when the
+    /// compass is absent.
+    public var compassHeadingAccuracyDeg: [Double?]
     /// Altitude of the phone above the building reference per frame, m.
     public var altitudesMeters: [Double]
 }
@@ -173,6 +179,8 @@ public enum WalkSimulator {
         let northOffset = scenario.mapNorthOffsetDeg ?? building.compassHeadingOfMapNorthDeg ?? compassRng.uniform(0, 360)
         var fields: [String: CompassModel.Field] = [:]
         for f in building.floors { fields[f.id] = compassModel.makeField(rng: &compassRng) }
+        let typicalAccuracyDeg = compassModel.drawTypicalAccuracyDeg(rng: &compassRng)
+        let compassPresent = parameters.compass.isPresent
 
         // Frames, images and truth.
         let imageMode = scenario.images
@@ -180,14 +188,20 @@ public enum WalkSimulator {
         let detectorStride = max(1, Int((scenario.rateHz / scenario.detectorRateHz).rounded()))
         let imageStride = max(detectorStride, Int((scenario.rateHz / scenario.imageRateHz).rounded()))
         var frames: [FrameRecord] = [], truth: [TruthRecord] = []
-        var disturbances: [Double] = []
+        var disturbances: [Double] = [], inHotspot: [Bool] = [], headingAccuracies: [Double?] = []
         var imageIndices: [Int] = []
         frames.reserveCapacity(states.count); truth.reserveCapacity(states.count)
         for (k, s) in states.enumerated() {
-            let field = fields[s.floorId]
-            let dist = field.map { compassModel.disturbance($0, x: s.position.x, y: s.position.y) } ?? 0
-            disturbances.append(dist)
-            let heading = compassModel.reading(yawRad: s.yawRad, northOffsetDeg: northOffset, disturbanceDeg: dist, rng: &compassRng)
+            var heading: Double?
+            if compassPresent, let field = fields[s.floorId] {
+                let dist = compassModel.disturbance(field, x: s.position.x, y: s.position.y)
+                disturbances.append(dist.totalDeg); inHotspot.append(dist.inHotspot)
+                headingAccuracies.append(compassModel.reportedAccuracyDeg(typicalDeg: typicalAccuracyDeg, disturbance: dist))
+                heading = compassModel.reading(yawRad: s.yawRad, northOffsetDeg: northOffset, disturbanceDeg: dist.totalDeg,
+                                               rng: &compassRng)
+            } else {
+                disturbances.append(0); inHotspot.append(false); headingAccuracies.append(nil)
+            }
             var image: String?
             if imageMode && k % imageStride == 0 { image = String(format: "frame-%06d.ppm", k); imageIndices.append(k) }
             frames.append(FrameRecord(t: s.t, cameraToWorld: vio[k].cameraToWorld, tracking: vio[k].tracking,
@@ -234,7 +248,8 @@ public enum WalkSimulator {
             cameraHeightsMeters: phone.map(\.heightMeters), pitchesRad: phone.map(\.pitchRad), rollsRad: phone.map(\.rollRad),
             mapToVIOYawRad: thetas, vio: events, observationTruth: obsTruth, visibleSigns: visible,
             processedFrameIndices: processed, barometerDriftMetersPerSecond: baroDrift, mapNorthOffsetDeg: northOffset,
-            compassDisturbanceDeg: disturbances, altitudesMeters: states.map(\.altitudeMeters))
+            compassDisturbanceDeg: disturbances, compassInHotspot: inHotspot,
+            compassHeadingAccuracyDeg: headingAccuracies, altitudesMeters: states.map(\.altitudeMeters))
         let renderer = imageMode ? SceneRenderer(floors: floorsById, geometry: geometry, states: states, intrinsics: intrinsics,
                                                  seed: scenario.seed) : nil
         return SimulatedWalk(scenario: scenario, info: info, frames: frames, observations: observations, truth: truth,
