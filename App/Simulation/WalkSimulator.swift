@@ -206,7 +206,8 @@ public enum WalkSimulator {
             if imageMode && k % imageStride == 0 { image = String(format: "frame-%06d.ppm", k); imageIndices.append(k) }
             frames.append(FrameRecord(t: s.t, cameraToWorld: vio[k].cameraToWorld, tracking: vio[k].tracking,
                                       trackingReason: vio[k].reason, intrinsics: intrinsics, relativeAltitudeMeters: baro[k],
-                                      compassHeadingDeg: heading, image: image))
+                                      compassHeadingDeg: heading, image: image,
+                                      compassAccuracyDeg: heading == nil ? nil : headingAccuracies.last ?? nil))
             truth.append(TruthRecord(t: s.t, x: s.position.x, y: s.position.y, floorId: s.floorId, headingRad: s.yawRad))
         }
 

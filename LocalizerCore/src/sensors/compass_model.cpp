@@ -40,7 +40,9 @@ void CompassModel::log_likelihood(const ParticleSet &p, float vio_yaw, double he
                                   double accuracy_rad, float *out_ll) const {
     const size_t n = p.size();
     double kappa = params_.kappa;
-    if (std::isfinite(accuracy_rad) && accuracy_rad > 0) kappa = 1.0 / (1.0 / kappa + accuracy_rad * accuracy_rad);
+    // A reported accuracy only widens the core (sigma = max(model sigma, accuracy)): the model already holds
+    // the typical error, and Core Location's figure is a rough bound, not a calibrated spread.
+    if (std::isfinite(accuracy_rad) && accuracy_rad > 0) kappa = std::min(kappa, 1.0 / (accuracy_rad * accuracy_rad));
     const double u = std::clamp(params_.outlier_share, 1e-6, 1.0);
     // Relative to the peak: log(core(e) + floor) - log(core(0) + floor), with core(e) = a exp(kappa (cos e - 1)).
     const double log_peak = kappa - std::log(2.0 * kPiD) - log_bessel_i0(kappa);

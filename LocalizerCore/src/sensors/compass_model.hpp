@@ -3,8 +3,8 @@
 //
 // Likelihood (a robust mixture, as PR section 6.3 mixes a hit model with a uniform random share):
 //   p(z | h) = (1 - u) * VonMises(z; h, kappa_eff) + u / (2 pi)
-// with kappa_eff = 1 / (1 / kappa + accuracy^2) when Core Location's heading accuracy is known (the two
-// spreads add as variances). Indoor magnetic disturbance is spatially correlated (steel, wiring: docs/compass.md
+// with kappa_eff = min(kappa, 1 / accuracy^2) when Core Location's heading accuracy is known (a reported
+// accuracy only widens the core: sigma = max(model sigma, accuracy)). Indoor magnetic disturbance is spatially correlated (steel, wiring: docs/compass.md
 // measures it on 31 real mall walks), so consecutive readings are not independent: the model applies a reading
 // at most once per `min_distance_m` walked, caps the log-likelihood ratio one application can give
 // (`max_nats`) and the total a particle's history can receive (`max_total_nats`, applied by the filter), so a
