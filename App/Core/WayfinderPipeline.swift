@@ -18,6 +18,10 @@ public struct PipelineUpdate: Sendable {
     public var events: [TimedGuidanceEvent]
     /// Problems with this frame that were degraded gracefully (non-finite pose, unreadable image...).
     public var warnings: [String]
+    /// While not localized: the navigator's current exploratory advice (nil when localized or no navigator).
+    public var advice: DisambiguationAdvice? = nil
+    /// The exploratory advice spoken on this frame, if one was.
+    public var spokenAdvice: DisambiguationAdvice? = nil
 }
 
 /// The app's pipeline, shared by the iPhone and the command line:
@@ -114,8 +118,13 @@ public final class WayfinderPipeline {
                                                                         headingRad: $0.headingRad)
                                                       }))
         }
-        return PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
-                              events: events, warnings: warnings)
+        var update = PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
+                                    events: events, warnings: warnings)
+        if let navigator, !estimate.isLocalized {
+            update.advice = navigator.currentAdvice
+            if let spoken = navigator.lastSpokenAdvice, spoken.t == frame.t { update.spokenAdvice = spoken.advice }
+        }
+        return update
     }
 
     /// Gives the localizer the compass prior once, at the first frame with a finite compass reading, when the

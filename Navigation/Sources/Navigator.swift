@@ -157,6 +157,8 @@ public final class Navigator {
     private var lastSpokenAdviceKey: String? = nil
     /// The last exploratory advice (nil when localized or before any); for the trainer's view and tests.
     public private(set) var currentAdvice: DisambiguationAdvice? = nil
+    /// The last exploratory advice that was spoken, with its time (for scoring its safety against truth).
+    public private(set) var lastSpokenAdvice: (t: Double, advice: DisambiguationAdvice)? = nil
     /// The dominant hypothesis of the last unlocalized update ("Where am I" answers "probably ...").
     private var lastUnsureInput: NavigationInput? = nil
     private var lastInput: NavigationInput? = nil
@@ -747,6 +749,7 @@ public final class Navigator {
             say(narrative.phrases.phrase(key), .information, t)
             lastStartWalkingT = t
             lastSpokenAdviceKey = key
+            lastSpokenAdvice = (t, advice)
         }
     }
 
