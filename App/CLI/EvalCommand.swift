@@ -19,6 +19,7 @@ enum EvalCommand: Subcommand {
     distance at arrival; then the aggregate. --json prints JSON instead. --baseline fails (exit 1) when an
     aggregate figure is worse than the baseline by more than its tolerance; --write-baseline writes one.
     --scenarios simulates and scores every scenario definition (*.json) in DIR in memory.
+    --no-planes leaves ARKit's vertical planes (planes.jsonl, simulated walls) out of the localizer.
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
@@ -30,6 +31,7 @@ enum EvalCommand: Subcommand {
         let mapPath = try arguments.option("map")
         var pipeline = PipelineOptions()
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
+        if arguments.flag("no-planes") { pipeline.usePlanes = false }
         let bundles = try arguments.positionals()
 
         var scores: [WalkScore] = []

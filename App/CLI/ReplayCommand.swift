@@ -10,7 +10,7 @@ enum ReplayCommand: Subcommand {
     static let summary = "replay a recorded walk through the pipeline and print the spoken directions"
     static let usage = """
     Usage: wayfinder replay BUNDLE --map MAP [--to DEST] [--from START] [--floor FLOOR]
-                            [--detector recorded|cascade|unet|auto] [--models DIR] [--seed N] [--trace OUT.jsonl]
+                            [--detector recorded|cascade|unet|auto] [--models DIR] [--seed N] [--no-planes] [--trace OUT.jsonl]
 
     Replays the recorded-session bundle BUNDLE (frames.jsonl, observations.jsonl or images) on the building
     MAP and prints each announcement as "[  12.3 s] text" (haptics as "[  12.3 s] (haptic: pattern)").
@@ -20,6 +20,7 @@ enum ReplayCommand: Subcommand {
       --detector       where sign sightings come from (default auto: images if present, else recorded)
       --models DIR     detector models folder (default SignDetector/models)
       --seed N         particle filter seed (default 1)
+      --no-planes      do not use ARKit's vertical planes (planes.jsonl) in the localizer
       --trace FILE     write one JSON line per frame: t, x, y, floorId, headingRad, confidence, localized,
                        hypotheses, sightings, announcements, haptics
     Exit codes: 0 ok, 1 bad input (map, bundle), 2 usage.
@@ -33,6 +34,7 @@ enum ReplayCommand: Subcommand {
         pipeline.floorId = try arguments.option("floor")
         pipeline.modelsDirectory = try arguments.option("models")
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
+        if arguments.flag("no-planes") { pipeline.usePlanes = false }
         if let d = try arguments.option("detector") {
             guard let source = SightingSource(rawValue: d == "auto" ? "automatic" : d) else {
                 throw CLIError.usage("--detector must be recorded, cascade, unet or auto")

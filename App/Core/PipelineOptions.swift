@@ -47,6 +47,12 @@ public struct PipelineOptions: Sendable {
     /// a compass reading, when the map knows its north (`Building.compassHeadingOfMapNorthDeg`); a fifth of the
     /// prior stays uniform over all headings (LocalizerCore kCompassUniformShare). nil = no compass prior.
     public var compassPriorSigmaDeg: Double? = 30
+    /// Score ARKit's vertical planes (planes.jsonl in replay, ARPlaneAnchor events on the phone) against the
+    /// map's walls. `--no-planes` on the command line turns it off.
+    public var usePlanes = true
+    /// Minimum time between two plane updates of the localizer, seconds (each anchor is applied at most once
+    /// a second by the filter itself).
+    public var planeUpdateIntervalSeconds: Double = 0.5
     /// Guidance settings.
     public var navigator: NavigatorOptions = NavigatorOptions()
     /// Random seed of the particle filter (replays are deterministic for a seed).

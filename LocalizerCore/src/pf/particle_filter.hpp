@@ -15,6 +15,7 @@
 #include "pf/clustering.hpp"
 #include "pf/particle_set.hpp"
 #include "pf/resampling.hpp"
+#include "sensors/plane_measurement_model.hpp"
 #include "sensors/sign_measurement_model.hpp"
 #include "wf_localizer.h"
 
@@ -38,6 +39,12 @@ public:
     int predict(const wf_vio_sample &s);
     int update_signs(const wf_sign_observation *obs, size_t count, double t);
     int update_altitude(double relative_altitude_m, double t);
+    /// Vertical-plane update (sensors/plane_measurement_model; defined in pf/particle_filter_planes.cpp):
+    /// likelihood field of the planes against the walls, tempered, then normalisation and resampling as
+    /// after a sign update. Non-finite planes are skipped (WF_LOC_ERR_NON_FINITE_INPUT after the others).
+    int update_planes(const wf_plane_observation *obs, size_t count, double t);
+    /// Plane-model state (parameters, wall fields, per-anchor gate, last update's counts).
+    PlaneModelState &plane_model() { return planes_; }
 
     /// Current estimate, recomputed (clustering) when particles changed since the last call. The localized
     /// flag's hysteresis advances on these reads, with the time of the last input: read it once per frame.
@@ -93,6 +100,7 @@ private:
     std::vector<float> group_weights_;
     BinCounter kld_bins_;
     ParticleClusterer clusterer_;
+    PlaneModelState planes_;
     std::string error_;
 
     bool initialized_ = false;
