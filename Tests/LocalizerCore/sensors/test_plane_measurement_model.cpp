@@ -163,13 +163,15 @@ wf_localizer_options filter_options() {
     return o;
 }
 
+// Share of the weight on poses that explain the two walls: on the corridor's centre line (|y - 1| <= 0.2 m)
+// with a heading along the corridor (either way, within half_width rad).
 double weight_along_axis(const ParticleFilter &pf, double half_width) {
     const auto &p = pf.particles();
     double near = 0, all = 0;
     for (size_t i = 0; i < p.size(); ++i) {
         all += p.weight[i];
         const double h = pf.vio_yaw() + p.yaw_offset[i];
-        if (std::fabs(wf::test::wrap(2 * h)) / 2 <= half_width) near += p.weight[i];
+        if (std::fabs(wf::test::wrap(2 * h)) / 2 <= half_width && std::fabs(p.y[i] - 1.0) <= 0.2) near += p.weight[i];
     }
     return near / all;
 }
@@ -202,12 +204,18 @@ TEST(ParticleFilterPlanes, WallPlanesConcentrateWeightOnHeadingsAlongTheCorridor
     ASSERT_EQ(pf.update_planes(obs.data(), obs.size(), 0.1), WF_LOC_OK);
     EXPECT_EQ(pf.plane_model().last_applied, 2u);
     EXPECT_TRUE(weights_finite(pf));
+    const double after_one = weight_along_axis(pf, 0.2);
+    // Two more reports of the same walls, each after the per-anchor interval.
+    ASSERT_EQ(pf.update_planes(obs.data(), obs.size(), 1.2), WF_LOC_OK);
+    ASSERT_EQ(pf.update_planes(obs.data(), obs.size(), 2.3), WF_LOC_OK);
+    EXPECT_TRUE(weights_finite(pf));
     const double after = weight_along_axis(pf, 0.2);
-    EXPECT_LT(before, 0.2);
-    EXPECT_GT(after, 2 * before);
+    EXPECT_LT(before, 0.06);
+    EXPECT_GT(after_one, 1.5 * before);
+    EXPECT_GT(after, 3 * before);
     // The same anchors again within the interval are gated: the weights do not move.
     const std::vector<float> w0 = pf.particles().weight;
-    ASSERT_EQ(pf.update_planes(obs.data(), obs.size(), 0.5), WF_LOC_OK);
+    ASSERT_EQ(pf.update_planes(obs.data(), obs.size(), 2.8), WF_LOC_OK);
     EXPECT_EQ(pf.plane_model().last_applied, 0u);
     EXPECT_EQ(pf.plane_model().last_stats.gated, 2u);
     EXPECT_EQ(pf.particles().weight, w0);
