@@ -49,8 +49,9 @@ public struct PlaneParameters: Codable, Sendable, Equatable {
 /// never detected, false planes from furniture and open doors, and pose errors re-estimated over time
 /// (Ornstein-Uhlenbeck). Poses are expressed in the walk's VIO / ARKit world frame through the same map-to-VIO
 /// relation as the camera at that frame (p_vio = v_k + s R(theta_k) (p_map - c_k)), so anchors drift with VIO
-/// like real ones and are re-expressed after relocalization jumps when updated; a VIO reset removes every
-/// anchor, and nothing is reported while tracking is unavailable or relocalizing. Deterministic for a seed.
+/// like real ones; when tracking comes back after a loss or a relocalization every live anchor is re-reported
+/// (didUpdate) in the possibly moved world frame, as ARKit does; a VIO reset removes every anchor; nothing is
+/// reported while tracking is unavailable, relocalizing or initializing. Deterministic for a seed.
 struct PlaneSimulator {
     /// Random stream of plane detection (`SeededRandom(seed:stream:)`), apart from `RandomStream`'s ids.
     static let randomStream: UInt64 = 20
@@ -184,6 +185,7 @@ struct PlaneSimulator {
         var walkedSinceFurniture = 0.0
         var nextFurnitureAt = rng.exponential(ratePerSecond: p.furniturePlanesPerMeter)
         var didReset = false
+        var wasInReset = true
         var lastK = 0
         for k in Swift.stride(from: 0, to: states.count, by: stride) {
             let s = states[k]
@@ -200,7 +202,21 @@ struct PlaneSimulator {
                 }
             }
             let frame = vio[k]
-            guard frame.tracking != .notAvailable, frame.reason != .relocalizing, frame.reason != .initializing else { continue }
+            if isVIOResetState(frame.tracking, frame.reason) { wasInReset = true; continue }
+            if wasInReset {
+                // Tracking is back: ARKit re-places every surviving anchor in the (possibly moved) world frame.
+                wasInReset = false
+                for fid in tracks.keys.sorted() {
+                    guard let list = tracks[fid], let fl = facesByFloor[fid] else { continue }
+                    for (i, tr) in list.enumerated() {
+                        guard let id = tr.anchorId, let e = tr.extent else { continue }
+                        out.append(record(face: fl[i], extent: e, normalError: tr.normalError.value, angleError: tr.angleError.value,
+                                          anchorId: id, event: .update, t: t, state: s, vio: frame, theta: mapToVIOYaw[k],
+                                          scale: scale))
+                        tracks[fid]![i].lastReport = t
+                    }
+                }
+            }
             guard var faces = facesByFloor[s.floorId], let geo = geometry[s.floorId] else { continue }
             if tracks[s.floorId] == nil { tracks[s.floorId] = faces.map { _ in newTrack(t) } }
             // Furniture: a false plane appears ahead in open space.

@@ -111,7 +111,7 @@ final class PlaneRecordsTests: XCTestCase {
         XCTAssertTrue(b.planes.isEmpty)
         let w = planeWarnings(b)
         XCTAssertEqual(w.count, 1)
-        XCTAssertTrue(w[0].reason.contains("never updated"), w[0].reason)
+        XCTAssertTrue(w[0].reason.contains("is ever updated"), w[0].reason)
         XCTAssertTrue(w[0].description.contains("planes.jsonl line 1"), w[0].description)
     }
 
