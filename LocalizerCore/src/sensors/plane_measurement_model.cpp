@@ -9,7 +9,8 @@ namespace wf::loc {
 
 namespace {
 
-constexpr float kDirectionUnitsPerRad = 256.0f / kPi;
+/// Direction levels (pi / 128 each) per radian.
+constexpr float kLevelsPerRad = static_cast<float>(WallField::kDirectionLevels) / kPi;
 
 }  // namespace
 
@@ -20,7 +21,7 @@ WallField build_wall_field(const WallIndex &walls, float cell_m, float max_dista
     f.max_distance_m = max_distance_m;
     const size_t n = walls.segment_count();
     if (n == 0) return f;
-    // Bounds: the segments' box plus the saturation distance on every side.
+    // Bounds: the segments' box plus the saturation distance and two cells on every side.
     float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
     for (size_t s = 0; s < n; ++s) {
         float ax, ay, bx, by;
@@ -30,13 +31,14 @@ WallField build_wall_field(const WallIndex &walls, float cell_m, float max_dista
         x1 = std::max({x1, ax, bx});
         y1 = std::max({y1, ay, by});
     }
-    f.x0 = x0 - max_distance_m;
-    f.y0 = y0 - max_distance_m;
-    f.nx = std::max(1, static_cast<int32_t>(std::ceil((x1 - x0 + 2 * max_distance_m) * f.inv_cell)));
-    f.ny = std::max(1, static_cast<int32_t>(std::ceil((y1 - y0 + 2 * max_distance_m) * f.inv_cell)));
+    const float margin = max_distance_m + 2 * cell_m;
+    f.x0 = x0 - margin;
+    f.y0 = y0 - margin;
+    f.nx = std::max(1, static_cast<int32_t>(std::ceil((x1 - x0 + 2 * margin) * f.inv_cell)));
+    f.ny = std::max(1, static_cast<int32_t>(std::ceil((y1 - y0 + 2 * margin) * f.inv_cell)));
     const size_t cells = static_cast<size_t>(f.nx) * static_cast<size_t>(f.ny);
     std::vector<float> best(cells, max_distance_m);
-    f.direction_q.assign(cells, 0);
+    std::vector<uint8_t> dir_level(cells, 0);
     for (size_t s = 0; s < n; ++s) {
         float ax, ay, bx, by;
         walls.segment(s, ax, ay, bx, by);
@@ -46,7 +48,7 @@ WallField build_wall_field(const WallIndex &walls, float cell_m, float max_dista
         float dir = std::atan2(ey, ex);
         if (dir < 0) dir += kPi;
         if (dir >= kPi) dir -= kPi;
-        const auto dq = static_cast<uint8_t>(std::min(255.0f, std::floor(dir * kDirectionUnitsPerRad)));
+        const auto dq = static_cast<uint8_t>(std::min(127.0f, std::floor(dir * kLevelsPerRad)));
         const int32_t ix0 = std::max(0, static_cast<int32_t>((std::min(ax, bx) - max_distance_m - f.x0) * f.inv_cell));
         const int32_t iy0 = std::max(0, static_cast<int32_t>((std::min(ay, by) - max_distance_m - f.y0) * f.inv_cell));
         const int32_t ix1 = std::min(f.nx - 1, static_cast<int32_t>((std::max(ax, bx) + max_distance_m - f.x0) * f.inv_cell));
@@ -62,15 +64,17 @@ WallField build_wall_field(const WallIndex &walls, float cell_m, float max_dista
                 const size_t c = static_cast<size_t>(iy) * static_cast<size_t>(f.nx) + static_cast<size_t>(ix);
                 if (d < best[c]) {
                     best[c] = d;
-                    f.direction_q[c] = dq;
+                    dir_level[c] = dq;
                 }
             }
         }
     }
-    f.distance_q.resize(cells);
-    const float q = 255.0f / max_distance_m;
+    f.code.resize(cells);
+    const float top = static_cast<float>(WallField::kDistanceLevels - 1);
+    const float q = top / max_distance_m;
     for (size_t c = 0; c < cells; ++c) {
-        f.distance_q[c] = static_cast<uint8_t>(std::min(255.0f, std::round(best[c] * q)));
+        const auto level = static_cast<uint16_t>(std::min(top, std::round(best[c] * q)));
+        f.code[c] = static_cast<uint16_t>(level << 7 | dir_level[c]);
     }
     return f;
 }
@@ -126,18 +130,18 @@ std::vector<PreparedPlane> prepare_planes(const wf_plane_observation *obs, size_
 
 PlaneLikelihoodTable build_plane_likelihood_table(const PlaneModelParams &m) {
     PlaneLikelihoodTable t;
-    t.max_distance_m = m.max_distance_m;
-    t.log_p.resize(256 * PlaneLikelihoodTable::kAngleSteps);
+    constexpr int32_t D = WallField::kDistanceLevels, A = WallField::kDirectionLevels;
+    t.log_p.resize(static_cast<size_t>(D) * A);
     const double inv2sd = 1.0 / (2.0 * m.sigma_distance_m * m.sigma_distance_m);
     const double inv2sa = 1.0 / (2.0 * m.sigma_angle_rad * m.sigma_angle_rad);
-    for (int32_t dq = 0; dq < 256; ++dq) {
-        const double d = dq * static_cast<double>(m.max_distance_m) / 255.0;
-        for (int32_t aq = 0; aq < PlaneLikelihoodTable::kAngleSteps; ++aq) {
-            const double a = aq * kPiD / 256.0;
-            // Saturated distance (255): no wall within max_distance_m, only the random share explains it.
-            const double hit = dq < 255 ? std::exp(-d * d * inv2sd - a * a * inv2sa) : 0.0;
-            t.log_p[static_cast<size_t>(dq) * PlaneLikelihoodTable::kAngleSteps + aq] =
-                static_cast<float>(std::log(m.z_hit * hit + m.z_rand));
+    for (int32_t dq = 0; dq < D; ++dq) {
+        const double d = dq * static_cast<double>(m.max_distance_m) / (D - 1);
+        for (int32_t diff = 0; diff < A; ++diff) {
+            const int32_t fold = diff <= A / 2 ? diff : A - diff;  // angle between the lines, [0, pi/2]
+            const double a = fold * kPiD / A;
+            // Saturated distance: no wall within max_distance_m, only the random share explains the point.
+            const double hit = dq < D - 1 ? std::exp(-d * d * inv2sd - a * a * inv2sa) : 0.0;
+            t.log_p[static_cast<size_t>(dq) * A + diff] = static_cast<float>(std::log(m.z_hit * hit + m.z_rand));
         }
     }
     return t;
@@ -161,7 +165,7 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
         float pe[kMaxPoints], pn[kMaxPoints];
         int32_t k;
         float per_point;
-        float tangent_units;  // tangent yaw in units of pi/256
+        float tangent_levels;  // tangent yaw in direction levels (pi / 128)
     };
     std::vector<PlanePoints> pts(count);
     for (size_t j = 0; j < count; ++j) {
@@ -170,7 +174,7 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
         PlanePoints &pp = pts[j];
         pp.k = k;
         pp.per_point = m.weight / static_cast<float>(k);
-        pp.tangent_units = pl.tangent_yaw_rad * kDirectionUnitsPerRad;
+        pp.tangent_levels = pl.tangent_yaw_rad * kLevelsPerRad;
         // Points spread over the width, the outer ones half a step inside the ends.
         const float half = 0.5f * pl.width_m * (1.0f - 1.0f / static_cast<float>(k));
         for (int32_t q = 0; q < k; ++q) {
@@ -180,8 +184,59 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
         }
     }
     const float *lp = table.log_p.data();
-    const float saturated = lp[255 * PlaneLikelihoodTable::kAngleSteps];  // log z_rand
-    constexpr int32_t A = PlaneLikelihoodTable::kAngleSteps;
+    // Fast path, every particle on one floor (the usual case): blocks of particles, plane points outer, so
+    // the coordinate arithmetic runs over contiguous arrays (vectorised) and only the field and table
+    // lookups stay scalar.
+    const int16_t floor0 = p.floor[0];
+    bool one_floor = floor0 >= 0 && static_cast<size_t>(floor0) < fields.size() && !fields[floor0].empty();
+    for (size_t i = 1; i < n && one_floor; ++i) one_floor = p.floor[i] == floor0;
+    if (one_floor) {
+        const WallField &f = fields[floor0];
+        const uint16_t *code = f.code.data();
+        const float fx_max = static_cast<float>(f.nx - 1), fy_max = static_cast<float>(f.ny - 1);
+        const int32_t stride = f.nx;
+        constexpr size_t kBlock = 512;
+        alignas(64) float cs[kBlock], ss[kBlock], gx[kBlock], gy[kBlock], yl[kBlock], acc[kBlock], ll[kBlock];
+        alignas(64) int32_t cell[kBlock];
+        for (size_t b = 0; b < n; b += kBlock) {
+            const size_t m_n = std::min(kBlock, n - b);
+            const float *yo = p.yaw_offset.data() + b, *scp = p.scale.data() + b, *xp = p.x.data() + b, *ypp = p.y.data() + b;
+            for (size_t i = 0; i < m_n; ++i) {
+                float sn, cn;
+                fast_sincos(yo[i], sn, cn);
+                cs[i] = scp[i] * cn * f.inv_cell;
+                ss[i] = scp[i] * sn * f.inv_cell;
+                gx[i] = (xp[i] - f.x0) * f.inv_cell;
+                gy[i] = (ypp[i] - f.y0) * f.inv_cell;
+                yl[i] = yo[i] * kLevelsPerRad + 1024.0f;
+                ll[i] = 0.0f;
+            }
+            for (size_t j = 0; j < count; ++j) {
+                const PlanePoints &pp = pts[j];
+                for (size_t i = 0; i < m_n; ++i) acc[i] = 0.0f;
+                for (int32_t q = 0; q < pp.k; ++q) {
+                    const float pe = pp.pe[q], pn = pp.pn[q];
+                    for (size_t i = 0; i < m_n; ++i) {
+                        const float fx = std::min(std::max(gx[i] + cs[i] * pe - ss[i] * pn, 0.0f), fx_max);
+                        const float fy = std::min(std::max(gy[i] + ss[i] * pe + cs[i] * pn, 0.0f), fy_max);
+                        cell[i] = static_cast<int32_t>(fy) * stride + static_cast<int32_t>(fx);
+                    }
+                    for (size_t i = 0; i < m_n; ++i) {
+                        const int32_t plane_level = static_cast<int32_t>(pp.tangent_levels + yl[i]) & 127;
+                        const int32_t cc = code[cell[i]];
+                        acc[i] += lp[(cc & ~127) | ((cc - plane_level) & 127)];
+                    }
+                }
+                for (size_t i = 0; i < m_n; ++i) ll[i] += pp.per_point * acc[i];
+            }
+            float *out = log_likelihood + b;
+            for (size_t i = 0; i < m_n; ++i) {
+                out[i] += ll[i];
+                max_ll = std::max(max_ll, out[i]);
+            }
+        }
+        return max_ll;
+    }
     for (size_t i = 0; i < n; ++i) {
         const int16_t fl = p.floor[i];
         if (fl < 0 || static_cast<size_t>(fl) >= fields.size() || fields[fl].empty()) {
@@ -189,33 +244,28 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
             continue;
         }
         const WallField &f = fields[fl];
-        const uint8_t *dist = f.distance_q.data();
-        const uint8_t *dirq = f.direction_q.data();
-        const float fnx = static_cast<float>(f.nx), fny = static_cast<float>(f.ny);
+        const uint16_t *code = f.code.data();
+        const float fx_max = static_cast<float>(f.nx - 1), fy_max = static_cast<float>(f.ny - 1);
+        const size_t stride = static_cast<size_t>(f.nx);
         float s, c;
         fast_sincos(p.yaw_offset[i], s, c);
-        const float sc = p.scale[i], px = p.x[i], py = p.y[i];
-        const float yaw_units = p.yaw_offset[i] * kDirectionUnitsPerRad;
+        const float sc = p.scale[i], px = p.x[i] - f.x0, py = p.y[i] - f.y0;
+        const float yaw_levels = p.yaw_offset[i] * kLevelsPerRad;
+        const float cs = sc * c * f.inv_cell, ss = sc * s * f.inv_cell;
+        const float gx = px * f.inv_cell, gy = py * f.inv_cell;
         float ll = 0;
         for (size_t j = 0; j < count; ++j) {
             const PlanePoints &pp = pts[j];
-            // Plane direction in the map modulo pi, in units of pi/256 (|value| < 1024 for wrapped angles).
-            const int32_t plane_q = static_cast<int32_t>(pp.tangent_units + yaw_units + 2048.0f) & 255;
-            const float cs = sc * c, ss = sc * s;
+            // Plane direction level in the map modulo pi (|value| < 1024 levels for wrapped angles).
+            const int32_t plane_level = static_cast<int32_t>(pp.tangent_levels + yaw_levels + 1024.0f) & 127;
             float acc = 0;
             for (int32_t q = 0; q < pp.k; ++q) {
-                const float mx = px + cs * pp.pe[q] - ss * pp.pn[q];
-                const float my = py + ss * pp.pe[q] + cs * pp.pn[q];
-                const float fx = (mx - f.x0) * f.inv_cell, fy = (my - f.y0) * f.inv_cell;
-                if (fx >= 0.0f && fy >= 0.0f && fx < fnx && fy < fny) {
-                    const size_t cell = static_cast<size_t>(static_cast<int32_t>(fy)) * static_cast<size_t>(f.nx) +
-                                        static_cast<size_t>(static_cast<int32_t>(fx));
-                    const int32_t diff = (static_cast<int32_t>(dirq[cell]) - plane_q) & 255;
-                    const int32_t fold = diff <= 128 ? diff : 256 - diff;  // angle in [0, pi/2]
-                    acc += lp[static_cast<int32_t>(dist[cell]) * A + fold];
-                } else {
-                    acc += saturated;
-                }
+                // Grid coordinates, clamped onto the (saturated) border: no branch.
+                const float fx = std::min(std::max(gx + cs * pp.pe[q] - ss * pp.pn[q], 0.0f), fx_max);
+                const float fy = std::min(std::max(gy + ss * pp.pe[q] + cs * pp.pn[q], 0.0f), fy_max);
+                const int32_t cell_code =
+                    code[static_cast<size_t>(static_cast<int32_t>(fy)) * stride + static_cast<size_t>(static_cast<int32_t>(fx))];
+                acc += lp[(cell_code & ~127) | ((cell_code - plane_level) & 127)];
             }
             ll += pp.per_point * acc;
         }

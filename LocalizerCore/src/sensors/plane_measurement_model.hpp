@@ -46,8 +46,8 @@ struct PlaneModelParams {
     /// and an old anchor makes them unreliable), meters.
     float max_range_m = 8.0f;
     /// Sample points along a plane: about one every point_spacing_m, between 2 and max_points.
-    float point_spacing_m = 0.5f;
-    int32_t max_points = 5;
+    float point_spacing_m = 0.75f;
+    int32_t max_points = 4;
     /// Exponent on each plane's likelihood (correlation of successive reports of one wall).
     float weight = 0.5f;
     /// An anchor is applied at most once per this interval, seconds.
@@ -57,17 +57,29 @@ struct PlaneModelParams {
 };
 
 /// Distance to the nearest wall and that wall's direction on a uniform grid over one floor (a distance
-/// transform computed exactly per segment within max_distance_m of it). 2 bytes per cell.
+/// transform computed exactly per segment within max_distance_m of it), packed in 2 bytes per cell:
+/// code = distance level << 7 | direction level, with 64 distance levels of max_distance_m / 63 (63 = at
+/// least max_distance_m) and 128 direction levels of pi / 128 over [0, pi). The grid extends two cells past
+/// the saturation distance on every side, so its border cells are saturated and a point outside the grid can
+/// be clamped onto the border.
 struct WallField {
+    static constexpr int32_t kDistanceLevels = 64;
+    static constexpr int32_t kDirectionLevels = 128;
     float x0 = 0, y0 = 0, cell_m = 0.1f, inv_cell = 10;
     int32_t nx = 0, ny = 0;
     float max_distance_m = 1;
-    /// Distance in units of max_distance_m / 255 (255 = at least max_distance_m).
-    std::vector<uint8_t> distance_q;
-    /// Direction of the nearest wall modulo pi, in units of pi / 256.
-    std::vector<uint8_t> direction_q;
+    std::vector<uint16_t> code;
 
-    bool empty() const { return distance_q.empty(); }
+    bool empty() const { return code.empty(); }
+    /// Distance level of cell c (kDistanceLevels - 1 = saturated) and its value in meters.
+    int32_t distance_level(size_t c) const { return code[c] >> 7; }
+    float distance_m(size_t c) const {
+        return static_cast<float>(distance_level(c)) * max_distance_m / static_cast<float>(kDistanceLevels - 1);
+    }
+    /// Direction of the nearest wall modulo pi, radians (centre of its level).
+    float direction_rad(size_t c) const {
+        return (static_cast<float>(code[c] & 127) + 0.5f) * 3.14159265f / static_cast<float>(kDirectionLevels);
+    }
 };
 
 /// Builds the wall field of a floor from its wall index (segments and bounds).
@@ -112,13 +124,12 @@ std::vector<PreparedPlane> prepare_planes(const wf_plane_observation *obs, size_
                                           double cam_north_m, double t, const PlaneModelParams &m, PlaneGate *gate,
                                           PlanePrepareStats *stats);
 
-/// log p_point for every (quantised distance, quantised angle) pair: 256 distance steps of
-/// max_distance_m / 255 times 129 angle steps of pi / 256 over [0, pi/2], so the per-particle loop does no
-/// exp or log. Built once per parameter set.
+/// log p_point for every (distance level, direction difference) pair: 64 distance levels times 128
+/// differences of pi / 128 between the wall's and the plane's direction levels (folded into [0, pi/2]), so
+/// the per-particle loop does no exp or log and indexes the table with the cell code directly:
+/// index = (code & ~127) | ((code - plane level) & 127). 32 KiB. Built once per parameter set.
 struct PlaneLikelihoodTable {
-    static constexpr int32_t kAngleSteps = 129;
-    std::vector<float> log_p;  // [distance_q * kAngleSteps + angle_q]
-    float max_distance_m = 0;
+    std::vector<float> log_p;  // [distance level << 7 | direction difference]
     bool empty() const { return log_p.empty(); }
 };
 

@@ -66,11 +66,11 @@ TEST(PlaneMeasurementModel, WallFieldMatchesBruteForceDistanceAndDirection) {
                 if (d < best) { best = d; best_dir = std::fmod(std::atan2(ey, ex) + wf::test::kPi, wf::test::kPi); }
             }
             const size_t c = static_cast<size_t>(iy) * f.nx + ix;
-            const double d = f.distance_q[c] * 1.0 / 255.0;
+            const double d = f.distance_m(c);
             if (best >= 1.0) {
-                EXPECT_EQ(f.distance_q[c], 255) << "cell " << ix << "," << iy;
+                EXPECT_EQ(f.distance_level(c), WallField::kDistanceLevels - 1) << "cell " << ix << "," << iy;
             } else {
-                EXPECT_NEAR(d, best, 0.003) << "cell " << ix << "," << iy;
+                EXPECT_NEAR(d, best, 0.5 / 63 + 1e-4) << "cell " << ix << "," << iy;
                 // The direction is that of the nearest wall (skip cells equidistant from two walls: corners).
                 double second = 1e9;
                 for (const auto &w : walls) {
@@ -80,9 +80,9 @@ TEST(PlaneMeasurementModel, WallFieldMatchesBruteForceDistanceAndDirection) {
                     if (dd > best + 1e-6) second = std::min(second, dd);
                 }
                 if (second - best > 0.05) {
-                    const double dir = (f.direction_q[c] + 0.5) * wf::test::kPi / 256;
+                    const double dir = f.direction_rad(c);
                     const double diff = std::fabs(wf::test::wrap(2 * (dir - best_dir))) / 2;
-                    EXPECT_LT(diff, 0.01) << "cell " << ix << "," << iy;
+                    EXPECT_LT(diff, 0.5 * wf::test::kPi / 128 + 1e-4) << "cell " << ix << "," << iy;
                 }
             }
             ++checked;
@@ -108,6 +108,23 @@ TEST(PlaneMeasurementModel, PlaneAlongTrueWallFavoursTruePose) {
     EXPECT_NEAR(ll[0], ll[5], 0.05f);
     // A true-pose plane scores the best possible value, log(z_hit + z_rand) * weight = 0.
     EXPECT_NEAR(ll[0], 0.0f, 0.02f);
+}
+
+// Particles spread over two floors take the per-particle path; it must agree with the one-floor block path.
+TEST(PlaneMeasurementModel, MixedFloorsAgreeWithTheOneFloorPath) {
+    auto world = wf::test::corridor_world();
+    world.floors.push_back(world.floors[0]);
+    world.floors[1].elevation_m = 4;
+    const auto o = wf::test::default_options();
+    const auto map = wf::test::build_map(world, o);
+    const std::vector<std::array<float, 3>> poses = {{10, 1, 0}, {10, 1.4f, 0.1f}, {4, 0.7f, 1.2f}, {15, 1.2f, kPiF}};
+    ParticleSet one = particles(poses), mixed = particles(poses);
+    mixed.floor[1] = 1;
+    mixed.floor[3] = 1;
+    const std::vector<wf_plane_observation> obs = {plane(1, 0, 1, -kPiF / 2, 3), plane(2, 1, -1, kPiF / 2, 1.2)};
+    const auto a = log_likelihoods(map, one, obs), b = log_likelihoods(map, mixed, obs);
+    for (size_t i = 0; i < poses.size(); ++i) EXPECT_NEAR(a[i], b[i], 1e-5f) << i;
+    EXPECT_GT(a[0], a[1]);
 }
 
 TEST(PlaneMeasurementModel, ScaleAndYawOffsetMapThePlane) {
