@@ -6,6 +6,7 @@ enum EvidenceSwitches {
     /// Usage lines for the subcommands that accept the switches.
     static let usage = """
       --no-compass     ignore the compass (no start prior, no compass evidence)
+      --no-planes      ignore ARKit's vertical planes (planes.jsonl; simulated walls in --scenarios)
       --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
                        may be repeated
     """
@@ -14,6 +15,7 @@ enum EvidenceSwitches {
     /// malformed `--param`.
     static func apply(_ arguments: inout ArgumentList, to options: inout PipelineOptions) throws {
         if arguments.flag("no-compass") { options.useCompass = false }
+        if arguments.flag("no-planes") { options.usePlanes = false }
         while let assignment = try arguments.option("param") {
             let parts = assignment.split(separator: "=", maxSplits: 1).map(String.init)
             guard parts.count == 2, !parts[0].isEmpty, let value = Double(parts[1]), value.isFinite else {

@@ -11,6 +11,7 @@ enum ReplayCommand: Subcommand {
     static let usage = """
     Usage: wayfinder replay BUNDLE --map MAP [--to DEST] [--from START] [--floor FLOOR]
                             [--detector recorded|cascade|unet|auto] [--models DIR] [--seed N] [--trace OUT.jsonl]
+                            [--no-compass] [--no-planes] [--param NAME=V]
 
     Replays the recorded-session bundle BUNDLE (frames.jsonl, observations.jsonl or images) on the building
     MAP and prints each announcement as "[  12.3 s] text" (haptics as "[  12.3 s] (haptic: pattern)").

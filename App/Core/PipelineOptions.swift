@@ -54,6 +54,12 @@ public struct PipelineOptions: Sendable {
     /// Internal localizer model parameters by name (`ParticleLocalizer.setParameter`), e.g.
     /// `["compass.kappa": 8]`; `useCompass == false` overrides its "compass.enabled".
     public var localizerParameters: [String: Double] = [:]
+    /// Score ARKit's vertical planes (planes.jsonl in replay, ARPlaneAnchor events on the phone) against the
+    /// map's walls. `--no-planes` on the command line turns it off.
+    public var usePlanes = true
+    /// Minimum time between two plane updates of the localizer, seconds (each anchor is applied at most once
+    /// a second by the filter itself).
+    public var planeUpdateIntervalSeconds: Double = 0.5
     /// Guidance settings.
     public var navigator: NavigatorOptions = NavigatorOptions()
     /// Random seed of the particle filter (replays are deterministic for a seed).

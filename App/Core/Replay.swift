@@ -133,6 +133,17 @@ public enum Replay {
             if idx >= 0 { observationsByFrame[idx].append(o) }
         }
 
+        // Plane-anchor events, like observations, go with the latest frame at or before their time.
+        var planesByFrame = [[PlaneRecord]](repeating: [], count: bundle.frames.count)
+        for p in bundle.planes {
+            var lo = 0, hi = frameTimes.count - 1, idx = -1
+            while lo <= hi {
+                let mid = (lo + hi) / 2
+                if frameTimes[mid] <= p.t + 1e-6 { idx = mid; lo = mid + 1 } else { hi = mid - 1 }
+            }
+            if idx >= 0 { planesByFrame[idx].append(p) }
+        }
+
         var result = ReplayResult(trace: [], announcements: [], haptics: [], sightingRays: [], particleSnapshots: [],
                                   routePolyline: [], warnings: [])
         let n = bundle.frames.count
@@ -141,6 +152,7 @@ public enum Replay {
         var pendingSnapshotTimes = options.snapshotTimes.sorted()
         for (i, record) in bundle.frames.enumerated() {
             let frame = PipelineFrame(record: record, imagesDirectory: imagesDirectory, observations: observationsByFrame[i])
+            if !planesByFrame[i].isEmpty { pipeline.ingest(planes: planesByFrame[i]) }
             let update = pipeline.process(frame)
             result.warnings.append(contentsOf: update.warnings)
             let e = update.estimate

@@ -39,6 +39,8 @@ public final class WayfinderPipeline {
     private var lastDetectionT = -Double.infinity
     private var lastAltitude: Double?
     private var compassPriorApplied = false
+    private var planeTable = PlaneAnchorTable()
+    private var lastPlaneUpdateT = -Double.infinity
 
     /// Creates the pipeline and initializes the localizer from the start prior (floor only, or a chosen
     /// start place). Throws when the floor, start or destination is unknown, or a detector model is missing.
@@ -87,6 +89,8 @@ public final class WayfinderPipeline {
             noteInputError("altitude", &warnings)
         }
 
+        updatePlanesIfDue(frame, warnings: &warnings)
+
         var sightings: [SignSighting] = []
         var detectorRan = false
         let due = frame.t - lastDetectionT >= options.detectionIntervalSeconds - 1e-9
@@ -125,6 +129,25 @@ public final class WayfinderPipeline {
             if let spoken = navigator.lastSpokenAdvice, spoken.t == frame.t { update.spokenAdvice = spoken.advice }
         }
         return update
+    }
+
+    /// Takes ARKit plane-anchor events (add / update / remove) that arrived since the last frame; they are
+    /// scored at the next `process`. Ignored when `options.usePlanes` is off.
+    public func ingest(planes events: [PlaneRecord]) {
+        guard options.usePlanes else { return }
+        for e in events { planeTable.apply(e) }
+    }
+
+    /// Scores the live vertical planes against the walls, at most every `planeUpdateIntervalSeconds`, with a
+    /// valid pose; a VIO reset state drops every anchor first (PlaneAnchorTable).
+    private func updatePlanesIfDue(_ frame: PipelineFrame, warnings: inout [String]) {
+        guard options.usePlanes else { return }
+        planeTable.observe(tracking: frame.tracking, reason: frame.trackingReason)
+        guard frame.cameraPose != nil, !planeTable.anchors.isEmpty,
+              frame.t - lastPlaneUpdateT >= options.planeUpdateIntervalSeconds - 1e-9 else { return }
+        lastPlaneUpdateT = frame.t
+        localizer.updatePlanes(planeTable.observations, t: frame.t)
+        if let e = localizer.lastInputError { warnings.append("t=\(frame.t): planes: \(e)") }
     }
 
     /// Gives the localizer the compass prior once, at the first frame with a finite compass reading, when the

@@ -16,8 +16,10 @@ public enum ScenarioRunner {
 
     /// The bundle a simulated walk would write, without touching the disk.
     public static func bundle(of walk: SimulatedWalk, name: String) -> SessionBundle {
-        SessionBundle(url: URL(fileURLWithPath: "/scenario/\(name)"), info: walk.info, frames: walk.frames,
-                      observations: walk.observations, truth: walk.truth, expected: walk.expected, warnings: [])
+        var b = SessionBundle(url: URL(fileURLWithPath: "/scenario/\(name)"), info: walk.info, frames: walk.frames,
+                              observations: walk.observations, truth: walk.truth, expected: walk.expected, warnings: [])
+        b.planes = walk.planes
+        return b
     }
 
     /// Simulates and scores one scenario.

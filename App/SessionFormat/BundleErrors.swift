@@ -65,6 +65,9 @@ public struct BundleWarning: FileLineMessage, Hashable, Sendable, Codable {
         case truncatedLastLine
         /// Frames name image files that are not in images/ (poses and observations still replay).
         case missingImages
+        /// Plane-anchor events of planes.jsonl that were dropped or will not be used (horizontal, zero
+        /// extent, before a VIO reset, a file whose anchors never update): see `readPlaneRecords`.
+        case ignoredPlanes
     }
 
     /// Category.

@@ -18,6 +18,9 @@ public struct SessionBundle: Sendable {
     public var expected: [ExpectedAnnouncement]
     /// Problems the reader recovered from (truncated last line, missing images).
     public var warnings: [BundleWarning]
+    /// planes.jsonl after screening (empty when absent): ARKit plane-anchor events, non-decreasing `t`
+    /// (PlaneRecords.swift).
+    public var planes: [PlaneRecord] = []
 
     /// Creates a bundle value in memory (nothing is read or written).
     public init(url: URL, info: SessionInfo, frames: [FrameRecord], observations: [ObservationRecord] = [],
@@ -95,8 +98,12 @@ public struct SessionBundle: Sendable {
                 reason: "\(missing.count) of \(frames.filter { $0.image != nil }.count) frames name images missing "
                     + "from images/ (first: '\(first.name)')"))
         }
-        return SessionBundle(url: url, info: info, frames: frames, observations: observations, truth: truth,
-                             expected: expected, warnings: warnings)
+        // Plane anchors (optional file; PlaneRecords.swift reads and screens it).
+        let (planes, planeWarnings) = try readPlaneRecords(bundle: url, frames: frames)
+        var bundle = SessionBundle(url: url, info: info, frames: frames, observations: observations, truth: truth,
+                                   expected: expected, warnings: warnings + planeWarnings)
+        bundle.planes = planes
+        return bundle
     }
 
     /// Reads and checks session.json alone.

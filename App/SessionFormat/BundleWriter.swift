@@ -80,7 +80,7 @@ public final class BundleWriter: @unchecked Sendable {
                                           + "(pass overwrite: true / --overwrite to replace it)")
                 }
                 let bundleNames = [sessionFileName, imagesDirectoryName, FrameRecord.fileName, ObservationRecord.fileName,
-                                   TruthRecord.fileName, ExpectedAnnouncement.fileName]
+                                   TruthRecord.fileName, ExpectedAnnouncement.fileName, PlaneRecord.fileName]
                 for name in bundleNames where contents.contains(name) {
                     do { try fm.removeItem(at: directory.appendingPathComponent(name)) } catch {
                         throw BundleError(.writeFailed, file: directory.appendingPathComponent(name).path,
@@ -118,6 +118,9 @@ public final class BundleWriter: @unchecked Sendable {
 
     /// Appends one expected announcement to expected.jsonl (created on first use).
     public func append(_ expected: ExpectedAnnouncement) throws { try appendRecord(expected) }
+
+    /// Appends one plane-anchor event to planes.jsonl (created on first use).
+    public func append(_ plane: PlaneRecord) throws { try appendRecord(plane) }
 
     /// Writes `data` to images/`name` atomically. `name` must be a plain file name; an existing image is
     /// never replaced (`.alreadyExists`).

@@ -15,6 +15,8 @@ public struct SimulationParameters: Codable, Sendable, Equatable {
     public var barometer = BarometerParameters()
     /// Compass (Core Location heading).
     public var compass = CompassParameters()
+    /// ARKit vertical plane detection (PlaneSimulator.swift).
+    public var planes = PlaneParameters()
     /// The defaults.
     public init() {}
     /// The defaults.

@@ -65,6 +65,8 @@ public struct SimulatedWalk: Sendable {
     let renderer: SceneRenderer?
     /// Frame indices whose images are rendered (empty without `scenario.images`).
     public var imageFrameIndices: [Int]
+    /// Simulated ARKit plane-anchor events (planes.jsonl; PlaneSimulator.swift).
+    public var planes: [PlaneRecord] = []
 
     /// Writes the walk as a recorded-session bundle (format v1) in `directory` through `BundleWriter`,
     /// rendering the images when the scenario asks for them. The directory must be absent or empty unless
@@ -82,6 +84,7 @@ public struct SimulatedWalk: Sendable {
         if let e = renderFailure { try? writer.close(); throw e }
         for o in observations { try writer.append(o) }
         for e in expected { try writer.append(e) }
+        for p in planes { try writer.append(p) }
         try writer.close()
     }
 
@@ -253,8 +256,13 @@ public enum WalkSimulator {
             compassHeadingAccuracyDeg: headingAccuracies, altitudesMeters: states.map(\.altitudeMeters))
         let renderer = imageMode ? SceneRenderer(floors: floorsById, geometry: geometry, states: states, intrinsics: intrinsics,
                                                  seed: scenario.seed) : nil
-        return SimulatedWalk(scenario: scenario, info: info, frames: frames, observations: observations, truth: truth,
-                             expected: [], diagnostics: diagnostics, renderer: renderer, imageFrameIndices: imageIndices)
+        var walk = SimulatedWalk(scenario: scenario, info: info, frames: frames, observations: observations, truth: truth,
+                                 expected: [], diagnostics: diagnostics, renderer: renderer, imageFrameIndices: imageIndices)
+        // ARKit vertical planes (own random stream: switching planes off changes nothing else).
+        var planeRng = SeededRandom(seed: scenario.seed, stream: PlaneSimulator.randomStream)
+        walk.planes = PlaneSimulator(parameters: parameters.planes, floors: floorsById, geometry: geometry)
+            .run(states: states, vio: vio, mapToVIOYaw: thetas, scale: events.scale, resetTime: events.resetTime, rng: &planeRng)
+        return walk
     }
 
     /// Throws when any step between consecutive truth positions on one floor crosses a wall.

@@ -21,6 +21,10 @@ final class AppModel: ObservableObject {
 
     init() {
         sensors.onFrame = { [weak self] frame, luma, jpeg in self?.handle(frame: frame, meanLuma: luma, jpeg: jpeg) }
+        sensors.onPlanes = { [weak self] planes in
+            self?.session.ingest(planes: planes)
+            self?.recorder.append(planes: planes)
+        }
         refresh()
     }
 

@@ -77,6 +77,13 @@ public final class ParticleLocalizer {
         record { try handle.updateCompass(headingInMapRad: headingInMapRad, accuracyRad: accuracyRad ?? 0, t: t) }
     }
 
+    /// Measurement update with the vertical planes ARKit currently reports (valid in the current VIO session)
+    /// at time `t` (seconds): a likelihood field against the map's walls (docs/localizer.md). Non-finite planes
+    /// are skipped and reported in `lastInputError`; zero-width ones are ignored.
+    public func updatePlanes(_ planes: [PlaneObservation], t: Double) {
+        record { try handle.updatePlanes(planes, t: t) }
+    }
+
     /// Barometric relative altitude (meters, any origin) at time `t`: a settled change of about a storey
     /// near an elevator or stairs moves the hypotheses to the floor of matching elevation.
     public func updateAltitude(relativeAltitudeMeters: Double, t: Double) {

@@ -304,6 +304,21 @@ typedef struct wf_sign_observation {
     double score;
 } wf_sign_observation;
 
+/** One vertical plane reported by ARKit plane detection (an ARPlaneAnchor with alignment vertical), projected
+ *  on the VIO floor plane; in the same VIO frame as the wf_vio_sample poses. */
+typedef struct wf_plane_observation {
+    /** Stable id of the anchor (e.g. a hash of its UUID): the filter applies each anchor at most once per
+     *  short interval (about 1 s), however often it is reported. */
+    uint64_t anchor_id;
+    /** Plane center on the VIO plane, meters: (east, north) = (x_w, -z_w) of the ARKit world. */
+    double center_east_m, center_north_m;
+    /** Direction of the plane's normal on the VIO plane, radians CCW from VIO east (either side). */
+    double normal_yaw_rad;
+    /** Horizontal extent of the plane along the wall, meters. Planes narrower than about 0.3 m (zero extent
+     *  included) are ignored. */
+    double width_m;
+} wf_plane_observation;
+
 /** Pose estimate (from the dominant particle cluster). */
 typedef struct wf_localizer_estimate {
     /** Time of the last input, seconds. */
@@ -403,6 +418,20 @@ int wf_localizer_predict(wf_localizer *loc, const wf_vio_sample *sample);
  *  detection: negative information only). Non-finite observations are skipped (status
  *  WF_LOC_ERR_NON_FINITE_INPUT after applying the finite ones). */
 int wf_localizer_update_signs(wf_localizer *loc, const wf_sign_observation *observations, size_t count, double t);
+
+/**
+ * Measurement update with the `count` vertical planes currently reported by ARKit at time t (seconds): a
+ * likelihood field against the map's walls (the nav2 AMCL likelihood-field model applied to planes; see
+ * docs/localizer.md): each plane is sampled as a few points along its width, moved into the map by each
+ * particle's pose, yaw offset and scale relative to the camera's last VIO position (the last
+ * wf_localizer_predict sample), and scored by the distance to the nearest wall and the angle between the plane
+ * and that wall, with a uniform share for planes that are no wall (furniture, open doors). Tempered, and each
+ * anchor counts at most once per short interval. Pass the anchors valid in the current VIO session only
+ * (drop those from before a tracking reset). Non-finite planes are skipped (status
+ * WF_LOC_ERR_NON_FINITE_INPUT after applying the finite ones); narrow or zero-width planes and planes far from
+ * the camera are ignored. Before an init: WF_LOC_ERR_NOT_INITIALIZED.
+ */
+int wf_localizer_update_planes(wf_localizer *loc, const wf_plane_observation *planes, size_t count, double t);
 
 /** Barometric relative altitude (meters, arbitrary origin) at time t: floor changes near vertical links. */
 int wf_localizer_update_altitude(wf_localizer *loc, double relative_altitude_m, double t);

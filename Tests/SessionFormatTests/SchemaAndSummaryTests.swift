@@ -37,6 +37,15 @@ final class SchemaAndSummaryTests: XCTestCase {
                   minimal: TruthRecord(t: 0, x: 1, y: 2, floorId: "4", headingRad: 0))
         try check("expected", full: ExpectedAnnouncement(text: "a", notBefore: 1, notAfter: 2),
                   minimal: ExpectedAnnouncement(text: "a"))
+        try check("planes",
+                  full: PlaneRecord(t: 0, anchorId: "A", event: .add, alignment: .vertical, centerInWorld: [0, 1, 2],
+                                    normalInWorld: [1, 0, 0], widthMeters: 1, heightMeters: 2, classification: "wall"),
+                  minimal: PlaneRecord(t: 0, anchorId: "A", event: .remove))
+        let planeProps = try XCTUnwrap(try schema("planes")["properties"] as? [String: Any])
+        XCTAssertEqual(Set(try XCTUnwrap((planeProps["event"] as? [String: Any])?["enum"] as? [String])),
+                       Set(PlaneEvent.allCases.map(\.rawValue)))
+        XCTAssertEqual(Set(try XCTUnwrap((planeProps["alignment"] as? [String: Any])?["enum"] as? [String])),
+                       Set(PlaneAlignment.allCases.map(\.rawValue)))
         // Intrinsics definition and the tracking enums.
         let frame = try schema("frame")
         let defs = try XCTUnwrap((frame["$defs"] as? [String: Any])?["intrinsics"] as? [String: Any])

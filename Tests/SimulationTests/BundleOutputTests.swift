@@ -25,7 +25,7 @@ final class BundleOutputTests: XCTestCase {
         try WalkSimulator.simulate(building: Fixtures.office, scenario: s).write(to: a)
         try WalkSimulator.simulate(building: Fixtures.office, scenario: s).write(to: b)
         let fa = try files(a), fb = try files(b)
-        XCTAssertEqual(Set(fa.keys), ["/session.json", "/frames.jsonl", "/observations.jsonl", "/truth.jsonl"])
+        XCTAssertEqual(Set(fa.keys), ["/session.json", "/frames.jsonl", "/observations.jsonl", "/truth.jsonl", "/planes.jsonl"])
         XCTAssertEqual(fa, fb)
     }
 

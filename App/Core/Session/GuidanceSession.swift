@@ -120,6 +120,9 @@ public final class GuidanceSession {
         return [.stopSensors, .speak("Guidance stopped", interrupt: true)]
     }
 
+    /// Forwards ARKit plane-anchor events to the pipeline while guiding (scored at the next frame).
+    public func ingest(planes: [PlaneRecord]) { pipeline?.ingest(planes: planes) }
+
     /// Feeds one camera frame while guiding; returns what to say and play.
     public func process(_ frame: PipelineFrame, meanLuma: Double? = nil) -> [GuidanceCommand] {
         guard let pipeline, state == .guiding else { return [] }

@@ -41,6 +41,12 @@ public final class WalkRecorder {
         frameCount += 1
     }
 
+    /// Appends ARKit plane-anchor events to planes.jsonl. Events the writer refuses (out of time order, bad
+    /// values) are skipped: the bundle must stay readable.
+    public func append(planes: [PlaneRecord]) {
+        for p in planes { try? writer.append(p) }
+    }
+
     /// Finishes the bundle.
     public func close() throws { try writer.close() }
 

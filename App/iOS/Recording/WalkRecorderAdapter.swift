@@ -1,6 +1,7 @@
 #if canImport(UIKit) && os(iOS)
 import Foundation
 import Maps
+import SessionFormat
 import UIKit
 import WayfinderCore
 
@@ -20,6 +21,8 @@ final class WalkRecorderAdapter {
     }
 
     func append(frame: PipelineFrame, jpeg: Data?) { try? recorder?.append(frame: frame, jpeg: jpeg) }
+
+    func append(planes: [PlaneRecord]) { recorder?.append(planes: planes) }
 
     func stop() {
         try? recorder?.close()

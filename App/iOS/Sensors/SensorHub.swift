@@ -2,6 +2,7 @@
 import ARKit
 import CoreLocation
 import CoreMotion
+import SessionFormat
 import WayfinderCore
 
 /// Thin ARKit / Core Motion / Core Location adapter: reads each `ARFrame`'s fields and hands plain numbers
@@ -12,6 +13,8 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate {
     /// recording, a subsampled JPEG.
     var onFrame: ((PipelineFrame, Double?, Data?) -> Void)?
     var recordImages = false
+    /// Called on the main queue with vertical plane-anchor events (PlaneAnchorForwarding.swift).
+    var onPlanes: (([PlaneRecord]) -> Void)?
 
     private let session = ARSession()
     private let altimeter = CMAltimeter()
@@ -25,6 +28,7 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate {
     func start() {
         let configuration = ARWorldTrackingConfiguration()
         configuration.worldAlignment = .gravity
+        configuration.planeDetection = [.vertical]   // walls, scored against the map (PlaneAnchorForwarding)
         session.delegate = self
         session.run(configuration, options: [.resetTracking, .removeExistingAnchors])
         if CMAltimeter.isRelativeAltitudeAvailable() {

@@ -138,6 +138,11 @@ int wf_localizer_update_signs(wf_localizer *loc, const wf_sign_observation *obse
     return guarded(loc, [&] { return loc->filter->update_signs(observations, count, t); });
 }
 
+int wf_localizer_update_planes(wf_localizer *loc, const wf_plane_observation *planes, size_t count, double t) {
+    if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
+    return guarded(loc, [&] { return loc->filter->update_planes(planes, count, t); });
+}
+
 int wf_localizer_update_altitude(wf_localizer *loc, double relative_altitude_m, double t) {
     if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
     return guarded(loc, [&] { return loc->filter->update_altitude(relative_altitude_m, t); });

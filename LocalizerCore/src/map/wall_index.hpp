@@ -82,6 +82,10 @@ public:
     float distance_to_nearest(float x, float y, float max_distance_m) const;
 
     size_t segment_count() const { return ax_.size(); }
+    /// End points of segment i (meters, map frame), i < segment_count() (used by the plane model's wall field).
+    void segment(size_t i, float &ax, float &ay, float &bx, float &by) const {
+        ax = ax_[i]; ay = ay_[i]; bx = bx_[i]; by = by_[i];
+    }
     const FloorGrid &grid() const { return grid_; }
     /// True when the cell containing (x, y) lists no segment (fast path of `crosses`).
     bool cell_empty(float x, float y) const;

@@ -67,6 +67,9 @@ public:
     bool has_yaw() const { return has_last_; }
     /// Last usable VIO yaw, radians.
     double last_yaw() const { return last_.yaw_rad; }
+    /// Last usable VIO camera position on the VIO plane, meters (valid when has_yaw()).
+    double last_east() const { return last_.east_m; }
+    double last_north() const { return last_.north_m; }
     void reset() { has_last_ = false; lost_since_ = -1; }
 
 private:

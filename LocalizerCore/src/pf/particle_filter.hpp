@@ -18,6 +18,7 @@
 #include "pf/resampling.hpp"
 #include "sensors/barometric_floor_model.hpp"
 #include "sensors/compass_model.hpp"
+#include "sensors/plane_measurement_model.hpp"
 #include "sensors/sign_measurement_model.hpp"
 #include "wf_localizer.h"
 
@@ -52,6 +53,12 @@ public:
     static const char *parameter_names();
     /// Compass readings applied so far (diagnostics, tests).
     size_t compass_update_count() const { return compass_update_count_; }
+    /// Vertical-plane update (sensors/plane_measurement_model; defined in pf/particle_filter_planes.cpp):
+    /// likelihood field of the planes against the walls, tempered, then normalisation and resampling as
+    /// after a sign update. Non-finite planes are skipped (WF_LOC_ERR_NON_FINITE_INPUT after the others).
+    int update_planes(const wf_plane_observation *obs, size_t count, double t);
+    /// Plane-model state (parameters, wall fields, per-anchor gate, last update's counts).
+    PlaneModelState &plane_model() { return planes_; }
 
     /// Current estimate, recomputed (clustering) when particles changed since the last call. The localized
     /// flag's hysteresis advances on these reads, with the time of the last input: read it once per frame.
@@ -113,6 +120,7 @@ private:
     std::vector<float> group_weights_;
     BinCounter kld_bins_;
     ParticleClusterer clusterer_;
+    PlaneModelState planes_;
     std::string error_;
 
     bool initialized_ = false;

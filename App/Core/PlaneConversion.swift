@@ -1,0 +1,86 @@
+import Foundation
+import Localizer
+import SessionFormat
+
+/// The live set of ARKit plane anchors the pipeline scores against the walls, kept from `PlaneRecord` events
+/// (replayed from planes.jsonl or forwarded by the phone's ARSession delegate). Vertical planes only; every
+/// anchor is dropped when VIO resets (tracking unavailable, relocalizing or initializing again), because an
+/// anchor placed in the old world frame is not valid in the new one until ARKit updates it.
+struct PlaneAnchorTable {
+    private(set) var anchors: [String: PlaneRecord] = [:]
+    /// True while the last frame was in a VIO reset state.
+    private(set) var inReset = false
+
+    /// Applies one event (ignored while VIO is resetting, and for horizontal planes).
+    mutating func apply(_ r: PlaneRecord) {
+        guard r.alignment == .vertical else { return }
+        switch r.event {
+        case .add, .update:
+            guard !inReset else { return }
+            anchors[r.anchorId] = r
+        case .remove:
+            anchors[r.anchorId] = nil
+        }
+    }
+
+    /// Follows the frame's tracking state: a reset state empties the table.
+    mutating func observe(tracking: TrackingState, reason: TrackingReason?) {
+        inReset = isVIOResetState(tracking, reason)
+        if inReset { anchors.removeAll() }
+    }
+
+    /// The anchors as localizer observations, sorted by anchor id (deterministic order).
+    var observations: [PlaneObservation] {
+        anchors.keys.sorted().compactMap { anchors[$0].flatMap(PlaneConversion.observation(of:)) }
+    }
+}
+
+/// Converts ARKit plane anchors to plane records (for the phone's adapter, App/iOS/Sensors, which hands over
+/// plain numbers so the arithmetic is tested on Linux) and plane records to the localizer's plane observations
+/// (VIO floor plane, see `CameraPose`).
+public enum PlaneConversion {
+    /// The record of one ARPlaneAnchor event at frame time `t`, from the anchor's fields:
+    /// `transformColumns` the anchor-to-world transform as 4 columns of 4 (simd order), `centerLocal` the
+    /// plane center in anchor coordinates (ARPlaneAnchor.center), `extentWidth` / `extentHeight` and
+    /// `rotationOnYAxisRad` from ARPlaneAnchor.planeExtent (width along the anchor's x axis turned by the
+    /// rotation about its y axis, height along the turned z axis). The plane's normal is the anchor's +y
+    /// axis; its horizontal extent sums the horizontal parts of the two extent axes (the vertical ones give
+    /// the height). Nil when a number is not finite or the transform is degenerate (nothing is forwarded).
+    public static func record(t: Double, anchorId: String, event: PlaneEvent, vertical: Bool, transformColumns: [[Float]],
+                              centerLocal: [Float], extentWidth: Float, extentHeight: Float, rotationOnYAxisRad: Float,
+                              classification: String?) -> PlaneRecord? {
+        if event == .remove {
+            return PlaneRecord(t: t, anchorId: anchorId, event: .remove, alignment: vertical ? .vertical : .horizontal)
+        }
+        guard t.isFinite, transformColumns.count == 4, transformColumns.allSatisfy({ $0.count == 4 }), centerLocal.count == 3
+        else { return nil }
+        let m = transformColumns.map { $0.map(Double.init) }
+        let c = centerLocal.map(Double.init)
+        guard m.allSatisfy({ $0.allSatisfy(\.isFinite) }), c.allSatisfy(\.isFinite), extentWidth.isFinite,
+              extentHeight.isFinite, rotationOnYAxisRad.isFinite else { return nil }
+        func axis(_ j: Int) -> [Double] { [m[j][0], m[j][1], m[j][2]] }
+        let (x, y, z) = (axis(0), axis(1), axis(2))
+        let center = (0..<3).map { m[3][$0] + x[$0] * c[0] + y[$0] * c[1] + z[$0] * c[2] }
+        let ny = (y[0] * y[0] + y[1] * y[1] + y[2] * y[2]).squareRoot()
+        guard ny > 1e-6 else { return nil }
+        let normal = y.map { $0 / ny }
+        let r = Double(rotationOnYAxisRad)
+        let xr = (0..<3).map { cos(r) * x[$0] - sin(r) * z[$0] }
+        let zr = (0..<3).map { sin(r) * x[$0] + cos(r) * z[$0] }
+        let w = Double(max(0, extentWidth)), h = Double(max(0, extentHeight))
+        let horizontal = w * hypot(xr[0], xr[2]) + h * hypot(zr[0], zr[2])
+        let verticalExtent = w * abs(xr[1]) + h * abs(zr[1])
+        return PlaneRecord(t: t, anchorId: anchorId, event: event, alignment: vertical ? .vertical : .horizontal,
+                           centerInWorld: center, normalInWorld: normal, widthMeters: horizontal, heightMeters: verticalExtent,
+                           classification: classification)
+    }
+
+    /// The observation of an add/update record: center and normal projected on the VIO plane, width as
+    /// recorded; nil for remove events or records without a horizontal normal.
+    static func observation(of r: PlaneRecord) -> PlaneObservation? {
+        guard r.event != .remove, let c = r.centerInVIOPlane, let yaw = r.normalYawInVIOPlaneRad,
+              let width = r.widthMeters else { return nil }
+        return PlaneObservation(anchorId: PlaneObservation.anchorId(for: r.anchorId), centerEast: c.east, centerNorth: c.north,
+                                normalYawRad: yaw, widthMeters: width)
+    }
+}

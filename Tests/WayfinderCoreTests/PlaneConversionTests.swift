@@ -1,0 +1,99 @@
+import Foundation
+import XCTest
+import Localizer
+import SessionFormat
+@testable import WayfinderCore
+
+/// ARPlaneAnchor numbers -> PlaneRecord -> localizer observation; the pipeline's anchor table (VIO resets)
+/// and its `usePlanes` switch.
+final class PlaneConversionTests: XCTestCase {
+    // Anchor at (3, 1.2, -4): local x along world -z (horizontal), local y (the normal) along world +x,
+    // local z along world -y (vertical).
+    private let columns: [[Float]] = [[0, 0, -1, 0], [1, 0, 0, 0], [0, -1, 0, 0], [3, 1.2, -4, 1]]
+
+    private func record(rotation: Float = 0, event: PlaneEvent = .add) -> PlaneRecord? {
+        PlaneConversion.record(t: 2, anchorId: "A", event: event, vertical: true, transformColumns: columns,
+                               centerLocal: [0.5, 0, 0], extentWidth: 2, extentHeight: 1.5, rotationOnYAxisRad: rotation,
+                               classification: nil)
+    }
+
+    func testAnchorFieldsBecomeAWorldCenterNormalAndHorizontalWidth() throws {
+        let r = try XCTUnwrap(record())
+        XCTAssertNil(r.validationProblem())
+        let c = try XCTUnwrap(r.centerInWorld)
+        XCTAssertEqual(c[0], 3, accuracy: 1e-6); XCTAssertEqual(c[1], 1.2, accuracy: 1e-6); XCTAssertEqual(c[2], -4.5, accuracy: 1e-6)
+        XCTAssertEqual(r.normalInWorld!, [1, 0, 0])
+        XCTAssertEqual(r.widthMeters!, 2, accuracy: 1e-6)
+        XCTAssertEqual(r.heightMeters!, 1.5, accuracy: 1e-6)
+        // Turned a quarter about the normal, the extent's height is what lies along the floor.
+        let turned = try XCTUnwrap(record(rotation: .pi / 2))
+        XCTAssertEqual(turned.widthMeters!, 1.5, accuracy: 1e-5)
+        XCTAssertEqual(turned.heightMeters!, 2, accuracy: 1e-5)
+        // On the VIO plane: center (3, 4.5), normal toward VIO east (yaw 0).
+        let o = try XCTUnwrap(PlaneConversion.observation(of: r))
+        XCTAssertEqual(o.centerEast, 3, accuracy: 1e-6); XCTAssertEqual(o.centerNorth, 4.5, accuracy: 1e-6)
+        XCTAssertEqual(o.normalYawRad, 0, accuracy: 1e-9)
+        XCTAssertEqual(o.anchorId, PlaneObservation.anchorId(for: "A"))
+        XCTAssertNotEqual(PlaneObservation.anchorId(for: "A"), PlaneObservation.anchorId(for: "B"))
+    }
+
+    func testNonFiniteAnchorsAreNotForwardedAndRemovesCarryNoPose() throws {
+        var bad = columns
+        bad[3][0] = .nan
+        XCTAssertNil(PlaneConversion.record(t: 2, anchorId: "A", event: .update, vertical: true, transformColumns: bad,
+                                            centerLocal: [0, 0, 0], extentWidth: 1, extentHeight: 1, rotationOnYAxisRad: 0,
+                                            classification: nil))
+        XCTAssertNil(PlaneConversion.record(t: 2, anchorId: "A", event: .update, vertical: true, transformColumns: columns,
+                                            centerLocal: [0, 0, 0], extentWidth: .infinity, extentHeight: 1, rotationOnYAxisRad: 0,
+                                            classification: nil))
+        let removed = try XCTUnwrap(record(event: .remove))
+        XCTAssertEqual(removed.event, .remove)
+        XCTAssertNil(removed.centerInWorld)
+        XCTAssertNil(PlaneConversion.observation(of: removed))
+    }
+
+    func testAnchorTableFollowsEventsAndDropsEverythingOnAVIOReset() throws {
+        var table = PlaneAnchorTable()
+        let a = try XCTUnwrap(record())
+        var b = a; b.anchorId = "B"
+        var floor = a; floor.anchorId = "F"; floor.alignment = .horizontal
+        table.observe(tracking: .normal, reason: nil)
+        table.apply(a); table.apply(b); table.apply(floor)
+        XCTAssertEqual(table.anchors.keys.sorted(), ["A", "B"])
+        table.apply(PlaneRecord(t: 3, anchorId: "B", event: .remove))
+        XCTAssertEqual(table.observations.count, 1)
+        table.observe(tracking: .limited, reason: .relocalizing)
+        XCTAssertTrue(table.anchors.isEmpty)
+        table.apply(b)   // an update arriving during the reset spell is not trusted
+        XCTAssertTrue(table.anchors.isEmpty)
+        table.observe(tracking: .normal, reason: nil)
+        table.apply(b)
+        XCTAssertEqual(table.anchors.keys.sorted(), ["B"])
+        table.observe(tracking: .limited, reason: .excessiveMotion)   // not a reset
+        XCTAssertEqual(table.anchors.count, 1)
+    }
+
+    /// The switch: with planes on, a plane the core rejects (non-finite) surfaces as a frame warning; with
+    /// `usePlanes` off the pipeline does not even look at plane events.
+    func testUsePlanesSwitch() throws {
+        let building = try TestData.office()
+        let frame0 = PipelineFrame(t: 0, cameraPose: CameraPose(positionInWorld: (0, 1.4, 0), yawRad: 0, pitchRad: 0, rollRad: -.pi / 2),
+                                   tracking: .normal, intrinsics: .iPhone8Full)
+        var frame1 = frame0
+        frame1.t = 0.6
+        var weird = try XCTUnwrap(record())
+        weird.t = 0.5
+        weird.widthMeters = .nan
+        for use in [true, false] {
+            var o = PipelineOptions()
+            o.localizer.particleCount = 2000
+            o.localizer.minParticles = 1000
+            o.usePlanes = use
+            let pipeline = try WayfinderPipeline(building: building, options: o)
+            _ = pipeline.process(frame0)
+            pipeline.ingest(planes: [weird])
+            let update = pipeline.process(frame1)
+            XCTAssertEqual(update.warnings.contains { $0.contains("planes:") && $0.contains("non-finite") }, use, "\(update.warnings)")
+        }
+    }
+}
