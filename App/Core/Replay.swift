@@ -125,7 +125,7 @@ public enum Replay {
     /// Checks made on the way, each reported in `ReplayResult.warnings` (first) rather than failing:
     /// session.json's `mapId` naming another building than `building`; observations of a sign kind the
     /// map lacks (ignored; the localizer could not use them); more than `maximumObservationsPerFrame`
-    /// observations on one frame (the rest dropped); observations before the first frame (dropped);
+    /// observations on one frame (the rest dropped); observations outside the frames' time span (dropped);
     /// frames naming images that are not there. Where sightings come from:
     /// - `.recorded`: observations.jsonl.
     /// - `.cascade`, `.unet`: the detector on the frames whose image is present; no sightings elsewhere.
@@ -234,16 +234,24 @@ public enum Replay {
     }
 
     /// Recorded observations per frame (each belongs to the latest frame at or before its time), after
-    /// dropping, with one warning per cause: kinds the map lacks, observations before the first frame,
-    /// and the lowest-scored ones beyond `maximumObservationsPerFrame` on a frame.
+    /// dropping, with one warning per cause: observations before the first frame or later than the last
+    /// frame by more than the longest frame interval, kinds the map lacks, and the lowest-scored ones beyond
+    /// `maximumObservationsPerFrame` on a frame.
     static func assignObservations(bundle: SessionBundle, building: Building,
                                    warnings: inout [String]) -> [[ObservationRecord]] {
         var byFrame = [[ObservationRecord]](repeating: [], count: bundle.frames.count)
         let mapKinds = Set(building.floors.flatMap { $0.signs.map(\.kind) })
         var unknownKinds: [String: (count: Int, first: Int)] = [:]
-        var beforeFirstFrame: (count: Int, first: Int)?
+        var beforeFirstFrame: (count: Int, first: Int)?, afterLastFrame: (count: Int, first: Int)?
         let frameTimes = bundle.frames.map(\.t)
+        // An observation later than the last frame by more than the longest frame interval has no frame.
+        let longestGap = zip(frameTimes, frameTimes.dropFirst()).map { $1 - $0 }.max() ?? 0
+        let lastUsable = (frameTimes.last ?? 0) + longestGap + 1e-6
         for (k, o) in bundle.observations.enumerated() {
+            if o.t > lastUsable {
+                afterLastFrame = ((afterLastFrame?.count ?? 0) + 1, afterLastFrame?.first ?? k)
+                continue
+            }
             guard mapKinds.contains(o.kind) else {
                 let u = unknownKinds[o.kind]
                 unknownKinds[o.kind] = ((u?.count ?? 0) + 1, u?.first ?? k)
@@ -268,6 +276,10 @@ public enum Replay {
         if let b = beforeFirstFrame {
             warnings.append("\(bundle.observationLocation(b.first)): \(b.count) observation\(b.count == 1 ? "" : "s") "
                 + "before the first frame (t=\(frameTimes.first ?? 0)) ignored")
+        }
+        if let a = afterLastFrame {
+            warnings.append("\(bundle.observationLocation(a.first)): \(a.count) observation\(a.count == 1 ? "" : "s") "
+                + "after the last frame (t=\(frameTimes.last ?? 0)) ignored")
         }
         var capped = 0, dropped = 0, firstCapped: Int?
         var byFrameCounts: [Int: Int] = [:]

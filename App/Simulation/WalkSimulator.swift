@@ -73,6 +73,12 @@ public struct SimulatedWalk: Sendable {
     /// observations at or before its time; lines go out in group flushes of `flushEveryLines`. A walk cut
     /// off by a kill is therefore a time prefix of the whole walk in every file.
     public func write(to directory: URL, overwrite: Bool = false) throws {
+        try write(to: directory, overwrite: overwrite, afterFrame: nil)
+    }
+
+    /// `write(to:overwrite:)` calling `afterFrame(i)` once frame `i` and its truth and observations are
+    /// appended (tests look at the files on disk mid-write).
+    func write(to directory: URL, overwrite: Bool, afterFrame: ((Int) throws -> Void)?) throws {
         let writer = try BundleWriter(directory: directory, info: info, overwrite: overwrite,
                                       flushEveryLines: Self.flushEveryLines)
         var nextObservation = 0
@@ -86,6 +92,7 @@ public struct SimulatedWalk: Sendable {
                 try writer.append(observations[nextObservation])
                 nextObservation += 1
             }
+            try afterFrame?(i)
         }
         for i in frames.count..<max(frames.count, truth.count) { try writer.append(truth[i]) }
         for o in observations[nextObservation...] { try writer.append(o) }
