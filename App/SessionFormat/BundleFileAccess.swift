@@ -98,9 +98,11 @@ enum BundleFileAccess {
     }
 
     /// Opens `url` for reading under the policy. Throws `.missingFile` when there is nothing there.
-    static func openForReading(_ url: URL, root: String) throws -> ReadOnlyFile {
+    /// `root` nil: no containment rule (an input file outside any bundle, such as an importer's source),
+    /// only the regular-file rule.
+    static func openForReading(_ url: URL, root: String?) throws -> ReadOnlyFile {
         let path = url.path
-        guard case .regularFile(let resolved) = try resolve(url, root: root) else {
+        guard case .regularFile(let resolved) = try resolve(url, root: root ?? "/") else {
             if isSymbolicLink(path) {
                 throw BundleError(.missingFile, file: path, reason: "is a symbolic link to a file that does not exist")
             }

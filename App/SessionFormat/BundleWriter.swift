@@ -85,8 +85,7 @@ public final class BundleWriter: @unchecked Sendable {
                                           + "\(contents.count > 4 ? ", ..." : "")); refusing to overwrite a recording "
                                           + "(pass overwrite: true / --overwrite to replace it)")
                 }
-                let bundleNames = [sessionFileName, imagesDirectoryName, FrameRecord.fileName, ObservationRecord.fileName,
-                                   TruthRecord.fileName, ExpectedAnnouncement.fileName]
+                let bundleNames = [sessionFileName, imagesDirectoryName] + bundleLineFileNames
                 for name in bundleNames where contents.contains(name) {
                     do { try fm.removeItem(at: directory.appendingPathComponent(name)) } catch {
                         throw BundleError(.writeFailed, file: directory.appendingPathComponent(name).path,
@@ -124,6 +123,10 @@ public final class BundleWriter: @unchecked Sendable {
 
     /// Appends one expected announcement to expected.jsonl (created on first use).
     public func append(_ expected: ExpectedAnnouncement) throws { try appendRecord(expected) }
+
+    /// Appends a record of any bundle line type to its file (`R.fileName`, created on first use), with the
+    /// same checks: the entry point for a record type added later.
+    public func append<R: BundleLineRecord>(record: R) throws { try appendRecord(record) }
 
     /// Writes `data` to images/`name` atomically. `name` must be a plain file name; an existing image is
     /// never replaced (`.alreadyExists`).

@@ -32,6 +32,11 @@ public protocol BundleLineRecord: Codable, Sendable {
     static var maximumLineBytes: Int { get }
 }
 
+/// File names of every JSON-lines file of format v1, in the order `BundleWriter` lists them (an overwrite
+/// removes these). A new record type adds its `fileName` here.
+public let bundleLineFileNames = [FrameRecord.fileName, ObservationRecord.fileName, TruthRecord.fileName,
+                                  ExpectedAnnouncement.fileName]
+
 /// Default longest JSON-lines line, bytes: 1 MiB. Frame lines are about 500 bytes, observation lines
 /// about 150, so this leaves room for any future field while bounding memory and decoding time.
 public let defaultMaximumLineBytes = 1 << 20

@@ -280,3 +280,15 @@ final class BundleHardeningTests: XCTestCase {
         try w.close()
     }
 }
+
+/// The importer's input file is read under the regular-file rule too (a FIFO blocked it).
+final class ImporterInputHardeningTests: XCTestCase {
+    func testFIFOAsOccamInputIsAClearError() throws {
+        let dir = try makeTemporaryDirectory(self, "occam-fifo")
+        let input = dir.appendingPathComponent("walk.json")
+        XCTAssertEqual(mkfifo(input.path, 0o644), 0)
+        XCTAssertThrowsError(try OccamImporter.convert(from: input)) { error in
+            XCTAssertTrue("\(error)".contains(input.path) && "\(error)".contains("FIFO"), "\(error)")
+        }
+    }
+}
