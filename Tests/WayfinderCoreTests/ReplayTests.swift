@@ -177,6 +177,8 @@ final class ReplayTests: XCTestCase {
         XCTAssertGreaterThanOrEqual(withObservations.count, 4, "the sample has observed frames early on")
         let present = Array(withObservations.prefix(2)), missing = Array(withObservations.dropFirst(2))
         for i in present + missing { sample.frames[i].image = "frame-\(i).ppm" }
+        // The present images are 640 x 480: their frames get intrinsics of that resolution.
+        for i in present { sample.frames[i].intrinsics = CameraIntrinsics(fx: 534, fy: 534, cx: 320, cy: 240, width: 640, height: 480) }
         let bundle = try writtenCopy(sample)
         // A plain grey 640 x 480 image: the detector finds no sign in it.
         var ppm = Data("P6\n640 480\n255\n".utf8)
@@ -186,6 +188,7 @@ final class ReplayTests: XCTestCase {
 
         let result = try Replay.run(bundle: bundle, building: try TestData.office(), options: quickOptions(bundle))
         for i in present { XCTAssertEqual(result.trace[i].sightings, 0, "frame \(i): the detector, not the recording") }
+        XCTAssertFalse(result.warnings.contains { $0.contains(".ppm") }, "the detector ran on both images: \(result.warnings)")
         for i in missing {
             XCTAssertEqual(result.trace[i].sightings, byFrame[i].count, "frame \(i): its image is missing, its observations replay")
         }
