@@ -127,6 +127,13 @@ public struct SessionBundle: Sendable {
             }
             if case .missing = target { missing.append((imageLines[i] ?? i + 1, name)) }
         }
+        // images/ itself may not lead out of the bundle, even when no frame names an image.
+        if let resolvedImages = BundleFileAccess.realPath(imagesDir.path).path,
+           !BundleFileAccess.isInside(resolvedImages, root: root) {
+            throw BundleError(.linkOutsideBundle, file: imagesDir.path,
+                              reason: "is a symbolic link to \(resolvedImages), outside the bundle directory \(root); links "
+                                  + "that leave the bundle are refused (docs/session-format.md)")
+        }
         if let first = missing.first {
             warnings.append(BundleWarning(
                 .missingImages, file: framesReader.url.path, line: first.line,

@@ -111,6 +111,13 @@ final class BundleHardeningTests: XCTestCase {
         XCTAssertNil(inMemory.presentImageURL(for: f))
     }
 
+    func testImagesDirectoryLinkedOutsideIsRefusedEvenWhenNoFrameNamesAnImage() throws {
+        try replaceWithLink("images", to: "/etc")
+        let e = readError()
+        XCTAssertEqual(e?.kind, .linkOutsideBundle)
+        XCTAssertEqual(e?.file, file("images").path)
+    }
+
     func testImageThatIsAFIFOIsRefused() throws {
         try fm.createDirectory(at: file("images"), withIntermediateDirectories: true)
         XCTAssertEqual(mkfifo(file("images/a.ppm").path, 0o644), 0)
