@@ -18,12 +18,16 @@ enum ReplayCommand: Subcommand {
       --to DEST        destination point-of-interest id or name (default: session.json's destination)
       --from START     start point-of-interest id or name (default: session.json's start; none = floor only)
       --floor FLOOR    start floor id when the start is unknown (default: session.json's floor)
-      --detector       where sign sightings come from (default auto: images if present, else recorded)
+      --detector       where sign sightings come from (default auto: the detector on the images when any is
+                       present, a frame whose image is missing using its recorded observations; else the
+                       recorded observations)
       --models DIR     detector models folder (default SignDetector/models)
       --seed N         particle filter seed (default 1)
       --trace FILE     write one JSON line per frame: t, x, y, floorId, headingRad, confidence, localized,
                        hypotheses, sightings, announcements, haptics
     \(EvidenceSwitches.usage)
+    Warnings (stderr, the replay goes on): session.json's mapId naming another building than MAP, observations
+    of sign kinds MAP lacks (ignored), over 64 observations on one frame (highest scores kept), missing images.
     Exit codes: 0 ok, 1 bad input (map, bundle), 2 usage.
     """
 
@@ -49,7 +53,8 @@ enum ReplayCommand: Subcommand {
         let building = try loadMap(mapPath)
         let bundle = try loadBundle(positionals[0])
         for w in bundle.warnings { progress("warning: \(w)") }
-        if [.cascade, .unet].contains(pipeline.sightingSource), !bundle.frames.contains(where: { $0.image != nil }) {
+        if [.cascade, .unet].contains(pipeline.sightingSource),
+           !bundle.frames.contains(where: { bundle.presentImageURL(for: $0) != nil }) {
             progress("warning: --detector \(pipeline.sightingSource.rawValue) but \(positionals[0]) has no images: no sign sightings")
         }
         var options = Replay.Options(pipeline: Replay.options(for: bundle, overriding: pipeline))

@@ -114,44 +114,86 @@ public enum Replay {
         return portrait ? 2 * atan(Double(k.height) / 2 / k.fy) : 2 * atan(Double(k.width) / 2 / k.fx)
     }
 
+    /// Most recorded observations given to the localizer for one frame: 64. A camera frame shows a few
+    /// signs (the simulator's busiest office frames have under 10 sightings, false alarms included); a
+    /// frame with more is damaged input, and each sighting costs a pass over 100,000 particles (200,000
+    /// sightings at one instant took over a minute). The highest-scored ones are kept, with a warning.
+    public static let maximumObservationsPerFrame = 64
+
     /// Runs the bundle frame by frame. `progress` is called with the fraction done (for stderr output).
+    ///
+    /// Checks made on the way, each reported in `ReplayResult.warnings` (first) rather than failing:
+    /// session.json's `mapId` naming another building than `building`; observations of a sign kind the
+    /// map lacks (ignored; the localizer could not use them); more than `maximumObservationsPerFrame`
+    /// observations on one frame (the rest dropped); observations outside the frames' time span (dropped);
+    /// frames naming images that are not there. Where sightings come from:
+    /// - `.recorded`: observations.jsonl.
+    /// - `.cascade`, `.unet`: the detector on the frames whose image is present; no sightings elsewhere.
+    /// - `.automatic`: like `.unet` when at least one named image is present, and then a frame whose image
+    ///   is missing falls back to its recorded observations; like `.recorded` when no image is present
+    ///   (a bundle naming images it lacks still replays its observations).
     public static func run(bundle: SessionBundle, building: Building, options: Options,
                            progress: ((Double) -> Void)? = nil) throws -> ReplayResult {
-        let imagesDirectory = bundle.url.appendingPathComponent("images")
-        let hasImages = bundle.frames.contains { $0.image != nil }
-        let pipeline = try WayfinderPipeline(building: building, options: options.pipeline, imagesAvailable: hasImages)
-
-        // Observations belong to the latest frame at or before their timestamp.
-        var observationsByFrame = [[ObservationRecord]](repeating: [], count: bundle.frames.count)
-        let frameTimes = bundle.frames.map(\.t)
-        for o in bundle.observations {
-            var lo = 0, hi = frameTimes.count - 1, idx = -1
-            while lo <= hi {
-                let mid = (lo + hi) / 2
-                if frameTimes[mid] <= o.t + 1e-6 { idx = mid; lo = mid + 1 } else { hi = mid - 1 }
-            }
-            if idx >= 0 { observationsByFrame[idx].append(o) }
+        var warnings: [String] = []
+        let sessionPath = bundle.url.appendingPathComponent(sessionFileName).path
+        if let mapId = bundle.info.mapId, mapId != building.id {
+            warnings.append("\(sessionPath): mapId '\(mapId)' names another building than the map given "
+                + "('\(building.id)', \(building.name)); replaying on the given map anyway: positions and directions "
+                + "are likely wrong")
         }
 
         // Plane-anchor events, like observations, go with the latest frame at or before their time.
         var planesByFrame = [[PlaneRecord]](repeating: [], count: bundle.frames.count)
+        let frameTimes = bundle.frames.map(\.t)
         for p in bundle.planes {
-            var lo = 0, hi = frameTimes.count - 1, idx = -1
-            while lo <= hi {
-                let mid = (lo + hi) / 2
-                if frameTimes[mid] <= p.t + 1e-6 { idx = mid; lo = mid + 1 } else { hi = mid - 1 }
-            }
-            if idx >= 0 { planesByFrame[idx].append(p) }
+            if let idx = frameIndex(atOrBefore: p.t, in: frameTimes) { planesByFrame[idx].append(p) }
         }
 
+        // Images actually present (regular files inside the bundle), and the sighting source they allow.
+        let source = options.pipeline.sightingSource
+        var presentImagePaths = [String?](repeating: nil, count: bundle.frames.count)
+        var namedImages = 0, firstMissing: Int?
+        for (i, f) in bundle.frames.enumerated() where f.image != nil {
+            namedImages += 1
+            presentImagePaths[i] = bundle.presentImageURL(for: f)?.path
+            if presentImagePaths[i] == nil, firstMissing == nil { firstMissing = i }
+        }
+        let presentImages = presentImagePaths.lazy.filter { $0 != nil }.count
+        let imageMode: Bool
+        switch source {
+        case .recorded: imageMode = false
+        case .cascade, .unet: imageMode = true
+        case .automatic: imageMode = presentImages > 0
+        }
+        if let first = firstMissing, source != .recorded {
+            let missing = namedImages - presentImages
+            let what = "\(missing) of \(namedImages) frames name images missing from images/ (first at t=\(bundle.frames[first].t))"
+            switch (source, imageMode) {
+            case (.automatic, false):
+                warnings.append("--detector auto: \(what), none is present: using the recorded observations")
+            case (.automatic, true):
+                warnings.append("--detector auto: \(what): those frames use their recorded observations")
+            default:
+                warnings.append("--detector \(source.rawValue): \(what): no sign sightings on those frames")
+            }
+        }
+        let pipeline = try WayfinderPipeline(building: building, options: options.pipeline, imagesAvailable: imageMode)
+
+        let observationsByFrame = assignObservations(bundle: bundle, building: building, warnings: &warnings)
+        let imagesDirectory = bundle.url.appendingPathComponent(imagesDirectoryName)
         var result = ReplayResult(trace: [], announcements: [], haptics: [], sightingRays: [], particleSnapshots: [],
-                                  routePolyline: [], warnings: [])
+                                  routePolyline: [], warnings: warnings)
         let n = bundle.frames.count
         let middleIndex = n / 2
         var wasLocalized = false
         var pendingSnapshotTimes = options.snapshotTimes.sorted()
         for (i, record) in bundle.frames.enumerated() {
-            let frame = PipelineFrame(record: record, imagesDirectory: imagesDirectory, observations: observationsByFrame[i])
+            // In image mode a frame gets recorded observations only as the fallback for its missing image
+            // (used by `.automatic`); the detector's frames use the image.
+            let fallback = imageMode && record.image != nil && presentImagePaths[i] == nil
+            var frame = PipelineFrame(record: record, imagesDirectory: imagesDirectory,
+                                      observations: !imageMode || fallback ? observationsByFrame[i] : [])
+            frame.imagePath = presentImagePaths[i]
             if !planesByFrame[i].isEmpty { pipeline.ingest(planes: planesByFrame[i]) }
             let update = pipeline.process(frame)
             result.warnings.append(contentsOf: update.warnings)
@@ -197,5 +239,81 @@ public enum Replay {
         }
         progress?(1)
         return result
+    }
+
+    /// Recorded observations per frame (each belongs to the latest frame at or before its time), after
+    /// dropping, with one warning per cause: observations before the first frame or later than the last
+    /// frame by more than the longest frame interval, kinds the map lacks, and the lowest-scored ones beyond
+    /// `maximumObservationsPerFrame` on a frame.
+    static func assignObservations(bundle: SessionBundle, building: Building,
+                                   warnings: inout [String]) -> [[ObservationRecord]] {
+        var byFrame = [[ObservationRecord]](repeating: [], count: bundle.frames.count)
+        let mapKinds = Set(building.floors.flatMap { $0.signs.map(\.kind) })
+        var unknownKinds: [String: (count: Int, first: Int)] = [:]
+        var beforeFirstFrame: (count: Int, first: Int)?, afterLastFrame: (count: Int, first: Int)?
+        let frameTimes = bundle.frames.map(\.t)
+        // An observation later than the last frame by more than the longest frame interval has no frame.
+        let longestGap = zip(frameTimes, frameTimes.dropFirst()).map { $1 - $0 }.max() ?? 0
+        let lastUsable = (frameTimes.last ?? 0) + longestGap + 1e-6
+        for (k, o) in bundle.observations.enumerated() {
+            if o.t > lastUsable {
+                afterLastFrame = ((afterLastFrame?.count ?? 0) + 1, afterLastFrame?.first ?? k)
+                continue
+            }
+            guard mapKinds.contains(o.kind) else {
+                let u = unknownKinds[o.kind]
+                unknownKinds[o.kind] = ((u?.count ?? 0) + 1, u?.first ?? k)
+                continue
+            }
+            let idx = frameIndex(atOrBefore: o.t, in: frameTimes) ?? -1
+            if idx >= 0 {
+                byFrame[idx].append(o)
+            } else {
+                beforeFirstFrame = ((beforeFirstFrame?.count ?? 0) + 1, beforeFirstFrame?.first ?? k)
+            }
+        }
+        let known = mapKinds.isEmpty ? "the map has no signs" : "map sign kinds: \(mapKinds.sorted().joined(separator: ", "))"
+        for (kind, u) in unknownKinds.sorted(by: { $0.value.first < $1.value.first }) {
+            warnings.append("\(bundle.observationLocation(u.first)): sign kind '\(kind)' is not on the map '\(building.id)' "
+                + "(\(known)); \(u.count) observation\(u.count == 1 ? "" : "s") of this kind ignored")
+        }
+        if let b = beforeFirstFrame {
+            warnings.append("\(bundle.observationLocation(b.first)): \(b.count) observation\(b.count == 1 ? "" : "s") "
+                + "before the first frame (t=\(frameTimes.first ?? 0)) ignored")
+        }
+        if let a = afterLastFrame {
+            warnings.append("\(bundle.observationLocation(a.first)): \(a.count) observation\(a.count == 1 ? "" : "s") "
+                + "after the last frame (t=\(frameTimes.last ?? 0)) ignored")
+        }
+        var capped = 0, dropped = 0, firstCapped: Int?
+        var byFrameCounts: [Int: Int] = [:]
+        for i in byFrame.indices where byFrame[i].count > maximumObservationsPerFrame {
+            capped += 1
+            byFrameCounts[i] = byFrame[i].count
+            dropped += byFrame[i].count - maximumObservationsPerFrame
+            if firstCapped == nil { firstCapped = i }
+            // Keep the highest scores; ties keep file order.
+            let order = byFrame[i].indices.sorted { a, b in
+                byFrame[i][a].score != byFrame[i][b].score ? byFrame[i][a].score > byFrame[i][b].score : a < b
+            }
+            byFrame[i] = order.prefix(maximumObservationsPerFrame).sorted().map { byFrame[i][$0] }
+        }
+        if let f = firstCapped {
+            warnings.append("\(bundle.observationsFile.path): \(capped) frame\(capped == 1 ? " has" : "s have") more than "
+                + "\(maximumObservationsPerFrame) observations (first: the frame at t=\(frameTimes[f]), "
+                + "\(byFrameCounts[f] ?? 0) observations); kept the \(maximumObservationsPerFrame) highest-scored per frame, "
+                + "\(dropped) observations dropped")
+        }
+        return byFrame
+    }
+
+    /// Index of the latest frame at or before `t` (1 us tolerance) in the sorted `frameTimes`; nil before the first.
+    static func frameIndex(atOrBefore t: Double, in frameTimes: [Double]) -> Int? {
+        var lo = 0, hi = frameTimes.count - 1, idx = -1
+        while lo <= hi {
+            let mid = (lo + hi) / 2
+            if frameTimes[mid] <= t + 1e-6 { idx = mid; lo = mid + 1 } else { hi = mid - 1 }
+        }
+        return idx >= 0 ? idx : nil
     }
 }

@@ -5,6 +5,11 @@ import SignDetection
 
 /// Produces the sign sightings of a frame: either the recorded (already measured) observations, or the
 /// detector run on the frame's image followed by the apparent-height range estimator.
+///
+/// With `.automatic` and a detector loaded, a frame that carries no image but does carry recorded
+/// observations gets those (replay passes them only for frames whose named image is missing: "a missing
+/// image falls back to the frame's recorded observations"). The explicit `.cascade` / `.unet` never mix
+/// in recorded observations.
 final class SignSightingSource {
     private let options: PipelineOptions
     private let detector: SignDetector?
@@ -34,14 +39,13 @@ final class SignSightingSource {
     /// The sightings of `frame`; `.success(nil)` when there was nothing to consult on this frame (no image
     /// and no recorded observations while recorded observations are in use).
     func sightings(for frame: PipelineFrame, pose: CameraPose) -> Result<[SignSighting]?, PipelineError> {
-        guard let detector else {
-            let sightings = frame.measuredObservations.compactMap { o -> SignSighting? in
-                guard o.rangeMeters.isFinite, o.rangeMeters > 0, o.bearingRad.isFinite else { return nil }
-                return SignSighting(kind: o.kind, rangeMeters: o.rangeMeters, bearingRad: o.bearingRad, score: o.score)
+        guard let detector else { return .success(recordedSightings(frame)) }
+        guard frame.image != nil || frame.imagePath != nil else {
+            if options.sightingSource == .automatic, !frame.measuredObservations.isEmpty {
+                return .success(recordedSightings(frame))
             }
-            return .success(sightings)
+            return .success(nil)
         }
-        guard frame.image != nil || frame.imagePath != nil else { return .success(nil) }
         let source = frame.imagePath ?? "camera frame"
         do {
             let image = try frame.image ?? ImageBuffer.load(path: frame.imagePath!)
@@ -63,6 +67,17 @@ final class SignSightingSource {
             return .success(sightings)
         } catch {
             return .failure(.frame("image \(source): \(error)"))
+        }
+    }
+
+    /// The frame's recorded observations as sightings, skipping any with a range that is not finite, not
+    /// positive or beyond `ObservationRecord.maximumRangeMeters` (the reader already drops those from files),
+    /// or a bearing that is not finite.
+    private func recordedSightings(_ frame: PipelineFrame) -> [SignSighting] {
+        frame.measuredObservations.compactMap { o -> SignSighting? in
+            guard o.rangeMeters.isFinite, o.rangeMeters > 0, o.rangeMeters <= ObservationRecord.maximumRangeMeters,
+                  o.bearingRad.isFinite else { return nil }
+            return SignSighting(kind: o.kind, rangeMeters: o.rangeMeters, bearingRad: o.bearingRad, score: o.score)
         }
     }
 }

@@ -14,6 +14,15 @@ public struct BundleError: Error, FileLineMessage, Equatable, Sendable {
         case missingFile
         /// A file exists but could not be opened or read (permissions, I/O error).
         case unreadableFile
+        /// A bundle file is a FIFO, a device (`/dev/zero`), a socket or a directory: refused before reading.
+        case notARegularFile
+        /// A bundle file is a symbolic link (or lies under one) resolving outside the bundle directory, or a
+        /// link loop: refused (docs/session-format.md, "Links and special files").
+        case linkOutsideBundle
+        /// A JSON-lines line is longer than its file's limit (`BundleLineRecord.maximumLineBytes`).
+        case lineTooLong
+        /// A whole-file read (session.json) is larger than its limit (`maximumSessionFileBytes`).
+        case fileTooLarge
         /// A line (or session.json) is not valid JSON, or a line was cut off in the middle of the file.
         case invalidJSON
         /// Valid JSON but not the expected record: missing field, wrong type, unknown enum value.
@@ -68,6 +77,9 @@ public struct BundleWarning: FileLineMessage, Hashable, Sendable, Codable {
         /// Plane-anchor events of planes.jsonl that were dropped or will not be used (horizontal, zero
         /// extent, before a VIO reset, a file whose anchors never update): see `readPlaneRecords`.
         case ignoredPlanes
+        /// Records holding a value outside its physical range (an observation's `rangeMeters` beyond
+        /// `ObservationRecord.maximumRangeMeters`) were dropped; the rest of the file is kept.
+        case implausibleValue
     }
 
     /// Category.

@@ -16,17 +16,31 @@ public struct SessionBundle: Sendable {
     public var truth: [TruthRecord]
     /// expected.jsonl (empty when absent), file order.
     public var expected: [ExpectedAnnouncement]
-    /// Problems the reader recovered from (truncated last line, missing images).
+    /// Problems the reader recovered from (truncated last line, missing images, dropped implausible records).
     public var warnings: [BundleWarning]
     /// planes.jsonl after screening (empty when absent): ARKit plane-anchor events, non-decreasing `t`
     /// (PlaneRecords.swift).
     public var planes: [PlaneRecord] = []
+    /// 1-based line of each observation in observations.jsonl (parallel to `observations`), for messages
+    /// that name the line; empty for bundles built in memory.
+    public var observationLineNumbers: [Int]
 
     /// Creates a bundle value in memory (nothing is read or written).
     public init(url: URL, info: SessionInfo, frames: [FrameRecord], observations: [ObservationRecord] = [],
-                truth: [TruthRecord] = [], expected: [ExpectedAnnouncement] = [], warnings: [BundleWarning] = []) {
+                truth: [TruthRecord] = [], expected: [ExpectedAnnouncement] = [], warnings: [BundleWarning] = [],
+                observationLineNumbers: [Int] = []) {
         self.url = url; self.info = info; self.frames = frames; self.observations = observations
         self.truth = truth; self.expected = expected; self.warnings = warnings
+        self.observationLineNumbers = observationLineNumbers
+    }
+
+    /// Path of observations.jsonl.
+    public var observationsFile: URL { url.appendingPathComponent(ObservationRecord.fileName) }
+
+    /// `PATH line N` of observation `index` (`PATH` alone when the line is unknown), for messages.
+    public func observationLocation(_ index: Int) -> String {
+        if index < observationLineNumbers.count { return "\(observationsFile.path) line \(observationLineNumbers[index])" }
+        return observationsFile.path
     }
 
     /// Directory holding the frames' images.
@@ -37,25 +51,44 @@ public struct SessionBundle: Sendable {
         frame.image.map { imagesDirectory.appendingPathComponent($0) }
     }
 
+    /// The image a frame names when it is actually there: a regular file inside the bundle (links
+    /// resolved, as the reader's policy requires). Nil when the frame names none, the file is missing, or
+    /// it is refused (a link leaving the bundle, a FIFO...). Checks the file system on each call.
+    public func presentImageURL(for frame: FrameRecord) -> URL? {
+        guard let u = imageURL(for: frame),
+              case .regularFile(let p)? = try? BundleFileAccess.resolve(u, root: BundleFileAccess.resolvedRoot(url)) else {
+            return nil
+        }
+        return URL(fileURLWithPath: p)
+    }
+
     /// Reads and checks the bundle directory at `url`.
     ///
     /// Throws `BundleError` (naming the file and line) when: the directory or session.json or frames.jsonl
-    /// is missing; session.json is not JSON, lacks a field or has an unsupported formatVersion; a line of
-    /// any .jsonl file is not JSON or not a valid record (wrong field types, unknown tracking state, a
-    /// transform without 16 finite numbers or not column-major, non-positive intrinsics, non-positive
-    /// range...); timestamps repeat or go back; frames.jsonl has no frame.
+    /// is missing; a bundle file is not a regular file (FIFO, device...) or a link leaving the bundle;
+    /// session.json is not JSON, lacks a field, is over 1 MiB or has an unsupported formatVersion; a line
+    /// of any .jsonl file is over its length limit, not JSON or not a valid record (wrong field types,
+    /// unknown tracking state, a transform without 16 finite numbers or not column-major, non-positive
+    /// intrinsics, non-positive range...); timestamps repeat or go back; frames.jsonl has no frame.
     /// Recovers with a `BundleWarning` from: a cut-off last line of any .jsonl file (dropped), frames
-    /// naming images absent from images/.
+    /// naming images absent from images/, implausible records (an observation range over 100 m: dropped).
     public static func read(from url: URL) throws -> SessionBundle {
         var isDir: ObjCBool = false
         guard FileManager.default.fileExists(atPath: url.path, isDirectory: &isDir) else {
+            if BundleFileAccess.realPath(url.path).error == ELOOP {
+                throw BundleError(.linkOutsideBundle, file: url.path, reason: "symbolic link loop, not a bundle directory")
+            }
+            if BundleFileAccess.isSymbolicLink(url.path) {
+                throw BundleError(.missingDirectory, file: url.path, reason: "is a symbolic link to nothing (no bundle directory)")
+            }
             throw BundleError(.missingDirectory, file: url.path, reason: "session bundle directory not found")
         }
         guard isDir.boolValue else {
             throw BundleError(.notADirectory, file: url.path,
                               reason: "is a file; a session bundle is a directory holding session.json and frames.jsonl")
         }
-        let info = try readSessionInfo(url.appendingPathComponent(sessionFileName))
+        let root = BundleFileAccess.resolvedRoot(url)
+        let info = try readSessionInfo(url.appendingPathComponent(sessionFileName), bundleRoot: url)
         var warnings: [BundleWarning] = []
 
         let framesReader = try FramesReader(bundle: url)
@@ -70,27 +103,39 @@ public struct SessionBundle: Sendable {
             throw BundleError(.noFrames, file: framesReader.url.path,
                               reason: "no frames (the file has no complete frame line)")
         }
-        func optional<R: BundleLineRecord>(_ type: R.Type) throws -> [R] {
+        // Optional files: absent (or a link to nothing) means no records.
+        func optional<R: BundleLineRecord>(_ type: R.Type) throws -> (records: [R], lines: [Int]) {
             let fileURL = url.appendingPathComponent(R.fileName)
-            guard FileManager.default.fileExists(atPath: fileURL.path) else { return [] }
-            let reader = try RecordLineReader<R>(url: fileURL)
-            let records = try reader.readAll()
+            guard case .regularFile = try BundleFileAccess.resolve(fileURL, root: root) else { return ([], []) }
+            let reader = try RecordLineReader<R>(bundle: url)
+            let read = try reader.readAllWithLineNumbers()
             warnings += reader.warnings
-            return records
+            return read
         }
-        let observations = try optional(ObservationRecord.self)
-        let truth = try optional(TruthRecord.self)
-        let expected = try optional(ExpectedAnnouncement.self)
+        let (observations, observationLines) = try optional(ObservationRecord.self)
+        let truth = try optional(TruthRecord.self).records
+        let expected = try optional(ExpectedAnnouncement.self).records
 
         // Images: a missing file is a warning (poses and observations still replay; only the detector
-        // stage lacks its input). One warning for all of them, naming the first.
+        // stage lacks its input). One warning for all of them, naming the first. An image that is a link
+        // leaving the bundle, or not a regular file, is an error (the same policy as every bundle file).
         let imagesDir = url.appendingPathComponent(imagesDirectoryName, isDirectory: true)
         var missing: [(line: Int, name: String)] = []
         for (i, f) in frames.enumerated() {
             guard let name = f.image else { continue }
-            if !FileManager.default.fileExists(atPath: imagesDir.appendingPathComponent(name).path) {
-                missing.append((imageLines[i] ?? i + 1, name))
+            let target: BundleFileAccess.Target
+            do { target = try BundleFileAccess.resolve(imagesDir.appendingPathComponent(name), root: root) } catch var e as BundleError {
+                e.reason += " (image named by \(framesReader.url.path) line \(imageLines[i] ?? i + 1))"
+                throw e
             }
+            if case .missing = target { missing.append((imageLines[i] ?? i + 1, name)) }
+        }
+        // images/ itself may not lead out of the bundle, even when no frame names an image.
+        if let resolvedImages = BundleFileAccess.realPath(imagesDir.path).path,
+           !BundleFileAccess.isInside(resolvedImages, root: root) {
+            throw BundleError(.linkOutsideBundle, file: imagesDir.path,
+                              reason: "is a symbolic link to \(resolvedImages), outside the bundle directory \(root); links "
+                                  + "that leave the bundle are refused (docs/session-format.md)")
         }
         if let first = missing.first {
             warnings.append(BundleWarning(
@@ -101,19 +146,22 @@ public struct SessionBundle: Sendable {
         // Plane anchors (optional file; PlaneRecords.swift reads and screens it).
         let (planes, planeWarnings) = try readPlaneRecords(bundle: url, frames: frames)
         var bundle = SessionBundle(url: url, info: info, frames: frames, observations: observations, truth: truth,
-                                   expected: expected, warnings: warnings + planeWarnings)
+                                   expected: expected, warnings: warnings + planeWarnings,
+                                   observationLineNumbers: observationLines)
         bundle.planes = planes
         return bundle
     }
 
-    /// Reads and checks session.json alone.
-    public static func readSessionInfo(_ fileURL: URL) throws -> SessionInfo {
-        guard FileManager.default.fileExists(atPath: fileURL.path) else {
-            throw BundleError(.missingFile, file: fileURL.path, reason: "file not found (every bundle has session.json)")
-        }
+    /// Reads and checks session.json alone. `bundleRoot` is the bundle directory the file must stay in
+    /// (default: the directory holding it); it must be a regular file of at most `maximumSessionFileBytes`.
+    public static func readSessionInfo(_ fileURL: URL, bundleRoot: URL? = nil) throws -> SessionInfo {
+        let root = BundleFileAccess.resolvedRoot(bundleRoot ?? fileURL.deletingLastPathComponent())
         let data: Data
-        do { data = try Data(contentsOf: fileURL) } catch {
-            throw BundleError(.unreadableFile, file: fileURL.path, reason: "cannot read: \(error.localizedDescription)")
+        do {
+            data = try BundleFileAccess.openForReading(fileURL, root: root).readAll(limit: maximumSessionFileBytes)
+        } catch var e as BundleError where e.kind == .missingFile {
+            e.reason += " (every bundle has session.json)"
+            throw e
         }
         let object: Any
         do { object = try JSONSerialization.jsonObject(with: data) } catch {

@@ -7,16 +7,20 @@ import Darwin
 
 /// The one writer of session bundle format v1, used by the iOS recorder, the simulator and importers.
 ///
-/// Crash safety: each JSON-lines file is opened with `O_APPEND` (never truncated) and every batch of
-/// complete lines goes to the file in a single `write`, so a recording cut off by a crash or a kill holds
-/// only whole lines, except at worst a partial last line, which the reader drops with a warning. With
-/// `flushEveryLines: 1` (the default) each record is handed to the OS as soon as it is appended and
-/// survives an app crash; `flush()` additionally forces it to storage (fsync) against power loss.
-/// session.json and images are written atomically (temporary file + rename).
+/// Crash safety: each JSON-lines file is opened with `O_APPEND` (never truncated, never through a
+/// symbolic link) and lines reach the files only whole, each file's pending lines in a single `write`, so
+/// a recording cut off by a crash or a kill holds only whole lines, except at worst a partial last line
+/// per file, which the reader drops with a warning. With `flushEveryLines: 1` (the default, the phone's
+/// recorder) each record is handed to the OS as soon as it is appended: a kill loses nothing but, at
+/// worst, the line being written. With `flushEveryLines: N` the pending lines of **all** files are written
+/// together once N lines are pending in all (a group flush), so a producer that appends in time order
+/// (the simulator) keeps the files consistent in time: a kill loses at most the N - 1 most recent lines in
+/// all, plus a partial last line. `flush()` additionally forces the files to storage (fsync) against power
+/// loss. session.json and images are written atomically (temporary file + rename).
 ///
 /// Every record is checked with the reader's own rules before it is written (finite numbers, 16-element
-/// column-major transform, increasing timestamps...), so the writer cannot produce a bundle the reader
-/// rejects: a bad record throws `BundleError` and nothing is written for it.
+/// column-major transform, increasing timestamps, plausible ranges...), so the writer cannot produce a
+/// bundle the reader rejects or trims: a bad record throws `BundleError` and nothing is written for it.
 ///
 /// Thread-safe (an internal lock): the recorder may append frames and images from different queues.
 public final class BundleWriter: @unchecked Sendable {
@@ -24,11 +28,13 @@ public final class BundleWriter: @unchecked Sendable {
     public let directory: URL
     /// The session description written to session.json.
     public let info: SessionInfo
-    /// Lines buffered per file before they are written (1 = each line written when appended).
+    /// Lines pending in all files before they are all written (1 = each line written when appended).
     public let flushEveryLines: Int
 
     private let lock = NSLock()
     private var sinks: [String: LineSink] = [:]
+    private var sinkOrder: [LineSink] = []
+    private var pendingLines = 0
     private var closed = false
     private let encoder: JSONEncoder
 
@@ -46,8 +52,8 @@ public final class BundleWriter: @unchecked Sendable {
     ///   - info: session description; `formatVersion` must be `sessionFormatVersion`.
     ///   - overwrite: replace an existing bundle: its session.json, .jsonl files and images/ are deleted
     ///     first (other files are left alone).
-    ///   - flushEveryLines: lines buffered per file before a write (>= 1). Larger values mean fewer system
-    ///     calls; a crash then loses at most this many lines minus one per file.
+    ///   - flushEveryLines: lines pending in all files before they are written together (>= 1). Larger
+    ///     values mean fewer system calls; a crash then loses at most this many lines minus one in all.
     /// - Throws: `BundleError` (`.alreadyExists`, `.notADirectory`, `.unsupportedVersion`, `.invalidValue`,
     ///   `.writeFailed`).
     public init(directory: URL, info: SessionInfo, overwrite: Bool = false, flushEveryLines: Int = 1) throws {
@@ -79,8 +85,7 @@ public final class BundleWriter: @unchecked Sendable {
                                           + "\(contents.count > 4 ? ", ..." : "")); refusing to overwrite a recording "
                                           + "(pass overwrite: true / --overwrite to replace it)")
                 }
-                let bundleNames = [sessionFileName, imagesDirectoryName, FrameRecord.fileName, ObservationRecord.fileName,
-                                   TruthRecord.fileName, ExpectedAnnouncement.fileName, PlaneRecord.fileName]
+                let bundleNames = [sessionFileName, imagesDirectoryName] + bundleLineFileNames
                 for name in bundleNames where contents.contains(name) {
                     do { try fm.removeItem(at: directory.appendingPathComponent(name)) } catch {
                         throw BundleError(.writeFailed, file: directory.appendingPathComponent(name).path,
@@ -121,6 +126,9 @@ public final class BundleWriter: @unchecked Sendable {
 
     /// Appends one plane-anchor event to planes.jsonl (created on first use).
     public func append(_ plane: PlaneRecord) throws { try appendRecord(plane) }
+    /// Appends a record of any bundle line type to its file (`R.fileName`, created on first use), with the
+    /// same checks: the entry point for a record type added later.
+    public func append<R: BundleLineRecord>(record: R) throws { try appendRecord(record) }
 
     /// Writes `data` to images/`name` atomically. `name` must be a plain file name; an existing image is
     /// never replaced (`.alreadyExists`).
@@ -148,7 +156,8 @@ public final class BundleWriter: @unchecked Sendable {
     public func flush() throws {
         lock.lock(); defer { lock.unlock() }
         guard !closed else { return }
-        for sink in sinks.values { try sink.writeBuffered(); try sink.sync() }
+        for sink in sinkOrder { try sink.writeBuffered(); try sink.sync() }
+        pendingLines = 0
     }
 
     /// Flushes and closes every file. Later appends throw `.closed`; closing twice does nothing.
@@ -157,10 +166,11 @@ public final class BundleWriter: @unchecked Sendable {
         guard !closed else { return }
         closed = true
         var firstError: Error?
-        for sink in sinks.values {
+        for sink in sinkOrder {
             do { try sink.writeBuffered(); try sink.sync() } catch { firstError = firstError ?? error }
             sink.close()
         }
+        pendingLines = 0
         if let firstError { throw firstError }
     }
 
@@ -172,7 +182,7 @@ public final class BundleWriter: @unchecked Sendable {
         guard !closed else { throw BundleError(.closed, file: fileURL.path, reason: "writer is closed") }
         let s = try sink(for: R.self)
         let line = s.linesAppended + 1
-        if let problem = record.validationProblem() {
+        if let problem = record.validationProblem() ?? record.plausibilityProblem() {
             throw BundleError(.invalidValue, file: fileURL.path, line: line, reason: "refusing to write: \(problem)")
         }
         if let t = record.orderTime, let p = s.lastTime {
@@ -192,23 +202,34 @@ public final class BundleWriter: @unchecked Sendable {
             throw BundleError(.invalidValue, file: fileURL.path, line: line, reason: "cannot encode: \(error)")
         }
         data.append(0x0A)
+        if data.count - 1 > R.maximumLineBytes {
+            throw BundleError(.lineTooLong, file: fileURL.path, line: line,
+                              reason: "refusing to write: the line has \(data.count - 1) bytes, over the reader's limit of "
+                                  + "\(R.maximumLineBytes)")
+        }
         s.buffer.append(data)
         s.bufferedLines += 1
         s.linesAppended += 1
+        pendingLines += 1
         if let t = record.orderTime { s.lastTime = t }
-        if s.bufferedLines >= flushEveryLines { try s.writeBuffered() }
+        if pendingLines >= flushEveryLines {
+            // Group flush: every file's pending lines, in the order the files were first used.
+            for sink in sinkOrder { try sink.writeBuffered() }
+            pendingLines = 0
+        }
     }
 
     private func sink<R: BundleLineRecord>(for type: R.Type) throws -> LineSink {
         if let s = sinks[R.fileName] { return s }
         let s = try LineSink(url: directory.appendingPathComponent(R.fileName))
         sinks[R.fileName] = s
+        sinkOrder.append(s)
         return s
     }
 }
 
-/// One append-only JSON-lines file: a file descriptor opened with O_APPEND (never O_TRUNC) and the lines
-/// not yet written.
+/// One append-only JSON-lines file: a file descriptor opened with O_APPEND (never O_TRUNC, never through
+/// a symbolic link) and the lines not yet written.
 private final class LineSink {
     let url: URL
     let fd: Int32
@@ -220,7 +241,7 @@ private final class LineSink {
 
     init(url: URL) throws {
         self.url = url
-        fd = open(url.path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC, 0o644)
+        fd = open(url.path, O_WRONLY | O_CREAT | O_APPEND | O_CLOEXEC | O_NOFOLLOW, 0o644)
         if fd < 0 {
             throw BundleError(.writeFailed, file: url.path, reason: "cannot open for appending: \(String(cString: strerror(errno)))")
         }

@@ -39,7 +39,7 @@ public enum OccamImporter {
         public var sightingCount: Int
         /// Distinct tag ids sighted.
         public var distinctTagCount: Int
-        /// Sightings dropped: unknown pose id, malformed tag pose, tag behind the camera or at the camera.
+        /// Sightings dropped: unknown pose id, malformed tag pose, tag behind the camera or at the camera, range over `ObservationRecord.maximumRangeMeters`.
         public var skippedSightings: Int
         /// Poses dropped because they repeat the previous pose's timestamp.
         public var droppedDuplicatePoses: Int
@@ -86,7 +86,14 @@ public enum OccamImporter {
     public static func convert(from file: URL) throws -> Converted {
         func fail(_ reason: String) -> ImportError { ImportError(file: file.path, reason: reason) }
         let data: Data
-        do { data = try Data(contentsOf: file) } catch { throw fail("cannot read: \(error.localizedDescription)") }
+        do {
+            // A regular file only (a FIFO or /dev/zero would block or never end), at most 1 GiB.
+            data = try BundleFileAccess.openForReading(file, root: nil).readAll(limit: 1 << 30)
+        } catch let e as BundleError {
+            throw fail("cannot read: \(e.reason)")
+        } catch {
+            throw fail("cannot read: \(error.localizedDescription)")
+        }
         let root: OccamFile
         do { root = try JSONDecoder().decode(OccamFile.self, from: data) } catch {
             throw fail("not an OCCaM InvisibleMap recording: \(describeDecodingError(error))")
@@ -148,7 +155,8 @@ public enum OccamImporter {
             guard let m = poseById[d.pose_id], let camera = CameraPose(columnMajor: m), d.tag_pose.count == 16,
                   d.tag_pose.allSatisfy(\.isFinite), d.timestamp.isFinite,
                   abs(d.tag_pose[12]) < 1e-3, abs(d.tag_pose[13]) < 1e-3, abs(d.tag_pose[14]) < 1e-3,
-                  let rb = rangeBearing(tagTranslationCV: (d.tag_pose[3], d.tag_pose[7], d.tag_pose[11]), camera: camera)
+                  let rb = rangeBearing(tagTranslationCV: (d.tag_pose[3], d.tag_pose[7], d.tag_pose[11]), camera: camera),
+                  rb.rangeMeters <= ObservationRecord.maximumRangeMeters
             else { skipped += 1; continue }
             observations.append(ObservationRecord(
                 t: d.timestamp, kind: "landmark", rangeMeters: rb.rangeMeters, bearingRad: rb.bearingRad, score: 1,

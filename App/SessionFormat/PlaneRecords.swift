@@ -169,8 +169,11 @@ public func vioResetTimes(_ frames: [FrameRecord]) -> [Double] {
 /// only additions, or a frozen session, and its planes cannot be trusted.
 public func readPlaneRecords(bundle: URL, frames: [FrameRecord]) throws -> (planes: [PlaneRecord], warnings: [BundleWarning]) {
     let fileURL = bundle.appendingPathComponent(PlaneRecord.fileName)
-    guard FileManager.default.fileExists(atPath: fileURL.path) else { return ([], []) }
-    let reader = try RecordLineReader<PlaneRecord>(url: fileURL)
+    // The bundle's file policy (regular files only, no link leaving the bundle): BundleFileAccess.
+    guard case .regularFile = try BundleFileAccess.resolve(fileURL, root: BundleFileAccess.resolvedRoot(bundle)) else {
+        return ([], [])
+    }
+    let reader = try RecordLineReader<PlaneRecord>(bundle: bundle)
     var lines: [(record: PlaneRecord, line: Int)] = []
     while let r = try reader.next() { lines.append((r, reader.lineNumber)) }
     let screened = screenPlaneRecords(lines, frames: frames, file: fileURL.path)

@@ -19,8 +19,33 @@ public protocol BundleLineRecord: Codable, Sendable {
     static var timeOrder: BundleTimeOrder { get }
     /// The timestamp the order applies to, seconds; nil when the record has none.
     var orderTime: Double? { get }
-    /// Nil when every field is in range, otherwise what is wrong, in words.
+    /// Nil when every field is in range, otherwise what is wrong, in words. The reader refuses the file
+    /// (`BundleError.Kind.invalidValue`); the writer refuses the record.
     func validationProblem() -> String?
+    /// Nil when the record is physically plausible, otherwise why not. Checked after
+    /// `validationProblem()`: the reader drops such a record with a `BundleWarning` (`.implausibleValue`,
+    /// naming the file and first line) and keeps the rest of the file; the writer refuses it. Default: nil.
+    func plausibilityProblem() -> String?
+    /// Longest line the reader accepts in this record's file, bytes without the newline; a longer line is
+    /// a `BundleError` (`.lineTooLong`) naming the file and line, and is never held in memory whole.
+    /// Default `defaultMaximumLineBytes` (1 MiB); a record type with bulkier lines may raise it.
+    static var maximumLineBytes: Int { get }
+}
+
+/// File names of every JSON-lines file of format v1, in the order `BundleWriter` lists them (an overwrite
+/// removes these). A new record type adds its `fileName` here.
+public let bundleLineFileNames = [FrameRecord.fileName, ObservationRecord.fileName, TruthRecord.fileName,
+                                  ExpectedAnnouncement.fileName, PlaneRecord.fileName]
+
+/// Default longest JSON-lines line, bytes: 1 MiB. Frame lines are about 500 bytes, observation lines
+/// about 150, so this leaves room for any future field while bounding memory and decoding time.
+public let defaultMaximumLineBytes = 1 << 20
+
+extension BundleLineRecord {
+    /// No plausibility rule beyond `validationProblem()`.
+    public func plausibilityProblem() -> String? { nil }
+    /// `defaultMaximumLineBytes`.
+    public static var maximumLineBytes: Int { defaultMaximumLineBytes }
 }
 
 /// Largest tolerated deviation of the transform's bottom row from (0, 0, 0, 1) and of the rotation from
@@ -115,6 +140,19 @@ extension ObservationRecord: BundleLineRecord {
         }
         guard score.isFinite, score >= 0, score <= 1 else { return "score \(score) is outside 0...1" }
         if let landmarkId, landmarkId.isEmpty { return "landmarkId is empty (omit it instead)" }
+        return nil
+    }
+
+    /// Longest plausible sign range, meters: 100. A 0.21 m sign at 100 m is about 3 pixels tall at the
+    /// iPhone's 1602-pixel focal length, below what any detector finds, and longer than most indoor
+    /// lines of sight; a larger value (1e300) is a broken measurement.
+    public static let maximumRangeMeters = 100.0
+
+    /// Checks: `rangeMeters` at most `maximumRangeMeters`.
+    public func plausibilityProblem() -> String? {
+        if rangeMeters > Self.maximumRangeMeters {
+            return "rangeMeters \(rangeMeters) is beyond the physical limit of \(Self.maximumRangeMeters) m for a sign sighting"
+        }
         return nil
     }
 }

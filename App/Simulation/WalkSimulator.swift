@@ -68,21 +68,42 @@ public struct SimulatedWalk: Sendable {
     /// Simulated ARKit plane-anchor events (planes.jsonl; PlaneSimulator.swift).
     public var planes: [PlaneRecord] = []
 
+    /// Lines the simulator's writer holds before writing them (`BundleWriter` group flush): a kill while
+    /// writing loses at most this many lines minus one in all the files, plus at worst a partial last line.
+    public static let flushEveryLines = 16
+
     /// Writes the walk as a recorded-session bundle (format v1) in `directory` through `BundleWriter`,
     /// rendering the images when the scenario asks for them. The directory must be absent or empty unless
     /// `overwrite` is true.
+    ///
+    /// The files are written interleaved in time order, as a phone records them: for each frame its image
+    /// (first, so a frame line never names an image not yet on disk), the frame, its truth pose, then the
+    /// observations at or before its time; lines go out in group flushes of `flushEveryLines`. A walk cut
+    /// off by a kill is therefore a time prefix of the whole walk in every file.
     public func write(to directory: URL, overwrite: Bool = false) throws {
-        let writer = try BundleWriter(directory: directory, info: info, overwrite: overwrite, flushEveryLines: 512)
-        var renderFailure: Error?
+        try write(to: directory, overwrite: overwrite, afterFrame: nil)
+    }
+
+    /// `write(to:overwrite:)` calling `afterFrame(i)` once frame `i` and its truth and observations are
+    /// appended (tests look at the files on disk mid-write).
+    func write(to directory: URL, overwrite: Bool, afterFrame: ((Int) throws -> Void)?) throws {
+        let writer = try BundleWriter(directory: directory, info: info, overwrite: overwrite,
+                                      flushEveryLines: Self.flushEveryLines)
+        var nextObservation = 0
         for (i, f) in frames.enumerated() {
-            try writer.append(f)
-            try writer.append(truth[i])
             if let name = f.image, let r = renderer {
-                do { try writer.writeImage(named: name, data: r.renderPPM(frameIndex: i)) } catch { renderFailure = error; break }
+                do { try writer.writeImage(named: name, data: r.renderPPM(frameIndex: i)) } catch { try? writer.close(); throw error }
             }
+            try writer.append(f)
+            if i < truth.count { try writer.append(truth[i]) }
+            while nextObservation < observations.count, observations[nextObservation].t <= f.t {
+                try writer.append(observations[nextObservation])
+                nextObservation += 1
+            }
+            try afterFrame?(i)
         }
-        if let e = renderFailure { try? writer.close(); throw e }
-        for o in observations { try writer.append(o) }
+        for i in frames.count..<max(frames.count, truth.count) { try writer.append(truth[i]) }
+        for o in observations[nextObservation...] { try writer.append(o) }
         for e in expected { try writer.append(e) }
         for p in planes { try writer.append(p) }
         try writer.close()

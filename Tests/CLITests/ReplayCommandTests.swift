@@ -126,6 +126,82 @@ final class ReplayCommandTests: XCTestCase {
         r.assertExit(1)
         r.assertStderr(contains: "/nonexistent/walk-bundle")
     }
+
+    // MARK: Issue 14: hostile bundles
+
+    /// A short copy of the sample walk (its first `frameCount` frames) in a fresh directory, with
+    /// session.json edited by `editSession`; the caller removes it.
+    private func shortSampleCopy(frameCount: Int = 40, editSession: (inout [String: Any]) -> Void = { _ in }) throws -> URL {
+        let sample = try CLI.requireSampleBundle()
+        let dir = try CLI.makeTemporaryDirectory("replay-copy")
+        var session = try XCTUnwrap(JSONSerialization.jsonObject(
+            with: Data(contentsOf: sample.appendingPathComponent("session.json"))) as? [String: Any])
+        editSession(&session)
+        try JSONSerialization.data(withJSONObject: session).write(to: dir.appendingPathComponent("session.json"))
+        let frames = try String(contentsOf: sample.appendingPathComponent("frames.jsonl"), encoding: .utf8)
+            .split(separator: "\n").prefix(frameCount)
+        try Data((frames.joined(separator: "\n") + "\n").utf8).write(to: dir.appendingPathComponent("frames.jsonl"))
+        let lastT = try XCTUnwrap(jsonNumber((try JSONSerialization.jsonObject(with: Data(frames.last!.utf8)) as? [String: Any])?["t"]))
+        let observations = try String(contentsOf: sample.appendingPathComponent("observations.jsonl"), encoding: .utf8)
+            .split(separator: "\n").filter { line in
+                let t = jsonNumber((try? JSONSerialization.jsonObject(with: Data(line.utf8)) as? [String: Any])?["t"])
+                return (t ?? .infinity) <= lastT
+            }
+        try Data(observations.map { $0 + "\n" }.joined().utf8).write(to: dir.appendingPathComponent("observations.jsonl"))
+        return dir
+    }
+
+    func testBundleOfAnotherBuildingIsWarnedOnStderr() throws {
+        let dir = try shortSampleCopy { $0["mapId"] = "skeri-4" }
+        defer { try? FileManager.default.removeItem(at: dir) }
+        let r = try CLI.run(["replay", dir.path, "--map", CLI.officeMapPath, "--seed", "1"], timeoutSeconds: 180)
+        r.assertExit(0)
+        r.assertStderr(contains: "warning: \(dir.appendingPathComponent("session.json").path): mapId 'skeri-4' names another building")
+        // The matching map gives no such warning.
+        let same = try shortSampleCopy()
+        defer { try? FileManager.default.removeItem(at: same) }
+        let ok = try CLI.run(["replay", same.path, "--map", CLI.officeMapPath, "--seed", "1"], timeoutSeconds: 180)
+        ok.assertExit(0)
+        XCTAssertFalse(ok.stderr.contains("mapId"), "\(ok)")
+    }
+
+    func testFIFOAsFramesFileExitsOneWithoutBlocking() throws {
+        let dir = try shortSampleCopy()
+        defer { try? FileManager.default.removeItem(at: dir) }
+        let frames = dir.appendingPathComponent("frames.jsonl")
+        try FileManager.default.removeItem(at: frames)
+        XCTAssertEqual(mkfifo(frames.path, 0o644), 0)
+        let r = try CLI.run(["replay", dir.path, "--map", CLI.officeMapPath], timeoutSeconds: 60)
+        r.assertExit(1)
+        r.assertStderr(contains: "\(frames.path): is a FIFO", "not a regular file")
+    }
+
+    func testLinkLeavingTheBundleExitsOneNamingIt() throws {
+        let dir = try shortSampleCopy()
+        defer { try? FileManager.default.removeItem(at: dir) }
+        let observations = dir.appendingPathComponent("observations.jsonl")
+        try FileManager.default.removeItem(at: observations)
+        try FileManager.default.createSymbolicLink(atPath: observations.path, withDestinationPath: "/etc/passwd")
+        let r = try CLI.run(["replay", dir.path, "--map", CLI.officeMapPath], timeoutSeconds: 60)
+        r.assertExit(1)
+        r.assertStderr(contains: observations.path, "/etc/passwd", "outside the bundle")
+    }
+
+    func testUnknownSignKindAndFarRangeAreWarnedNamingFileAndLine() throws {
+        let dir = try shortSampleCopy()
+        defer { try? FileManager.default.removeItem(at: dir) }
+        let observations = dir.appendingPathComponent("observations.jsonl")
+        var lines = try String(contentsOf: observations, encoding: .utf8).split(separator: "\n").map(String.init)
+        XCTAssertFalse(lines.isEmpty, "the short sample has observations")
+        let t = try XCTUnwrap(jsonNumber((try JSONSerialization.jsonObject(with: Data(lines.last!.utf8)) as? [String: Any])?["t"]))
+        lines.append("{\"bearingRad\":0,\"kind\":\"fire-extinguisher\",\"rangeMeters\":2,\"score\":0.9,\"t\":\(t)}")
+        lines.append("{\"bearingRad\":0,\"kind\":\"exit\",\"rangeMeters\":1e300,\"score\":0.9,\"t\":\(t)}")
+        try Data((lines.joined(separator: "\n") + "\n").utf8).write(to: observations)
+        let r = try CLI.run(["replay", dir.path, "--map", CLI.officeMapPath, "--seed", "1"], timeoutSeconds: 180)
+        r.assertExit(0)
+        r.assertStderr(contains: "\(observations.path) line \(lines.count - 1): sign kind 'fire-extinguisher' is not on the map",
+                       "\(observations.path) line \(lines.count): 1 record dropped as physically implausible")
+    }
 }
 
 /// Why a class-level fixture is unavailable: skip (input absent) or fail (the command broke).

@@ -25,7 +25,7 @@ final class BundleWriterTests: XCTestCase {
         var t = 1000.0
         for _ in 0..<500 {
             t += Double.random(in: 1e-9...0.05, using: &rng)
-            let range = Double.random(in: 1e-6...1, using: &rng) * pow(10, Double(Int.random(in: -3...4, using: &rng)))
+            let range = Double.random(in: 1e-6...1, using: &rng) * pow(10, Double(Int.random(in: -3...2, using: &rng)))   // 1e-9 ... 100 m (the plausible limit)
             let o = ObservationRecord(t: t, kind: "exit", rangeMeters: range,
                                       bearingRad: Double.random(in: -Double.pi...Double.pi, using: &rng),
                                       score: Double.random(in: 0...1, using: &rng))
@@ -209,11 +209,11 @@ final class BundleWriterTests: XCTestCase {
         let w = try BundleWriter(directory: dir, info: sampleInfo)
         try w.append(sampleFrame(0))
         DispatchQueue.concurrentPerform(iterations: 400) { i in
-            try? w.append(ObservationRecord(t: 1, kind: "exit", rangeMeters: Double(i + 1), bearingRad: 0, score: 0.5))
+            try? w.append(ObservationRecord(t: 1, kind: "exit", rangeMeters: Double(i + 1) / 4, bearingRad: 0, score: 0.5))
         }
         try w.close()
         let b = try SessionBundle.read(from: dir)
-        XCTAssertEqual(Set(b.observations.map(\.rangeMeters)), Set((1...400).map(Double.init)))
+        XCTAssertEqual(Set(b.observations.map(\.rangeMeters)), Set((1...400).map { Double($0) / 4 }))
     }
 
     func testStreamingReaderAcrossChunkBoundaries() throws {

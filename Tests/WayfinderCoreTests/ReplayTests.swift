@@ -60,4 +60,139 @@ final class ReplayTests: XCTestCase {
             XCTAssertTrue("\(error)".contains("99"))
         }
     }
+
+    // MARK: Issue 14: no silent wrong answer, no slow path
+
+    /// Replay options for quick tests: few particles, fixed seed.
+    private func quickOptions(_ bundle: SessionBundle, source: SightingSource = .automatic) -> Replay.Options {
+        var o = PipelineOptions()
+        o.sightingSource = source
+        var options = Replay.Options(pipeline: Replay.options(for: bundle, overriding: o))
+        options.pipeline.localizer.particleCount = 3000
+        options.snapshotParticleCount = 0
+        return options
+    }
+
+    /// Writes `bundle` (frames, observations, truth) to a fresh directory and reads it back, so observation
+    /// line numbers are real.
+    private func writtenCopy(_ bundle: SessionBundle, info: SessionInfo? = nil) throws -> SessionBundle {
+        let dir = FileManager.default.temporaryDirectory.appendingPathComponent("wf-replay-\(UUID().uuidString)")
+        addTeardownBlock { try? FileManager.default.removeItem(at: dir) }
+        let w = try BundleWriter(directory: dir, info: info ?? bundle.info)
+        for f in bundle.frames { try w.append(f) }
+        for o in bundle.observations { try w.append(o) }
+        for t in bundle.truth { try w.append(t) }
+        try w.close()
+        return try SessionBundle.read(from: dir)
+    }
+
+    func testBundleOfAnotherBuildingIsWarnedFirst() throws {
+        var bundle = try TestData.sample()
+        bundle.frames = Array(bundle.frames.prefix(30))
+        bundle.observations = bundle.observations.filter { $0.t <= bundle.frames[29].t }
+        let building = try TestData.office()
+        let same = try Replay.run(bundle: bundle, building: building, options: quickOptions(bundle))
+        XCTAssertFalse(same.warnings.contains { $0.contains("mapId") }, "\(same.warnings)")
+        bundle.info.mapId = "skeri-4"
+        let other = try Replay.run(bundle: bundle, building: building, options: quickOptions(bundle))
+        let w = try XCTUnwrap(other.warnings.first)
+        XCTAssertTrue(w.contains("session.json") && w.contains("'skeri-4'") && w.contains("'\(building.id)'"), w)
+    }
+
+    func testObservationsOfSignKindsTheMapLacksAreIgnoredWithAWarningNamingFileAndLine() throws {
+        let sample = try TestData.sample()
+        let building = try TestData.office()
+        var damaged = sample
+        // An "elevator" sighting next to every fifth exit sighting: the office map has only exit signs.
+        var observations: [ObservationRecord] = []
+        for (i, o) in sample.observations.enumerated() {
+            observations.append(o)
+            if i % 5 == 2 { observations.append(ObservationRecord(t: o.t, kind: "elevator", rangeMeters: 2, bearingRad: 0.1, score: 0.9)) }
+        }
+        damaged.observations = observations
+        let bundle = try writtenCopy(damaged)
+        let added = observations.count - sample.observations.count
+        let firstLine = try XCTUnwrap(observations.firstIndex { $0.kind == "elevator" }) + 1
+        let result = try Replay.run(bundle: bundle, building: building, options: quickOptions(bundle))
+        let w = try XCTUnwrap(result.warnings.first { $0.contains("'elevator'") }, "\(result.warnings)")
+        XCTAssertTrue(w.contains("observations.jsonl line \(firstLine):"), w)
+        XCTAssertTrue(w.contains("\(added) observations of this kind ignored"), w)
+        // Ignored means exactly that: the replay is the one without them.
+        let clean = try Replay.run(bundle: sample, building: building, options: quickOptions(sample))
+        XCTAssertEqual(result.trace, clean.trace)
+    }
+
+    func testObservationsPerFrameAreCappedKeepingTheHighestScores() throws {
+        var bundle = try TestData.sample()
+        bundle.frames = Array(bundle.frames.prefix(60))
+        let t = bundle.frames[40].t
+        var flood: [ObservationRecord] = []
+        for k in 0..<5000 {
+            flood.append(ObservationRecord(t: t, kind: "exit", rangeMeters: 3, bearingRad: 0, score: Double(k % 1000) / 1000))
+        }
+        bundle.observations = bundle.observations.filter { $0.t < t } + flood
+        bundle.observationLineNumbers = []
+        var warnings: [String] = []
+        let byFrame = Replay.assignObservations(bundle: bundle, building: try TestData.office(), warnings: &warnings)
+        XCTAssertEqual(byFrame[40].count, Replay.maximumObservationsPerFrame)
+        XCTAssertEqual(Replay.maximumObservationsPerFrame, 64)
+        // Scores 0.000...0.999, five of each: the 64 highest are five each of 0.999...0.988 and four of 0.987.
+        XCTAssertEqual(byFrame[40].map(\.score).min(), 0.987)
+        XCTAssertEqual(byFrame[40].filter { $0.score == 0.987 }.count, 4)
+        let w = try XCTUnwrap(warnings.first { $0.contains("more than 64") }, "\(warnings)")
+        XCTAssertTrue(w.contains("\(5000 - 64) observations dropped"), w)
+        // The whole replay stays fast and uses at most the cap (it took over a minute with 200,000).
+        bundle.observations = bundle.observations.filter { $0.t < t } + (0..<50_000).map { k in
+            ObservationRecord(t: t, kind: "exit", rangeMeters: 3, bearingRad: 0, score: Double(k % 997) / 997)
+        }
+        let result = try Replay.run(bundle: bundle, building: try TestData.office(), options: quickOptions(bundle))
+        XCTAssertEqual(result.trace[40].sightings, 64)
+    }
+
+    /// Issue 14: one frame naming a missing image switched `--detector auto` to image mode, dropping every
+    /// recorded sighting: the walk never localized. Now auto uses images only when some are present.
+    func testAutoDetectorWithOnlyMissingImagesReplaysTheRecordedObservations() throws {
+        var bundle = try TestData.sample()
+        bundle.frames[10].image = "missing.ppm"
+        let building = try TestData.office()
+        let auto = try Replay.run(bundle: bundle, building: building, options: quickOptions(bundle))
+        let recorded = try Replay.run(bundle: bundle, building: building, options: quickOptions(bundle, source: .recorded))
+        XCTAssertEqual(auto.trace, recorded.trace)
+        XCTAssertGreaterThan(auto.trace.map(\.sightings).reduce(0, +), 0)
+        XCTAssertTrue(auto.warnings.contains { $0.contains("--detector auto") && $0.contains("none is present") },
+                      "\(auto.warnings)")
+    }
+
+    /// With some images present, auto runs the detector on them, and a frame whose image is missing uses
+    /// its recorded observations instead of nothing.
+    func testAutoDetectorFallsBackToRecordedObservationsForEachMissingImage() throws {
+        let models = TestData.packageRoot.appendingPathComponent("SignDetector/models/sign_unet.onnx")
+        guard FileManager.default.fileExists(atPath: models.path) else { throw XCTSkip("U-Net model not present") }
+        var sample = try TestData.sample()
+        sample.frames = Array(sample.frames.prefix(120))
+        sample.observations = sample.observations.filter { $0.t <= sample.frames[119].t }
+        var ignored: [String] = []
+        let byFrame = Replay.assignObservations(bundle: sample, building: try TestData.office(), warnings: &ignored)
+        let withObservations = sample.frames.indices.filter { !byFrame[$0].isEmpty }
+        XCTAssertGreaterThanOrEqual(withObservations.count, 4, "the sample has observed frames early on")
+        let present = Array(withObservations.prefix(2)), missing = Array(withObservations.dropFirst(2))
+        for i in present + missing { sample.frames[i].image = "frame-\(i).ppm" }
+        // The present images are 640 x 480: their frames get intrinsics of that resolution.
+        for i in present { sample.frames[i].intrinsics = CameraIntrinsics(fx: 534, fy: 534, cx: 320, cy: 240, width: 640, height: 480) }
+        let bundle = try writtenCopy(sample)
+        // A plain grey 640 x 480 image: the detector finds no sign in it.
+        var ppm = Data("P6\n640 480\n255\n".utf8)
+        ppm.append(Data(repeating: 128, count: 640 * 480 * 3))
+        try FileManager.default.createDirectory(at: bundle.imagesDirectory, withIntermediateDirectories: true)
+        for i in present { try ppm.write(to: bundle.imagesDirectory.appendingPathComponent("frame-\(i).ppm")) }
+
+        let result = try Replay.run(bundle: bundle, building: try TestData.office(), options: quickOptions(bundle))
+        for i in present { XCTAssertEqual(result.trace[i].sightings, 0, "frame \(i): the detector, not the recording") }
+        XCTAssertFalse(result.warnings.contains { $0.contains(".ppm") }, "the detector ran on both images: \(result.warnings)")
+        for i in missing {
+            XCTAssertEqual(result.trace[i].sightings, byFrame[i].count, "frame \(i): its image is missing, its observations replay")
+        }
+        XCTAssertTrue(result.warnings.contains { $0.contains("\(missing.count) of \(present.count + missing.count) frames")
+            && $0.contains("use their recorded observations") }, "\(result.warnings)")
+    }
 }

@@ -3,9 +3,13 @@ import Maps
 import SessionFormat
 
 /// Records a walk as a recorded-session bundle (format v1) through the shared `BundleWriter`, so a
-/// recording from the phone replays on Linux with `wayfinder replay`. Crash-safe because the writer
-/// appends and flushes whole lines; images are optional and subsampled by the caller.
-/// Owns its writer; not thread-safe.
+/// recording from the phone replays on Linux with `wayfinder replay`. Images are optional and subsampled
+/// by the caller. Owns its writer; not thread-safe.
+///
+/// Nothing lost at a kill (docs/session-format.md): the writer hands each frame line to the OS as it is
+/// appended (`flushEveryLines: 1`) in one `write`, and a frame's image is written atomically before its
+/// line, so an app killed at any moment leaves every frame but at most a partial last line, and every
+/// image a kept frame names (tested by RecorderKillTests with SIGKILL at random moments).
 public final class WalkRecorder {
     /// The bundle folder being written.
     public let directory: URL
@@ -21,7 +25,7 @@ public final class WalkRecorder {
         self.directory = directory
         let info = SessionInfo(device: device, appVersion: appVersion, mapId: building.id, floorId: floorId, start: startId,
                                destination: destinationId, signHeightMeters: signHeightMeters, carry: "handheld")
-        writer = try BundleWriter(directory: directory, info: info)
+        writer = try BundleWriter(directory: directory, info: info, flushEveryLines: 1)
     }
 
     /// Appends one frame (and its JPEG, if given). Frames without a finite pose, or out of time order,
