@@ -197,6 +197,7 @@ void ParticleFilter::reset_filter_state() {
     hysteresis_.reset();
     compass_.reset();
     estimate_dirty_ = true;
+    dominant_members_valid_ = false;
     // A compass prior given before the first VIO yaw is applied at the next predict.
     compass_pending_ = compass_set_ && !tracker_.has_yaw();
 }
@@ -319,6 +320,7 @@ void ParticleFilter::apply_compass_reweight() {
     }
     normalize(sum);
     compass_pending_ = false;
+    dominant_members_valid_ = false;
 }
 
 void ParticleFilter::normalize(double sum) {
@@ -384,6 +386,7 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
             w[i] *= std::exp(fb * d);
             s += w[i];
         }
+        dominant_members_valid_ = false;  // reweighted: the next estimate re-clusters
         if (s > 0 && std::isfinite(s) && std::isfinite(max_ll)) {
             normalize(s);
             if (!z.empty() && opts_.recovery) {
@@ -578,6 +581,7 @@ void ParticleFilter::resample(double inject_fraction) {
     ++resample_count_;
     injected_count_ += n_inject;
     estimate_dirty_ = true;
+    dominant_members_valid_ = false;
 }
 
 int ParticleFilter::update_altitude(double relative_altitude_m, double t) {
@@ -591,12 +595,57 @@ int ParticleFilter::update_altitude(double relative_altitude_m, double t) {
 }
 
 void ParticleFilter::apply_floor_change(double delta_m) {
+    dominant_members_valid_ = false;
     const double sum = wf::loc::apply_floor_change(p_, map_, delta_m, floor_params_, rng_,
                                                     [this] { return sample_yaw_offset(); });
     normalize(sum);
     maybe_resample(false);
     estimate_dirty_ = true;
     compute_estimate();
+}
+
+void ParticleFilter::follow_dominant_cluster() {
+    estimate_dirty_ = false;
+    double w = 0, sx = 0, sy = 0;
+    for (uint32_t i : dominant_members_) {
+        const double wi = p_.weight[i];
+        w += wi;
+        sx += wi * p_.x[i];
+        sy += wi * p_.y[i];
+    }
+    if (!(w > 0) || !std::isfinite(sx) || !std::isfinite(sy)) {
+        compute_estimate();
+        return;
+    }
+    const double mx = sx / w, my = sy / w;
+    double cxx = 0, cxy = 0, cyy = 0;
+    for (uint32_t i : dominant_members_) {
+        const double wi = p_.weight[i] / w, dx = p_.x[i] - mx, dy = p_.y[i] - my;
+        cxx += wi * dx * dx;
+        cxy += wi * dx * dy;
+        cyy += wi * dy * dy;
+    }
+    wf_localizer_estimate &e = estimate_;
+    e.t = t_last_;
+    e.x = mx;
+    e.y = my;
+    e.cov_xx = cxx;
+    e.cov_xy = cxy;
+    e.cov_yy = cyy;
+    e.heading_rad = wrap_angle(vio_yaw_ + e.yaw_offset_rad);
+    e.dominant_weight = std::clamp(w, 0.0, 1.0);
+    // Largest eigenvalue of the 2x2 covariance in closed form.
+    const double tr = 0.5 * (cxx + cyy), det = cxx * cyy - cxy * cxy;
+    const double std_m = std::sqrt(std::max(0.0, tr + std::sqrt(std::max(0.0, tr * tr - det))));
+    e.position_std_m = std_m;
+    e.confidence = e.dominant_weight / (1.0 + std_m * std_m);
+    if (!hypotheses_.empty()) {
+        hypotheses_.front().x = mx;
+        hypotheses_.front().y = my;
+        hypotheses_.front().heading_rad = e.heading_rad;
+        hypotheses_.front().weight = e.dominant_weight;
+        hypotheses_.front().position_std_m = std_m;
+    }
 }
 
 void ParticleFilter::accumulate_evidence(const float *ll, float max_ll, double t) {
@@ -643,6 +692,7 @@ int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_ra
         total[i] = next;
         s += w[i];
     }
+    dominant_members_valid_ = false;
     normalize(s);
     maybe_resample(false);
     estimate_dirty_ = true;
@@ -739,6 +789,15 @@ void ParticleFilter::compute_estimate() {
         return;
     }
     const ClusterSummary &d = clusters.front();
+    {
+        const std::vector<int32_t> &cluster_of = clusterer_.particle_clusters();
+        dominant_members_.clear();
+        for (size_t i = 0; i < cluster_of.size(); ++i) {
+            if (cluster_of[i] == 0) dominant_members_.push_back(static_cast<uint32_t>(i));
+        }
+        dominant_members_valid_ = !dominant_members_.empty() && cluster_of.size() == p_.size();
+        full_estimate_t_ = t_last_;
+    }
     int32_t hyps = 0;
     for (const ClusterSummary &c : clusters) hyps += c.weight > opts_.hypothesis_min_weight ? 1 : 0;
     Eigen::Matrix2d cov;
@@ -813,7 +872,17 @@ void ParticleFilter::compute_estimate() {
 }
 
 const wf_localizer_estimate &ParticleFilter::estimate() {
-    if (estimate_dirty_) compute_estimate();
+    if (estimate_dirty_) {
+        // Clustering 100k particles costs more than the motion update; between two clusterings (at most
+        // kFullEstimateIntervalS apart, and after every resampling) the estimate follows the dominant cluster's
+        // own particles, which only moved and were reweighted since.
+        const bool full_due = !dominant_members_valid_ || !(t_last_ - full_estimate_t_ < kFullEstimateIntervalS);
+        if (full_due) {
+            compute_estimate();
+        } else {
+            follow_dominant_cluster();
+        }
+    }
     estimate_.particle_count = static_cast<int32_t>(p_.size());
     return estimate_;
 }

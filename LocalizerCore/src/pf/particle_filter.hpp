@@ -104,6 +104,10 @@ private:
     /// evidence time constant since the last evidence at time t.
     void accumulate_evidence(const float *ll, float max_ll, double t);
     void compute_estimate();
+    /// Cheap estimate between two clusterings: the last dominant cluster's particles, re-averaged.
+    void follow_dominant_cluster();
+    /// Longest time between two full clusterings of the estimate, seconds.
+    static constexpr double kFullEstimateIntervalS = 0.2;
 
     LocalizerMap map_;
     wf_localizer_options opts_;
@@ -147,6 +151,9 @@ private:
     bool estimate_dirty_ = true;
     wf_localizer_estimate estimate_{};
     std::vector<wf_localizer_hypothesis> hypotheses_;
+    std::vector<uint32_t> dominant_members_;
+    bool dominant_members_valid_ = false;
+    double full_estimate_t_ = 0;
 };
 
 }  // namespace wf::loc
