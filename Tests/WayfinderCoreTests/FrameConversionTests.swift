@@ -25,6 +25,20 @@ final class FrameConversionTests: XCTestCase {
         XCTAssertNil(FrameConversion.intrinsics(columns: [[.nan, 0, 0], [0, 1602, 0], [960, 720, 1]], width: 1920, height: 1440))
     }
 
+    func testCompassAccuracyIsKeptOnlyWhenValidAndRecorded() {
+        let c = columns(of: CameraPose(positionInWorld: (0, 1.3, 0), yawRad: 0, pitchRad: 0, rollRad: -1.57))
+        func frame(_ accuracy: Double?) -> PipelineFrame? {
+            FrameConversion.pipelineFrame(t: 1, transformColumns: c, intrinsicsColumns: intrinsicsColumns, imageWidth: 1920,
+                                          imageHeight: 1440, trackingState: "normal", trackingReason: nil,
+                                          relativeAltitudeMeters: nil, compassHeadingDeg: 90, compassAccuracyDeg: accuracy)
+        }
+        XCTAssertEqual(frame(12)?.compassAccuracyDeg, 12)
+        XCTAssertNil(frame(-1)?.compassAccuracyDeg)      // Core Location's "invalid"
+        XCTAssertNil(frame(.nan)?.compassAccuracyDeg)
+        let recorded = FrameConversion.record(of: frame(12)!, imageName: nil)
+        XCTAssertEqual(recorded?.compassAccuracyDeg, 12)  // the recorder keeps it for replay
+    }
+
     func testNaNPoseBecomesLostTrackingNotACrash() {
         var c = columns(of: CameraPose(positionInWorld: (0, 0, 0), yawRad: 0, pitchRad: 0, rollRad: 0))
         c[3][0] = .nan

@@ -43,13 +43,17 @@ public enum FrameConversion {
     public static func pipelineFrame(t: Double, transformColumns: [[Float]], intrinsicsColumns: [[Float]],
                                      imageWidth: Int, imageHeight: Int, trackingState: String, trackingReason: String?,
                                      relativeAltitudeMeters: Double?, compassHeadingDeg: Double?,
+                                     compassAccuracyDeg: Double? = nil,
                                      image: ImageBuffer? = nil) -> PipelineFrame? {
         guard t.isFinite, let k = intrinsics(columns: intrinsicsColumns, width: imageWidth, height: imageHeight) else { return nil }
         let pose = columnMajor(columns: transformColumns)
         let (state, reason) = tracking(state: trackingState, reason: trackingReason)
-        return PipelineFrame(t: t, cameraPose: pose, tracking: pose == nil ? .notAvailable : state, trackingReason: reason,
-                             intrinsics: k, relativeAltitudeMeters: relativeAltitudeMeters, compassHeadingDeg: compassHeadingDeg,
-                             image: image)
+        var frame = PipelineFrame(t: t, cameraPose: pose, tracking: pose == nil ? .notAvailable : state,
+                                  trackingReason: reason, intrinsics: k, relativeAltitudeMeters: relativeAltitudeMeters,
+                                  compassHeadingDeg: compassHeadingDeg, image: image)
+        // Core Location's accuracy: negative means invalid, beyond 180 degrees means nothing.
+        if compassHeadingDeg != nil, let a = compassAccuracyDeg, a.isFinite, a >= 0, a <= 180 { frame.compassAccuracyDeg = a }
+        return frame
     }
 
     /// The record written by the recorder for a pipeline frame (nil pose frames are not recorded).
@@ -58,6 +62,6 @@ public enum FrameConversion {
         return FrameRecord(t: frame.t, cameraToWorld: pose.columnMajor, tracking: frame.tracking,
                            trackingReason: frame.trackingReason, intrinsics: frame.intrinsics,
                            relativeAltitudeMeters: frame.relativeAltitudeMeters, compassHeadingDeg: frame.compassHeadingDeg,
-                           image: imageName)
+                           image: imageName, compassAccuracyDeg: frame.compassAccuracyDeg)
     }
 }

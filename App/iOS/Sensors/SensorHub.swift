@@ -21,6 +21,7 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate {
     private let location = CLLocationManager()
     private var relativeAltitudeMeters: Double?
     private var headingDeg: Double?
+    private var headingAccuracyDeg: Double?
     private var scheduler = DetectorScheduler()
     private let thermal = ThermalMonitor()
     private var frameCount = 0
@@ -57,6 +58,7 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate {
         // Magnetic, not true, heading: the map's compassHeadingOfMapNorthDeg is what a compass reads.
         headingDeg = FrameConversion.compassHeadingDeg(newHeading.magneticHeading,
                                                        accuracyDeg: newHeading.headingAccuracy)
+        headingAccuracyDeg = newHeading.headingAccuracy
     }
 
     func session(_ session: ARSession, didUpdate frame: ARFrame) {
@@ -78,6 +80,7 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate {
             imageWidth: CVPixelBufferGetWidth(pixelBuffer), imageHeight: CVPixelBufferGetHeight(pixelBuffer),
             trackingState: state, trackingReason: reason,
             relativeAltitudeMeters: relativeAltitudeMeters, compassHeadingDeg: headingDeg,
+            compassAccuracyDeg: headingAccuracyDeg,
             image: PixelBufferTools.lumaImage(pixelBuffer)) else {
             scheduler.detectionFinished()
             return
