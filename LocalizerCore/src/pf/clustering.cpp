@@ -66,7 +66,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     }
     cluster_of_cell_.assign(cells, -1);
     struct Acc {
-        double w = 0, wx = 0, wy = 0, hc = 0, hs = 0, oc = 0, os = 0, sc = 0, ev = 0;
+        double w = 0, wx = 0, wy = 0, oc = 0, os = 0, sc = 0, ev = 0;
         int16_t floor = 0;
         size_t count = 0;
     };
@@ -87,14 +87,15 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         if (cl < 0) continue;
         Acc &a = acc[cl];
         const double w = p.weight[i];
-        const double h = static_cast<double>(vio_yaw) + p.yaw_offset[i];
+        float so, co;
+        fast_sincos(wrap_angle_f(p.yaw_offset[i]), so, co);
         a.w += w;
         a.wx += w * p.x[i];
         a.wy += w * p.y[i];
-        a.hc += w * std::cos(h);
-        a.hs += w * std::sin(h);
-        a.oc += w * std::cos(static_cast<double>(p.yaw_offset[i]));
-        a.os += w * std::sin(static_cast<double>(p.yaw_offset[i]));
+        // Headings are the offsets turned by the common VIO yaw: their resultant is the offsets' resultant
+        // rotated by it (below), so one sincos per particle serves both means.
+        a.oc += w * co;
+        a.os += w * so;
         a.sc += w * p.scale[i];
         if (has_evidence) a.ev += w * p.evidence[i];
         if (has_compass) a.ev += w * p.compass_ll[i];
@@ -109,10 +110,12 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         s.floor = a.floor;
         s.particle_count = a.count;
         if (a.w > 0) {
+            const double cv = std::cos(static_cast<double>(vio_yaw)), sv = std::sin(static_cast<double>(vio_yaw));
+            const double hc = cv * a.oc - sv * a.os, hs = sv * a.oc + cv * a.os;
             s.x = a.wx / a.w;
             s.y = a.wy / a.w;
-            s.heading = std::atan2(a.hs, a.hc);
-            const double rlen = std::min(1.0, std::sqrt(a.hc * a.hc + a.hs * a.hs) / a.w);
+            s.heading = std::atan2(hs, hc);
+            const double rlen = std::min(1.0, std::sqrt(hc * hc + hs * hs) / a.w);
             s.heading_std = rlen > 1e-12 ? std::sqrt(std::max(0.0, -2.0 * std::log(rlen))) : kPiD;
             s.yaw_offset = std::atan2(a.os, a.oc);
             s.scale = a.sc / a.w;

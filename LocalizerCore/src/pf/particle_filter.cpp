@@ -320,7 +320,6 @@ void ParticleFilter::apply_compass_reweight() {
     }
     normalize(sum);
     compass_pending_ = false;
-    dominant_members_valid_ = false;
 }
 
 void ParticleFilter::normalize(double sum) {
@@ -386,7 +385,6 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
             w[i] *= std::exp(fb * d);
             s += w[i];
         }
-        dominant_members_valid_ = false;  // reweighted: the next estimate re-clusters
         if (s > 0 && std::isfinite(s) && std::isfinite(max_ll)) {
             normalize(s);
             if (!z.empty() && opts_.recovery) {
@@ -606,12 +604,16 @@ void ParticleFilter::apply_floor_change(double delta_m) {
 
 void ParticleFilter::follow_dominant_cluster() {
     estimate_dirty_ = false;
-    double w = 0, sx = 0, sy = 0;
+    double w = 0, sx = 0, sy = 0, oc = 0, os = 0;
     for (uint32_t i : dominant_members_) {
         const double wi = p_.weight[i];
+        float so, co;
+        fast_sincos(p_.yaw_offset[i], so, co);
         w += wi;
         sx += wi * p_.x[i];
         sy += wi * p_.y[i];
+        oc += wi * co;
+        os += wi * so;
     }
     if (!(w > 0) || !std::isfinite(sx) || !std::isfinite(sy)) {
         compute_estimate();
@@ -632,7 +634,10 @@ void ParticleFilter::follow_dominant_cluster() {
     e.cov_xx = cxx;
     e.cov_xy = cxy;
     e.cov_yy = cyy;
+    e.yaw_offset_rad = std::atan2(os, oc);
     e.heading_rad = wrap_angle(vio_yaw_ + e.yaw_offset_rad);
+    const double rlen = std::min(1.0, std::sqrt(oc * oc + os * os) / w);
+    e.heading_std_rad = rlen > 1e-12 ? std::sqrt(std::max(0.0, -2.0 * std::log(rlen))) : kPiD;
     e.dominant_weight = std::clamp(w, 0.0, 1.0);
     // Largest eigenvalue of the 2x2 covariance in closed form.
     const double tr = 0.5 * (cxx + cyy), det = cxx * cyy - cxy * cxy;
@@ -692,7 +697,6 @@ int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_ra
         total[i] = next;
         s += w[i];
     }
-    dominant_members_valid_ = false;
     normalize(s);
     maybe_resample(false);
     estimate_dirty_ = true;
@@ -874,8 +878,8 @@ void ParticleFilter::compute_estimate() {
 const wf_localizer_estimate &ParticleFilter::estimate() {
     if (estimate_dirty_) {
         // Clustering 100k particles costs more than the motion update; between two clusterings (at most
-        // kFullEstimateIntervalS apart, and after every resampling) the estimate follows the dominant cluster's
-        // own particles, which only moved and were reweighted since.
+        // kFullEstimateIntervalS apart, and after every resampling, init or floor change) the estimate follows
+        // the dominant cluster's own particles, which only moved and were reweighted since.
         const bool full_due = !dominant_members_valid_ || !(t_last_ - full_estimate_t_ < kFullEstimateIntervalS);
         if (full_due) {
             compute_estimate();

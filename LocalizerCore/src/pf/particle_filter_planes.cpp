@@ -44,7 +44,6 @@ int ParticleFilter::update_planes(const wf_plane_observation *obs, size_t count,
             normalize(s);
             maybe_resample(false);
             estimate_dirty_ = true;
-            dominant_members_valid_ = false;
         }
     }
     if (planes_.last_stats.non_finite > 0) {
