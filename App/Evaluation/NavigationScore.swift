@@ -1,5 +1,6 @@
 import Foundation
 import Maps
+import Navigation
 import SessionFormat
 
 /// A turn the traveler truly made at a control point of the graph.
@@ -17,13 +18,23 @@ public struct TrueTurn: Codable, Sendable, Equatable {
     public var direction: String
 }
 
+/// A phrase spoken at a time.
+public struct SpokenCue: Codable, Sendable, Equatable {
+    /// Time, seconds (the walk's clock).
+    public var t: Double
+    /// The phrase.
+    public var text: String
+}
+
 /// Navigation figures of one walk, scored against truth.
 ///
-/// Method (documented in docs/evaluation.md): true turns are found from the truth path — every graph node
-/// passed within `passRadiusMeters` where the walking direction 2 m before and 2 m after differs by more
-/// than `turnThresholdDeg`. A cue is a spoken phrase containing "now" and "left"/"right" (the English
-/// template's cue form, see Navigation/Locales/en.json). Each true turn after first convergence should
-/// have a cue of the same direction in the `cueWindowSeconds` before the closest approach.
+/// Method (documented in docs/evaluation.md): true turns are found from the truth track itself — a change
+/// of walking direction of more than `turnThresholdDeg` over a few meters of walking, matched to the graph
+/// node (control point) where the route makes that turn (see `trueTurns`); how close the walker passes the
+/// node does not matter, people cut corners. A cue is a spoken phrase containing "now" and "left"/"right"
+/// (the English template's cue form, see Navigation/Locales/en.json). Each true turn after first
+/// convergence should have a cue of the same direction in the `cueWindowSeconds` before the closest
+/// approach to its node.
 public struct NavigationScore: Codable, Sendable, Equatable {
     /// True turns after the first convergence and before arrival was announced (the ones guidance is
     /// responsible for).
@@ -33,8 +44,12 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     public var cueDistancesBeforeMeters: [Double]
     /// Expected turns with no cue of the right direction.
     public var missingInstructions: Int
+    /// The turns counted in `missingInstructions`.
+    public var missingTurns: [TrueTurn]
     /// Cues whose direction disagrees with the next true turn (or with no true turn near).
     public var wrongInstructions: Int
+    /// The cues counted in `wrongInstructions`: time (seconds) and text, for people to look at.
+    public var wrongCues: [SpokenCue]
     /// True when an arrival phrase was spoken.
     public var arrivalAnnounced: Bool
     /// True distance to the destination when arrival was spoken, meters.
@@ -42,9 +57,7 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     /// Seconds from each wrong-way/off-route correction to the next route instruction.
     public var rerouteSeconds: [Double]
 
-    /// Radius within which the truth path counts as passing a graph node, meters.
-    public static let passRadiusMeters = 1.5
-    /// Direction change above which passing a node counts as a turn, degrees.
+    /// Change of walking direction above which a turn is a true turn, degrees (see `trueTurns`).
     public static let turnThresholdDeg = 35.0
     /// How long before the closest approach a cue may come, seconds.
     public static let cueWindowSeconds = 8.0
@@ -60,7 +73,7 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         }
         expectedTurns = turns
         var distances: [Double] = []
-        var missing = 0
+        var missing: [TrueTurn] = []
         var usedCues = Set<Int>()
         let cues: [(index: Int, t: Double, direction: String)] = announcements.enumerated().compactMap { (i, a) in
             let text = a.text.lowercased()
@@ -76,16 +89,19 @@ public struct NavigationScore: Codable, Sendable, Equatable {
                 let passT = turn.passTimes.first { $0 >= cue.t } ?? turn.t
                 distances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: cue.t))
             } else {
-                missing += 1
+                missing.append(turn)
             }
         }
         cueDistancesBeforeMeters = distances
-        missingInstructions = missing
-        wrongInstructions = cues.filter { cue in
+        missingInstructions = missing.count
+        missingTurns = missing
+        let wrong = cues.filter { cue in
             guard !usedCues.contains(cue.index) else { return false }
             // A cue with a matching true turn shortly after it is not wrong (it may have been a repeat).
             return !turns.contains { $0.direction == cue.direction && $0.t >= cue.t - 2 && $0.t <= cue.t + Self.cueWindowSeconds }
-        }.count
+        }
+        wrongInstructions = wrong.count
+        wrongCues = wrong.map { SpokenCue(t: $0.t, text: announcements[$0.index].text) }
 
         let arrival = announcements.first { Self.isArrival($0.text) }
         arrivalAnnounced = arrival != nil
@@ -120,67 +136,209 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         return nil
     }
 
-    /// The turns the truth path makes at graph nodes (see the type's documentation). Passes of nodes less
-    /// than `mergeMeters` apart along the path (a corner with a door node beside it, a cut corner spread
-    /// over two control points) are one turn, measured from 2 m before the first to 2 m after the last.
+    // MARK: - True turns from the truth track
+
+    /// Half-width of the stretch of walking over which the change of direction at a point is measured:
+    /// the direction of the path over this distance before the point against the direction over this
+    /// distance after it, meters.
+    public static let headingWindowMeters = 2.0
+    /// Points where that change exceeds this form a turn's stretch (its total angle is then measured from
+    /// just before the stretch to just after it, so a corner cut wide over several meters keeps its full
+    /// angle), degrees.
+    public static let turnStretchThresholdDeg = 20.0
+    /// A true turn is tied to a graph node whose closest approach by the path around the turn is at most
+    /// this far, meters: people cut corners by up to a corridor's width and more in open areas.
+    public static let turnMatchRadiusMeters = 4.0
+    /// A node with two or more edges on the floor is a match only when some pair of its edges leads in and
+    /// out within this angle of the path's directions before and after the turn, degrees.
+    public static let edgeAlignmentToleranceDeg = 45.0
+    /// Resampling step along the path, meters.
+    static let sampleStepMeters = 0.1
+    /// A reversal sharper than `cuspAngleDeg` between the 0.3 m before and after a point is a turn-around
+    /// in place (the end of a wrong turn): the path is split there and each part is scored on its own.
+    static let cuspAngleDeg = 160.0
+    static let cuspWindowMeters = 0.3
+    /// At the ends of a stretch of walking at least this much path is needed on each side of a point to
+    /// tell its change of direction, meters.
+    static let minimumSideMeters = 0.5
+
+    /// One resampled point of the truth path.
+    struct PathSample { var t: Double; var x: Double; var y: Double }
+
+    /// The true turns of the walk, detected from the truth track alone (no node proximity, no route):
+    ///
+    /// 1. the path is resampled every 0.1 m of walking (standing still adds nothing), cut at floor changes
+    ///    and at turn-arounds in place;
+    /// 2. at each point the signed change of direction between the `headingWindowMeters` walked before and
+    ///    after it is computed; consecutive points with a change above `turnStretchThresholdDeg`, same
+    ///    sign, form one turn, whose angle is the direction after the stretch against the direction before
+    ///    it (wrapped to +-180 degrees); turns of more than `turnThresholdDeg` and less than 150 degrees
+    ///    are kept (sharper is a turn-around);
+    /// 3. each turn is matched to the route's control point it belongs to: the nearest graph node on the
+    ///    floor whose closest approach by the path around the turn is within `turnMatchRadiusMeters` and
+    ///    where the graph can make that turn (an edge pair aligned with the path before and after it within
+    ///    `edgeAlignmentToleranceDeg`, the same side, at least a slight turn); nodes without two edges on
+    ///    the floor are matched by distance only. A turn with no such node is not at a control point (an
+    ///    incidental change of direction) and is not expected to be cued.
+    ///
+    /// The turn's time is the closest approach to its node.
     public static func trueTurns(truth: TruthTrack, building: Building) -> [TrueTurn] {
         guard truth.records.count > 2 else { return [] }
-        let records = truth.records
-        var passes: [(index: Int, node: GraphNode)] = []
-        for node in building.graph.nodes {
-            // Closest approaches: local minima of distance below the pass radius.
-            var bestIndex: Int?
-            var bestDistance = Double.infinity
-            for (i, r) in records.enumerated() {
-                let d = r.floorId == node.floorId ? hypot(r.x - node.position.x, r.y - node.position.y) : .infinity
-                if d < passRadiusMeters {
-                    if d < bestDistance { bestDistance = d; bestIndex = i }
-                } else if let b = bestIndex {
-                    passes.append((b, node))
-                    bestIndex = nil
-                    bestDistance = .infinity
-                }
-            }
-            if let b = bestIndex { passes.append((b, node)) }
+        // Same-floor neighbours of every node, for the turn check.
+        var nodeById: [String: GraphNode] = [:]
+        for n in building.graph.nodes where nodeById[n.id] == nil { nodeById[n.id] = n }
+        var neighbours: [String: [Point2]] = [:]
+        for e in building.graph.edges {
+            guard let a = nodeById[e.from], let b = nodeById[e.to], a.id != b.id, a.floorId == b.floorId else { continue }
+            neighbours[a.id, default: []].append(b.position)
+            neighbours[b.id, default: []].append(a.position)
         }
-        passes.sort { $0.index < $1.index }
-        var groups: [[(index: Int, node: GraphNode)]] = []
-        for p in passes {
-            if let last = groups.last?.last,
-               truth.cumulativeDistanceMeters[p.index] - truth.cumulativeDistanceMeters[last.index] < mergeMeters {
-                groups[groups.count - 1].append(p)
-            } else {
-                groups.append([p])
+        var turns: [TrueTurn] = []
+        for run in walkingRuns(truth) {
+            let nodes = building.graph.nodes.filter { $0.floorId == run.floorId }
+            for piece in splitAtTurnArounds(run.samples) {
+                turns += Self.turns(in: piece, nodes: nodes, neighbours: neighbours)
             }
         }
-        return groups.compactMap { group in
-            // A walk that ends at the group's last node (the destination's door) has no path after it:
-            // measure the turn at the first node then.
-            (turn(first: group.first!.index, last: group.last!.index, nodeId: group.first!.node.id, truth: truth)
-                ?? turn(first: group.first!.index, last: group.first!.index, nodeId: group.first!.node.id, truth: truth))
-                .map { var t = $0; t.passTimes = group.map { records[$0.index].t }; return t }
-        }
+        return turns.sorted { $0.t < $1.t }
     }
 
-    /// Node passes closer than this along the path form one turn, meters.
-    public static let mergeMeters = 2.0
+    /// The truth resampled every `sampleStepMeters` of walking, one array per stay on a floor.
+    static func walkingRuns(_ truth: TruthTrack) -> [(floorId: String, samples: [PathSample])] {
+        let r = truth.records, cum = truth.cumulativeDistanceMeters
+        var runs: [(floorId: String, samples: [PathSample])] = []
+        var i = 0
+        while i < r.count {
+            var j = i
+            while j + 1 < r.count && r[j + 1].floorId == r[i].floorId { j += 1 }
+            var samples: [PathSample] = []
+            var s = cum[i]
+            var k = i
+            while k < j {
+                let a = r[k], b = r[k + 1], len = cum[k + 1] - cum[k]
+                if len <= 1e-12 || s > cum[k + 1] { k += 1; continue }
+                let f = max(0, (s - cum[k]) / len)
+                samples.append(PathSample(t: a.t + f * (b.t - a.t), x: a.x + f * (b.x - a.x), y: a.y + f * (b.y - a.y)))
+                s += sampleStepMeters
+            }
+            if j > i, let last = samples.last, hypot(r[j].x - last.x, r[j].y - last.y) > 1e-9 {
+                samples.append(PathSample(t: r[j].t, x: r[j].x, y: r[j].y))
+            }
+            if samples.count > 1 { runs.append((r[i].floorId, samples)) }
+            i = j + 1
+        }
+        return runs
+    }
 
-    private static func turn(first: Int, last: Int, nodeId: String, truth: TruthTrack) -> TrueTurn? {
-        let records = truth.records
-        let cum = truth.cumulativeDistanceMeters
-        let before = records.indices.last(where: { cum[$0] <= cum[first] - 2 && $0 < first }) ?? 0
-        let after = records.indices.first(where: { cum[$0] >= cum[last] + 2 && $0 > last }) ?? records.count - 1
-        // At the ends of the walk (a cut corner into the destination's door) at least 0.3 m of path is
-        // needed on each side to tell a direction.
-        guard cum[first] - cum[before] >= 0.3, cum[after] - cum[last] >= 0.3 else { return nil }
-        let a = records[before], m1 = records[first], m2 = records[last], b = records[after]
-        let inAngle = atan2(m1.y - a.y, m1.x - a.x)
-        let outAngle = atan2(b.y - m2.y, b.x - m2.x)
-        var d = outAngle - inAngle
+    private static func direction(_ a: PathSample, _ b: PathSample) -> Double { atan2(b.y - a.y, b.x - a.x) }
+
+    private static func wrapDeg(_ rad: Double) -> Double {
+        var d = rad
         while d > .pi { d -= 2 * .pi }
-        while d < -.pi { d += 2 * .pi }
-        let deg = d * 180 / .pi
-        guard abs(deg) > turnThresholdDeg, abs(deg) < 150 else { return nil }
-        return TrueTurn(nodeId: nodeId, t: m2.t, passTimes: [m1.t], angleDeg: deg, direction: deg > 0 ? "left" : "right")
+        while d <= -.pi { d += 2 * .pi }
+        return d * 180 / .pi
+    }
+
+    /// Cuts a resampled stretch at each turn-around in place (the sharpest point of each cluster of points
+    /// whose direction reverses by more than `cuspAngleDeg` within `cuspWindowMeters`).
+    static func splitAtTurnArounds(_ samples: [PathSample]) -> [[PathSample]] {
+        let m = max(1, Int((cuspWindowMeters / sampleStepMeters).rounded()))
+        guard samples.count > 2 * m else { return [samples] }
+        var cuts: [Int] = []
+        var k = m
+        while k < samples.count - m {
+            let change = abs(wrapDeg(direction(samples[k], samples[k + m]) - direction(samples[k - m], samples[k])))
+            if change > cuspAngleDeg {
+                // Sharpest point of this cluster.
+                var best = k, bestChange = change
+                var q = k + 1
+                while q < samples.count - m {
+                    let c = abs(wrapDeg(direction(samples[q], samples[q + m]) - direction(samples[q - m], samples[q])))
+                    guard c > cuspAngleDeg else { break }
+                    if c > bestChange { best = q; bestChange = c }
+                    q += 1
+                }
+                cuts.append(best)
+                k = q
+            } else {
+                k += 1
+            }
+        }
+        var pieces: [[PathSample]] = []
+        var from = 0
+        for c in cuts { pieces.append(Array(samples[from...c])); from = c }
+        pieces.append(Array(samples[from...]))
+        return pieces.filter { $0.count > 1 }
+    }
+
+    /// Turns in one stretch without turn-arounds (steps 2 and 3 of `trueTurns`).
+    private static func turns(in p: [PathSample], nodes: [GraphNode], neighbours: [String: [Point2]]) -> [TrueTurn] {
+        let n = p.count
+        let w = max(1, Int((headingWindowMeters / sampleStepMeters).rounded()))
+        let side = max(1, Int((minimumSideMeters / sampleStepMeters).rounded()))
+        guard n > 2 * side else { return [] }
+        var change = [Double](repeating: 0, count: n)
+        for k in side..<(n - side) {
+            change[k] = wrapDeg(direction(p[k], p[min(n - 1, k + w)]) - direction(p[max(0, k - w)], p[k]))
+        }
+        var out: [TrueTurn] = []
+        var k = 0
+        while k < n {
+            guard abs(change[k]) > turnStretchThresholdDeg else { k += 1; continue }
+            let sign = change[k] > 0
+            var end = k
+            while end + 1 < n && abs(change[end + 1]) > turnStretchThresholdDeg && (change[end + 1] > 0) == sign { end += 1 }
+            defer { k = end + 1 }
+            let before = max(0, k - w), after = min(n - 1, end + w)
+            let inDir = direction(p[before], p[k]), outDir = direction(p[end], p[after])
+            let angle = wrapDeg(outDir - inDir)
+            guard abs(angle) > turnThresholdDeg, abs(angle) < 150 else { continue }
+            guard let match = matchNode(p[before...after], angleDeg: angle, inDir: inDir, outDir: outDir,
+                                        nodes: nodes, neighbours: neighbours) else { continue }
+            out.append(TrueTurn(nodeId: match.node.id, t: match.t, passTimes: [match.t], angleDeg: angle,
+                                direction: angle > 0 ? "left" : "right"))
+        }
+        return out
+    }
+
+    /// The control point a turn belongs to (step 3 of `trueTurns`) and the time of closest approach to it.
+    private static func matchNode(_ stretch: ArraySlice<PathSample>, angleDeg: Double, inDir: Double, outDir: Double,
+                                  nodes: [GraphNode], neighbours: [String: [Point2]]) -> (node: GraphNode, t: Double)? {
+        var minX = Double.infinity, minY = Double.infinity, maxX = -Double.infinity, maxY = -Double.infinity
+        for s in stretch { minX = min(minX, s.x); maxX = max(maxX, s.x); minY = min(minY, s.y); maxY = max(maxY, s.y) }
+        let r = turnMatchRadiusMeters
+        let tolerance = edgeAlignmentToleranceDeg
+        var best: (node: GraphNode, t: Double, d: Double, checked: Bool)?
+        for node in nodes {
+            let q = node.position
+            guard q.x >= minX - r, q.x <= maxX + r, q.y >= minY - r, q.y <= maxY + r else { continue }
+            var d = Double.infinity, t = 0.0
+            for s in stretch {
+                let e = hypot(s.x - q.x, s.y - q.y)
+                if e < d { d = e; t = s.t }
+            }
+            guard d <= r else { continue }
+            let adjacent = neighbours[node.id] ?? []
+            let checked = adjacent.count >= 2
+            if checked {
+                // Some edge pair (in from a, out to b) must make this turn.
+                var ok = false
+                for a in adjacent where !ok {
+                    let inEdge = atan2(q.y - a.y, q.x - a.x)
+                    guard abs(wrapDeg(inEdge - inDir)) <= tolerance else { continue }
+                    for b in adjacent where b != a {
+                        let outEdge = atan2(b.y - q.y, b.x - q.x)
+                        guard abs(wrapDeg(outEdge - outDir)) <= tolerance else { continue }
+                        let graphTurn = wrapDeg(outEdge - inEdge)
+                        if (graphTurn > 0) == (angleDeg > 0) && abs(graphTurn) >= TurnClassifier.straightBelowDeg { ok = true; break }
+                    }
+                }
+                guard ok else { continue }
+            }
+            // Nodes the turn check applies to come first; then the nearest.
+            if let b = best, (b.checked && !checked) || (b.checked == checked && b.d <= d) { continue }
+            best = (node, t, d, checked)
+        }
+        return best.map { ($0.node, $0.t) }
     }
 }
