@@ -31,8 +31,9 @@ public struct SpokenCue: Codable, Sendable, Equatable {
 /// Method (documented in docs/evaluation.md): true turns are found from the truth track itself — a change
 /// of walking direction of more than `turnThresholdDeg` over a few meters of walking, matched to the graph
 /// node (control point) where the route makes that turn (see `trueTurns`); how close the walker passes the
-/// node does not matter, people cut corners. A cue is a spoken phrase containing "now" and "left"/"right"
-/// (the English template's cue form, see Navigation/Locales/en.json). Each true turn after first
+/// node does not matter, people cut corners. A cue is a phrase that tells the traveler to turn left or right
+/// at once (see `cueDirection`: "Turn left now.", "Then turn right.", "Turn left, then go 8 meters."). Each
+/// true turn after first
 /// convergence should have a cue of the same direction in the `cueWindowSeconds` before the closest
 /// approach to its node.
 public struct NavigationScore: Codable, Sendable, Equatable {
@@ -76,11 +77,7 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         var missing: [TrueTurn] = []
         var usedCues = Set<Int>()
         let cues: [(index: Int, t: Double, direction: String)] = announcements.enumerated().compactMap { (i, a) in
-            let text = a.text.lowercased()
-            guard text.contains("now") else { return nil }
-            if text.contains("left") { return (i, a.t, "left") }
-            if text.contains("right") { return (i, a.t, "right") }
-            return nil
+            Self.cueDirection(a.text).map { (i, a.t, $0) }
         }
         for turn in turns {
             if let cue = cues.last(where: { $0.t <= turn.t && $0.t >= turn.t - Self.cueWindowSeconds && $0.direction == turn.direction }) {
@@ -123,6 +120,22 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         rerouteSeconds = reroutes
     }
 
+    /// The direction a phrase tells the traveler to turn at once, "left" or "right", nil for any other
+    /// phrase. English templates (Navigation/Locales/en.json), matched by whole words: a cue ("Turn left
+    /// now.", "Bear right now.", "Sharp left now."), the cue chained right after another one ("Then turn
+    /// left.", said for a turn less than 3 m after the first) and a departure that starts with a turn ("Turn
+    /// right, then go 10 meters.", said on first localizing when the route turns within 1.5 m).
+    public static func cueDirection(_ text: String) -> String? {
+        let words = text.lowercased().split { !$0.isLetter }.map(String.init)
+        guard let first = words.first, first != "arrived", first != "near" else { return nil }
+        let isCue = words.contains("now") || first == "then"
+            || (words.count >= 3 && first == "turn" && words[2] == "then")
+        guard isCue else { return nil }
+        let left = words.contains("left"), right = words.contains("right")
+        if left == right { return nil }
+        return left ? "left" : "right"
+    }
+
     /// True for the arrival phrase ("Arrived. Room 312 is on your left...").
     static func isArrival(_ text: String) -> Bool {
         let t = text.lowercased()
@@ -146,12 +159,15 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     /// just before the stretch to just after it, so a corner cut wide over several meters keeps its full
     /// angle), degrees.
     public static let turnStretchThresholdDeg = 20.0
-    /// A true turn is tied to a graph node whose closest approach by the path around the turn is at most
-    /// this far, meters: people cut corners by up to a corridor's width and more in open areas.
+    /// A true turn is tied to a graph node at most this far from the turn's corner (where the path's line
+    /// before the turn meets its line after it), meters.
     public static let turnMatchRadiusMeters = 4.0
     /// A node with two or more edges on the floor is a match only when some pair of its edges leads in and
     /// out within this angle of the path's directions before and after the turn, degrees.
-    public static let edgeAlignmentToleranceDeg = 45.0
+    public static let edgeAlignmentToleranceDeg = 60.0
+    /// Stretches of one direction closer than this along the path are one turn (a corner cut on the
+    /// diagonal), meters.
+    public static let mergeGapMeters = 4.0
     /// Resampling step along the path, meters.
     static let sampleStepMeters = 0.1
     /// A reversal sharper than `cuspAngleDeg` between the 0.3 m before and after a point is a turn-around
@@ -171,15 +187,17 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     ///    and at turn-arounds in place;
     /// 2. at each point the signed change of direction between the `headingWindowMeters` walked before and
     ///    after it is computed; consecutive points with a change above `turnStretchThresholdDeg`, same
-    ///    sign, form one turn, whose angle is the direction after the stretch against the direction before
+    ///    sign, form one turn (as do such stretches of one sign less than `mergeGapMeters` apart: a corner
+    ///    cut on the diagonal), whose angle is the direction after the stretch against the direction before
     ///    it (wrapped to +-180 degrees); turns of more than `turnThresholdDeg` and less than 150 degrees
-    ///    are kept (sharper is a turn-around);
+    ///    are kept; a stretch of 150 degrees or more (a U-shaped route: two turns a meter or two apart) is
+    ///    cut where the path's direction is halfway round and each part measured on its own;
     /// 3. each turn is matched to the route's control point it belongs to: the nearest graph node on the
-    ///    floor whose closest approach by the path around the turn is within `turnMatchRadiusMeters` and
-    ///    where the graph can make that turn (an edge pair aligned with the path before and after it within
-    ///    `edgeAlignmentToleranceDeg`, the same side, at least a slight turn); nodes without two edges on
-    ///    the floor are matched by distance only. A turn with no such node is not at a control point (an
-    ///    incidental change of direction) and is not expected to be cued.
+    ///    floor within `turnMatchRadiusMeters` of the turn's corner where the graph can make that turn (an
+    ///    edge pair aligned with the path before and after it within `edgeAlignmentToleranceDeg`, the same
+    ///    side, at least a slight turn); dead ends (one edge) never match, nodes without edges (a graph
+    ///    given without them) match by distance only. A turn with no such node is not at a control point
+    ///    (an incidental change of direction) and is not expected to be cued.
     ///
     /// The turn's time is the closest approach to its node.
     public static func trueTurns(truth: TruthTrack, building: Building) -> [TrueTurn] {
@@ -281,44 +299,99 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         for k in side..<(n - side) {
             change[k] = wrapDeg(direction(p[k], p[min(n - 1, k + w)]) - direction(p[max(0, k - w)], p[k]))
         }
-        var out: [TrueTurn] = []
+        // Stretches of one sign above the threshold.
+        var stretches: [(from: Int, to: Int, left: Bool)] = []
         var k = 0
         while k < n {
             guard abs(change[k]) > turnStretchThresholdDeg else { k += 1; continue }
-            let sign = change[k] > 0
+            let left = change[k] > 0
             var end = k
-            while end + 1 < n && abs(change[end + 1]) > turnStretchThresholdDeg && (change[end + 1] > 0) == sign { end += 1 }
-            defer { k = end + 1 }
-            let before = max(0, k - w), after = min(n - 1, end + w)
-            let inDir = direction(p[before], p[k]), outDir = direction(p[end], p[after])
-            let angle = wrapDeg(outDir - inDir)
-            guard abs(angle) > turnThresholdDeg, abs(angle) < 150 else { continue }
-            guard let match = matchNode(p[before...after], angleDeg: angle, inDir: inDir, outDir: outDir,
-                                        nodes: nodes, neighbours: neighbours) else { continue }
-            out.append(TrueTurn(nodeId: match.node.id, t: match.t, passTimes: [match.t], angleDeg: angle,
-                                direction: angle > 0 ? "left" : "right"))
+            while end + 1 < n && abs(change[end + 1]) > turnStretchThresholdDeg && (change[end + 1] > 0) == left { end += 1 }
+            stretches.append((k, end, left))
+            k = end + 1
+        }
+        // A corner cut on a straight diagonal bends twice, where the walker leaves the route and where it
+        // rejoins it: stretches of the same sign less than `mergeGapMeters` apart are one turn (unless
+        // together they turn back on themselves, which two turns of a U-shaped route do).
+        let gap = Int((mergeGapMeters / sampleStepMeters).rounded())
+        var groups: [[(from: Int, to: Int, left: Bool)]] = []
+        for st in stretches {
+            if let last = groups.last?.last, last.left == st.left, st.from - last.to <= gap {
+                groups[groups.count - 1].append(st)
+            } else {
+                groups.append([st])
+            }
+        }
+        /// A measured turn: the stretch `from...to`, the lines before and after it (two samples each).
+        struct Candidate { var from: Int; var to: Int; var in1: Int; var in2: Int; var out1: Int; var out2: Int
+            var before: Int; var after: Int }
+        func whole(_ from: Int, _ to: Int) -> Candidate {
+            let before = max(0, from - w), after = min(n - 1, to + w)
+            return Candidate(from: from, to: to, in1: before, in2: from, out1: to, out2: after, before: before, after: after)
+        }
+        func angle(_ c: Candidate) -> Double { wrapDeg(direction(p[c.out1], p[c.out2]) - direction(p[c.in1], p[c.in2])) }
+        // A group that turns back on itself (150 degrees or more) is two turns of a U-shaped route (turns
+        // in place were cut off above): it is cut where the path's direction is halfway round (the
+        // straight bit between the two corners), and each part is measured against the direction there.
+        let local = max(1, Int((cuspWindowMeters / sampleStepMeters).rounded()))
+        var candidates: [Candidate] = []
+        for g in groups {
+            let c = whole(g.first!.from, g.last!.to)
+            guard abs(angle(c)) >= 150, c.to - c.from >= 4 else { candidates.append(c); continue }
+            // Where the path's own direction is halfway round (the sign from the stretches: near 180
+            // degrees the measured angle cannot tell left from right).
+            let total = (g.first!.left ? 1.0 : -1.0) * abs(angle(c))
+            let target = direction(p[c.in1], p[c.in2]) + total / 2 * .pi / 180
+            var saddle = c.from, best = Double.infinity
+            for q in c.from...c.to {
+                let off = abs(wrapDeg(direction(p[max(0, q - local)], p[min(n - 1, q + local)]) - target))
+                if off < best { best = off; saddle = q }
+            }
+            let s1 = max(0, saddle - local), s2 = min(n - 1, saddle + local)
+            candidates.append(Candidate(from: c.from, to: saddle, in1: c.in1, in2: c.in2, out1: s1, out2: s2,
+                                        before: c.before, after: s2))
+            candidates.append(Candidate(from: saddle, to: c.to, in1: s1, in2: s2, out1: c.out1, out2: c.out2,
+                                        before: s1, after: c.after))
+        }
+        var out: [TrueTurn] = []
+        for c in candidates {
+            let a = angle(c)
+            guard abs(a) > turnThresholdDeg, abs(a) < 150 else { continue }
+            let inDir = direction(p[c.in1], p[c.in2]), outDir = direction(p[c.out1], p[c.out2])
+            // The turn's corner: where the path's line before the turn meets its line after it (the route's
+            // corner however the walker rounded it).
+            let corner = intersection(p[c.in1], p[c.in2], p[c.out1], p[c.out2]) ?? Point2(p[c.from].x, p[c.from].y)
+            guard let match = matchNode(p[c.before...c.after], corner: corner, angleDeg: a, inDir: inDir,
+                                        outDir: outDir, nodes: nodes, neighbours: neighbours) else { continue }
+            out.append(TrueTurn(nodeId: match.node.id, t: match.t, passTimes: [match.t], angleDeg: a,
+                                direction: a > 0 ? "left" : "right"))
         }
         return out
     }
 
+    /// Intersection of the line through a1, a2 with the line through b1, b2 (nil when nearly parallel).
+    private static func intersection(_ a1: PathSample, _ a2: PathSample, _ b1: PathSample, _ b2: PathSample) -> Point2? {
+        let dax = a2.x - a1.x, day = a2.y - a1.y, dbx = b2.x - b1.x, dby = b2.y - b1.y
+        let denom = dax * dby - day * dbx
+        let la = hypot(dax, day), lb = hypot(dbx, dby)
+        guard la > 1e-9, lb > 1e-9, abs(denom) > 1e-3 * la * lb else { return nil }
+        let t = ((b1.x - a1.x) * dby - (b1.y - a1.y) * dbx) / denom
+        return Point2(a1.x + t * dax, a1.y + t * day)
+    }
+
     /// The control point a turn belongs to (step 3 of `trueTurns`) and the time of closest approach to it.
-    private static func matchNode(_ stretch: ArraySlice<PathSample>, angleDeg: Double, inDir: Double, outDir: Double,
-                                  nodes: [GraphNode], neighbours: [String: [Point2]]) -> (node: GraphNode, t: Double)? {
-        var minX = Double.infinity, minY = Double.infinity, maxX = -Double.infinity, maxY = -Double.infinity
-        for s in stretch { minX = min(minX, s.x); maxX = max(maxX, s.x); minY = min(minY, s.y); maxY = max(maxY, s.y) }
+    private static func matchNode(_ stretch: ArraySlice<PathSample>, corner: Point2, angleDeg: Double, inDir: Double,
+                                  outDir: Double, nodes: [GraphNode], neighbours: [String: [Point2]]) -> (node: GraphNode, t: Double)? {
         let r = turnMatchRadiusMeters
         let tolerance = edgeAlignmentToleranceDeg
-        var best: (node: GraphNode, t: Double, d: Double, checked: Bool)?
+        var best: (node: GraphNode, d: Double, checked: Bool)?
         for node in nodes {
             let q = node.position
-            guard q.x >= minX - r, q.x <= maxX + r, q.y >= minY - r, q.y <= maxY + r else { continue }
-            var d = Double.infinity, t = 0.0
-            for s in stretch {
-                let e = hypot(s.x - q.x, s.y - q.y)
-                if e < d { d = e; t = s.t }
-            }
+            let d = hypot(corner.x - q.x, corner.y - q.y)
             guard d <= r else { continue }
             let adjacent = neighbours[node.id] ?? []
+            // One edge: a dead end (a room's node) where one only arrives, departs or turns around.
+            if adjacent.count == 1 { continue }
             let checked = adjacent.count >= 2
             if checked {
                 // Some edge pair (in from a, out to b) must make this turn.
@@ -335,10 +408,16 @@ public struct NavigationScore: Codable, Sendable, Equatable {
                 }
                 guard ok else { continue }
             }
-            // Nodes the turn check applies to come first; then the nearest.
+            // Nodes the turn check applies to come first; then the nearest to the corner.
             if let b = best, (b.checked && !checked) || (b.checked == checked && b.d <= d) { continue }
-            best = (node, t, d, checked)
+            best = (node, d, checked)
         }
-        return best.map { ($0.node, $0.t) }
+        guard let best else { return nil }
+        var closest = Double.infinity, t = stretch.first!.t
+        for s in stretch {
+            let e = hypot(s.x - best.node.position.x, s.y - best.node.position.y)
+            if e < closest { closest = e; t = s.t }
+        }
+        return (best.node, t)
     }
 }
