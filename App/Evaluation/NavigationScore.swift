@@ -16,6 +16,13 @@ public struct TrueTurn: Codable, Sendable, Equatable {
     public var angleDeg: Double
     /// "left" or "right".
     public var direction: String
+    /// Time the turn begins: where the path's change of direction first exceeds the stretch threshold
+    /// (about 1.7 m before a sharp corner, earlier for a cut one), seconds.
+    public var beginT: Double
+    /// True for the second half of a jog (two opposite turns close together that leave the direction
+    /// unchanged): the navigator announces a jog as one slight turn toward its first half, so this half is
+    /// never expected to be cued (a cue of its direction is not wrong either).
+    public var secondHalfOfJog = false
 }
 
 /// A phrase spoken at a time.
@@ -69,9 +76,17 @@ public struct NavigationScore: Codable, Sendable, Equatable {
                 destination: String?, convergenceT: Double?) {
         // Guidance is responsible for the turns between first convergence and the arrival announcement.
         let arrivalT = announcements.first { Self.isArrival($0.text) }?.t ?? .infinity
-        let turns = Self.trueTurns(truth: truth, building: building).filter {
-            convergenceT != nil && $0.passTimes.first! > convergenceT! && $0.passTimes.first! < arrivalT
-        }
+        // Every change of direction the navigator may name, from a bend ("Bear left now") up: what a cue
+        // may be for. Turns begun before convergence count here (a cue said during them is right).
+        let anyTurns = Self.trueTurns(truth: truth, building: building, minimumAngleDeg: TurnClassifier.straightBelowDeg)
+        // The turns a cue is required for: begun after convergence, before arrival, of more than
+        // `turnThresholdDeg` (a jog counts by its larger half), not the second half of a jog.
+        let turns = anyTurns.enumerated().filter { (i, turn) in
+            guard let c = convergenceT, turn.beginT > c, turn.t < arrivalT, !turn.secondHalfOfJog else { return false }
+            var size = abs(turn.angleDeg)
+            if i + 1 < anyTurns.count, anyTurns[i + 1].secondHalfOfJog { size = max(size, abs(anyTurns[i + 1].angleDeg)) }
+            return size > Self.turnThresholdDeg
+        }.map(\.1)
         expectedTurns = turns
         var distances: [Double] = []
         var missing: [TrueTurn] = []
@@ -94,8 +109,8 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         missingTurns = missing
         let wrong = cues.filter { cue in
             guard !usedCues.contains(cue.index) else { return false }
-            // A cue with a matching true turn shortly after it is not wrong (it may have been a repeat).
-            return !turns.contains { $0.direction == cue.direction && $0.t >= cue.t - 2 && $0.t <= cue.t + Self.cueWindowSeconds }
+            // A cue with a true turn or bend of its direction shortly after it (or under way) is not wrong.
+            return !anyTurns.contains { $0.direction == cue.direction && $0.t >= cue.t - 2 && $0.t <= cue.t + Self.cueWindowSeconds }
         }
         wrongInstructions = wrong.count
         wrongCues = wrong.map { SpokenCue(t: $0.t, text: announcements[$0.index].text) }
@@ -165,9 +180,12 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     /// A node with two or more edges on the floor is a match only when some pair of its edges leads in and
     /// out within this angle of the path's directions before and after the turn, degrees.
     public static let edgeAlignmentToleranceDeg = 60.0
+    /// Opposite turns closer than this along the path that cancel out are a jog (the navigator collapses
+    /// jogs of up to 1.5 m between their nodes; a walker rounding both corners spreads them), meters.
+    public static let jogMaxMeters = 3.0
     /// Stretches of one direction closer than this along the path are one turn (a corner cut on the
     /// diagonal), meters.
-    public static let mergeGapMeters = 4.0
+    public static let mergeGapMeters = 6.0
     /// Resampling step along the path, meters.
     static let sampleStepMeters = 0.1
     /// A reversal sharper than `cuspAngleDeg` between the 0.3 m before and after a point is a turn-around
@@ -187,8 +205,8 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     ///    and at turn-arounds in place;
     /// 2. at each point the signed change of direction between the `headingWindowMeters` walked before and
     ///    after it is computed; consecutive points with a change above `turnStretchThresholdDeg`, same
-    ///    sign, form one turn (as do such stretches of one sign less than `mergeGapMeters` apart: a corner
-    ///    cut on the diagonal), whose angle is the direction after the stretch against the direction before
+    ///    sign, form one turn (as do such stretches of one sign less than `mergeGapMeters` apart that match
+    ///    the same control point: a corner cut on the diagonal), whose angle is the direction after the stretch against the direction before
     ///    it (wrapped to +-180 degrees); turns of more than `turnThresholdDeg` and less than 150 degrees
     ///    are kept; a stretch of 150 degrees or more (a U-shaped route: two turns a meter or two apart) is
     ///    cut where the path's direction is halfway round and each part measured on its own;
@@ -200,7 +218,11 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     ///    (an incidental change of direction) and is not expected to be cued.
     ///
     /// The turn's time is the closest approach to its node.
-    public static func trueTurns(truth: TruthTrack, building: Building) -> [TrueTurn] {
+    ///
+    /// `minimumAngleDeg` (default `turnThresholdDeg`) is the smallest turn kept. Two consecutive opposite
+    /// turns less than `jogMaxMeters` of walking apart whose angles cancel to within 20 degrees are a jog:
+    /// the second is flagged `secondHalfOfJog`.
+    public static func trueTurns(truth: TruthTrack, building: Building, minimumAngleDeg: Double = turnThresholdDeg) -> [TrueTurn] {
         guard truth.records.count > 2 else { return [] }
         // Same-floor neighbours of every node, for the turn check.
         var nodeById: [String: GraphNode] = [:]
@@ -215,7 +237,15 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         for run in walkingRuns(truth) {
             let nodes = building.graph.nodes.filter { $0.floorId == run.floorId }
             for piece in splitAtTurnArounds(run.samples) {
-                turns += Self.turns(in: piece, nodes: nodes, neighbours: neighbours)
+                var found = Self.turns(in: piece, nodes: nodes, neighbours: neighbours, minimumAngleDeg: minimumAngleDeg)
+                for i in found.indices.dropFirst() where !found[i - 1].secondHalfOfJog {
+                    let a = found[i - 1], b = found[i]
+                    if a.angleDeg * b.angleDeg < 0, abs(a.angleDeg + b.angleDeg) < TurnClassifier.straightBelowDeg,
+                       truth.distanceWalked(at: b.t) - truth.distanceWalked(at: a.t) < jogMaxMeters {
+                        found[i].secondHalfOfJog = true
+                    }
+                }
+                turns += found
             }
         }
         return turns.sorted { $0.t < $1.t }
@@ -290,7 +320,8 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     }
 
     /// Turns in one stretch without turn-arounds (steps 2 and 3 of `trueTurns`).
-    private static func turns(in p: [PathSample], nodes: [GraphNode], neighbours: [String: [Point2]]) -> [TrueTurn] {
+    private static func turns(in p: [PathSample], nodes: [GraphNode], neighbours: [String: [Point2]],
+                              minimumAngleDeg: Double) -> [TrueTurn] {
         let n = p.count
         let w = max(1, Int((headingWindowMeters / sampleStepMeters).rounded()))
         let side = max(1, Int((minimumSideMeters / sampleStepMeters).rounded()))
@@ -300,19 +331,22 @@ public struct NavigationScore: Codable, Sendable, Equatable {
             change[k] = wrapDeg(direction(p[k], p[min(n - 1, k + w)]) - direction(p[max(0, k - w)], p[k]))
         }
         // Stretches of one sign above the threshold.
+        // (Looking for bends smaller than the default, the threshold is lowered with them.)
+        let threshold = min(turnStretchThresholdDeg, 0.6 * minimumAngleDeg)
         var stretches: [(from: Int, to: Int, left: Bool)] = []
         var k = 0
         while k < n {
-            guard abs(change[k]) > turnStretchThresholdDeg else { k += 1; continue }
+            guard abs(change[k]) > threshold else { k += 1; continue }
             let left = change[k] > 0
             var end = k
-            while end + 1 < n && abs(change[end + 1]) > turnStretchThresholdDeg && (change[end + 1] > 0) == left { end += 1 }
+            while end + 1 < n && abs(change[end + 1]) > threshold && (change[end + 1] > 0) == left { end += 1 }
             stretches.append((k, end, left))
             k = end + 1
         }
         // A corner cut on a straight diagonal bends twice, where the walker leaves the route and where it
         // rejoins it: stretches of the same sign less than `mergeGapMeters` apart are one turn (unless
-        // together they turn back on themselves, which two turns of a U-shaped route do).
+        // they belong to different control points, or together turn back on themselves, which two turns
+        // of a U-shaped route do).
         let gap = Int((mergeGapMeters / sampleStepMeters).rounded())
         var groups: [[(from: Int, to: Int, left: Bool)]] = []
         for st in stretches {
@@ -334,8 +368,23 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         // in place were cut off above): it is cut where the path's direction is halfway round (the
         // straight bit between the two corners), and each part is measured against the direction there.
         let local = max(1, Int((cuspWindowMeters / sampleStepMeters).rounded()))
+        func match(_ c: Candidate) -> (node: GraphNode, t: Double)? {
+            let inDir = direction(p[c.in1], p[c.in2]), outDir = direction(p[c.out1], p[c.out2])
+            // The turn's corner: where the path's line before the turn meets its line after it (the route's
+            // corner however the walker rounded it).
+            let corner = intersection(p[c.in1], p[c.in2], p[c.out1], p[c.out2]) ?? Point2(p[c.from].x, p[c.from].y)
+            return matchNode(p[c.before...c.after], corner: corner, angleDeg: angle(c), inDir: inDir, outDir: outDir,
+                             nodes: nodes, neighbours: neighbours)
+        }
         var candidates: [Candidate] = []
+        var split: [[(from: Int, to: Int, left: Bool)]] = []
         for g in groups {
+            // Stretches that belong to different control points (two bends of one direction a few meters
+            // apart) are not one cut corner.
+            let own = Set(g.compactMap { match(whole($0.from, $0.to))?.node.id })
+            if g.count > 1 && own.count > 1 { split += g.map { [$0] } } else { split.append(g) }
+        }
+        for g in split {
             let c = whole(g.first!.from, g.last!.to)
             guard abs(angle(c)) >= 150, c.to - c.from >= 4 else { candidates.append(c); continue }
             // Where the path's own direction is halfway round (the sign from the stretches: near 180
@@ -356,15 +405,10 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         var out: [TrueTurn] = []
         for c in candidates {
             let a = angle(c)
-            guard abs(a) > turnThresholdDeg, abs(a) < 150 else { continue }
-            let inDir = direction(p[c.in1], p[c.in2]), outDir = direction(p[c.out1], p[c.out2])
-            // The turn's corner: where the path's line before the turn meets its line after it (the route's
-            // corner however the walker rounded it).
-            let corner = intersection(p[c.in1], p[c.in2], p[c.out1], p[c.out2]) ?? Point2(p[c.from].x, p[c.from].y)
-            guard let match = matchNode(p[c.before...c.after], corner: corner, angleDeg: a, inDir: inDir,
-                                        outDir: outDir, nodes: nodes, neighbours: neighbours) else { continue }
-            out.append(TrueTurn(nodeId: match.node.id, t: match.t, passTimes: [match.t], angleDeg: a,
-                                direction: a > 0 ? "left" : "right"))
+            guard abs(a) > minimumAngleDeg, abs(a) < 150 else { continue }
+            guard let found = match(c) else { continue }
+            out.append(TrueTurn(nodeId: found.node.id, t: found.t, passTimes: [found.t], angleDeg: a,
+                                direction: a > 0 ? "left" : "right", beginT: min(p[c.from].t, found.t)))
         }
         return out
     }

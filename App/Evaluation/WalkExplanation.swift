@@ -1,5 +1,6 @@
 import Foundation
 import Maps
+import Navigation
 import SessionFormat
 import WayfinderCore
 
@@ -15,7 +16,7 @@ public enum WalkExplanation {
         let n = score.navigation
         let track = TruthTrack(truth)
         guard !track.isEmpty else { return [] }
-        let turns = NavigationScore.trueTurns(truth: track, building: building)
+        let turns = NavigationScore.trueTurns(truth: track, building: building, minimumAngleDeg: TurnClassifier.straightBelowDeg)
         var out = ["\(score.name): \(n.wrongInstructions) wrong, \(n.missingInstructions) missing; true turns: "
                    + turns.map { describe($0, track, building) }.joined(separator: "; ")]
         func context(_ t: Double) -> [String] {
@@ -54,7 +55,7 @@ public enum WalkExplanation {
     private static func describe(_ turn: TrueTurn, _ track: TruthTrack, _ building: Building) -> String {
         let s = track.state(at: turn.t)
         let d = building.graph.nodes.first { $0.id == turn.nodeId }.map { hypot($0.position.x - s.x, $0.position.y - s.y) } ?? .nan
-        return String(format: "%.2f s %@ %.0f deg at %@ (passed %.2f m from it)", turn.t, turn.direction, turn.angleDeg,
-                      turn.nodeId, d)
+        return String(format: "%.2f s %@ %.0f deg at %@ (passed %.2f m from it%@)", turn.t, turn.direction, turn.angleDeg,
+                      turn.nodeId, d, turn.secondHalfOfJog ? ", second half of a jog" : "")
     }
 }
