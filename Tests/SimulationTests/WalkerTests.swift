@@ -202,7 +202,7 @@ final class WalkerTests: XCTestCase {
         // corner, less the wall clearance, is 1.16 m away); the old walker's round corners stayed within
         // 0.42 m plus its wander.
         XCTAssertGreaterThan(passes.max()!, 0.95, "\(passes.sorted())")
-        XCTAssertGreaterThan(Fixtures.median(passes), 0.3)
+        XCTAssertGreaterThanOrEqual(passes.filter { $0 > 0.8 }.count, 3, "\(passes.sorted())")
     }
 
     func testCornerCuttingIsParameterisedAndSeeded() throws {
