@@ -9,8 +9,8 @@ enum EvalCommand: Subcommand {
     static let name = "eval"
     static let summary = "score replays against truth (localization and navigation), with a regression gate"
     static let usage = """
-    Usage: wayfinder eval BUNDLE... --map MAP [--json] [--baseline FILE] [--write-baseline FILE] [--seed N]
-           wayfinder eval --scenarios DIR [--skeri DIR] [--json] [--baseline FILE] [--write-baseline FILE]
+    Usage: wayfinder eval BUNDLE... --map MAP [--json] [--explain] [--baseline FILE] [--write-baseline FILE] [--seed N]
+           wayfinder eval --scenarios DIR [--skeri DIR] [--json] [--explain] [--baseline FILE] [--write-baseline FILE]
 
     Replays each bundle (which must have truth.jsonl) through the real pipeline and prints, per walk:
     time and distance to first convergence, median/90th/95th percentile position error after convergence,
@@ -19,11 +19,16 @@ enum EvalCommand: Subcommand {
     distance at arrival; then the aggregate. --json prints JSON instead. --baseline fails (exit 1) when an
     aggregate figure is worse than the baseline by more than its tolerance; --write-baseline writes one.
     --scenarios simulates and scores every scenario definition (*.json) in DIR in memory.
+    --explain prints to standard error, for every cue scored wrong and every turn scored missing, the true
+    and estimated positions, the true turns and the phrases around it.
+    True turns are found from truth.jsonl alone (a change of walking direction over a few meters, matched to
+    the graph node where the route turns; see docs/evaluation.md); a truth floor that the map lacks is an error.
     \(EvidenceSwitches.usage)
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
         let json = arguments.flag("json")
+        let explain = arguments.flag("explain")
         let baselinePath = try arguments.option("baseline")
         let writeBaselinePath = try arguments.option("write-baseline")
         let scenariosDir = try arguments.option("scenarios")
@@ -35,6 +40,12 @@ enum EvalCommand: Subcommand {
         let bundles = try arguments.positionals()
 
         var scores: [WalkScore] = []
+        func explainWalk(_ score: WalkScore, _ result: ReplayResult, _ building: Building, _ truth: [TruthRecord]) {
+            guard explain else { return }
+            for line in WalkExplanation.lines(score: score, result: result, truth: truth, building: building) {
+                FileHandle.standardError.write(Data((line + "\n").utf8))
+            }
+        }
         if let scenariosDir {
             var isDirectory: ObjCBool = false
             guard FileManager.default.fileExists(atPath: scenariosDir, isDirectory: &isDirectory), isDirectory.boolValue else {
@@ -43,7 +54,8 @@ enum EvalCommand: Subcommand {
             do {
                 scores = try ScenarioRunner.scoreAll(directory: URL(fileURLWithPath: scenariosDir),
                                                      skeriDirectory: skeriDir.map { URL(fileURLWithPath: $0) },
-                                                     options: pipeline, progress: progress)
+                                                     options: pipeline, progress: progress,
+                                                     inspect: { explainWalk($0, $1, $2, $3.truth) })
             } catch {
                 throw CLIError.failure("\(scenariosDir): \(error)")
             }
@@ -55,8 +67,10 @@ enum EvalCommand: Subcommand {
                 let bundle = try loadBundle(path)
                 progress("eval: \(path)")
                 do {
-                    scores.append(try WalkEvaluator.evaluate(name: bundle.url.lastPathComponent, bundle: bundle,
-                                                             building: building, options: pipeline).0)
+                    let (score, result) = try WalkEvaluator.evaluate(name: bundle.url.lastPathComponent, bundle: bundle,
+                                                                     building: building, options: pipeline)
+                    explainWalk(score, result, building, bundle.truth)
+                    scores.append(score)
                 } catch {
                     throw CLIError.failure("\(path): \(error)")
                 }

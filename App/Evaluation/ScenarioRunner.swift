@@ -32,14 +32,17 @@ public enum ScenarioRunner {
     }
 
     /// Simulates and scores every scenario in `directory`. `skeriDirectory` is the folder that holds
-    /// `skeri_inavigate` (default ../shared/data). Progress lines go to `progress`.
+    /// `skeri_inavigate` (default ../shared/data). Progress lines go to `progress`; `inspect`, when given,
+    /// sees each walk's score, replay, map and bundle as it is scored.
     public static func scoreAll(directory: URL, skeriDirectory: URL?, options: PipelineOptions,
-                                progress: (String) -> Void) throws -> [WalkScore] {
+                                progress: (String) -> Void,
+                                inspect: ((WalkScore, ReplayResult, Building, SessionBundle) -> Void)? = nil) throws -> [WalkScore] {
         let scenarios = try loadScenarios(directory: directory)
         var scores: [WalkScore] = []
         for s in scenarios {
             let start = Date()
-            let (score, _, _, _) = try Self.score(s, sharedData: skeriDirectory, options: options)
+            let (score, result, building, bundle) = try Self.score(s, sharedData: skeriDirectory, options: options)
+            inspect?(score, result, building, bundle)
             progress(String(format: "scenario %@: %.1f s walk scored in %.1f s", s.name, score.durationSeconds, Date().timeIntervalSince(start)))
             scores.append(score)
         }

@@ -60,12 +60,23 @@ public enum WalkEvaluator {
     public static func evaluate(name: String, bundle: SessionBundle, building: Building,
                                 options: PipelineOptions = PipelineOptions()) throws -> (WalkScore, ReplayResult) {
         guard !bundle.truth.isEmpty else { throw EvaluationError.noTruth(name) }
+        try checkTruthFloors(bundle.truth, building: building)
         let pipelineOptions = Replay.options(for: bundle, overriding: options)
         var replayOptions = Replay.Options(pipeline: pipelineOptions)
         replayOptions.snapshotParticleCount = 1200
         let result = try Replay.run(bundle: bundle, building: building, options: replayOptions)
         return (score(name: name, result: result, truth: bundle.truth, building: building,
                       destination: pipelineOptions.destinationId), result)
+    }
+
+    /// Throws `EvaluationError.truthFloorNotInMap` for the first truth record whose `floorId` is not a floor
+    /// of `building`: scoring it would compare positions in unrelated frames (a silently wrong answer).
+    public static func checkTruthFloors(_ truth: [TruthRecord], building: Building) throws {
+        let floors = Set(building.floors.map(\.id))
+        if let i = truth.firstIndex(where: { !floors.contains($0.floorId) }) {
+            throw EvaluationError.truthFloorNotInMap(recordNumber: i + 1, t: truth[i].t, floorId: truth[i].floorId,
+                                                     mapId: building.id, mapFloors: building.floors.map(\.id))
+        }
     }
 
     /// Scores a finished replay.
@@ -88,12 +99,16 @@ public enum EvaluationError: Error, CustomStringConvertible, Sendable {
     case noTruth(String)
     /// The baseline file is unreadable.
     case badBaseline(String)
+    /// truth.jsonl record number `recordNumber` (1-based, file order) names a floor the map does not have.
+    case truthFloorNotInMap(recordNumber: Int, t: Double, floorId: String, mapId: String, mapFloors: [String])
 
     /// Message for people.
     public var description: String {
         switch self {
         case .noTruth(let name): return "\(name): no truth.jsonl, nothing to score against"
         case .badBaseline(let m): return m
+        case .truthFloorNotInMap(let n, let t, let floorId, let mapId, let floors):
+            return "truth.jsonl: record \(n) (t = \(String(format: "%.3f", t)) s): field floorId '\(floorId)' is not a floor of map '\(mapId)' (its floors: \(floors.joined(separator: ", "))); is the bundle from another building or --map the wrong file?"
         }
     }
 }

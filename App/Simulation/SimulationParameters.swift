@@ -52,9 +52,18 @@ public struct WalkerParameters: Codable, Sendable, Equatable {
     public var lateralWanderTauSeconds = 4.0
     /// Minimum distance the camera keeps from any wall when the walker leaves the graph's centre line, m.
     public var wallClearanceMeters = 0.25
-    /// At a corner, the walker leaves the straight path this far before the corner (drawn uniformly), m:
-    /// larger values cut the corner more.
-    public var cornerCutRangeMeters: ClosedRange<Double> = 0.3...1.2
+    /// At a corner, the walker leaves the route this far before the corner and rejoins it as far after it,
+    /// measured along the route (drawn uniformly per corner), m: larger values cut the corner more. Limited
+    /// by the room to the neighbouring corners, by `cornerCutMaxCorridorWidths` and by the walls.
+    public var cornerCutRangeMeters: ClosedRange<Double> = 0.5...3.0
+    /// How straight the cut is, drawn uniformly per corner: 0 = the round curve tangent to the route through
+    /// the corner's control point (the only shape before corner cutting was widened), 1 = the
+    /// straight diagonal from where the walker leaves the route to where it rejoins it.
+    public var cornerCutStraightnessRange: ClosedRange<Double> = 0.0...1.0
+    /// A cut corner passes at most this many corridor widths from the corner's graph node (the width taken
+    /// as twice the corner's distance to the nearest wall, searched to 10 m; in open areas the walls and the
+    /// room along the route limit the cut instead).
+    public var cornerCutMaxCorridorWidths = 1.0
     /// Probability that a corner is widened (swung wide) instead of cut.
     public var cornerWidenProbability = 0.3
     /// How far a widened corner swings outwards, m.
@@ -303,6 +312,10 @@ extension SimulationParameters {
         guard w.pausesPerMeter >= 0, w.pauseSecondsRange.lowerBound >= 0 else { throw bad("walker pauses must be non-negative") }
         guard w.elevatorSeconds > 0, w.stairsVerticalMetersPerSecond > 0 else { throw bad("walker elevator and stairs timings must be positive") }
         guard w.wallClearanceMeters >= 0 else { throw bad("walker wallClearanceMeters must be non-negative") }
+        guard w.cornerCutRangeMeters.lowerBound >= 0, w.cornerCutStraightnessRange.lowerBound >= 0,
+              w.cornerCutStraightnessRange.upperBound <= 1, w.cornerCutMaxCorridorWidths >= 0 else {
+            throw bad("walker corner cutting: cornerCutRangeMeters must be >= 0, cornerCutStraightnessRange within 0...1, cornerCutMaxCorridorWidths >= 0")
+        }
         guard detector.maxRangeMeters > detector.minRangeMeters, detector.rangeLogSigma >= 0, detector.bearingSigmaDeg >= 0 else {
             throw bad("detector ranges must satisfy min < max and noise must be non-negative")
         }

@@ -36,6 +36,9 @@ public struct NavigatorOptions: Sendable {
     /// The cue ("Turn left now") is issued when the position snapped on the route is this far before the
     /// control point. 0.75 m from the paper (section 4).
     public var cueDistanceMeters = 0.75
+    /// A traveler off the route toward the inside of a coming turn (cutting its corner) gets the turn's
+    /// cue earlier by that offset, up to this much, meters (see `Navigator.cornerCutMeters`).
+    public var maxCornerCutMeters = 1.5
     /// The early alert ("In 8 meters, turn left") is issued this far before a maneuver.
     public var alertDistanceMeters = 8.0
     /// No alert when the maneuver is closer than the cue distance plus this gap (the cue follows at once).
@@ -377,9 +380,22 @@ public final class Navigator {
             ? DepartOrientation.classify(relativeBearingRad: dir.angleRad - input.headingRad) : .ahead
         // Turns and doors within the look-ahead of the start are covered by the first instruction, whose
         // direction already points past them (e.g. out of a room's door into the corridor): not cued.
+        // Except a turn still to be made: "Go straight ahead" to a traveler facing along the corridor a
+        // meter before a corner (the look-ahead point just past the corner lies in the "ahead" sector)
+        // does not tell them to turn; the turn keeps its cue.
+        func stillToTurn(_ m: Maneuver) -> Bool {
+            guard orientation == .ahead, m.kind.isTurn else { return false }
+            let q = Int(m.polylinePosition.rounded(.down))
+            guard q >= 1, q + 1 < route.points.count else { return false }
+            let inDir = Vec2(route.points[q].position) - Vec2(route.points[q - 1].position)
+            let outDir = Vec2(route.points[q + 1].position) - Vec2(route.points[q].position)
+            guard inDir.length > 1e-9, outDir.length > 1e-9 else { return false }
+            return abs(normalizedAngleRad(input.headingRad - inDir.angleRad)) < abs(normalizedAngleRad(input.headingRad - outDir.angleRad))
+        }
         var first = 1
         while first < route.maneuvers.count - 1,
               route.maneuvers[first].kind.isTurn || route.maneuvers[first].kind == .goThroughDoor,
+              !stillToTurn(route.maneuvers[first]),
               route.maneuvers[first].distanceFromStartMeters - progressMeters < options.lookAheadMeters {
             alertIssued[first] = true
             cueIssued[first] = true
@@ -639,7 +655,7 @@ public final class Navigator {
                 break
             }
             if m.kind == .continue { break }
-            if !cueIssued[i] && d <= options.cueDistanceMeters {
+            if !cueIssued[i] && d - cornerCutMeters(toward: m, route: r, input: input) <= options.cueDistanceMeters {
                 cueIssued[i] = true
                 alertIssued[i] = true
                 if let text = narrative.cue(m, floorName: floorName(m.floorId)) {
@@ -676,6 +692,24 @@ public final class Navigator {
     }
 
     private func floorName(_ id: String) -> String { graph.building.floor(id: id)?.name ?? id }
+
+    /// How far the traveler has cut the corner of turn `m`: their offset from the route segment leading
+    /// into the turn toward its inside (left of the segment for a left turn), meters, 0 when on the outside,
+    /// elsewhere on the route or for other maneuvers, at most `maxCornerCutMeters`. People cut corners
+    /// (up to a corridor's width): walking the diagonal they begin the turn before the route's corner and
+    /// their progress along the route lags, so the cue is brought forward by as much.
+    private func cornerCutMeters(toward m: Maneuver, route r: Route, input: NavigationInput) -> Double {
+        guard m.kind.isTurn, let angle = m.turnAngleDeg else { return 0 }
+        let q = Int(m.polylinePosition.rounded(.down))
+        let i = Int(polylinePosition.rounded(.down))
+        guard q >= 1, i == q - 1, r.points[i].floorId == input.floorId, r.points[q].floorId == input.floorId else { return 0 }
+        let a = Vec2(r.points[i].position), b = Vec2(r.points[q].position)
+        let dir = b - a
+        guard dir.length > 1e-9 else { return 0 }
+        let left = dir.cross(Vec2(input.positionInMap) - a) / dir.length
+        let inside = angle > 0 ? left : -left
+        return min(options.maxCornerCutMeters, max(0, inside))
+    }
 
     /// Announces the maneuver chained to maneuver `i` ("Then turn left.") right after its cue, at alert
     /// rank so that it waits for the cue to end and a later cue may cut it off; the chained maneuver

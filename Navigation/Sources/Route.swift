@@ -204,18 +204,29 @@ struct RouteBuilder {
     }
 
     /// Replaces a pair of opposite turns less than `jogMaxMeters` apart, whose net change of direction is
-    /// straight, with one slight turn toward the side of the jog at the first control point.
+    /// straight, with one slight turn toward the side of the jog at the first control point. A slight
+    /// bend less than `jogMaxMeters` before an opposite turn is not a maneuver of its own either: walking
+    /// (and cutting) the two corners is one turn by their net angle, at the second control point ("Bear
+    /// right now. Then turn left." for a 25-degree bend right a meter before a 90-degree left would name a
+    /// bend nobody walks).
     private func collapseJogs(_ list: inout [Maneuver], route: Route) {
         var i = 1
         while i + 1 < list.count {
             let a = list[i], b = list[i + 1]
-            if a.kind.isTurn, b.kind.isTurn, let aa = a.turnAngleDeg, let ba = b.turnAngleDeg, aa * ba < 0,
-               abs(aa + ba) < TurnClassifier.straightBelowDeg, abs(aa) < TurnClassifier.turnBelowDeg,
-               route.distanceAlong(b.polylinePosition) - route.distanceAlong(a.polylinePosition) < jogMaxMeters {
-                var m = a
-                m.kind = aa > 0 ? .slightLeft : .slightRight
-                list[i] = m
-                list.remove(at: i + 1)
+            let close = route.distanceAlong(b.polylinePosition) - route.distanceAlong(a.polylinePosition) < jogMaxMeters
+            if a.kind.isTurn, b.kind.isTurn, let aa = a.turnAngleDeg, let ba = b.turnAngleDeg, aa * ba < 0, close {
+                if abs(aa + ba) < TurnClassifier.straightBelowDeg, abs(aa) < TurnClassifier.turnBelowDeg {
+                    var m = a
+                    m.kind = aa > 0 ? .slightLeft : .slightRight
+                    list[i] = m
+                    list.remove(at: i + 1)
+                } else if abs(aa) < TurnClassifier.slightBelowDeg, let kind = TurnClassifier.classify(signedAngleDeg: aa + ba) {
+                    var m = b
+                    m.kind = kind
+                    m.turnAngleDeg = aa + ba
+                    list[i] = m
+                    list.remove(at: i + 1)
+                }
             }
             i += 1
         }

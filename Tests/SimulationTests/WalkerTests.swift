@@ -156,4 +156,106 @@ final class WalkerTests: XCTestCase {
             XCTAssertTrue(m.contains("floor 1"))
         }
     }
+    // MARK: - Corner cutting
+
+    /// For each corner of the walk's route (a direction change of 30 to 150 degrees at an interior node):
+    /// the truth's closest approach to the node and the corridor width there (twice the node's distance to
+    /// the nearest wall), meters.
+    private func cornerPasses(_ w: SimulatedWalk, building: Building) -> [(node: String, passMeters: Double, widthMeters: Double)] {
+        let ids = w.diagnostics.routeNodeIds
+        var out: [(node: String, passMeters: Double, widthMeters: Double)] = []
+        for i in ids.indices.dropFirst().dropLast() {
+            guard let a = building.node(id: ids[i - 1]), let v = building.node(id: ids[i]), let b = building.node(id: ids[i + 1]),
+                  a.floorId == v.floorId, b.floorId == v.floorId else { continue }
+            let turn = abs(atan2(sin(atan2(b.position.y - v.position.y, b.position.x - v.position.x) - atan2(v.position.y - a.position.y, v.position.x - a.position.x)),
+                                 cos(atan2(b.position.y - v.position.y, b.position.x - v.position.x) - atan2(v.position.y - a.position.y, v.position.x - a.position.x)))) * 180 / .pi
+            guard turn > 30, turn < 150 else { continue }
+            let pass = w.truth.filter { $0.floorId == v.floorId }.map { hypot($0.x - v.position.x, $0.y - v.position.y) }.min() ?? .infinity
+            let geo = FloorGeometry(walls: building.floor(id: v.floorId)!.walls)
+            out.append((v.id, pass, 2 * geo.clearance(at: v.position, maxMeters: 10)))
+        }
+        return out
+    }
+
+    private let cornerScenarios: [SimulationScenario] = [
+        SimulationScenario(name: "k1", from: "room-101", to: "room-111", seed: 1),
+        SimulationScenario(name: "k2", from: "room-118", to: "room-107", seed: 2),
+        SimulationScenario(name: "k3", from: "exit-main-entrance", to: "exit-rear", seed: 3),
+        SimulationScenario(name: "k4", from: "room-116", to: "room-103", seed: 4),
+        SimulationScenario(name: "k5", from: "room-105", to: "room-214", seed: 5),
+    ]
+
+    func testWalkerCutsCornersUpToTheCorridorWidth() throws {
+        var passes: [Double] = []
+        for s in cornerScenarios {
+            for seed in [s.seed, s.seed + 50, s.seed + 100] {
+                var sc = s; sc.seed = seed
+                for c in cornerPasses(try Fixtures.walk(sc), building: Fixtures.office) {
+                    passes.append(c.passMeters)
+                    // The cut stays within the corridor (plus the walker's sway and wander).
+                    XCTAssertLessThanOrEqual(c.passMeters, c.widthMeters + 0.35, "\(sc.name) seed \(seed) at \(c.node)")
+                }
+            }
+        }
+        XCTAssertGreaterThan(passes.count, 20)
+        // People cut corners: some pass a meter or more from the corner's node (a 2 m corridor's inner
+        // corner, less the wall clearance, is 1.16 m away); the old walker's round corners stayed within
+        // 0.42 m plus its wander.
+        XCTAssertGreaterThan(passes.max()!, 0.95, "\(passes.sorted())")
+        XCTAssertGreaterThanOrEqual(passes.filter { $0 > 0.8 }.count, 3, "\(passes.sorted())")
+    }
+
+    func testCornerCuttingIsParameterisedAndSeeded() throws {
+        var tight = SimulationParameters()
+        tight.walker.cornerCutRangeMeters = 0.3...0.3
+        tight.walker.cornerCutStraightnessRange = 0...0
+        tight.walker.cornerWidenProbability = 0
+        var maxPass = 0.0
+        for s in cornerScenarios {
+            for c in cornerPasses(try WalkSimulator.simulate(building: Fixtures.office, scenario: s, parameters: tight), building: Fixtures.office) {
+                maxPass = max(maxPass, c.passMeters)
+            }
+        }
+        // A 0.3 m round cut passes 0.11 m inside a right-angled corner; the rest is sway and wander.
+        XCTAssertLessThan(maxPass, 0.6)
+        // The same scenario and seed give the same walk.
+        let a = try WalkSimulator.simulate(building: Fixtures.office, scenario: cornerScenarios[1])
+        let b = try WalkSimulator.simulate(building: Fixtures.office, scenario: cornerScenarios[1])
+        XCTAssertEqual(a.truth, b.truth)
+        var bad = SimulationParameters()
+        bad.walker.cornerCutStraightnessRange = 0...2
+        XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office, scenario: cornerScenarios[0], parameters: bad)) {
+            XCTAssertTrue("\($0)".contains("cornerCutStraightnessRange"), "\($0)")
+        }
+    }
+
+    func testCutCornersNeverCrossAWallOnTheSkeriFloors() throws {
+        let shared = URL(fileURLWithPath: #filePath).deletingLastPathComponent().deletingLastPathComponent()
+            .deletingLastPathComponent().appendingPathComponent("../shared/data").standardizedFileURL
+        guard FileManager.default.fileExists(atPath: shared.appendingPathComponent("skeri_inavigate").path) else {
+            throw XCTSkip("../shared/data/skeri_inavigate is not present")
+        }
+        let skeri = try ScenarioMaps.load("skeri", sharedData: shared)
+        let floors = Dictionary(uniqueKeysWithValues: skeri.floors.map { ($0.id, $0) })
+        let walks = [("brandons-office-4f", "jamess-office-4f"), ("node-65", "node-45"), ("node-19", "node-1"),
+                     ("node-39", "node-33"), ("node-30", "node-25"), ("node-22", "node-3")]
+        var steps = 0
+        var widest = 0.0
+        for (k, (from, to)) in walks.enumerated() {
+            for seed: UInt64 in [UInt64(300 + k), UInt64(400 + k)] {
+                let w = try WalkSimulator.simulate(building: skeri, scenario: SimulationScenario(
+                    name: "skeri-walls", map: "skeri", from: from, to: to, seed: seed, rateHz: 10))
+                for i in 1..<w.truth.count where w.truth[i].floorId == w.truth[i - 1].floorId {
+                    let a = Point2(w.truth[i - 1].x, w.truth[i - 1].y), b = Point2(w.truth[i].x, w.truth[i].y)
+                    if a == b { continue }
+                    steps += 1
+                    XCTAssertFalse(crossesAnyWall(a, b, floor: floors[w.truth[i].floorId]!),
+                                   "\(from) -> \(to) seed \(seed): step at t=\(w.truth[i].t) crosses a wall")
+                }
+                widest = max(widest, cornerPasses(w, building: skeri).map(\.passMeters).max() ?? 0)
+            }
+        }
+        XCTAssertGreaterThan(steps, 3000)
+        XCTAssertGreaterThan(widest, 0.8, "corners are cut on SKERI too")
+    }
 }
