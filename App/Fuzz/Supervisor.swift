@@ -1,0 +1,139 @@
+import Foundation
+
+/// A failing input found by a campaign.
+struct Finding {
+    /// "crash", "hang" or "property".
+    var kind: String
+    /// Target name.
+    var target: String
+    /// Input index under the campaign seed.
+    var index: UInt64
+    /// Where the reproducer was written (a file for one-file inputs, else a directory).
+    var reproducer: String
+    /// First line of the report naming the problem (runtime message, property, or time limit).
+    var headline: String
+    /// The matching known-crash entry, if any.
+    var known: KnownCrash?
+}
+
+/// Totals of one target's campaign.
+struct TargetResult {
+    /// Target name.
+    var target: String
+    /// Worker statistics summed over restarts.
+    var stats = WorkerStats()
+    /// Failing inputs.
+    var findings: [Finding] = []
+    /// Wall time including restarts, seconds.
+    var wallSeconds = 0.0
+}
+
+/// Options of a campaign.
+struct CampaignOptions: Sendable {
+    /// Campaign seed.
+    var seed: UInt64 = 1
+    /// Inputs per target.
+    var executions: UInt64 = 10_000
+    /// Wall-time cap per target, seconds.
+    var secondsPerTarget: Double = 60
+    /// Per-input time limit, seconds: an input running longer is a hang.
+    var inputTimeLimitSeconds: Double = 10
+    /// Stop a target after this many failures.
+    var maximumFindings = 3
+    /// Directory for reproducers and logs.
+    var outputDirectory: URL
+    /// Seed-corpus root.
+    var corpusRoot: URL
+}
+
+/// Runs one target's campaign in child worker processes (this executable, `worker` sub-command), so a crash
+/// or a hang ends only the child: the supervisor regenerates the input from its index, writes it as a
+/// reproducer, records the child's report, and restarts a worker after it.
+func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> TargetResult {
+    let corpus = try Corpus(root: o.corpusRoot, target: target.name)
+    let generator = InputGenerator(target: target, corpus: corpus, seed: o.seed)
+    let work = o.outputDirectory.appendingPathComponent(target.name, isDirectory: true)
+    try FileManager.default.createDirectory(at: work, withIntermediateDirectories: true)
+    let progress = work.appendingPathComponent("progress.bin").path
+    let stderrPath = work.appendingPathComponent("worker-stderr.log").path
+    let stdoutPath = work.appendingPathComponent("worker-stdout.log").path
+    let exe = URL(fileURLWithPath: "/proc/self/exe").resolvingSymlinksInPath()
+
+    var result = TargetResult(target: target.name)
+    let t0 = Date()
+    let deadline = t0.addingTimeInterval(o.secondsPerTarget)
+    var next: UInt64 = 0
+    while next < o.executions, Date() < deadline, result.findings.filter({ $0.known == nil }).count < o.maximumFindings,
+          result.findings.count < 100 {
+        _ = FileManager.default.createFile(atPath: progress, contents: Data(count: 8))
+        _ = FileManager.default.createFile(atPath: stderrPath, contents: nil)
+        _ = FileManager.default.createFile(atPath: stdoutPath, contents: nil)
+        let p = Process()
+        p.executableURL = exe
+        p.arguments = ["worker", "--target", target.name, "--seed", String(o.seed), "--start", String(next),
+                       "--end", String(o.executions), "--deadline", String(deadline.timeIntervalSince1970),
+                       "--progress", progress, "--corpus", o.corpusRoot.path,
+                       "--scratch", work.appendingPathComponent("scratch").path]
+        var env = ProcessInfo.processInfo.environment
+        env["SWIFT_BACKTRACE"] = env["SWIFT_BACKTRACE"] ?? "enable=yes,interactive=no,color=no,threads=crashed,registers=none,images=none,sanitize=no"
+        p.environment = env
+        p.standardError = FileHandle(forWritingAtPath: stderrPath)
+        p.standardOutput = FileHandle(forWritingAtPath: stdoutPath)
+        try p.run()
+
+        var lastIndex = readProgress(progress)
+        var lastChange = Date()
+        var hung = false
+        while p.isRunning {
+            usleep(20_000)
+            let i = readProgress(progress)
+            if i != lastIndex { lastIndex = i; lastChange = Date() }
+            if Date().timeIntervalSince(lastChange) > o.inputTimeLimitSeconds {
+                hung = true
+                kill(p.processIdentifier, SIGKILL)
+                p.waitUntilExit()
+                break
+            }
+        }
+        p.waitUntilExit()
+        let at = readProgress(progress)
+        if !hung, p.terminationReason == .exit, p.terminationStatus == 0 {
+            if let d = FileManager.default.contents(atPath: stdoutPath),
+               let line = String(decoding: d, as: UTF8.self).split(separator: "\n").last,
+               let s = try? JSONDecoder().decode(WorkerStats.self, from: Data(line.utf8)) {
+                result.stats.executions += s.executions; result.stats.accepted += s.accepted
+                result.stats.rejected += s.rejected; result.stats.seconds += s.seconds
+            }
+            break
+        }
+        // Failure at input `at`: count the inputs before it, write the reproducer and the report.
+        result.stats.executions += Int(at - next) + 1
+        let report = String(decoding: FileManager.default.contents(atPath: stderrPath) ?? Data(), as: UTF8.self)
+        let kind = hung ? "hang" : (p.terminationReason == .exit && p.terminationStatus == propertyViolationExitCode ? "property" : "crash")
+        let input = generator.input(at: at)
+        let base = work.appendingPathComponent("\(kind)-\(o.seed)-\(at)")
+        let reproducer: URL
+        if input.files.count == 1 {
+            reproducer = base.appendingPathExtension(URL(fileURLWithPath: input.files[0].name).pathExtension)
+            _ = FileManager.default.createFile(atPath: reproducer.path, contents: Data(input.files[0].bytes))
+        } else {
+            reproducer = base
+            try input.write(to: base)
+        }
+        try Data(report.utf8).write(to: base.appendingPathExtension("log"))
+        let headline = hung ? "no progress for \(o.inputTimeLimitSeconds) s (per-input time limit)"
+            : report.split(separator: "\n").first { $0.contains("Fatal error") || $0.contains("PROPERTY VIOLATION") || $0.contains("Crash") }
+                .map(String.init) ?? "worker ended with \(p.terminationReason == .exit ? "status" : "signal") \(p.terminationStatus)"
+        let known = kind == "crash" ? knownCrashes.first { k in k.target == target.name && k.reportContains.allSatisfy { report.contains($0) } } : nil
+        result.findings.append(Finding(kind: kind, target: target.name, index: at, reproducer: reproducer.path,
+                                       headline: headline, known: known))
+        next = at + 1
+    }
+    result.wallSeconds = Date().timeIntervalSince(t0)
+    return result
+}
+
+private func readProgress(_ path: String) -> UInt64 {
+    guard let d = FileManager.default.contents(atPath: path), d.count >= 8 else { return 0 }
+    return d.prefix(8).enumerated().reduce(UInt64(0)) { $0 | UInt64($1.element) << (8 * UInt64($1.offset)) }
+}
