@@ -44,22 +44,29 @@ struct FuzzInput: Equatable, Sendable {
         return FuzzInput(files: files.sorted { $0.name < $1.name })
     }
 
-    /// Writes the files under `directory` (created if needed); other files already there are removed first
-    /// so the directory holds exactly this input.
+    /// Writes the files under `directory` (created if needed) so that it holds exactly this input: files
+    /// of an earlier input not in this one are removed. Plain `write(2)` without fsync (the harness rewrites
+    /// a scratch directory for every input; Foundation's atomic writes would fsync each file).
     func write(to directory: URL) throws {
         let fm = FileManager.default
-        if let old = try? fm.contentsOfDirectory(atPath: directory.path) {
-            for name in old { try fm.removeItem(at: directory.appendingPathComponent(name)) }
-        } else {
-            try fm.createDirectory(at: directory, withIntermediateDirectories: true)
+        try fm.createDirectory(at: directory, withIntermediateDirectories: true)
+        let keep = Set(files.map { String($0.name.split(separator: "/").first ?? "") })
+        for name in (try? fm.contentsOfDirectory(atPath: directory.path)) ?? [] where !keep.contains(name) {
+            try fm.removeItem(at: directory.appendingPathComponent(name))
         }
         for f in files {
             let url = directory.appendingPathComponent(f.name)
             if f.name.contains("/") {
                 try fm.createDirectory(at: url.deletingLastPathComponent(), withIntermediateDirectories: true)
             }
-            guard fm.createFile(atPath: url.path, contents: Data(f.bytes)) else {
-                throw FuzzError("\(url.path): cannot write")
+            let fd = open(url.path, O_WRONLY | O_CREAT | O_TRUNC, 0o644)
+            guard fd >= 0 else { throw FuzzError("\(url.path): cannot write") }
+            defer { close(fd) }
+            var done = 0
+            while done < f.bytes.count {
+                let n = f.bytes.withUnsafeBytes { Glibc.write(fd, $0.baseAddress! + done, f.bytes.count - done) }
+                guard n > 0 else { throw FuzzError("\(url.path): write failed") }
+                done += n
             }
         }
     }

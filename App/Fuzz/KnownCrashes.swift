@@ -13,5 +13,13 @@ struct KnownCrash {
     let note: String
 }
 
-/// The known-crash list. Empty: every crash fails a campaign.
-let knownCrashes: [KnownCrash] = []
+/// The known-crash list. Remove an entry in the commit that merges its fix; when the list is empty every
+/// crash fails a campaign.
+let knownCrashes: [KnownCrash] = [
+    // MapValidator.fmt (Maps/Sources/MapValidation.swift) formats an out-of-range number for its error
+    // message with Int(r): |value| >= 2^63 traps "greater than Int.max", and |value| > ~1.8e305 overflows
+    // (v * 1000) to infinity and traps "infinite or NaN". Reached from the map loader and from the iNavigate
+    // importer (which validates what it converts). Being fixed by the Maps/ helper (issue 14).
+    KnownCrash(target: "map", reportContains: ["MapValidator.fmt"], note: "MapValidator.fmt, Maps/ fix pending"),
+    KnownCrash(target: "inavigate", reportContains: ["MapValidator.fmt"], note: "MapValidator.fmt, Maps/ fix pending"),
+]

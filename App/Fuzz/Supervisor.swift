@@ -59,6 +59,11 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
     let stdoutPath = work.appendingPathComponent("worker-stdout.log").path
     let exe = URL(fileURLWithPath: "/proc/self/exe").resolvingSymlinksInPath()
 
+    // Scratch files for targets that read from disk: in memory (/dev/shm) when the machine has it.
+    let shm = URL(fileURLWithPath: "/dev/shm", isDirectory: true)
+    let scratch = (FileManager.default.isWritableFile(atPath: shm.path) ? shm : work)
+        .appendingPathComponent("wayfinder-fuzz-\(getpid())-\(target.name)", isDirectory: true)
+    defer { try? FileManager.default.removeItem(at: scratch) }
     var result = TargetResult(target: target.name)
     let t0 = Date()
     let deadline = t0.addingTimeInterval(o.secondsPerTarget)
@@ -73,7 +78,7 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
         p.arguments = ["worker", "--target", target.name, "--seed", String(o.seed), "--start", String(next),
                        "--end", String(o.executions), "--deadline", String(deadline.timeIntervalSince1970),
                        "--progress", progress, "--corpus", o.corpusRoot.path,
-                       "--scratch", work.appendingPathComponent("scratch").path]
+                       "--scratch", scratch.path]
         var env = ProcessInfo.processInfo.environment
         env["SWIFT_BACKTRACE"] = env["SWIFT_BACKTRACE"] ?? "enable=yes,interactive=no,color=no,threads=crashed,registers=none,images=none,sanitize=no"
         p.environment = env
@@ -122,8 +127,8 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
         }
         try Data(report.utf8).write(to: base.appendingPathExtension("log"))
         let headline = hung ? "no progress for \(o.inputTimeLimitSeconds) s (per-input time limit)"
-            : report.split(separator: "\n").first { $0.contains("Fatal error") || $0.contains("PROPERTY VIOLATION") || $0.contains("Crash") }
-                .map(String.init) ?? "worker ended with \(p.terminationReason == .exit ? "status" : "signal") \(p.terminationStatus)"
+            : (report.split(separator: "\n").first { $0.contains("Fatal error") || $0.contains("runtime failure") || $0.contains("PROPERTY VIOLATION") }
+                ?? report.split(separator: "\n").first { $0.contains("crashed") }).map { $0.trimmingCharacters(in: CharacterSet(charactersIn: "* ")) } ?? "worker ended with \(p.terminationReason == .exit ? "status" : "signal") \(p.terminationStatus)"
         let known = kind == "crash" ? knownCrashes.first { k in k.target == target.name && k.reportContains.allSatisfy { report.contains($0) } } : nil
         result.findings.append(Finding(kind: kind, target: target.name, index: at, reproducer: reproducer.path,
                                        headline: headline, known: known))

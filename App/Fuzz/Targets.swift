@@ -118,9 +118,9 @@ struct FuzzTarget: Sendable {
         optionalFiles: []
     ) { input, scratch in
         guard let bytes = input.files.first?.bytes else { return }
-        try FileManager.default.createDirectory(at: scratch, withIntermediateDirectories: true)
-        let file = scratch.appendingPathComponent("walk.json")
-        try Data(bytes).write(to: file)
+        let inputDir = scratch.appendingPathComponent("occam-input", isDirectory: true)
+        try FuzzInput(files: [.init(name: "walk.json", bytes: bytes)]).write(to: inputDir)
+        let file = inputDir.appendingPathComponent("walk.json")
         _ = try OccamImporter.convert(from: file)
         let out = scratch.appendingPathComponent("occam-bundle", isDirectory: true)
         do {

@@ -39,7 +39,8 @@ public enum OccamImporter {
         public var sightingCount: Int
         /// Distinct tag ids sighted.
         public var distinctTagCount: Int
-        /// Sightings dropped: unknown pose id, malformed tag pose, tag behind the camera or at the camera.
+        /// Sightings dropped: unknown pose id, malformed tag pose, tag behind the camera or at the camera, or a
+        /// sighting the bundle format refuses (e.g. an infinite range).
         public var skippedSightings: Int
         /// Poses dropped because they repeat the previous pose's timestamp.
         public var droppedDuplicatePoses: Int
@@ -138,7 +139,13 @@ public enum OccamImporter {
         frames.reserveCapacity(poses.count)
         for p in poses {
             if let k = intrinsicsByPose[p.id] { current = k }
-            frames.append(FrameRecord(t: p.t, cameraToWorld: p.m, tracking: .normal, intrinsics: current))
+            let frame = FrameRecord(t: p.t, cameraToWorld: p.m, tracking: .normal, intrinsics: current)
+            // The bundle's own frame checks (rigid transform, finite time...), so that a pose the writer would
+            // refuse is reported here against the OCCaM file.
+            if let problem = frame.validationProblem() {
+                throw fail("pose_data id \(p.id) (timestamp \(p.t)): \(problem)")
+            }
+            frames.append(frame)
         }
 
         // Sightings.
@@ -150,9 +157,10 @@ public enum OccamImporter {
                   abs(d.tag_pose[12]) < 1e-3, abs(d.tag_pose[13]) < 1e-3, abs(d.tag_pose[14]) < 1e-3,
                   let rb = rangeBearing(tagTranslationCV: (d.tag_pose[3], d.tag_pose[7], d.tag_pose[11]), camera: camera)
             else { skipped += 1; continue }
-            observations.append(ObservationRecord(
-                t: d.timestamp, kind: "landmark", rangeMeters: rb.rangeMeters, bearingRad: rb.bearingRad, score: 1,
-                source: "imported", landmarkId: String(d.tag_id)))
+            let o = ObservationRecord(t: d.timestamp, kind: "landmark", rangeMeters: rb.rangeMeters, bearingRad: rb.bearingRad,
+                                      score: 1, source: "imported", landmarkId: String(d.tag_id))
+            guard o.validationProblem() == nil else { skipped += 1; continue }
+            observations.append(o)
         }
         observations = observations.enumerated().sorted {
             $0.element.t != $1.element.t ? $0.element.t < $1.element.t : $0.offset < $1.offset
