@@ -88,6 +88,13 @@ public enum OccamImporter {
         func fail(_ reason: String) -> ImportError { ImportError(file: file.path, reason: reason) }
         let data: Data
         do { data = try Data(contentsOf: file) } catch { throw fail("cannot read: \(error.localizedDescription)") }
+        // Foundation's JSONDecoder (Swift 6.3 toolchain) traps instead of throwing on text that ends exactly at
+        // its 512-level nesting limit (e.g. 513 '['; found by wayfinder-fuzz, docs/fuzzing.md): deep nesting
+        // is refused here first. An OCCaM file nests 5 levels.
+        let depth = jsonNestingDepth(data)
+        guard depth <= maximumJSONNestingDepth else {
+            throw fail("not an OCCaM InvisibleMap recording: JSON nested \(depth) levels deep (at most \(maximumJSONNestingDepth) accepted)")
+        }
         let root: OccamFile
         do { root = try JSONDecoder().decode(OccamFile.self, from: data) } catch {
             throw fail("not an OCCaM InvisibleMap recording: \(describeDecodingError(error))")
@@ -183,6 +190,28 @@ public enum OccamImporter {
             sightingCount: observations.count, distinctTagCount: Set(observations.compactMap(\.landmarkId)).count,
             skippedSightings: skipped, droppedDuplicatePoses: dropped, poseMatrixOrder: rowMajor ? "rowMajor" : "columnMajor")
         return Converted(info: info, frames: frames, observations: observations, summary: summary)
+    }
+
+    /// Deepest JSON array/object nesting accepted in an OCCaM file (the layout needs 5).
+    public static let maximumJSONNestingDepth = 64
+
+    /// Deepest array/object nesting of JSON text: brackets and braces outside strings, counted without
+    /// parsing (unbalanced text is measured as far as it goes).
+    static func jsonNestingDepth(_ data: Data) -> Int {
+        var depth = 0, deepest = 0, inString = false, escaped = false
+        for b in data {
+            if inString {
+                if escaped { escaped = false } else if b == UInt8(ascii: "\\") { escaped = true } else if b == UInt8(ascii: "\"") { inString = false }
+                continue
+            }
+            switch b {
+            case UInt8(ascii: "\""): inString = true
+            case UInt8(ascii: "["), UInt8(ascii: "{"): depth += 1; deepest = max(deepest, depth)
+            case UInt8(ascii: "]"), UInt8(ascii: "}"): depth -= 1
+            default: break
+            }
+        }
+        return deepest
     }
 
     /// Horizontal range (meters) and bearing (radians, CCW from camera forward, in [-pi, pi]) of a point

@@ -252,4 +252,25 @@ final class OccamImporterTests: XCTestCase {
         try JSONSerialization.data(withJSONObject: fixed).write(to: file)
         XCTAssertEqual(try OccamImporter.convert(from: file).frames.count, 2)
     }
+
+    /// Found by wayfinder-fuzz (target occam): a file of exactly 513 '[' trapped inside Foundation's
+    /// JSONDecoder (its nesting-limit error path); the importer now refuses deep nesting itself.
+    func testDeeplyNestedJSONIsAnErrorNotATrap() throws {
+        let dir = try makeTemporaryDirectory(self, "occam-deep")
+        let file = dir.appendingPathComponent("deep.json")
+        for text in [String(repeating: "[", count: 513), String(repeating: "[", count: 65) + String(repeating: "]", count: 65),
+                     "{\"pose_data\": " + String(repeating: "[", count: 600)] {
+            try Data(text.utf8).write(to: file)
+            XCTAssertThrowsError(try OccamImporter.convert(from: file)) { e in
+                XCTAssertTrue(String(describing: e).contains("levels deep (at most 64 accepted)"), "\(e)")
+            }
+        }
+        // Brackets inside strings do not count; 64 levels are accepted by the depth check (then fail as JSON).
+        XCTAssertEqual(OccamImporter.jsonNestingDepth(Data("{\"map_id\": \"[[[[\\\"[[\", \"a\": [[1]]}".utf8)), 3)
+        try Data((String(repeating: "[", count: 64) + String(repeating: "]", count: 64)).utf8).write(to: file)
+        XCTAssertThrowsError(try OccamImporter.convert(from: file)) { e in
+            XCTAssertTrue(String(describing: e).contains("not an OCCaM InvisibleMap recording: "), "\(e)")
+            XCTAssertFalse(String(describing: e).contains("levels deep"), "\(e)")
+        }
+    }
 }
