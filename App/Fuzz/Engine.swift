@@ -81,8 +81,9 @@ struct WorkerStats: Codable, Sendable {
 let propertyViolationExitCode: Int32 = 70
 
 /// Runs inputs `start ..< end` of one target in this process, stopping early at `deadline`. Before each
-/// input its index is written (8 bytes, little-endian, offset 0) to `progressPath`, so the supervisor knows
-/// which input was running when this process crashed or hung.
+/// input the record (index, accepted so far, rejected so far) is written over `progressPath` (3 x 8 bytes,
+/// little-endian), so the supervisor knows which input was running when this process crashed or hung, and
+/// how the earlier ones ended.
 func runWorker(target: FuzzTarget, generator: InputGenerator, start: UInt64, end: UInt64, deadline: Date,
                progressPath: String, scratch: URL) -> Never {
     let fd = open(progressPath, O_WRONLY | O_CREAT, 0o644)
@@ -93,8 +94,8 @@ func runWorker(target: FuzzTarget, generator: InputGenerator, start: UInt64, end
     var i = start
     while i < end {
         if (i - start) % 64 == 0 && Date() >= deadline { break }
-        var le = i.littleEndian
-        _ = withUnsafeBytes(of: &le) { pwrite(fd, $0.baseAddress, 8, 0) }
+        var record = (i.littleEndian, UInt64(stats.accepted).littleEndian, UInt64(stats.rejected).littleEndian)
+        _ = withUnsafeBytes(of: &record) { pwrite(fd, $0.baseAddress, 24, 0) }
         let input = generator.input(at: i)
         do {
             try target.run(input, scratch)

@@ -70,7 +70,7 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
     var next: UInt64 = 0
     while next < o.executions, Date() < deadline, result.findings.filter({ $0.known == nil }).count < o.maximumFindings,
           result.findings.count < 100 {
-        _ = FileManager.default.createFile(atPath: progress, contents: Data(count: 8))
+        _ = FileManager.default.createFile(atPath: progress, contents: Data(count: 24))
         _ = FileManager.default.createFile(atPath: stderrPath, contents: nil)
         _ = FileManager.default.createFile(atPath: stdoutPath, contents: nil)
         let p = Process()
@@ -80,18 +80,18 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
                        "--progress", progress, "--corpus", o.corpusRoot.path,
                        "--scratch", scratch.path]
         var env = ProcessInfo.processInfo.environment
-        env["SWIFT_BACKTRACE"] = env["SWIFT_BACKTRACE"] ?? "enable=yes,interactive=no,color=no,threads=crashed,registers=none,images=none,sanitize=no"
+        env["SWIFT_BACKTRACE"] = env["SWIFT_BACKTRACE"] ?? "enable=yes,interactive=no,color=no,threads=crashed,registers=none,images=none,sanitize=no,symbolicate=fast,limit=24"
         p.environment = env
         p.standardError = FileHandle(forWritingAtPath: stderrPath)
         p.standardOutput = FileHandle(forWritingAtPath: stdoutPath)
         try p.run()
 
-        var lastIndex = readProgress(progress)
+        var lastIndex = readProgress(progress).index
         var lastChange = Date()
         var hung = false
         while p.isRunning {
             usleep(20_000)
-            let i = readProgress(progress)
+            let i = readProgress(progress).index
             if i != lastIndex { lastIndex = i; lastChange = Date() }
             if Date().timeIntervalSince(lastChange) > o.inputTimeLimitSeconds {
                 hung = true
@@ -101,7 +101,7 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
             }
         }
         p.waitUntilExit()
-        let at = readProgress(progress)
+        let (at, acceptedBefore, rejectedBefore) = readProgress(progress)
         if !hung, p.terminationReason == .exit, p.terminationStatus == 0 {
             if let d = FileManager.default.contents(atPath: stdoutPath),
                let line = String(decoding: d, as: UTF8.self).split(separator: "\n").last,
@@ -113,6 +113,8 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
         }
         // Failure at input `at`: count the inputs before it, write the reproducer and the report.
         result.stats.executions += Int(at - next) + 1
+        result.stats.accepted += acceptedBefore
+        result.stats.rejected += rejectedBefore
         let report = String(decoding: FileManager.default.contents(atPath: stderrPath) ?? Data(), as: UTF8.self)
         let kind = hung ? "hang" : (p.terminationReason == .exit && p.terminationStatus == propertyViolationExitCode ? "property" : "crash")
         let input = generator.input(at: at)
@@ -129,16 +131,27 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
         let headline = hung ? "no progress for \(o.inputTimeLimitSeconds) s (per-input time limit)"
             : (report.split(separator: "\n").first { $0.contains("Fatal error") || $0.contains("runtime failure") || $0.contains("PROPERTY VIOLATION") }
                 ?? report.split(separator: "\n").first { $0.contains("crashed") }).map { $0.trimmingCharacters(in: CharacterSet(charactersIn: "* ")) } ?? "worker ended with \(p.terminationReason == .exit ? "status" : "signal") \(p.terminationStatus)"
+        // The innermost frame in this executable (the project's code, not the runtime's), as "function + offset".
+        let frame = report.split(separator: "\n").first { $0.contains(" in wayfinder-fuzz") && $0.contains(" 0x") }
+            .map { line -> String in
+                let afterAddress = line.split(separator: " ", omittingEmptySubsequences: true).drop { !$0.hasPrefix("0x") }.dropFirst()
+                return afterAddress.joined(separator: " ").components(separatedBy: " in wayfinder-fuzz").first ?? ""
+            }
+        let fullHeadline = frame.map { "\(headline) [\($0)]" } ?? headline
         let known = kind == "crash" ? knownCrashes.first { k in k.target == target.name && k.reportContains.allSatisfy { report.contains($0) } } : nil
         result.findings.append(Finding(kind: kind, target: target.name, index: at, reproducer: reproducer.path,
-                                       headline: headline, known: known))
+                                       headline: fullHeadline, known: known))
         next = at + 1
     }
     result.wallSeconds = Date().timeIntervalSince(t0)
     return result
 }
 
-private func readProgress(_ path: String) -> UInt64 {
-    guard let d = FileManager.default.contents(atPath: path), d.count >= 8 else { return 0 }
-    return d.prefix(8).enumerated().reduce(UInt64(0)) { $0 | UInt64($1.element) << (8 * UInt64($1.offset)) }
+/// The worker's progress record: index of the input running (or last run), inputs accepted and rejected
+/// before it.
+private func readProgress(_ path: String) -> (index: UInt64, accepted: Int, rejected: Int) {
+    guard let d = FileManager.default.contents(atPath: path), d.count >= 24 else { return (0, 0, 0) }
+    let b = [UInt8](d)
+    func word(_ k: Int) -> UInt64 { (0..<8).reduce(UInt64(0)) { $0 | UInt64(b[8 * k + $1]) << (8 * UInt64($1)) } }
+    return (word(0), Int(word(1)), Int(word(2)))
 }
