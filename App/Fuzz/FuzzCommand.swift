@@ -132,10 +132,11 @@ enum FuzzCommand {
                         do {
                             let r = try runCampaign(target: t, options: o)
                             let s = r.stats
-                            let line = String(format: "%@ %9d execs in %7.1f s (%8.0f/s), accepted %5.1f %%, %d failure(s)",
+                            let line = String(format: "%@ %9d execs in %7.1f s (%8.0f/s), accepted %5.1f %%, %d new failure(s), %d known crash(es)",
                                               t.name.padding(toLength: 15, withPad: " ", startingAt: 0), s.executions, r.wallSeconds,
                                               Double(s.executions) / max(r.wallSeconds, 1e-9),
-                                              100 * Double(s.accepted) / Double(max(s.accepted + s.rejected, 1)), r.findings.count)
+                                              100 * Double(s.accepted) / Double(max(s.accepted + s.rejected, 1)),
+                                          r.findings.filter { $0.known == nil }.count, r.knownCrashCount)
                             shared.lock.lock(); shared.results[t.name] = r; print(line); shared.lock.unlock()
                         } catch {
                             shared.lock.lock(); shared.errors.append("\(t.name): \(error)"); shared.lock.unlock()
@@ -164,7 +165,8 @@ enum FuzzCommand {
             }
             let total = results.values.reduce(0) { $0 + $1.stats.executions }
             print("wayfinder-fuzz: \(total) executions, \(newFailures) new failure(s), "
-                + "\(results.values.reduce(0) { $0 + $1.findings.filter { $0.known != nil }.count }) known crash(es)")
+                + "\(results.values.reduce(0) { $0 + $1.knownCrashCount }) known crash(es) "
+                    + "(\(results.values.filter { $0.knownCrashCount > 0 }.map { "\($0.target): \($0.knownCrashCount)" }.sorted().joined(separator: ", ")))")
             for e in errors { FileHandle.standardError.write(Data("wayfinder-fuzz: \(e)\n".utf8)) }
             exit(newFailures == 0 && errors.isEmpty ? 0 : 1)
 

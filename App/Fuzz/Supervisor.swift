@@ -22,8 +22,10 @@ struct TargetResult {
     var target: String
     /// Worker statistics summed over restarts.
     var stats = WorkerStats()
-    /// Failing inputs.
+    /// Failing inputs (known crashes: only the first `keptKnownCrashes`, the rest are counted).
     var findings: [Finding] = []
+    /// Crashes matching the known-crash list, all of them.
+    var knownCrashCount = 0
     /// Wall time including restarts, seconds.
     var wallSeconds = 0.0
 }
@@ -68,8 +70,8 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
     let t0 = Date()
     let deadline = t0.addingTimeInterval(o.secondsPerTarget)
     var next: UInt64 = 0
-    while next < o.executions, Date() < deadline, result.findings.filter({ $0.known == nil }).count < o.maximumFindings,
-          result.findings.count < 100 {
+    let keptKnownCrashes = 5
+    while next < o.executions, Date() < deadline, result.findings.filter({ $0.known == nil }).count < o.maximumFindings {
         _ = FileManager.default.createFile(atPath: progress, contents: Data(count: 24))
         _ = FileManager.default.createFile(atPath: stderrPath, contents: nil)
         _ = FileManager.default.createFile(atPath: stdoutPath, contents: nil)
@@ -117,6 +119,17 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
         result.stats.rejected += rejectedBefore
         let report = String(decoding: FileManager.default.contents(atPath: stderrPath) ?? Data(), as: UTF8.self)
         let kind = hung ? "hang" : (p.terminationReason == .exit && p.terminationStatus == propertyViolationExitCode ? "property" : "crash")
+        let frame = report.split(separator: "\n").first { $0.contains(" in wayfinder-fuzz") && $0.contains(" 0x") }
+            .map { line -> String in
+                let afterAddress = line.split(separator: " ", omittingEmptySubsequences: true).drop { !$0.hasPrefix("0x") }.dropFirst()
+                return afterAddress.joined(separator: " ").components(separatedBy: " in wayfinder-fuzz").first ?? ""
+            }
+        let known = kind == "crash" ? knownCrashes.first { k in k.target == target.name && k.reportContains.allSatisfy { report.contains($0) } } : nil
+        next = at + 1
+        if known != nil {
+            result.knownCrashCount += 1
+            if result.knownCrashCount > keptKnownCrashes { continue }
+        }
         let input = generator.input(at: at)
         let base = work.appendingPathComponent("\(kind)-\(o.seed)-\(at)")
         let reproducer: URL
@@ -131,17 +144,10 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
         let headline = hung ? "no progress for \(o.inputTimeLimitSeconds) s (per-input time limit)"
             : (report.split(separator: "\n").first { $0.contains("Fatal error") || $0.contains("runtime failure") || $0.contains("PROPERTY VIOLATION") }
                 ?? report.split(separator: "\n").first { $0.contains("crashed") }).map { $0.trimmingCharacters(in: CharacterSet(charactersIn: "* ")) } ?? "worker ended with \(p.terminationReason == .exit ? "status" : "signal") \(p.terminationStatus)"
-        // The innermost frame in this executable (the project's code, not the runtime's), as "function + offset".
-        let frame = report.split(separator: "\n").first { $0.contains(" in wayfinder-fuzz") && $0.contains(" 0x") }
-            .map { line -> String in
-                let afterAddress = line.split(separator: " ", omittingEmptySubsequences: true).drop { !$0.hasPrefix("0x") }.dropFirst()
-                return afterAddress.joined(separator: " ").components(separatedBy: " in wayfinder-fuzz").first ?? ""
-            }
+        // With the innermost frame in this executable (the project's code, not the runtime's): "function + offset".
         let fullHeadline = frame.map { "\(headline) [\($0)]" } ?? headline
-        let known = kind == "crash" ? knownCrashes.first { k in k.target == target.name && k.reportContains.allSatisfy { report.contains($0) } } : nil
         result.findings.append(Finding(kind: kind, target: target.name, index: at, reproducer: reproducer.path,
                                        headline: fullHeadline, known: known))
-        next = at + 1
     }
     result.wallSeconds = Date().timeIntervalSince(t0)
     return result
