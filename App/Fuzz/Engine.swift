@@ -7,6 +7,17 @@ struct Corpus {
     /// The seed inputs.
     let entries: [FuzzInput]
 
+    /// The corpus of `target`: its built-in seeds (self-test targets) or `<root>/<target name>`.
+    static func of(_ target: FuzzTarget, root: URL) throws -> Corpus {
+        if let seeds = target.builtinSeeds {
+            return Corpus(names: seeds.indices.map { "builtin-\($0)" }, entries: seeds)
+        }
+        return try Corpus(root: root, target: target.name)
+    }
+
+    /// A corpus held in memory.
+    init(names: [String], entries: [FuzzInput]) { self.names = names; self.entries = entries }
+
     /// Loads `<root>/<target>`. Throws when the directory is missing or empty.
     init(root: URL, target: String) throws {
         let dir = root.appendingPathComponent(target, isDirectory: true)

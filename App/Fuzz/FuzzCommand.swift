@@ -58,11 +58,12 @@ enum FuzzCommand {
         switch command {
         case "list":
             for t in FuzzTarget.all { print("\(t.name.padding(toLength: 15, withPad: " ", startingAt: 0)) \(t.summary)") }
+            for t in FuzzTarget.selfTests { print("\(t.name.padding(toLength: 15, withPad: " ", startingAt: 0)) \(t.summary)") }
 
         case "worker":
             let t = target(options["target"] ?? "")
             do {
-                let g = InputGenerator(target: t, corpus: try Corpus(root: corpusRoot, target: t.name), seed: option("seed", UInt64(1)))
+                let g = InputGenerator(target: t, corpus: try Corpus.of(t, root: corpusRoot), seed: option("seed", UInt64(1)))
                 runWorker(target: t, generator: g, start: option("start", UInt64(0)), end: option("end", UInt64(0)),
                           deadline: Date(timeIntervalSince1970: option("deadline", 0.0)),
                           progressPath: options["progress"] ?? "progress.bin",
@@ -91,7 +92,7 @@ enum FuzzCommand {
             let t = target(options["target"] ?? "")
             guard let out = options["out"], let index = options["index"].flatMap(UInt64.init) else { fail("gen needs --index and --out") }
             do {
-                let g = InputGenerator(target: t, corpus: try Corpus(root: corpusRoot, target: t.name), seed: option("seed", UInt64(1)))
+                let g = InputGenerator(target: t, corpus: try Corpus.of(t, root: corpusRoot), seed: option("seed", UInt64(1)))
                 let input = g.input(at: index)
                 if input.files.count == 1 {
                     _ = FileManager.default.createFile(atPath: out, contents: Data(input.files[0].bytes))

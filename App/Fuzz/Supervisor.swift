@@ -52,7 +52,7 @@ struct CampaignOptions: Sendable {
 /// or a hang ends only the child: the supervisor regenerates the input from its index, writes it as a
 /// reproducer, records the child's report, and restarts a worker after it.
 func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> TargetResult {
-    let corpus = try Corpus(root: o.corpusRoot, target: target.name)
+    let corpus = try Corpus.of(target, root: o.corpusRoot)
     let generator = InputGenerator(target: target, corpus: corpus, seed: o.seed)
     let work = o.outputDirectory.appendingPathComponent(target.name, isDirectory: true)
     try FileManager.default.createDirectory(at: work, withIntermediateDirectories: true)

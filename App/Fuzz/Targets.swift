@@ -21,6 +21,8 @@ struct FuzzTarget: Sendable {
     /// Runs one input. Throwing an ordinary error is the expected rejection of bad input; throwing
     /// `PropertyViolation` or crashing is a failure. `scratch` is a private, reusable directory.
     let run: @Sendable (_ input: FuzzInput, _ scratch: URL) throws -> Void
+    /// Seeds held in the code instead of Tests/Fuzz/corpus (the self-test targets only).
+    var builtinSeeds: [FuzzInput]? = nil
 
     /// Whether the file `name` gets binary (header) rather than text mutations.
     func isBinary(_ name: String) -> Bool { name.lowercased().hasSuffix(".bmp") }
@@ -28,8 +30,24 @@ struct FuzzTarget: Sendable {
     /// Every target, in campaign order.
     static let all: [FuzzTarget] = [map, bundle, rangeCSV, inavigate, inavigateYAML, inavigateBMP, occam]
 
-    /// Looks a target up by name.
-    static func named(_ n: String) -> FuzzTarget? { all.first { $0.name == n } }
+    /// Targets that check the harness itself (scripts/fuzz.sh runs them first and expects both to fail):
+    /// `selftest-crash` traps on every mutated input of odd length, `selftest-hang` never returns on one whose
+    /// length is a multiple of 3. Not part of `all`.
+    static let selfTests: [FuzzTarget] = [
+        FuzzTarget(name: "selftest-crash", summary: "harness self-test: traps on odd-length mutated inputs", optionalFiles: [],
+                   run: { input, _ in
+                       let n = input.byteCount
+                       if n != 6 && n % 2 == 1 { _ = Int(Double(n) * .infinity) }  // trap: Int(infinity)
+                   }, builtinSeeds: [FuzzInput(files: [.init(name: "seed.txt", bytes: Array("123456".utf8))])]),
+        FuzzTarget(name: "selftest-hang", summary: "harness self-test: hangs on mutated inputs of length 3k", optionalFiles: [],
+                   run: { input, _ in
+                       let n = input.byteCount
+                       while n != 6 && n % 3 == 0 { usleep(100_000) }
+                   }, builtinSeeds: [FuzzInput(files: [.init(name: "seed.txt", bytes: Array("123456".utf8))])]),
+    ]
+
+    /// Looks a target up by name (the campaign targets and the self-tests).
+    static func named(_ n: String) -> FuzzTarget? { (all + selfTests).first { $0.name == n } }
 
     /// Map format v1: `MapLoader.load(data:)` (strict JSON parser, decoder, `MapValidator`). A map it accepts
     /// must survive `MapWriter.encode` and a second load unchanged.
