@@ -100,13 +100,17 @@ struct Mutator {
         case 14:  // line-level: duplicate, delete or swap lines, or copy a donor's line
             b = mutateLines(b, donors: donors, rng: &rng)
         default:  // deep nesting or a long string
-            let depth = rng.pick([64, 200, 513, 1000, 5000, 100_000])
+            let depth = rng.pick([64, 200, 512, 513, 1000, 5000, 100_000])
             let at = rng.below(b.count + 1)
-            switch rng.below(4) {
+            switch rng.below(5) {
             case 0: b.insert(contentsOf: [UInt8](repeating: 0x5B, count: depth) + [UInt8](repeating: 0x5D, count: depth), at: at)
             case 1: b.insert(contentsOf: Array(String(repeating: "{\"a\":", count: depth).utf8) + [0x31]
                                  + [UInt8](repeating: 0x7D, count: depth), at: at)
             case 2: b.insert(contentsOf: [UInt8](repeating: 0x5B, count: depth), at: at)  // unbalanced
+            case 3:  // unbalanced, and the text (line) ends right after: parsers' limit checks at end of input
+                var end = at
+                while end < b.count && b[end] != 0x0A { end += 1 }
+                b.replaceSubrange(at..<end, with: [UInt8](repeating: rng.chance(0.5) ? 0x5B : 0x7B, count: depth))
             default: b.insert(contentsOf: [0x22] + [UInt8](repeating: 0x41, count: depth) + [0x22], at: at)
             }
         }
