@@ -10,7 +10,7 @@
 #
 # Usage: scripts/fuzz.sh                  (about 2-3 minutes on 2 cores, debug build: what scripts/test.sh runs)
 #        FUZZ_EXECS=1000000 FUZZ_SECONDS=3000 FUZZ_CONFIG=release scripts/fuzz.sh   (long campaign)
-# Environment: FUZZ_SEED (1), FUZZ_EXECS per target (2000), FUZZ_SECONDS per target (50),
+# Environment: FUZZ_SEED (1), FUZZ_EXECS per target (5000), FUZZ_SECONDS per target (60),
 #              FUZZ_TIMEOUT per input in s (10), FUZZ_JOBS targets in parallel (2), FUZZ_CONFIG debug|release,
 #              FUZZ_TARGETS comma-separated names or all.
 set -euo pipefail
@@ -35,7 +35,7 @@ if ! grep -q "NEW crash in selftest-crash" "$self/run.log" || ! grep -q "NEW han
   cat "$self/run.log" >&2; echo "fuzz.sh: self-test: a crash or a hang went unnoticed" >&2; exit 1
 fi
 repro=$(ls "$self"/selftest-crash/crash-*.txt | head -n 1)
-if SWIFT_BACKTRACE=enable=no "$bin" repro --target selftest-crash "$repro" >/dev/null 2>&1; then
+if (SWIFT_BACKTRACE=enable=no "$bin" repro --target selftest-crash "$repro"; exit $?) >/dev/null 2>&1; then
   echo "fuzz.sh: self-test: the reproducer $repro did not crash" >&2; exit 1
 fi
 echo "fuzz.sh: self-test passed (crash and hang caught, reproducer crashes)"
@@ -43,8 +43,8 @@ echo "fuzz.sh: self-test passed (crash and hang caught, reproducer crashes)"
 exec "$bin" run \
   --target "${FUZZ_TARGETS:-all}" \
   --seed "${FUZZ_SEED:-1}" \
-  --execs "${FUZZ_EXECS:-2000}" \
-  --seconds "${FUZZ_SECONDS:-50}" \
+  --execs "${FUZZ_EXECS:-5000}" \
+  --seconds "${FUZZ_SECONDS:-60}" \
   --timeout "${FUZZ_TIMEOUT:-10}" \
   --jobs "${FUZZ_JOBS:-2}" \
   --out .build/fuzz
