@@ -16,6 +16,7 @@ let package = Package(
     name: "Wayfinder",
     products: [
         .executable(name: "wayfinder", targets: ["WayfinderCLI"]),
+        .executable(name: "wayfinder-fuzz", targets: ["WayfinderFuzz"]),
     ],
     targets: [
         // C++17 particle filter + range estimation behind the C ABI in LocalizerCore/include.
@@ -79,6 +80,8 @@ let package = Package(
                            "SignDetection", "Navigation"],
             path: "App/CLI"
         ),
+        // `wayfinder-fuzz`: mutation fuzzer of every file reader (docs/fuzzing.md).
+        .executableTarget(name: "WayfinderFuzz", dependencies: ["Maps", "SessionFormat", "Localizer"], path: "App/Fuzz"),
 
         .testTarget(name: "MapsTests", dependencies: ["Maps"], path: "Tests/MapsTests"),
         .testTarget(name: "SessionFormatTests", dependencies: ["SessionFormat"], path: "Tests/SessionFormatTests"),

@@ -20,6 +20,9 @@ echo "== Swift package: build + XCTest"
 swift build -j "$jobs"
 swift test -j "$jobs" --parallel --num-workers "$jobs"
 
+echo "== Fuzz campaign (bounded, scripts/fuzz.sh)"
+bash scripts/fuzz.sh
+
 echo "== Apple-only sources parse (swiftc -parse)"
 bash scripts/parse-ios.sh
 

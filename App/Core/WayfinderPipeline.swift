@@ -119,7 +119,8 @@ public final class WayfinderPipeline {
                                                       hypotheses: estimate.hypotheses.map {
                                                           PoseCandidate(weight: $0.weight, floorId: $0.floorId,
                                                                         positionInMap: $0.positionInMap,
-                                                                        headingRad: $0.headingRad)
+                                                                        headingRad: $0.headingRad,
+                                                                        positionStdMeters: $0.positionStdMeters)
                                                       }))
         }
         var update = PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,

@@ -163,6 +163,12 @@ public struct SessionBundle: Sendable {
             e.reason += " (every bundle has session.json)"
             throw e
         }
+        // Foundation's JSON parsers trap on text ending at their 512-level limit (JSONNesting).
+        let depth = JSONNesting.depth(data)
+        guard depth <= JSONNesting.maximumDepth else {
+            throw BundleError(.invalidJSON, file: fileURL.path,
+                              reason: "JSON nested \(depth) levels deep (at most \(JSONNesting.maximumDepth) accepted)")
+        }
         let object: Any
         do { object = try JSONSerialization.jsonObject(with: data) } catch {
             throw BundleError(.invalidJSON, file: fileURL.path, reason: "not valid JSON: \(jsonSyntaxDetail(data))")

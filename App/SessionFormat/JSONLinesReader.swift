@@ -82,6 +82,11 @@ public final class RecordLineReader<Record: BundleLineRecord> {
             let isLast = lookahead == nil
 
             let record: Record
+            let depth = JSONNesting.depth(line.bytes)
+            guard depth <= JSONNesting.maximumDepth else {
+                throw BundleError(.invalidJSON, file: url.path, line: line.number,
+                                  reason: "JSON nested \(depth) levels deep (at most \(JSONNesting.maximumDepth) accepted; a record needs under 10)")
+            }
             do {
                 record = try decoder.decode(Record.self, from: line.bytes)
             } catch DecodingError.dataCorrupted(let ctx) where ctx.codingPath.isEmpty {

@@ -39,7 +39,8 @@ public enum OccamImporter {
         public var sightingCount: Int
         /// Distinct tag ids sighted.
         public var distinctTagCount: Int
-        /// Sightings dropped: unknown pose id, malformed tag pose, tag behind the camera or at the camera, range over `ObservationRecord.maximumRangeMeters`.
+        /// Sightings dropped: unknown pose id, malformed tag pose, tag behind the camera or at the camera, range over
+        /// `ObservationRecord.maximumRangeMeters`, or a sighting the bundle format refuses (e.g. an infinite range).
         public var skippedSightings: Int
         /// Poses dropped because they repeat the previous pose's timestamp.
         public var droppedDuplicatePoses: Int
@@ -94,6 +95,13 @@ public enum OccamImporter {
         } catch {
             throw fail("cannot read: \(error.localizedDescription)")
         }
+        // Foundation's JSONDecoder (Swift 6.3 toolchain) traps instead of throwing on text that ends exactly at
+        // its 512-level nesting limit (e.g. 513 '['; found by wayfinder-fuzz, docs/fuzzing.md): deep nesting
+        // is refused here first. An OCCaM file nests 5 levels.
+        let depth = JSONNesting.depth(data)
+        guard depth <= JSONNesting.maximumDepth else {
+            throw fail("not an OCCaM InvisibleMap recording: JSON nested \(depth) levels deep (at most \(JSONNesting.maximumDepth) accepted)")
+        }
         let root: OccamFile
         do { root = try JSONDecoder().decode(OccamFile.self, from: data) } catch {
             throw fail("not an OCCaM InvisibleMap recording: \(describeDecodingError(error))")
@@ -145,7 +153,13 @@ public enum OccamImporter {
         frames.reserveCapacity(poses.count)
         for p in poses {
             if let k = intrinsicsByPose[p.id] { current = k }
-            frames.append(FrameRecord(t: p.t, cameraToWorld: p.m, tracking: .normal, intrinsics: current))
+            let frame = FrameRecord(t: p.t, cameraToWorld: p.m, tracking: .normal, intrinsics: current)
+            // The bundle's own frame checks (rigid transform, finite time...), so that a pose the writer would
+            // refuse is reported here against the OCCaM file.
+            if let problem = frame.validationProblem() {
+                throw fail("pose_data id \(p.id) (timestamp \(p.t)): \(problem)")
+            }
+            frames.append(frame)
         }
 
         // Sightings.
@@ -158,9 +172,10 @@ public enum OccamImporter {
                   let rb = rangeBearing(tagTranslationCV: (d.tag_pose[3], d.tag_pose[7], d.tag_pose[11]), camera: camera),
                   rb.rangeMeters <= ObservationRecord.maximumRangeMeters
             else { skipped += 1; continue }
-            observations.append(ObservationRecord(
-                t: d.timestamp, kind: "landmark", rangeMeters: rb.rangeMeters, bearingRad: rb.bearingRad, score: 1,
-                source: "imported", landmarkId: String(d.tag_id)))
+            let o = ObservationRecord(t: d.timestamp, kind: "landmark", rangeMeters: rb.rangeMeters, bearingRad: rb.bearingRad,
+                                      score: 1, source: "imported", landmarkId: String(d.tag_id))
+            guard o.validationProblem() == nil else { skipped += 1; continue }
+            observations.append(o)
         }
         observations = observations.enumerated().sorted {
             $0.element.t != $1.element.t ? $0.element.t < $1.element.t : $0.offset < $1.offset

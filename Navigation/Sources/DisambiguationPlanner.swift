@@ -16,7 +16,8 @@
 //    (nats, over the live weights) is the expected information gain of walking that far.
 // The action with the best gain per meter walked (turns cost `turnCostMeters` of walking) wins; without any
 // gain, the safe action with the longest walk (ahead preferred) keeps the traveler moving along a corridor;
-// with no safe action the advice is to stop being confident and walk slowly.
+// with no safe action, or while the live hypotheses hold less than `minimumCoverage` of the weight (the cloud
+// is still spread out, so safety where the traveler really is cannot be known), the advice is to walk slowly.
 import Foundation
 import Maps
 
@@ -30,9 +31,13 @@ public struct PoseCandidate: Sendable, Equatable {
     public var positionInMap: Point2
     /// Camera (walking) heading, radians CCW from map +x.
     public var headingRad: Double
+    /// Position spread of the hypothesis (largest axis), meters: a cluster spread over a whole corridor is no
+    /// pose to plan from.
+    public var positionStdMeters: Double
     /// Creates a candidate.
-    public init(weight: Double, floorId: String, positionInMap: Point2, headingRad: Double) {
+    public init(weight: Double, floorId: String, positionInMap: Point2, headingRad: Double, positionStdMeters: Double = 0) {
         self.weight = weight; self.floorId = floorId; self.positionInMap = positionInMap; self.headingRad = headingRad
+        self.positionStdMeters = positionStdMeters
     }
 }
 
@@ -79,6 +84,13 @@ public struct DisambiguationAdvice: Sendable, Equatable {
 public struct DisambiguationOptions: Sendable {
     /// Hypotheses lighter than this are ignored (their weight is not "real").
     public var minimumLiveWeight = 0.05
+    /// The live hypotheses must hold at least this share of the whole weight (the weights given are the
+    /// localizer's, normalised over all particles): with the cloud still spread over the floor, no instruction
+    /// can be known to be safe where the traveler really is, so the advice is to walk slowly.
+    public var minimumCoverage = 0.7
+    /// A hypothesis spread wider than this (position std, meters) counts as no hypothesis at all: early on the
+    /// whole cloud can form one connected cluster whose mean pose is meaningless.
+    public var maximumSpreadMeters = 2.0
     /// The walk stops this far before the first wall ahead.
     public var wallMarginMeters = 1.0
     /// A walk shorter than this is not worth an instruction.
@@ -117,13 +129,15 @@ public struct DisambiguationPlanner: Sendable {
         self.options = options
     }
 
-    /// The advice for the given hypotheses (any order; weights need not sum to 1).
+    /// The advice for the given hypotheses (any order; weights as the localizer normalises them, over all
+    /// particles: the live ones must cover `minimumCoverage`).
     public func advise(_ hypotheses: [PoseCandidate]) -> DisambiguationAdvice {
         let live = hypotheses.filter { $0.weight >= options.minimumLiveWeight && $0.weight.isFinite &&
+            $0.positionStdMeters <= options.maximumSpreadMeters &&
             $0.positionInMap.x.isFinite && $0.positionInMap.y.isFinite && $0.headingRad.isFinite &&
             building.floor(id: $0.floorId) != nil }
         let total = live.reduce(0) { $0 + $1.weight }
-        guard !live.isEmpty, total > 0 else {
+        guard !live.isEmpty, total > 0, total >= options.minimumCoverage - 1e-12 else {
             return DisambiguationAdvice(action: nil, safeWalkMeters: 0, informationNats: 0, distinguishingMeters: nil)
         }
         var best: (advice: DisambiguationAdvice, utility: Double)?

@@ -140,3 +140,54 @@ final class ImporterPartsTests: XCTestCase {
         XCTAssertEqual(b.pointOfInterest(id: "kitchen-1f")?.behindDoor, true)
     }
 }
+
+/// Inputs found by wayfinder-fuzz (docs/fuzzing.md) that used to trap the importer instead of throwing.
+final class InavigateImporterFuzzRegressionTests: XCTestCase {
+    /// A valid one-floor folder (20 x 10 px room at 10 px/m, one exit sign, one destination), with
+    /// `info` and `graph` replacing info.yml and navgraph.json.
+    private func folder(info: String, graph: String) throws -> URL {
+        let dir = FileManager.default.temporaryDirectory.appendingPathComponent("inav-fuzz-\(UUID().uuidString)")
+        try FileManager.default.createDirectory(at: dir, withIntermediateDirectories: true)
+        addTeardownBlock { try? FileManager.default.removeItem(at: dir) }
+        var px = [UInt8](repeating: 0, count: 20 * 10)
+        for c in 0..<20 { px[c] = 255; px[9 * 20 + c] = 255 }
+        try BMPReader.encodeGray(GrayImage(width: 20, height: 10, pixels: px)).write(to: dir.appendingPathComponent("w.bmp"))
+        try "map_feature:\n    id: 0\n    type: exit_sign\n    position: [1.0, 0.15]\n    normal: [0, 1]\n".write(
+            to: dir.appendingPathComponent("f.yml"), atomically: true, encoding: .utf8)
+        try info.write(to: dir.appendingPathComponent("info.yml"), atomically: true, encoding: .utf8)
+        try graph.write(to: dir.appendingPathComponent("navgraph.json"), atomically: true, encoding: .utf8)
+        return dir
+    }
+
+    private let info = "floor:\n    id: 1\n    features_file: f.yml\n    walls: w.bmp\n    scale: 10\n"
+    private func graph(floor: String) -> String {
+        "{\"nodes\": {\"1\": {\"id\": 1, \"type\": \"destination\", \"position\": [5, 5], \"floor\": \(floor), \"label\": \"kitchen\"}}, \"weights\": [[0]]}"
+    }
+
+    func testTheFolderImportsWithAnIntegerFloorNumber() throws {
+        // Control: the JSON integer 1 names floor "1".
+        let (b, _) = try InavigateImporter.importBuilding(from: try folder(info: info, graph: graph(floor: "1")))
+        XCTAssertEqual(b.graph.nodes.map(\.floorId), ["1"])
+    }
+
+    func testAnIntegerFloorBeyondIntIsAnErrorNotATrap() throws {
+        // Was: String(Int(1e20)) -> "Double value cannot be converted to Int" (fuzz target inavigate).
+        let dir = try folder(info: info, graph: graph(floor: "100000000000000000000"))
+        XCTAssertThrowsError(try InavigateImporter.importBuilding(from: dir)) { e in
+            XCTAssertEqual("\(e)", "\(dir.appendingPathComponent("navgraph.json").path): node 1 has no 'floor'")
+        }
+    }
+
+    func testAFloorNumberOffTheElevationRangeIsAnErrorNotATrap() throws {
+        // Was: Int.min - 1 overflowed computing the elevation (floor id -9223372036854775808).
+        for id in ["-9223372036854775808", "9223372036854775807", "252"] {
+            let dir = try folder(info: info.replacingOccurrences(of: "id: 1", with: "id: \(id)"), graph: graph(floor: "\"\(id)\""))
+            XCTAssertThrowsError(try InavigateImporter.importBuilding(from: dir), id) { e in
+                XCTAssertTrue("\(e)".hasPrefix("\(dir.appendingPathComponent("info.yml").path): floor id '\(id)' (line 1): its elevation"), "\(e)")
+            }
+        }
+        // Floor 251 is at 1000 m, the format's limit: accepted.
+        let dir = try folder(info: info.replacingOccurrences(of: "id: 1", with: "id: 251"), graph: graph(floor: "\"251\""))
+        XCTAssertEqual(try InavigateImporter.importBuilding(from: dir).building.floors.first?.elevationMeters, 1000)
+    }
+}

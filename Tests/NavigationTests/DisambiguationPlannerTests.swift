@@ -80,6 +80,24 @@ final class DisambiguationPlannerTests: XCTestCase {
         XCTAssertNotEqual(door.action, .ahead)
     }
 
+    func testASpreadCloudGetsNoDirection() {
+        // Three light hypotheses holding 30 % of the weight in all: the rest of the cloud is spread over the
+        // floor, so no direction is known to be safe where the traveler really is.
+        let h = (0..<3).map { k in
+            PoseCandidate(weight: 0.1, floorId: "1", positionInMap: Point2(3 + 4 * Double(k), 1), headingRad: 0)
+        }
+        let advice = DisambiguationPlanner(building: corridor()).advise(h)
+        XCTAssertNil(advice.action)
+        XCTAssertEqual(advice.phraseKey, "disambiguate.unsure")
+    }
+
+    func testOneWideClusterIsNoPoseToPlanFrom() {
+        // Early on the whole cloud may be one connected cluster holding all the weight, its mean in the middle
+        // of the floor: no direction can be planned from it.
+        let h = [PoseCandidate(weight: 1.0, floorId: "1", positionInMap: Point2(10, 1), headingRad: 0, positionStdMeters: 5.8)]
+        XCTAssertNil(DisambiguationPlanner(building: corridor()).advise(h).action)
+    }
+
     func testNoSafeActionSaysSoPlainly() {
         // A 2 m x 2 m closet: nothing is 3 m free in any direction.
         let walls = [Wall(from: Point2(0, 0), to: Point2(2, 0)), Wall(from: Point2(0, 2), to: Point2(2, 2)),

@@ -35,6 +35,24 @@ final class BundleHardeningTests: XCTestCase {
 
     private func readError() -> BundleError? { bundleError { try SessionBundle.read(from: self.dir) } }
 
+    // MARK: Deep nesting (Foundation's JSON parsers trap at their 512-level limit; found by wayfinder-fuzz)
+
+    func testDeeplyNestedLinesAndSessionFileAreErrorsNotTraps() throws {
+        // A frames.jsonl line of 513 '[' (the fuzzer's reproducer) and one of '{"t":' + 512 '['.
+        for line in [String(repeating: "[", count: 513), "{\"t\":" + String(repeating: "[", count: 512)] {
+            let original = try Data(contentsOf: file("frames.jsonl"))
+            try (String(decoding: original, as: UTF8.self) + line + "\n").write(to: file("frames.jsonl"), atomically: true, encoding: .utf8)
+            let e = try XCTUnwrap(readError())
+            XCTAssertEqual(e.kind, .invalidJSON)
+            XCTAssertTrue(e.reason.contains("nested"), e.reason)
+            try original.write(to: file("frames.jsonl"))
+        }
+        try Data(String(repeating: "[", count: 513).utf8).write(to: file("session.json"))
+        let e = try XCTUnwrap(readError())
+        XCTAssertTrue(e.file.hasSuffix("session.json") && e.reason.contains("nested"), "\(e)")
+        XCTAssertEqual(JSONNesting.depth(Data("{\"a\": \"[[[[\", \"b\": [[1]]}".utf8)), 3)
+    }
+
     // MARK: Special files (a FIFO blocked, /dev/zero ran forever)
 
     func testFIFOAsFramesFileIsRefusedWithoutBlocking() throws {

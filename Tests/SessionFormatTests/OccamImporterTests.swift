@@ -226,4 +226,51 @@ final class OccamImporterTests: XCTestCase {
         for (a, b) in zip(c.frames[0].cameraToWorld, cm) { XCTAssertEqual(a, b, accuracy: 1e-12) }
         XCTAssertEqual(c.info.mapId, "test")
     }
+
+    /// Found by wayfinder-fuzz (target occam, docs/fuzzing.md): a pose that is not a rigid transform used to
+    /// convert, and the bundle writer then refused it ("refusing to write") after the bundle directory had
+    /// been created. The converter now names the pose in the OCCaM file.
+    func testNonRigidPosesAreRefusedWithThePoseNamed() throws {
+        let dir = try makeTemporaryDirectory(self, "occam-fuzz")
+        let file = dir.appendingPathComponent("scaled.json")
+        var scaled = CameraPose(positionInWorld: (x: 0, y: 1.4, z: 0), yawRad: 0, pitchRad: 0, rollRad: 0).columnMajor
+        scaled[10] = 4_294_967_296  // a 2^32 entry in the rotation: bottom row still (0, 0, 0, 1)
+        let good = CameraPose(positionInWorld: (x: 0.2, y: 1.4, z: -0.5), yawRad: 0, pitchRad: 0, rollRad: 0).columnMajor
+        let json: [String: Any] = ["map_id": "m 1", "tag_data": [[[String: Any]]](),
+                                   "pose_data": [["id": 7, "timestamp": 1.0, "pose": scaled], ["id": 8, "timestamp": 1.5, "pose": good]]]
+        try JSONSerialization.data(withJSONObject: json).write(to: file)
+        XCTAssertThrowsError(try OccamImporter.convert(from: file)) { e in
+            let s = String(describing: e)
+            XCTAssertTrue(s.hasPrefix(file.path + ": pose_data id 7 (timestamp 1.0): cameraToWorld rotation is not orthonormal"), s)
+        }
+        let out = dir.appendingPathComponent("bundle")
+        XCTAssertThrowsError(try OccamImporter.importWalk(from: file, to: out)) { e in XCTAssertTrue(e is OccamImporter.ImportError, "\(e)") }
+        XCTAssertFalse(FileManager.default.fileExists(atPath: out.path), "nothing is written for a refused file")
+        // Control: with the rigid pose in its place the file converts.
+        let fixed: [String: Any] = ["map_id": "m 1", "tag_data": [[[String: Any]]](),
+                                    "pose_data": [["id": 7, "timestamp": 1.0, "pose": good], ["id": 8, "timestamp": 1.5, "pose": good]]]
+        try JSONSerialization.data(withJSONObject: fixed).write(to: file)
+        XCTAssertEqual(try OccamImporter.convert(from: file).frames.count, 2)
+    }
+
+    /// Found by wayfinder-fuzz (target occam): a file of exactly 513 '[' trapped inside Foundation's
+    /// JSONDecoder (its nesting-limit error path); the importer now refuses deep nesting itself.
+    func testDeeplyNestedJSONIsAnErrorNotATrap() throws {
+        let dir = try makeTemporaryDirectory(self, "occam-deep")
+        let file = dir.appendingPathComponent("deep.json")
+        for text in [String(repeating: "[", count: 513), String(repeating: "[", count: 65) + String(repeating: "]", count: 65),
+                     "{\"pose_data\": " + String(repeating: "[", count: 600)] {
+            try Data(text.utf8).write(to: file)
+            XCTAssertThrowsError(try OccamImporter.convert(from: file)) { e in
+                XCTAssertTrue(String(describing: e).contains("levels deep (at most 64 accepted)"), "\(e)")
+            }
+        }
+        // Brackets inside strings do not count; 64 levels are accepted by the depth check (then fail as JSON).
+        XCTAssertEqual(JSONNesting.depth(Data("{\"map_id\": \"[[[[\\\"[[\", \"a\": [[1]]}".utf8)), 3)
+        try Data((String(repeating: "[", count: 64) + String(repeating: "]", count: 64)).utf8).write(to: file)
+        XCTAssertThrowsError(try OccamImporter.convert(from: file)) { e in
+            XCTAssertTrue(String(describing: e).contains("not an OCCaM InvisibleMap recording: "), "\(e)")
+            XCTAssertFalse(String(describing: e).contains("levels deep"), "\(e)")
+        }
+    }
 }

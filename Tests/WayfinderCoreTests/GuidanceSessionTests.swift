@@ -37,7 +37,7 @@ final class GuidanceSessionTests: XCTestCase {
             let frame = PipelineFrame(record: f, imagesDirectory: nil, observations: obsByFrame[i] ?? [])
             for c in session.process(frame) { if case .speak(let text, _) = c { spoken.append(text) } }
         }
-        XCTAssertEqual(spoken.first, "Start walking.")
+        XCTAssertTrue(spoken.first.map(ReplayTests.isUnsureGuidance) ?? false, "first: \(String(describing: spoken.first))")
         let stopped = session.stop()
         if session.state != .arrived {
             XCTAssertTrue(stopped.contains(.stopSensors))

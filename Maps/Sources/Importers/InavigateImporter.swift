@@ -94,6 +94,12 @@ public enum InavigateImporter {
             }
             let id = try field("id")
             guard let number = Int(id) else { throw InavigateImportError(file: infoURL.path, reason: "floor id '\(id)' (line \(rec.line)) is not a floor number") }
+            // Floor N is at (N - 1) x floorHeightMeters; a number whose elevation is off the map format's range is
+            // refused here (computing N - 1 for Int.min would also overflow).
+            let elevation = (Double(number) - 1) * options.floorHeightMeters
+            guard abs(elevation) <= MapValidator.maximumElevationMeters else {
+                throw InavigateImportError(file: infoURL.path, reason: "floor id '\(id)' (line \(rec.line)): its elevation, (\(id) - 1) x \(options.floorHeightMeters) m, is beyond the \(MapValidator.maximumElevationMeters) m the map format allows")
+            }
             guard let scale = Double(try field("scale")), scale.isFinite, scale > 0 else {
                 throw InavigateImportError(file: infoURL.path, reason: "floor \(id): scale must be a positive number of pixels per meter")
             }
@@ -174,7 +180,7 @@ public enum InavigateImporter {
                 throw InavigateImportError(file: featuresURL.path, reason: "two map_feature records have id \(dup.key.split(separator: "-").last ?? "")")
             }
             reports[id] = (walls.count, adjustments)
-            let floor = Floor(id: id, name: "Floor \(id)", elevationMeters: Double(number - 1) * options.floorHeightMeters,
+            let floor = Floor(id: id, name: "Floor \(id)", elevationMeters: elevation,
                               walls: walls, doors: [], signs: signs, pointsOfInterest: [])
             sources.append(FloorSource(id: id, number: number, scale: scale, rows: image.height, floor: floor))
         }
@@ -203,7 +209,8 @@ public enum InavigateImporter {
             func num(_ v: JSONValue?) -> Double? { if case .number(let x, _)? = v, x.isFinite { return x }; return nil }
             func str(_ v: JSONValue?) -> String? {
                 if case .string(let s)? = v { return s }
-                if case .number(let x, true)? = v { return String(Int(x)) }
+                // An integer written as a number ("floor": 2); one beyond Int (1e20 written out) is not a name.
+                if case .number(let x, true)? = v, let i = Int(exactly: x) { return String(i) }
                 return nil
             }
             guard let number = num(d["id"]).flatMap({ Int(exactly: $0) }) ?? Int(key) else { throw bad("node \(key) has no integer 'id'") }
