@@ -28,6 +28,11 @@ public struct TraceRecord: Codable, Sendable, Equatable {
     public var announcements: [String]
     /// Haptic patterns played on this frame.
     public var haptics: [String]
+    /// While not localized: the navigator's exploratory advice in force (its action, e.g. "ahead", or
+    /// "unsure"); nil when localized or without a navigator.
+    public var advice: String? = nil
+    /// The exploratory action spoken on this frame ("ahead", "turnAround", "left", "right"), if one was.
+    public var spokenAdvice: String? = nil
 
     /// Creates a trace record.
     public init(t: Double, x: Double, y: Double, floorId: String, headingRad: Double, confidence: Double, localized: Bool,
@@ -220,6 +225,10 @@ public enum Replay {
                                             headingRad: e.headingRad, confidence: e.confidence, localized: e.isLocalized,
                                             hypotheses: e.hypothesisCount, sightings: update.sightings.count,
                                             announcements: spoken, haptics: haptics))
+            if let advice = update.advice { result.trace[result.trace.count - 1].advice = advice.action?.rawValue ?? "unsure" }
+            if let spokenAdvice = update.spokenAdvice?.action {
+                result.trace[result.trace.count - 1].spokenAdvice = spokenAdvice.rawValue
+            }
             var label: String?
             if i == 0 { label = "start" } else if i == middleIndex { label = "middle" } else if i == n - 1 { label = "end" }
             if e.isLocalized && !wasLocalized { label = "first convergence" }

@@ -30,6 +30,17 @@ public struct LocalizationScore: Codable, Sendable, Equatable {
     public var wrongFloorSeconds: Double
     /// Meters walked in the whole walk.
     public var walkedMeters: Double
+    /// Share of the frames after the first convergence that are flagged `localized` (the steady lock), 0...1;
+    /// nil if never converged.
+    public var localizedShareAfterConvergence: Double?
+    /// Frames from the first convergence on (the denominator of `localizedShareAfterConvergence`).
+    public var framesAfterConvergence: Int?
+    /// After the last true floor change (truth floorId switches): meters walked from arriving on the new floor
+    /// until the first frame localized on it (0 when the flag never dropped); nil without a floor change;
+    /// `Double.infinity` is not used: `floorChangeNeverRelocalized` says so.
+    public var floorChangeRelocalizationMeters: Double?
+    /// True when the walk changed floor and was never localized on the new floor afterwards.
+    public var floorChangeNeverRelocalized: Bool = false
 
     /// Error beyond which a localized estimate counts as confidently wrong, meters.
     public static let wrongThresholdMeters = 3.0
@@ -43,7 +54,11 @@ public struct LocalizationScore: Codable, Sendable, Equatable {
         maxWrongConvergenceDistanceMeters = 0
         wrongFloorSeconds = 0
         guard !truth.isEmpty, let first = trace.first else { return }
+        scoreFloorChange(trace: trace, truth: truth)
         guard let convergedIndex = trace.firstIndex(where: \.localized) else { return }
+        let later = trace[convergedIndex...]
+        localizedShareAfterConvergence = Double(later.filter(\.localized).count) / Double(later.count)
+        framesAfterConvergence = later.count
         let converged = trace[convergedIndex]
         timeToConvergenceSeconds = converged.t - first.t
         distanceToConvergenceMeters = truth.distanceWalked(at: converged.t) - truth.distanceWalked(at: first.t)
@@ -80,5 +95,24 @@ public struct LocalizationScore: Codable, Sendable, Equatable {
         p90ErrorMeters = percentile(errors, 90)
         p95ErrorMeters = percentile(errors, 95)
         medianHeadingErrorDeg = percentile(headingErrorsDeg, 50)
+    }
+
+    /// Finds the last switch of the true floor and how far the walker went on the new floor before a frame
+    /// was localized there.
+    private mutating func scoreFloorChange(trace: [TraceRecord], truth: TruthTrack) {
+        var lastChange: (t: Double, floor: String)?
+        var previous: String?
+        for r in trace {
+            let floor = truth.state(at: r.t).floorId
+            if let previous, previous != floor { lastChange = (r.t, floor) }
+            previous = floor
+        }
+        guard let change = lastChange else { return }
+        let start = truth.distanceWalked(at: change.t)
+        if let hit = trace.first(where: { $0.t >= change.t && $0.localized && $0.floorId == change.floor }) {
+            floorChangeRelocalizationMeters = truth.distanceWalked(at: hit.t) - start
+        } else {
+            floorChangeNeverRelocalized = true
+        }
     }
 }

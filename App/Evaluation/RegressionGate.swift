@@ -59,6 +59,19 @@ public struct RegressionBaseline: Codable, Sendable {
         if current.wrongInstructions > b.wrongInstructions + instructionCountTolerance {
             out.append("wrong instructions: \(current.wrongInstructions) > baseline \(b.wrongInstructions)")
         }
+        func dropped(_ name: String, _ now: Double?, _ then: Double?) {
+            guard let then else { return }
+            guard let now else { out.append("\(name): no value (baseline \(then))"); return }
+            if now < then - convergenceShareTolerance {
+                out.append(String(format: "%@: %.2f < baseline %.2f - %.2f", name, now, then, convergenceShareTolerance))
+            }
+        }
+        dropped("localized share after convergence", current.localizedShareAfterConvergence, b.localizedShareAfterConvergence)
+        dropped("relocalized within 10 m of a floor change", current.floorChangeRelocalizedWithin10mShare,
+                b.floorChangeRelocalizedWithin10mShare)
+        if let then = b.unsafeUnsureInstructions, (current.unsafeUnsureInstructions ?? 0) > then {
+            out.append("unsafe instructions while not localized: \(current.unsafeUnsureInstructions ?? 0) > baseline \(then)")
+        }
         return out
     }
 }

@@ -26,6 +26,14 @@ public enum ScoreTable {
                       aggregate.walks, aggregate.convergedWithin20mShare * 100, f(aggregate.medianErrorMeters),
                       f(aggregate.p95ErrorMeters), aggregate.wrongConvergenceEpisodes, aggregate.maxWrongConvergenceDistanceMeters,
                       aggregate.missingInstructions, aggregate.wrongInstructions, f(aggregate.medianCueDistanceBeforeMeters))
+        func pct(_ v: Double?) -> String { v.map { String(format: "%.0f%%", $0 * 100) } ?? "-" }
+        out += "median convergence distance \(f(aggregate.medianConvergenceDistanceMeters)) m; localized in "
+            + "\(pct(aggregate.localizedShareAfterConvergence)) of the frames after convergence"
+        if let n = aggregate.floorChangeWalks {
+            out += "; \(n) floor changes, relocalized within 10 m in \(pct(aggregate.floorChangeRelocalizedWithin10mShare))"
+        }
+        out += "; while not localized: directional instruction \(pct(aggregate.directedShareWhileUnsure)) of the time, "
+            + "\(aggregate.unsafeUnsureInstructions.map(String.init) ?? "-") unsafe under the true pose\n"
         return out
     }
 }

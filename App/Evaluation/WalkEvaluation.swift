@@ -15,6 +15,8 @@ public struct WalkScore: Codable, Sendable {
     public var frames: Int
     /// Duration, seconds.
     public var durationSeconds: Double
+    /// Guidance while not localized (nil in scores made before it existed).
+    public var unsureGuidance: UnsureGuidanceScore?
 }
 
 /// Figures over many walks, the ones the regression gate compares.
@@ -37,6 +39,17 @@ public struct AggregateScore: Codable, Sendable, Equatable {
     public var wrongInstructions: Int
     /// Median distance of cues before their control point, meters.
     public var medianCueDistanceBeforeMeters: Double?
+    /// Median over walks of the distance walked to the first convergence, meters (nil if none converged).
+    public var medianConvergenceDistanceMeters: Double?
+    /// Share of all frames after each walk's first convergence that were flagged localized, 0...1.
+    public var localizedShareAfterConvergence: Double?
+    /// Walks with a floor change, and the share of them localized on the new floor within 10 m of walking.
+    public var floorChangeWalks: Int?
+    public var floorChangeRelocalizedWithin10mShare: Double?
+    /// Share of the unlocalized time with a directional exploratory instruction in force, 0...1.
+    public var directedShareWhileUnsure: Double?
+    /// Exploratory instructions that would lead into a wall, onto stairs or through a door from the true pose.
+    public var unsafeUnsureInstructions: Int?
 
     /// Aggregates walk scores.
     public init(_ scores: [WalkScore]) {
@@ -50,6 +63,29 @@ public struct AggregateScore: Codable, Sendable, Equatable {
         missingInstructions = scores.map(\.navigation.missingInstructions).reduce(0, +)
         wrongInstructions = scores.map(\.navigation.wrongInstructions).reduce(0, +)
         medianCueDistanceBeforeMeters = percentile(scores.flatMap(\.navigation.cueDistancesBeforeMeters), 50)
+        medianConvergenceDistanceMeters = percentile(scores.compactMap { $0.localization.distanceToConvergenceMeters }, 50)
+        // Pooled over frames: a walk's share weighted by its frames after convergence.
+        var after = 0.0, afterLocalized = 0.0
+        for s in scores {
+            guard let share = s.localization.localizedShareAfterConvergence,
+                  let n = s.localization.framesAfterConvergence else { continue }
+            let frames = Double(n)
+            after += frames
+            afterLocalized += frames * share
+        }
+        localizedShareAfterConvergence = after > 0 ? afterLocalized / after : nil
+        let changed = scores.filter { $0.localization.floorChangeRelocalizationMeters != nil || $0.localization.floorChangeNeverRelocalized }
+        if !changed.isEmpty {
+            floorChangeWalks = changed.count
+            floorChangeRelocalizedWithin10mShare = Double(changed.filter { ($0.localization.floorChangeRelocalizationMeters ?? .infinity) <= 10 }.count)
+                / Double(changed.count)
+        }
+        let unsure = scores.compactMap(\.unsureGuidance)
+        let unsureSeconds = unsure.map(\.unsureSeconds).reduce(0, +)
+        if !unsure.isEmpty {
+            directedShareWhileUnsure = unsureSeconds > 0 ? unsure.map(\.directedSeconds).reduce(0, +) / unsureSeconds : nil
+            unsafeUnsureInstructions = unsure.map(\.unsafeInstructions).reduce(0, +)
+        }
     }
 }
 
@@ -89,7 +125,8 @@ public enum WalkEvaluator {
                                          destination: destination, convergenceT: convergenceT)
         let duration = (result.trace.last?.t ?? 0) - (result.trace.first?.t ?? 0)
         return WalkScore(name: name, localization: localization, navigation: navigation, frames: result.trace.count,
-                         durationSeconds: duration)
+                         durationSeconds: duration,
+                         unsureGuidance: UnsureGuidanceScore(trace: result.trace, truth: track, building: building))
     }
 }
 

@@ -157,8 +157,8 @@ public struct DisambiguationPlanner: Sendable {
             DisambiguationAdvice(action: nil, safeWalkMeters: 0, informationNats: 0, distinguishingMeters: nil)
     }
 
-    /// Free walking length of `action` that is safe under every hypothesis, meters.
-    func safeWalkMeters(_ action: ExploratoryAction, _ live: [PoseCandidate]) -> Double {
+    /// Free walking length of `action` that is safe under every hypothesis, meters (walls, stairs, doors).
+    public func safeWalkMeters(_ action: ExploratoryAction, _ live: [PoseCandidate]) -> Double {
         var walk = options.lookaheadMeters
         for h in live {
             guard let floor = building.floor(id: h.floorId) else { return 0 }
