@@ -29,6 +29,28 @@ final class LocalizationScoreTests: XCTestCase {
         XCTAssertEqual(score.walkedMeters, 30, accuracy: 1e-6)
     }
 
+    func testSteadyLockShareAndFloorChangeRelocalization() {
+        // 30 m along +x; the walker changes to floor 2 at t = 15 (an elevator ride without walking is not
+        // needed for the metric). The trace is localized from t = 5, drops at 15-18 and is back on floor 2 at 18.
+        let truth = stride(from: 0.0, through: 30, by: 0.1).map {
+            TruthRecord(t: $0, x: $0, y: 0, floorId: $0 < 15 ? "1" : "2", headingRad: 0)
+        }
+        let trace = truth.map { r in
+            TraceRecord(t: r.t, x: r.x, y: r.y, floorId: r.t < 15.5 ? "1" : "2", headingRad: 0, confidence: 0.9,
+                        localized: r.t >= 5 && !(r.t >= 15 && r.t < 18), hypotheses: 1, sightings: 0, announcements: [],
+                        haptics: [])
+        }
+        let score = LocalizationScore(trace: trace, truth: TruthTrack(truth))
+        // After convergence (t >= 5: 251 frames), 30 frames (15.0 ... 17.9) are not localized.
+        XCTAssertEqual(score.framesAfterConvergence, 251)
+        XCTAssertEqual(score.localizedShareAfterConvergence!, 221.0 / 251.0, accuracy: 1e-9)
+        XCTAssertEqual(score.floorChangeRelocalizationMeters!, 3.0, accuracy: 1e-6)
+        XCTAssertFalse(score.floorChangeNeverRelocalized)
+        // Without a floor change there is no figure.
+        XCTAssertNil(LocalizationScore(trace: self.trace(straightTruth(), localizedFrom: 5) { _ in 0 },
+                                       truth: TruthTrack(straightTruth())).floorChangeRelocalizationMeters)
+    }
+
     func testNeverConvergedHasNoErrorFigures() {
         let truth = straightTruth()
         let score = LocalizationScore(trace: trace(truth, localizedFrom: 1e9) { _ in 0 }, truth: TruthTrack(truth))
