@@ -24,7 +24,8 @@ enum ReplayCommand: Subcommand {
       --models DIR     detector models folder (default SignDetector/models)
       --seed N         particle filter seed (default 1)
       --trace FILE     write one JSON line per frame: t, x, y, floorId, headingRad, confidence, localized,
-                       hypotheses, sightings, announcements, haptics
+                       hypotheses, sightings, announcements, haptics; while not localized also advice
+                       (the exploratory instruction in force) and spokenAdvice (when one is said)
     \(EvidenceSwitches.usage)
     Warnings (stderr, the replay goes on): session.json's mapId naming another building than MAP, observations
     of sign kinds MAP lacks (ignored), over 64 observations on one frame (highest scores kept), missing images.

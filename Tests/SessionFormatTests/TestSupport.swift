@@ -30,7 +30,7 @@ func sampleFrame(_ t: Double, image: String? = nil) -> FrameRecord {
                           rollRad: -Double.pi / 2)
     return FrameRecord(t: t, cameraToWorld: pose.columnMajor, tracking: t < 0.2 ? .limited : .normal,
                        trackingReason: t < 0.2 ? .initializing : nil, intrinsics: .iPhone8Full,
-                       relativeAltitudeMeters: 0.01 * t, compassHeadingDeg: 90, image: image)
+                       relativeAltitudeMeters: 0.01 * t, compassHeadingDeg: 90, image: image, compassAccuracyDeg: 15)
 }
 
 /// session.json content used by the tests.

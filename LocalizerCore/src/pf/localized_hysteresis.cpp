@@ -20,9 +20,14 @@ bool LocalizedHysteresis::update(const HysteresisInput &in) {
     last_floor_ = in.floor;
     if (localized_) {
         const bool spread = in.std_m > p_.unlocalize_std_m;
-        const bool rival_explains = in.dominant_weight < p_.unlocalize_weight &&
-                                    in.strongest_rival_evidence_margin >= -p_.lock_rival_margin_nats;
-        if (spread || rival_explains || jumped) {
+        // The weight left the locked cluster. Kept only when it went to a heavy rival that explains the recent
+        // evidence clearly worse (revived by injection); a rival that explains it as well, or weight diffused
+        // over the floor (the sightings refuted the lock), drops the flag; below lock_min_weight it always drops.
+        const bool heavy_rival = in.strongest_rival_evidence_margin > -1e299;
+        const bool only_poor_rival = heavy_rival && in.strongest_rival_evidence_margin < -p_.lock_rival_margin_nats;
+        const bool weak = in.dominant_weight < p_.unlocalize_weight && !only_poor_rival;
+        const bool lost = in.dominant_weight < p_.lock_min_weight;
+        if (spread || weak || lost || jumped) {
             localized_ = false;
             has_candidate_ = false;
         }

@@ -10,10 +10,11 @@
 //  - the dominant cluster spreads beyond unlocalize_std_m (e.g. a long tracking loss);
 //  - the dominant cluster is no longer the locked hypothesis (the estimate jumped more than `lock_jump_m`
 //    between two estimates: a rival overtook it);
-//  - the dominant cluster's weight fell below unlocalize_weight AND a rival holding >= `lock_rival_weight`
-//    explains the recent evidence at least as well (its evidence is within `lock_rival_margin_nats` of the
-//    dominant's or better). A rival revived by injection starts with the worst evidence present and does
-//    not qualify until the sightings favour it.
+//  - the dominant cluster's weight fell below unlocalize_weight, unless that weight went to a rival holding
+//    >= `lock_rival_weight` whose evidence is more than `lock_rival_margin_nats` worse than the dominant's (a
+//    rival revived by injection starts with the worst evidence present: it does not break the lock until the
+//    sightings favour it); weight diffused over the floor (the sightings refuted the lock) breaks it;
+//  - the dominant cluster's weight fell below `lock_min_weight`, whatever the rivals.
 #pragma once
 
 #include <cstdint>
@@ -28,6 +29,8 @@ struct LocalizedHysteresisParams {
     double rival_min_weight = 0.001, rival_refute_nats = 4.0;
     /// Rival weight that can break a lock, and how close its evidence must come to the dominant's, nats.
     double lock_rival_weight = 0.2, lock_rival_margin_nats = 1.0;
+    /// Below this dominant weight the lock always breaks.
+    double lock_min_weight = 0.25;
     /// A jump of the estimate larger than this between two reads means another hypothesis took over, meters.
     double lock_jump_m = 3.0;
 };

@@ -57,6 +57,21 @@ TEST(LocalizedHysteresis, InjectedRivalWithPoorEvidenceDoesNotBreakTheLock) {
     EXPECT_FALSE(h.update(in));
 }
 
+TEST(LocalizedHysteresis, WeightDiffusedOverTheFloorBreaksTheLock) {
+    // The sightings refuted the locked pose: its weight fell to 0.4 with no heavy rival (the mass is spread
+    // thin over the floor): the lock breaks (a wrong named start must not stay locked).
+    LocalizedHysteresis h = locked();
+    HysteresisInput in = sure(2.0);
+    in.dominant_weight = 0.4;
+    EXPECT_FALSE(h.update(in));
+    // Below lock_min_weight it breaks even when the only heavy rival explains the evidence poorly.
+    LocalizedHysteresis g = locked();
+    in.dominant_weight = 0.2;
+    in.unrefuted_rival_weight = 0.3;
+    in.strongest_rival_evidence_margin = -3.0;
+    EXPECT_FALSE(g.update(in));
+}
+
 TEST(LocalizedHysteresis, SpreadOrAJumpToAnotherHypothesisBreaksTheLock) {
     LocalizedHysteresis a = locked();
     HysteresisInput wide = sure(2.0);
