@@ -44,6 +44,9 @@ public struct LocalizationScore: Codable, Sendable, Equatable {
 
     /// Error beyond which a localized estimate counts as confidently wrong, meters.
     public static let wrongThresholdMeters = 3.0
+    /// After a true floor change, an estimate still on the previous floor is "riding", not wrong, this long, s
+    /// (the barometer needs 1.5 s at rest to settle after the ride).
+    public static let floorChangeGraceSeconds = 5.0
 
     /// Scores a trace against the truth track.
     public init(trace: [TraceRecord], truth: TruthTrack) {
@@ -77,7 +80,12 @@ public struct LocalizationScore: Codable, Sendable, Equatable {
             } else {
                 wrongFloorSeconds += dt
             }
-            let wrong = r.localized && error > Self.wrongThresholdMeters
+            // Riding between floors: the truth switches floor mid-ride, the barometer settles seconds later. A
+            // localized estimate still on the floor the walker left less than `floorChangeGraceSeconds` ago is
+            // counted in wrongFloorSeconds, not as a confidently-wrong episode (floor changes have their own
+            // figure, floorChangeRelocalizationMeters).
+            let riding = !sameFloor && truth.state(at: r.t - Self.floorChangeGraceSeconds).floorId == r.floorId
+            let wrong = r.localized && error > Self.wrongThresholdMeters && !riding
             if wrong {
                 wrongConvergenceSeconds += dt
                 if episodeStart == nil {

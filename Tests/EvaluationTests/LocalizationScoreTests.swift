@@ -41,6 +41,8 @@ final class LocalizationScoreTests: XCTestCase {
                         haptics: [])
         }
         let score = LocalizationScore(trace: trace, truth: TruthTrack(truth))
+        // 15.0-15.4: localized? no (dropped 15-18); the estimate's floor lags the truth by 0.5 s: riding, not wrong.
+        XCTAssertEqual(score.wrongConvergenceEpisodes, 0)
         // After convergence (t >= 5: 251 frames), 30 frames (15.0 ... 17.9) are not localized.
         XCTAssertEqual(score.framesAfterConvergence, 251)
         XCTAssertEqual(score.localizedShareAfterConvergence!, 221.0 / 251.0, accuracy: 1e-9)
@@ -49,6 +51,21 @@ final class LocalizationScoreTests: XCTestCase {
         // Without a floor change there is no figure.
         XCTAssertNil(LocalizationScore(trace: self.trace(straightTruth(), localizedFrom: 5) { _ in 0 },
                                        truth: TruthTrack(straightTruth())).floorChangeRelocalizationMeters)
+    }
+
+    func testAnEstimateLeftOnTheOldFloorIsRidingOnlyForAFewSeconds() {
+        // Truth changes to floor 2 at t = 10; the estimate stays localized on floor 1 until t = 20.
+        let truth = stride(from: 0.0, through: 30, by: 0.1).map {
+            TruthRecord(t: $0, x: $0, y: 0, floorId: $0 < 10 ? "1" : "2", headingRad: 0)
+        }
+        let trace = truth.map { r in
+            TraceRecord(t: r.t, x: r.x, y: r.y, floorId: r.t < 20 ? "1" : "2", headingRad: 0, confidence: 0.9,
+                        localized: true, hypotheses: 1, sightings: 0, announcements: [], haptics: [])
+        }
+        let score = LocalizationScore(trace: trace, truth: TruthTrack(truth))
+        // 10-15 s riding (grace), 15-20 s confidently wrong: one episode.
+        XCTAssertEqual(score.wrongConvergenceEpisodes, 1)
+        XCTAssertEqual(score.wrongConvergenceSeconds, 5, accuracy: 0.15)
     }
 
     func testNeverConvergedHasNoErrorFigures() {
