@@ -28,9 +28,15 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     keys_.clear();
     cell_weight_.clear();
     cell_of_.resize(n);
+    // Resampling leaves copies of a particle next to each other, and a moved copy is usually still in the
+    // same bin: the last key is checked before the hash table.
+    uint64_t last_key = ~uint64_t{0};
+    uint32_t last_id = 0;
     for (size_t i = 0; i < n; ++i) {
         const uint64_t k = BinCounter::key(p.floor[i], p.x[i], p.y[i], vio_yaw + p.yaw_offset[i], inv_m, inv_yaw, yaw_bins);
-        const uint32_t id = bins_.insert(k);
+        const uint32_t id = k == last_key ? last_id : bins_.insert(k);
+        last_key = k;
+        last_id = id;
         if (id == keys_.size()) {
             keys_.push_back(k);
             cell_weight_.push_back(0.0);
