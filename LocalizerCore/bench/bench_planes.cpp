@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_support.hpp"
 #include "common/fast_math.hpp"
 #include "common/rng.hpp"
 #include "map/localizer_map.hpp"
@@ -69,21 +70,7 @@ LocalizerMap build(size_t n) {
 }
 
 ParticleSet spread(const LocalizerMap &m, size_t n) {
-    const FloorData &f = m.floors[0];
-    Rng rng(11);
-    ParticleSet p;
-    p.resize(n);
-    for (size_t i = 0; i < n; ++i) {
-        const int32_t c = f.walkable_cells[rng.below(static_cast<uint32_t>(f.walkable_cells.size()))];
-        p.x[i] = f.grid.x0 + (static_cast<float>(c % f.grid.nx) + rng.uniform_float()) * f.grid.cell_m;
-        p.y[i] = f.grid.y0 + (static_cast<float>(c / f.grid.nx) + rng.uniform_float()) * f.grid.cell_m;
-        p.yaw_offset[i] = static_cast<float>(rng.uniform(-kPiD, kPiD));
-        p.scale[i] = 1.0f + 0.03f * rng.normal();
-        p.weight[i] = 1.0f / static_cast<float>(n);
-        p.floor[i] = 0;
-        p.evidence[i] = 0;
-    }
-    return p;
+    return bench::spread_particles(m.floors[0], n, 11);
 }
 
 // Four planes around a camera at the VIO origin: walls 1.5 m left and right, one 3 m ahead, one oblique.
