@@ -7,7 +7,7 @@
 //
 // For each action (walk ahead, turn around, turn left, turn right, then walk) and each live hypothesis
 // (weight >= `minimumLiveWeight`), the planner casts the walking direction against the floor's walls:
-//  - safety: the walk must stay `wallMarginMeters` short of the first wall, pass no stairs landing closer than
+//  - safety: the walk must stay `wallMarginMeters` (plus twice the hypothesis' position std) short of the first wall, pass no stairs landing closer than
 //    `stairsClearanceMeters` and no door closer than half its width plus `doorClearanceMeters`, under EVERY
 //    live hypothesis; the safe walk length is the shortest over them, capped at `lookaheadMeters`;
 //  - information: every `stepMeters` along the walk each hypothesis predicts what the camera will see: the
@@ -87,7 +87,7 @@ public struct DisambiguationOptions: Sendable {
     /// The live hypotheses must hold at least this share of the whole weight (the weights given are the
     /// localizer's, normalised over all particles): with the cloud still spread over the floor, no instruction
     /// can be known to be safe where the traveler really is, so the advice is to walk slowly.
-    public var minimumCoverage = 0.7
+    public var minimumCoverage = 0.9
     /// A hypothesis spread wider than this (position std, meters) counts as no hypothesis at all: early on the
     /// whole cloud can form one connected cluster whose mean pose is meaningless.
     public var maximumSpreadMeters = 2.0
@@ -163,7 +163,9 @@ public struct DisambiguationPlanner: Sendable {
         for h in live {
             guard let floor = building.floor(id: h.floorId) else { return 0 }
             let direction = h.headingRad + action.turnRad
+            // The hypothesis' own spread widens the margin: its particles stand up to about two std from its mean.
             let free = freeDistance(floor, from: h.positionInMap, directionRad: direction) - options.wallMarginMeters
+                - 2 * max(0, h.positionStdMeters)
             walk = min(walk, free)
             let end = Point2(x: h.positionInMap.x + walk * cos(direction), y: h.positionInMap.y + walk * sin(direction))
             for node in building.graph.nodes where node.floorId == h.floorId && node.verticalLink == .stairs {
