@@ -14,8 +14,12 @@ public struct UnsureGuidanceScore: Codable, Sendable, Equatable {
     public var directedSeconds: Double
     /// Directional instructions spoken.
     public var spokenInstructions: Int
-    /// Of those, instructions that would lead into a wall, onto stairs or through a door from the true pose.
+    /// Of those, instructions that would lead into a wall, onto stairs or through a door from the true pose:
+    /// less than `safeWalkMeters` of free walking under the planner's clearance rules.
     public var unsafeInstructions: Int
+
+    /// Free walking an instruction must leave from the true pose, meters (the planner asks 1 m more).
+    public static let safeWalkMeters = 2.0
 
     /// Scores a trace against the truth on `building`.
     public init(trace: [TraceRecord], truth: TruthTrack, building: Building) {
@@ -35,7 +39,7 @@ public struct UnsureGuidanceScore: Codable, Sendable, Equatable {
             let s = truth.state(at: r.t)
             let truePose = PoseCandidate(weight: 1, floorId: s.floorId, positionInMap: Point2(x: s.x, y: s.y),
                                          headingRad: s.headingRad)
-            if planner.safeWalkMeters(action, [truePose]) < planner.options.minimumWalkMeters - 1e-9 {
+            if planner.safeWalkMeters(action, [truePose]) < Self.safeWalkMeters - 1e-9 {
                 unsafeInstructions += 1
             }
         }

@@ -93,8 +93,9 @@ public struct DisambiguationOptions: Sendable {
     public var maximumSpreadMeters = 2.0
     /// The walk stops this far before the first wall ahead.
     public var wallMarginMeters = 1.0
-    /// A walk shorter than this is not worth an instruction.
-    public var minimumWalkMeters = 2.0
+    /// A walk shorter than this is not worth an instruction (3 m: 1 m beyond the 2 m that `wayfinder eval`
+    /// requires of an instruction from the true pose, so a hypothesis a few decimeters off stays safe).
+    public var minimumWalkMeters = 3.0
     /// How far ahead the planner looks.
     public var lookaheadMeters = 10.0
     /// Spacing of the predicted views along the walk.

@@ -36,19 +36,19 @@ final class DisambiguationPlannerTests: XCTestCase {
 
     func testAnInstructionMustBeSafeUnderEveryLiveHypothesis() {
         let planner = DisambiguationPlanner(building: corridor())
-        // Mirror hypotheses: one at x 3 facing east (10+ m free), one at x 17 facing west (10+ m free) - ahead
+        // Mirror hypotheses: one at x 4 facing east (10+ m free), one at x 16 facing west (10+ m free) - ahead
         // is safe for both. A third, light (3 %) one facing the east wall at 19 m does not count.
-        let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(3, 1), headingRad: 0),
-                 PoseCandidate(weight: 0.47, floorId: "1", positionInMap: Point2(17, 1), headingRad: Double.pi),
+        let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(4, 1), headingRad: 0),
+                 PoseCandidate(weight: 0.47, floorId: "1", positionInMap: Point2(16, 1), headingRad: Double.pi),
                  PoseCandidate(weight: 0.03, floorId: "1", positionInMap: Point2(19, 1), headingRad: 0)]
         let advice = planner.advise(h)
-        // Turning around tells them apart soonest: the one now facing east at x 17 sees the Exit sign 3 m
-        // ahead at once, the other faces a wall - the nearest informative place, 2 m of safe walking for both.
-        // (Walking ahead would first split them only after about 7 m, when the east-facing one nears the sign.)
+        // Turning around tells them apart soonest: the one now facing east at x 16 sees the Exit sign 4 m
+        // ahead at once, the other faces a wall - the nearest informative place, 3 m of safe walking for both.
+        // (Walking ahead would first split them only after about 6 m, when the east-facing one nears the sign.)
         XCTAssertEqual(advice.action, .turnAround)
         XCTAssertEqual(advice.distinguishingMeters ?? -1, 1.0, accuracy: 1e-9)
         XCTAssertEqual(advice.informationNats, -(0.5 / 0.97 * log(0.5 / 0.97) + 0.47 / 0.97 * log(0.47 / 0.97)), accuracy: 1e-6)
-        XCTAssertGreaterThanOrEqual(advice.safeWalkMeters, 2.0)
+        XCTAssertGreaterThanOrEqual(advice.safeWalkMeters, 3.0)
         let aheadGain = planner.informationGain(.ahead, Array(h.prefix(2)), walkMeters: 10, total: 0.97)
         XCTAssertGreaterThan(aheadGain.atMeters ?? 0, 5.0)
         // Made heavy (10 %), the third hypothesis vetoes walking ahead: it would walk into the end wall.
