@@ -780,10 +780,18 @@ public final class Navigator {
         let redundant = advice.action == .ahead && lastSpokenAdviceKey.map { $0 != ExploratoryAction.ahead.phraseKey &&
             $0 != "disambiguate.unsure" } ?? false
         if repeatDue || (changed && gapOver && !redundant) {
+            // What is said must hold where the traveler is now, not a second ago: re-plan before speaking.
+            if t - lastPlanT > 1e-9 {
+                lastPlanT = t
+                lastAdvice = planner.advise(input.hypotheses)
+            }
+            guard let fresh = lastAdvice else { return }
+            currentAdvice = fresh
+            let key = fresh.phraseKey
             say(narrative.phrases.phrase(key), .information, t)
             lastStartWalkingT = t
             lastSpokenAdviceKey = key
-            lastSpokenAdvice = (t, advice)
+            lastSpokenAdvice = (t, fresh)
         }
     }
 
