@@ -8,7 +8,7 @@
 // For each action (walk ahead, turn around, turn left, turn right, then walk) and each live hypothesis
 // (weight >= `minimumLiveWeight`), the planner casts the walking direction against the floor's walls:
 //  - safety: the walk must stay `wallMarginMeters` (plus twice the hypothesis' position std) short of the first wall, pass no stairs landing closer than
-//    `stairsClearanceMeters` and no door closer than half its width plus `doorClearanceMeters`, under EVERY
+//    `stairsClearanceMeters` and no door centre closer than `doorClearanceMeters`, under EVERY
 //    live hypothesis; the safe walk length is the shortest over them, capped at `lookaheadMeters`;
 //  - information: every `stepMeters` along the walk each hypothesis predicts what the camera will see: the
 //    signs in its field of view (kind, range and side, bucketed) and how far the wall ahead is (ARKit planes
@@ -102,8 +102,9 @@ public struct DisambiguationOptions: Sendable {
     public var stepMeters = 1.0
     /// A stairs landing closer than this to the walk makes it unsafe.
     public var stairsClearanceMeters = 1.5
-    /// A door closer than half its width plus this to the walk makes it unsafe (never through a door).
-    public var doorClearanceMeters = 0.3
+    /// A walk passing closer than this to a door's centre goes through the doorway: unsafe (never through a
+    /// door). Walking along a corridor past a door in its side wall passes about half the corridor's width away.
+    public var doorClearanceMeters = 0.4
     /// Walking cost charged for turning before the walk (a turn is slower and less certain than walking on).
     public var turnCostMeters = 2.0
     /// Half the camera's horizontal field of view, and the range within which a sign is predicted visible.
@@ -178,7 +179,7 @@ public struct DisambiguationPlanner: Sendable {
                 }
             }
             for door in floor.doors {
-                let reach = door.widthMeters / 2 + options.doorClearanceMeters
+                let reach = options.doorClearanceMeters
                 let doorEnd = Point2(x: h.positionInMap.x + walk * cos(direction), y: h.positionInMap.y + walk * sin(direction))
                 if Geometry.distance(from: door.position, toSegmentFrom: h.positionInMap, to: doorEnd) < reach {
                     let along = max(0, projection(of: door.position, from: h.positionInMap, directionRad: direction) - reach)

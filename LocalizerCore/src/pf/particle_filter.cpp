@@ -196,6 +196,7 @@ void ParticleFilter::reset_filter_state() {
     motion_acc_.clear();
     hysteresis_.reset();
     compass_.reset();
+    awaiting_corroboration_ = false;
     estimate_dirty_ = true;
     dominant_members_valid_ = false;
     // A compass prior given before the first VIO yaw is applied at the next predict.
@@ -289,6 +290,10 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
     }
     init_floor_ = f16;
     reset_filter_state();
+    // The traveler's word is not evidence: a named start may be wrong (Tests/Recovery), and in a parallel
+    // corridor nothing contradicts it for many meters. The flag waits for a sign sighting the named start
+    // must explain (the ambiguity guard and the rivals from the doubt share do the rest).
+    awaiting_corroboration_ = opts_.start_point_doubt_share > 0;
     return WF_LOC_OK;
 }
 
@@ -370,7 +375,10 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         log_likelihood_.resize(n);
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
                                                  log_likelihood_.data());
-        if (!z.empty()) accumulate_evidence(log_likelihood_.data(), max_ll, t);
+        if (!z.empty()) {
+            accumulate_evidence(log_likelihood_.data(), max_ll, t);
+            awaiting_corroboration_ = false;
+        }
         const double beta = tempering_exponent(max_ll);
         last_beta_ = beta;
         // w_i <- w_i * L_i^beta / sum_j w_j L_j^beta, in the log domain relative to the best particle (no
@@ -842,6 +850,7 @@ void ParticleFilter::compute_estimate() {
             hin.strongest_rival_evidence_margin = std::max(hin.strongest_rival_evidence_margin, r.evidence - d.evidence);
         }
     }
+    if (awaiting_corroboration_) hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, 1.0);
     const bool localized = hysteresis_.update(hin);
     hypotheses_.clear();
     for (const ClusterSummary &c : clusters) {

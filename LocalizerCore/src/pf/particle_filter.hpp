@@ -149,6 +149,8 @@ private:
     LocalizedHysteresis hysteresis_;
 
     bool estimate_dirty_ = true;
+    /// After init_start_point (with a doubt share): no localized flag before the first sign sighting.
+    bool awaiting_corroboration_ = false;
     wf_localizer_estimate estimate_{};
     std::vector<wf_localizer_hypothesis> hypotheses_;
     std::vector<uint32_t> dominant_members_;
