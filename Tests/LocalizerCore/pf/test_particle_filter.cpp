@@ -361,6 +361,32 @@ TEST(ParticleFilter, DeterministicForASeed) {
     EXPECT_NE(xs[0], xs[2]);
 }
 
+// A named start is the traveler's word, not evidence: with the default doubt share the flag waits for a first
+// sign sighting, even when the cloud is tight at once; then it localizes.
+TEST(ParticleFilter, NamedStartLocalizesOnlyAfterASighting) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 6);
+    const auto frames = l_walk(world);
+    ASSERT_EQ(pf.predict(frames[0].vio), WF_LOC_OK);
+    ASSERT_EQ(pf.set_compass_prior(frames[0].true_heading, 0.05), WF_LOC_OK);
+    ASSERT_EQ(pf.init_start_point(0, frames[0].true_x, frames[0].true_y, 0.5), WF_LOC_OK);
+    size_t k = 1;
+    for (; k < frames.size() && k < 40; ++k) {  // 4 s of walking with the detector seeing nothing
+        ASSERT_EQ(pf.predict(frames[k].vio), WF_LOC_OK);
+        ASSERT_EQ(pf.update_signs(nullptr, 0, frames[k].vio.t), WF_LOC_OK);
+        ASSERT_FALSE(pf.estimate().localized) << "t = " << frames[k].vio.t;
+    }
+    bool localized = false;
+    for (; k < frames.size() && !localized; ++k) {
+        ASSERT_EQ(pf.predict(frames[k].vio), WF_LOC_OK);
+        ASSERT_EQ(pf.update_signs(frames[k].sightings.data(), frames[k].sightings.size(), frames[k].vio.t), WF_LOC_OK);
+        localized = pf.estimate().localized;
+        if (localized) EXPECT_LT(position_error(pf.estimate(), frames[k]), 1.0);
+    }
+    EXPECT_TRUE(localized);
+}
+
 TEST(ParticleFilter, StartPointAndCompassPrior) {
     auto world = wf::test::l_world();
     auto o = test_options();
