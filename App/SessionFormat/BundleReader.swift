@@ -185,6 +185,10 @@ public struct SessionBundle: Sendable {
         }
         let info: SessionInfo
         do { info = try JSONDecoder().decode(SessionInfo.self, from: data) } catch {
+            if case DecodingError.dataCorrupted(let ctx) = error, ctx.codingPath.isEmpty,
+               let range = outOfRangeNumberDescription(data) {
+                throw BundleError(.invalidRecord, file: fileURL.path, reason: "not a valid SessionInfo: \(range)")
+            }
             throw BundleError(.invalidRecord, file: fileURL.path, reason: "not a valid SessionInfo: \(describeDecodingError(error))")
         }
         if let problem = info.validationProblem() {

@@ -102,6 +102,11 @@ public final class RecordLineReader<Record: BundleLineRecord> {
                     throw BundleError(.invalidJSON, file: url.path, line: line.number,
                                       reason: "incomplete JSON line followed by more lines (cut off in the middle of the file)")
                 }
+                // Valid JSON the decoder still calls invalid: a number its field cannot hold (1e23 as a width).
+                if let range = outOfRangeNumberDescription(line.bytes) {
+                    throw BundleError(.invalidRecord, file: url.path, line: line.number,
+                                      reason: "not a valid \(Record.self): \(range)")
+                }
                 throw BundleError(.invalidJSON, file: url.path, line: line.number,
                                   reason: "not valid JSON: \(jsonSyntaxDetail(line.bytes))")
             } catch {

@@ -232,6 +232,29 @@ extension TrackingReason {
     }
 }
 
+/// For JSON text that parses but that the decoder refused as "not valid JSON" (Foundation's decoder says so
+/// when a number does not fit the field's type, e.g. an integer field holding 1e23): the first number that no
+/// record field can hold (magnitude of 2^53 or more, beyond exact integers), with its path; nil otherwise.
+func outOfRangeNumberDescription(_ data: Data) -> String? {
+    guard let root = try? JSONSerialization.jsonObject(with: data, options: [.fragmentsAllowed]) else { return nil }
+    func find(_ value: Any, _ path: String) -> String? {
+        if let d = value as? [String: Any] {
+            for key in d.keys.sorted() {
+                if let hit = find(d[key]!, path.isEmpty ? key : "\(path).\(key)") { return hit }
+            }
+        } else if let a = value as? [Any] {
+            for (i, v) in a.enumerated() { if let hit = find(v, "\(path)[\(i)]") { return hit } }
+        } else if let n = value as? NSNumber {
+            let v = n.doubleValue
+            if !v.isFinite || abs(v) >= 9_007_199_254_740_992 {
+                return "field '\(path)' = \(v) is out of range (numbers must stay below 2^53 in magnitude)"
+            }
+        }
+        return nil
+    }
+    return find(root, "") ?? "a value does not fit its field's type (e.g. a fraction where a whole number is expected)"
+}
+
 /// Words for a decoding failure: the field path and what was wrong.
 func describeDecodingError(_ error: Error) -> String {
     func path(_ keys: [CodingKey]) -> String {

@@ -53,6 +53,21 @@ final class BundleHardeningTests: XCTestCase {
         XCTAssertEqual(JSONNesting.depth(Data("{\"a\": \"[[[[\", \"b\": [[1]]}".utf8)), 3)
     }
 
+    // MARK: Numbers a field cannot hold ("width 1e23 says unreadable JSON")
+
+    func testANumberOutOfRangeNamesTheFieldNotUnreadableJSON() throws {
+        let original = try String(contentsOf: file("frames.jsonl"), encoding: .utf8)
+        var lines = original.split(separator: "\n", omittingEmptySubsequences: false).map(String.init)
+        lines[2] = lines[2].replacingOccurrences(of: "\"width\":1920", with: "\"width\":1e23")
+            .replacingOccurrences(of: "\"width\" : 1920", with: "\"width\" : 1e23")
+        XCTAssertTrue(lines[2].contains("1e23"), "fixture line has no width 1920: \(lines[2])")
+        try lines.joined(separator: "\n").write(to: file("frames.jsonl"), atomically: true, encoding: .utf8)
+        let e = try XCTUnwrap(readError())
+        XCTAssertEqual(e.line, 3)
+        XCTAssertTrue(e.reason.contains("intrinsics.width") && e.reason.contains("out of range"), e.reason)
+        XCTAssertFalse(e.reason.contains("unreadable"), e.reason)
+    }
+
     // MARK: Special files (a FIFO blocked, /dev/zero ran forever)
 
     func testFIFOAsFramesFileIsRefusedWithoutBlocking() throws {
