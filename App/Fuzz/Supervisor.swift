@@ -96,6 +96,14 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
             let i = readProgress(progress).index
             if i != lastIndex { lastIndex = i; lastChange = Date() }
             if Date().timeIntervalSince(lastChange) > o.inputTimeLimitSeconds {
+                // A worker that has written its final statistics is exiting (freeing a large heap can take
+                // seconds after a 10^6-input run), not hanging on an input: wait for it.
+                if let d = FileManager.default.contents(atPath: stdoutPath),
+                   let line = String(decoding: d, as: UTF8.self).split(separator: "\n").last,
+                   (try? JSONDecoder().decode(WorkerStats.self, from: Data(line.utf8))) != nil {
+                    lastChange = Date()
+                    continue
+                }
                 hung = true
                 kill(p.processIdentifier, SIGKILL)
                 p.waitUntilExit()
