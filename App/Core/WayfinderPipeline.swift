@@ -160,8 +160,7 @@ public final class WayfinderPipeline {
               let northDeg = building.compassHeadingOfMapNorthDeg,
               let readingDeg = frame.compassHeadingDeg, readingDeg.isFinite, frame.cameraPose != nil else { return }
         compassPriorApplied = true
-        let headingInMapRad = Double.pi / 2 - (readingDeg - northDeg) * Double.pi / 180
-        localizer.setCompassPrior(headingInMapRad: atan2(sin(headingInMapRad), cos(headingInMapRad)),
+        localizer.setCompassPrior(headingInMapRad: Self.headingInMapRad(readingDeg: readingDeg, northDeg: northDeg),
                                   sigmaRad: sigmaDeg * Double.pi / 180)
     }
 
@@ -174,11 +173,17 @@ public final class WayfinderPipeline {
             warnings.append("t=\(frame.t): compass heading \(readingDeg) is outside 0...360 degrees; ignored")
             return
         }
-        let headingInMapRad = Double.pi / 2 - (readingDeg - northDeg) * Double.pi / 180
         let accuracyRad = frame.compassAccuracyDeg.flatMap { $0.isFinite && $0 > 0 && $0 <= 180 ? $0 * Double.pi / 180 : nil }
-        localizer.updateCompass(headingInMapRad: atan2(sin(headingInMapRad), cos(headingInMapRad)),
+        localizer.updateCompass(headingInMapRad: Self.headingInMapRad(readingDeg: readingDeg, northDeg: northDeg),
                                 accuracyRad: accuracyRad, t: frame.t)
         noteInputError("compass", &warnings)
+    }
+
+    /// A compass reading (degrees clockwise from magnetic north) as a camera heading in the map frame (radians
+    /// counter-clockwise from +x, wrapped to (-pi, pi]), given the map's `compassHeadingOfMapNorthDeg`.
+    static func headingInMapRad(readingDeg: Double, northDeg: Double) -> Double {
+        let h = Double.pi / 2 - (readingDeg - northDeg) * Double.pi / 180
+        return atan2(sin(h), cos(h))
     }
 
     /// Reports the localizer's last rejected input (NaN, out of range) as a warning of this frame.
