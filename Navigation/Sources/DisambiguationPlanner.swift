@@ -84,6 +84,9 @@ public struct DisambiguationAdvice: Sendable, Equatable {
 public struct DisambiguationOptions: Sendable {
     /// Hypotheses lighter than this are ignored (their weight is not "real").
     public var minimumLiveWeight = 0.05
+    /// Every compact hypothesis at least this heavy must be safe under an instruction (the localizer's
+    /// `rival_min_weight`: lighter ones never hold the flag off, so they are not live rivals).
+    public var minimumGuardedWeight = 0.001
     /// The live hypotheses must hold at least this share of the whole weight (the weights given are the
     /// localizer's, normalised over all particles): with the cloud still spread over the floor, no instruction
     /// can be known to be safe where the traveler really is, so the advice is to walk slowly.
@@ -134,10 +137,13 @@ public struct DisambiguationPlanner: Sendable {
     /// The advice for the given hypotheses (any order; weights as the localizer normalises them, over all
     /// particles: the live ones must cover `minimumCoverage`).
     public func advise(_ hypotheses: [PoseCandidate]) -> DisambiguationAdvice {
-        let live = hypotheses.filter { $0.weight >= options.minimumLiveWeight && $0.weight.isFinite &&
-            $0.positionStdMeters <= options.maximumSpreadMeters &&
+        let usable = hypotheses.filter { $0.weight.isFinite && $0.positionStdMeters <= options.maximumSpreadMeters &&
             $0.positionInMap.x.isFinite && $0.positionInMap.y.isFinite && $0.headingRad.isFinite &&
             building.floor(id: $0.floorId) != nil }
+        let live = usable.filter { $0.weight >= options.minimumLiveWeight }
+        // Safety is checked under every compact hypothesis the localizer reports, however light: it reports the
+        // light ones only while they are unrefuted rivals (the true place after a wrong named start starts light).
+        let guarded = usable.filter { $0.weight >= options.minimumGuardedWeight }
         let total = live.reduce(0) { $0 + $1.weight }
         guard !live.isEmpty, total > 0, total >= options.minimumCoverage - 1e-12 else {
             return DisambiguationAdvice(action: nil, safeWalkMeters: 0, informationNats: 0, distinguishingMeters: nil)
@@ -145,7 +151,7 @@ public struct DisambiguationPlanner: Sendable {
         var best: (advice: DisambiguationAdvice, utility: Double)?
         var fallback: DisambiguationAdvice?
         for action in ExploratoryAction.allCases {
-            let walk = safeWalkMeters(action, live)
+            let walk = safeWalkMeters(action, guarded.isEmpty ? live : guarded)
             guard walk >= options.minimumWalkMeters else { continue }
             let (gain, at) = informationGain(action, live, walkMeters: walk, total: total)
             let advice = DisambiguationAdvice(action: action, safeWalkMeters: walk, informationNats: gain,

@@ -37,7 +37,8 @@ final class DisambiguationPlannerTests: XCTestCase {
     func testAnInstructionMustBeSafeUnderEveryLiveHypothesis() {
         let planner = DisambiguationPlanner(building: corridor())
         // Mirror hypotheses: one at x 4 facing east (10+ m free), one at x 16 facing west (10+ m free) - ahead
-        // is safe for both. A third, light (3 %) one facing the east wall at 19 m does not count.
+        // is safe for both. A third, light (3 %) one facing the east wall at 19 m is not live (no share in the
+        // coverage or the information gain), but every instruction must still be safe under it.
         let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(4, 1), headingRad: 0),
                  PoseCandidate(weight: 0.47, floorId: "1", positionInMap: Point2(16, 1), headingRad: Double.pi),
                  PoseCandidate(weight: 0.03, floorId: "1", positionInMap: Point2(19, 1), headingRad: 0)]
@@ -65,6 +66,24 @@ final class DisambiguationPlannerTests: XCTestCase {
         } else {
             XCTAssertEqual(vetoed.phraseKey, "disambiguate.unsure")
         }
+    }
+
+    func testALightUnrefutedRivalStillVetoesAnUnsafeInstruction() {
+        let planner = DisambiguationPlanner(building: corridor())
+        // The heavy hypothesis walks east from x 4 (10+ m free: "ahead" would be its best). The true place,
+        // reported light (2 %) because a wrong named start left few particles there, faces the east wall 1 m
+        // away: walking ahead is unsafe there, so ahead is not advised.
+        let lone = [PoseCandidate(weight: 0.98, floorId: "1", positionInMap: Point2(4, 1), headingRad: 0)]
+        XCTAssertEqual(planner.advise(lone).action, .ahead)
+        let withRival = lone + [PoseCandidate(weight: 0.02, floorId: "1", positionInMap: Point2(19, 1), headingRad: 0)]
+        let advice = planner.advise(withRival)
+        XCTAssertNotEqual(advice.action, .ahead)
+        if let action = advice.action {
+            XCTAssertGreaterThanOrEqual(planner.safeWalkMeters(action, withRival), 3.0)
+        }
+        // Below the guard weight (lighter than any rival that keeps the flag off) it is noise and does not veto.
+        let noise = lone + [PoseCandidate(weight: 0.0005, floorId: "1", positionInMap: Point2(19, 1), headingRad: 0)]
+        XCTAssertEqual(planner.advise(noise).action, .ahead)
     }
 
     func testNeverTowardStairsOrThroughADoor() {

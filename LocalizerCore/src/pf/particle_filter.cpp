@@ -196,7 +196,9 @@ void ParticleFilter::reset_filter_state() {
     motion_acc_.clear();
     hysteresis_.reset();
     compass_.reset();
-    awaiting_corroboration_ = false;
+    arm_corroboration(false);
+    was_localized_ = false;
+    has_sighting_t_ = false;
     estimate_dirty_ = true;
     dominant_members_valid_ = false;
     // A compass prior given before the first VIO yaw is applied at the next predict.
@@ -292,8 +294,8 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
     reset_filter_state();
     // The traveler's word is not evidence: a named start may be wrong (Tests/Recovery), and in a parallel
     // corridor nothing contradicts it for many meters. The flag waits for a sign sighting the named start
-    // must explain (the ambiguity guard and the rivals from the doubt share do the rest).
-    awaiting_corroboration_ = opts_.start_point_doubt_share > 0;
+    // must explain better than the other places that explain it (pf/particle_filter_corroboration).
+    arm_corroboration(opts_.start_point_doubt_share > 0);
     return WF_LOC_OK;
 }
 
@@ -377,7 +379,8 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
                                                  log_likelihood_.data());
         if (!z.empty()) {
             accumulate_evidence(log_likelihood_.data(), max_ll, t);
-            awaiting_corroboration_ = false;
+            last_sighting_t_ = t;
+            has_sighting_t_ = true;
         }
         const double beta = tempering_exponent(max_ll);
         last_beta_ = beta;
@@ -420,7 +423,11 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
                 }
             }
             last_sightings_ = z;
-            maybe_resample(opts_.recovery != 0);
+            if (awaiting_corroboration_ && !corroboration_candidates_drawn_ && !z.empty()) {
+                draw_corroboration_rivals(opts_.start_point_doubt_share);
+            } else {
+                maybe_resample(opts_.recovery != 0);
+            }
             last_sightings_.clear();
         } else {
             normalize(0);
@@ -850,11 +857,26 @@ void ParticleFilter::compute_estimate() {
             hin.strongest_rival_evidence_margin = std::max(hin.strongest_rival_evidence_margin, r.evidence - d.evidence);
         }
     }
-    if (awaiting_corroboration_) hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, 1.0);
+    if (awaiting_corroboration_ && !corroboration_candidates_drawn_) {
+        hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, 1.0);
+    }
     const bool localized = hysteresis_.update(hin);
+    // A lock is corroborated; a lock that sightings break (within a second of one) must be earned again
+    // against fresh rivals: the cloud that was wrong may have no particle left where the traveler is. A lock
+    // lost to a spreading cloud (tracking loss) or to the redraw after a floor ride is not refuted, only unsure.
+    if (localized) {
+        arm_corroboration(false);
+    } else if (was_localized_ && has_sighting_t_ && t_last_ - last_sighting_t_ <= 1.0) {
+        arm_corroboration(opts_.start_point_doubt_share > 0);
+    }
+    was_localized_ = localized;
     hypotheses_.clear();
+    // Hypotheses: the clusters holding >= 1 % of the weight, and every lighter one that keeps the flag off (an
+    // unrefuted rival): guidance while unsure must be safe under each live hypothesis, however light.
     for (const ClusterSummary &c : clusters) {
-        if (c.weight < 0.01 || hypotheses_.size() >= 16) break;
+        if (hypotheses_.size() >= 16 || c.weight < opts_.rival_min_weight) break;
+        const bool live_rival = &c != &clusters.front() && d.evidence - c.evidence < opts_.rival_refute_nats;
+        if (c.weight < 0.01 && !live_rival) continue;
         Eigen::Matrix2d cc;
         cc << c.cov_xx, c.cov_xy, c.cov_xy, c.cov_yy;
         const Eigen::SelfAdjointEigenSolver<Eigen::Matrix2d> ce(cc, Eigen::EigenvaluesOnly);

@@ -104,6 +104,19 @@ private:
     /// evidence time constant since the last evidence at time t.
     void accumulate_evidence(const float *ll, float max_ll, double t);
     void compute_estimate();
+    /// Replaces `fraction` of the particles with poses drawn from the current sightings (last_sightings_) on the
+    /// estimate's floor, holding that share of the weight and the best evidence present: rival explanations of
+    /// the same sightings, which the lock must refute before it turns on. Defined in
+    /// pf/particle_filter_corroboration.cpp.
+    void draw_corroboration_rivals(double fraction);
+    /// One rival pose for draw_corroboration_rivals: a heading from the compass prior, then the position from
+    /// which a random sign of a current sighting's kind appears at its bearing and range (visible, walkable).
+    bool sample_rival_pose(int16_t floor, float &x, float &y, float &yaw_offset);
+    /// Arms (or disarms) the corroboration requirement for the next lock.
+    void arm_corroboration(bool on) {
+        awaiting_corroboration_ = on;
+        corroboration_candidates_drawn_ = false;
+    }
     /// Cheap estimate between two clusterings: the last dominant cluster's particles, re-averaged.
     void follow_dominant_cluster();
     /// Longest time between two full clusterings of the estimate, seconds.
@@ -149,8 +162,17 @@ private:
     LocalizedHysteresis hysteresis_;
 
     bool estimate_dirty_ = true;
-    /// After init_start_point (with a doubt share): no localized flag before the first sign sighting.
+    /// The lock must be earned against rivals that explain the same sightings (pf/particle_filter_corroboration):
+    /// set after init_start_point (with a doubt share) and after a lock the evidence broke; cleared by a lock.
+    /// No localized flag while awaiting and before the first sighting.
     bool awaiting_corroboration_ = false;
+    /// Whether the rivals of the current awaiting phase were drawn (at its first frame with sightings).
+    bool corroboration_candidates_drawn_ = false;
+    /// The flag at the previous estimate (a lock break re-arms the corroboration).
+    bool was_localized_ = false;
+    /// Time of the last sign update with sightings, seconds (valid when has_sighting_t_).
+    double last_sighting_t_ = 0;
+    bool has_sighting_t_ = false;
     wf_localizer_estimate estimate_{};
     std::vector<wf_localizer_hypothesis> hypotheses_;
     std::vector<uint32_t> dominant_members_;

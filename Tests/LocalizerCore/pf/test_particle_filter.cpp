@@ -387,6 +387,65 @@ TEST(ParticleFilter, NamedStartLocalizesOnlyAfterASighting) {
     EXPECT_TRUE(localized);
 }
 
+// Two parallel corridors whose east ends look alike (Tests/Recovery in miniature): the traveler names a start
+// in the north corridor but walks the south one, facing east with a good compass. The first sighting (the east
+// Exit sign) is explained as well from both corridors, so it must not corroborate the named start: the filter
+// keeps the south rival alive and stays unlocalized. Only the south corridor has a second sign, facing west,
+// halfway along; once it has been seen, the filter may lock, and only on the truth. Before rivals were drawn at
+// the first sighting, this walk locked on the named start at once and stayed 10 m off.
+namespace {
+wf::test::World parallel_corridors_world(bool south_landmark) {
+    wf::test::World w;
+    wf::test::FloorSpec f;
+    // A large hall elsewhere on the floor makes the floor-wide doubt share as sparse in the corridors as it is
+    // on a real floor (SKERI: about 1,500 m2 of walkable space).
+    f.box(0, 0, 30, 2).box(0, 10, 30, 12).box(0, 20, 60, 60);
+    for (float x = 1; x < 30; x += 2) f.seed(x, 1).seed(x, 11);
+    f.seed(30, 40);
+    f.sign(wf::test::kExit, 30, 1, -1, 0).sign(wf::test::kExit, 30, 11, -1, 0);
+    if (south_landmark) f.sign(wf::test::kExit, 14, 0, 0, 1);
+    w.floors.push_back(f);
+    return w;
+}
+struct WrongStartRun {
+    int localized_frames = 0, wrong_localized_frames = 0, frames = 0;
+};
+WrongStartRun run_wrong_start(bool south_landmark, double seconds) {
+    auto world = parallel_corridors_world(south_landmark);
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 11);
+    wf::test::WalkParams wp;
+    wp.seed = 5;
+    const auto frames = wf::test::make_walk(world.floors[0], {{2, 1}, {28, 1}}, 0.0, wp);
+    WrongStartRun r;
+    EXPECT_EQ(pf.predict(frames[0].vio), WF_LOC_OK);
+    EXPECT_EQ(pf.set_compass_prior(frames[0].true_heading, 0.05), WF_LOC_OK);
+    EXPECT_EQ(pf.init_start_point(0, 2, 11, 0.5), WF_LOC_OK);  // named: the north corridor's west end
+    for (const WalkFrame &f : frames) {
+        if (f.vio.t > seconds) break;
+        EXPECT_EQ(pf.predict(f.vio), WF_LOC_OK);
+        EXPECT_EQ(pf.update_signs(f.sightings.data(), f.sightings.size(), f.vio.t), WF_LOC_OK);
+        const wf_localizer_estimate &e = pf.estimate();
+        ++r.frames;
+        if (e.localized) {
+            ++r.localized_frames;
+            if (position_error(e, f) > 3.0) ++r.wrong_localized_frames;
+        }
+    }
+    return r;
+}
+}  // namespace
+
+TEST(ParticleFilter, NamedStartInALookAlikeCorridorIsNotCorroboratedByASharedSighting) {
+    const WrongStartRun alike = run_wrong_start(false, 1e9);
+    EXPECT_GT(alike.frames, 100);
+    EXPECT_EQ(alike.wrong_localized_frames, 0);
+    EXPECT_EQ(alike.localized_frames, 0) << "nothing tells the corridors apart";
+    const WrongStartRun told = run_wrong_start(true, 1e9);
+    EXPECT_EQ(told.wrong_localized_frames, 0);
+    EXPECT_GT(told.localized_frames, 0) << "the south corridor's own sign should settle it";
+}
+
 TEST(ParticleFilter, StartPointAndCompassPrior) {
     auto world = wf::test::l_world();
     auto o = test_options();
