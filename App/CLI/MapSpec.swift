@@ -1,6 +1,7 @@
 import Foundation
 import Maps
 import Simulation
+import WayfinderCore
 
 /// The one way every command names a map (`--map MAP`, `validate-map MAP`, `places MAP`):
 /// - `office`: the bundled Wayfinder Office (`bundled:office`, the older spelling, too);
@@ -25,7 +26,7 @@ enum MapSpec {
         }
         var isDirectory: ObjCBool = false
         if !FileManager.default.fileExists(atPath: spec, isDirectory: &isDirectory) {
-            throw CLIError.failure("\(spec): no such map file (\(usageLine))")
+            throw CLIError.failure("\(spec): no such file (\(usageLine))")
         }
         if isDirectory.boolValue { throw CLIError.failure("\(spec): is a folder, not a map file (\(usageLine))") }
         return try MapLoader.load(contentsOf: URL(fileURLWithPath: spec))
@@ -53,7 +54,13 @@ func resolvePlace(_ key: String, flag: String, in building: Building, mapSpec: S
     }
     if named.count == 1 { return named[0].poi.id }
     if named.isEmpty {
-        throw CLIError.failure("\(flag) '\(key)': no place has this id or name on \(mapSpec) (see 'wayfinder places \(mapSpec)')")
+        // Places whose name or category holds every word of the key ("Elevator" -> each floor's "Elevator lobby").
+        let similar = PlaceList(building: building).search(key)
+        let floorOrder = Dictionary(building.floors.enumerated().map { ($1.id, $0) }, uniquingKeysWith: { a, _ in a })
+        let shown = similar.sorted { (floorOrder[$0.floorId] ?? 0, $0.name) < (floorOrder[$1.floorId] ?? 0, $1.name) }.prefix(8)
+        let hint = shown.isEmpty ? "" : "; places like it: " + shown.map { "\($0.id) (\($0.name), floor \($0.floorId))" }.joined(separator: ", ")
+            + (similar.count > shown.count ? ", ... \(similar.count - shown.count) more" : "")
+        throw CLIError.failure("\(flag) '\(key)': no place has this id or name on \(mapSpec)\(hint) (see 'wayfinder places \(mapSpec)')")
     }
     let list = named.map { "\($0.poi.id) (floor \($0.floor.id), \($0.floor.name))" }.joined(separator: ", ")
     throw CLIError.failure("\(flag) '\(key)' names \(named.count) places: \(list); give one of these ids")

@@ -88,7 +88,7 @@ enum RenderCommand: Subcommand {
         }
         note("render: wrote \(out) (\(html.utf8.count / 1024) KB)")
         if let png {
-            do { try ChromiumScreenshot.capture(html: htmlURL, png: URL(fileURLWithPath: png)) } catch {
+            do { try ChromiumScreenshot.capture(html: htmlURL, png: URL(fileURLWithPath: png), width: 1400, height: 1700) } catch {
                 throw CLIError.failure("\(error)")
             }
             note("render: wrote \(png)")

@@ -15,7 +15,7 @@ enum WalkViewScript {
           var floorButtons = document.querySelectorAll('nav button[data-floor]');
           var sections = document.querySelectorAll('section.floor');
           var follow = true;
-          function showFloor(k) {
+          function revealFloor(k) {
             sections.forEach(function (s) {
               s.style.display = s.getAttribute('data-floor') === String(k) ? 'block' : 'none';
             });
@@ -24,7 +24,7 @@ enum WalkViewScript {
             });
           }
           floorButtons.forEach(function (b) {
-            b.addEventListener('click', function () { follow = false; showFloor(b.getAttribute('data-floor')); });
+            b.addEventListener('click', function () { follow = false; revealFloor(b.getAttribute('data-floor')); });
           });
           var snapshots = document.getElementById('show-snapshots');
           if (snapshots) {
@@ -138,7 +138,7 @@ enum WalkViewScript {
             var i = Math.max(0, atOrBefore(F.t, tMs));
             var estFloor = F.f[i], trueFloor = hasTruth ? F.tf[i] : -1;
             var shown = trueFloor >= 0 ? trueFloor : estFloor;
-            if (follow && shown >= 0) { showFloor(shown); }
+            if (follow && shown >= 0) { revealFloor(shown); }
             for (var f = 0; f < D.floors.length; f++) {
               place(live(f, 'est'), f, estFloor === f, F.x[i], F.y[i], F.h[i]);
               place(live(f, 'truth'), f, hasTruth && trueFloor === f, hasTruth ? F.tx[i] : 0, hasTruth ? F.ty[i] : 0,
@@ -151,7 +151,7 @@ enum WalkViewScript {
             drawCloud(atOrBefore(cloudT, tMs));
             drawRoute(atOrBefore(routeT, tMs));
 
-            var lastSight = atOrBefore(sightT, tMs), sightTexts = [];
+            var lastSight = atOrBefore(sightT, tMs), sightTexts = [], sightSeen = {};
             for (var k = lastSight; k >= 0 && D.sightings[k].t > tMs - 1000; k--) {
               var s = D.sightings[k], g = live(s.f, 'rays');
               if (!g) { continue; }
@@ -159,9 +159,13 @@ enum WalkViewScript {
               if (s.match !== '') {
                 g.appendChild(el('circle', { cx: px(s.f, s.sx), cy: py(s.f, s.sy), r: 9, 'class': 'matched' }));
               }
-              var words = s.kind + ' sign ' + (s.match !== '' ? 'matched ' + s.match + ' (' + (s.md / 100).toFixed(1) + ' m off)' : 'matched no sign');
+              var words = s.kind + ' sign ' + (s.match !== '' ? 'matched ' + s.match : 'matched no sign');
               if (hasTruth && s.truth !== s.match) { words += ', truly ' + (s.truth !== '' ? s.truth : 'no sign'); }
-              if (sightTexts.indexOf(words) < 0) { sightTexts.push(words); }
+              if (!sightSeen.hasOwnProperty(words)) {
+                sightSeen[words] = sightTexts.length;
+                sightTexts.push({ words: words, count: 0, md: s.md });
+              }
+              sightTexts[sightSeen[words]].count += 1;
             }
 
             setText('st-time', secs(tMs) + ' of ' + secs(D.t1));
@@ -174,7 +178,9 @@ enum WalkViewScript {
             setText('st-err', !hasTruth ? 'no truth' : (F.err[i] < 0 ? 'on another floor' : (F.err[i] / 100).toFixed(2) + ' m'));
             setText('st-said', describe(recent(['said', 'prompt'], tMs, 15000, 3), tMs));
             setText('st-felt', describe(recent(['haptic', 'wrong'], tMs, 3000, 3), tMs));
-            setText('st-sight', sightTexts.length === 0 ? '-' : sightTexts.slice(0, 3).join(' | '));
+            setText('st-sight', sightTexts.length === 0 ? '-' : sightTexts.slice(0, 3).map(function (x) {
+              return x.words + (x.md > 0 ? ' (' + (x.md / 100).toFixed(1) + ' m off)' : '') + (x.count > 1 ? ', ' + x.count + ' times' : '');
+            }).join(' | '));
             setText('st-nav', describe(recent(['wrong', 'reroute'], tMs, 10000, 2), tMs));
 
             if (scrub) {
