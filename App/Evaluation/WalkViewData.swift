@@ -44,7 +44,7 @@ struct FloorFrame: Encodable {
 /// weights in thousandths; floors by their index in `floors` (-1 = a floor that is not drawn). Text (what was
 /// said, sign ids) stays text: the page only ever puts it into `textContent`.
 struct WalkViewData: Encodable {
-    /// One column per field, one entry per kept frame (at most one every `frameStepSeconds`).
+    /// One column per field, one entry per kept frame (one every `frameStepSeconds`, and each change of state).
     struct Frames: Encodable {
         var t: [Int] = [], x: [Int] = [], y: [Int] = [], f: [Int] = [], h: [Int] = []
         /// Confidence, thousandths.
@@ -140,9 +140,13 @@ struct WalkViewData: Encodable {
         self.floors = floors.map(FloorFrame.init(floor:))
 
         var fr = Frames()
-        var lastKept = -Double.infinity
-        for (k, r) in result.trace.enumerated() where r.t - lastKept >= Self.frameStepSeconds - 1e-9 || k == result.trace.count - 1 {
-            lastKept = r.t
+        var lastKept: TraceRecord?
+        for (k, r) in result.trace.enumerated() {
+            // Every frame step, the last frame, and each frame where the localized flag, the tracking or the floor
+            // changes (so the page shows a change at the moment it happened).
+            if let last = lastKept, r.t - last.t < Self.frameStepSeconds - 1e-9, k != result.trace.count - 1,
+               last.localized == r.localized, last.tracking == r.tracking, last.floorId == r.floorId { continue }
+            lastKept = r
             fr.t.append(ms(r.t)); fr.x.append(cm(r.x)); fr.y.append(cm(r.y)); fr.f.append(fi(r.floorId))
             fr.h.append(Int((r.headingRad * 1000).rounded())); fr.c.append(Int((r.confidence * 1000).rounded()))
             fr.loc.append(r.localized ? 1 : 0); fr.nh.append(r.hypotheses)
