@@ -24,11 +24,12 @@ enum MapSpec {
             }
             return building
         }
-        var isDirectory: ObjCBool = false
-        if !FileManager.default.fileExists(atPath: spec, isDirectory: &isDirectory) {
+        // Nothing at all at this path (lstat: a link loop or a dangling link is there, and the map reader
+        // names its problem): say what a map can be.
+        var info = stat()
+        if lstat(spec, &info) != 0 && errno == ENOENT {
             throw CLIError.failure("\(spec): no such file (\(usageLine))")
         }
-        if isDirectory.boolValue { throw CLIError.failure("\(spec): is a folder, not a map file (\(usageLine))") }
         return try MapLoader.load(contentsOf: URL(fileURLWithPath: spec))
     }
 

@@ -193,5 +193,49 @@ final class ConventionalCommandLineTests: XCTestCase {
         XCTAssertLessThan(page.utf8.count, 1_500_000, "a 43 s walk stays a small page")
         let eval = try CLI.run(["eval", bundle.path, "--map", "office"])
         eval.assertStderr(contains: "mapId 'skeri-4' names another building")
+
+        // In a browser the rendered walk's playhead shows each moment: during the loss, and after it.
+        let during = try dumpDOM(html, fragment: "t=14")
+        let after = try dumpDOM(html, fragment: "t=30")
+        func field(_ dom: String, _ id: String) -> String {
+            guard let r = dom.range(of: "<dd id=\"\(id)\">") else { return "" }
+            return String(dom[r.upperBound...].prefix { $0 != "<" })
+        }
+        XCTAssertEqual(field(during, "st-time"), "14.0 s of 43.2 s")
+        XCTAssertEqual(field(during, "st-track"), "lost")
+        XCTAssertTrue(field(during, "st-said").hasPrefix("Tracking lost. Point the camera ahead (0.5 s ago)"), field(during, "st-said"))
+        XCTAssertEqual(field(after, "st-time"), "30.0 s of 43.2 s")
+        XCTAssertNotEqual(field(after, "st-track"), "lost")
+        XCTAssertTrue(during.contains("id=\"scrubber\""))
+        XCTAssertTrue(during.contains("data-t=\"14.0\""))
+        XCTAssertTrue(after.contains("data-t=\"30.0\""))
+    }
+
+    /// The DOM of `page#fragment` after its script ran, by headless Chromium; fails in CI (CI=true) and skips
+    /// elsewhere when Chromium is not installed.
+    func dumpDOM(_ page: URL, fragment: String) throws -> String {
+        let path = (ProcessInfo.processInfo.environment["PATH"] ?? "/usr/bin:/bin").split(separator: ":")
+        guard let chromium = path.map({ "\($0)/chromium" }).first(where: { FileManager.default.isExecutableFile(atPath: $0) }) else {
+            if ProcessInfo.processInfo.environment["CI"] == "true" {
+                XCTFail("chromium is not installed; CI must run the trainer's-view browser checks (scripts/setup.sh)")
+            }
+            throw XCTSkip("chromium not installed (scripts/setup.sh installs it)")
+        }
+        let profile = try CLI.makeTemporaryDirectory("chromium")
+        defer { try? FileManager.default.removeItem(at: profile) }
+        let out = profile.appendingPathComponent("dom.html")
+        _ = FileManager.default.createFile(atPath: out.path, contents: nil)
+        let handle = try FileHandle(forWritingTo: out)
+        let p = Process()
+        p.executableURL = URL(fileURLWithPath: chromium)
+        p.arguments = ["--headless", "--disable-gpu", "--no-sandbox", "--disable-dev-shm-usage",
+                       "--user-data-dir=\(profile.appendingPathComponent("profile").path)", "--dump-dom",
+                       page.absoluteURL.absoluteString + "#" + fragment]
+        p.standardOutput = handle
+        p.standardError = FileHandle.nullDevice
+        try p.run()
+        p.waitUntilExit()
+        try handle.close()
+        return String(decoding: try Data(contentsOf: out), as: UTF8.self)
     }
 }
