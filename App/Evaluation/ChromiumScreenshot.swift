@@ -52,8 +52,11 @@ public enum ChromiumScreenshot {
     }
 
     /// The page's DOM after its scripts ran (`chromium --headless --dump-dom`), for tests of the page's
-    /// behaviour; `fragment` (without `#`, e.g. "t=12.5") is appended to the file URL.
-    public static func dumpDOM(html: URL, fragment: String? = nil, timeoutSeconds: Double = 60) throws -> String {
+    /// behaviour; `fragment` (without `#`, e.g. "t=12.5") is appended to the file URL. With
+    /// `virtualTimeBudgetMilliseconds` Chromium lets the page run that much (virtual) time before the dump
+    /// (timers and animation frames, e.g. for Play).
+    public static func dumpDOM(html: URL, fragment: String? = nil, virtualTimeBudgetMilliseconds: Int? = nil,
+                               timeoutSeconds: Double = 60) throws -> String {
         guard let exe = executable() else { throw Failure.chromiumMissing }
         let p = Process()
         p.executableURL = URL(fileURLWithPath: exe)
@@ -61,7 +64,8 @@ public enum ChromiumScreenshot {
         var url = html.absoluteURL.absoluteString
         if let fragment { url += "#" + fragment }
         p.arguments = ["--headless", "--disable-gpu", "--no-sandbox", "--disable-dev-shm-usage",
-                       "--user-data-dir=\(profile.path)", "--dump-dom", url]
+                       "--user-data-dir=\(profile.path)"]
+            + (virtualTimeBudgetMilliseconds.map { ["--virtual-time-budget=\($0)"] } ?? []) + ["--dump-dom", url]
         let scratch = FileManager.default.temporaryDirectory.appendingPathComponent("wf-chromium-dom-\(UUID().uuidString).html")
         _ = FileManager.default.createFile(atPath: scratch.path, contents: nil)
         defer { try? FileManager.default.removeItem(at: scratch); try? FileManager.default.removeItem(at: profile) }

@@ -1,7 +1,7 @@
 /// The trainer's page script: one constant, identical for every walk (no text of it is generated from data).
 /// It reads the walk from `<script type="application/json" id="walk-data">` with `JSON.parse`, and moves the
 /// playhead: the scrubber (`#scrubber`), Play/Pause, the speed menu, a click or drag on the timeline, and the
-/// URL fragment `#t=SECONDS` (also the hook the headless-browser test uses). At each moment it draws on the
+/// URL fragment `#t=SECONDS` (`#t=SECONDS&play` also starts playing; the hooks the headless-browser tests use). At each moment it draws on the
 /// floor plan the true and estimated positions, the particle cloud and hypotheses of the latest kept moment,
 /// the sightings of the last second with the sign each matched, and the route in force; and it writes the
 /// state panel (confidence, tracking, what was said and felt, sightings, wrong turns and re-routes). Data only
@@ -197,25 +197,25 @@ enum WalkViewScript {
           }
 
           var playing = false, lastFrame = null;
-          function step(now) {
+          // A 40 ms timer rather than animation frames: timers also run in a headless browser's virtual time.
+          function step() {
             if (!playing) { return; }
-            if (lastFrame !== null) {
-              setTime(current + (now - lastFrame) * Number(speed ? speed.value : 1));
-              if (current >= D.t1) { toggle(); }
-            }
+            var now = window.performance.now();
+            setTime(current + Math.max(0, now - lastFrame) * Number(speed ? speed.value : 1));
             lastFrame = now;
-            if (playing) { window.requestAnimationFrame(step); }
+            if (current >= D.t1) { toggle(); }
+            if (playing) { window.setTimeout(step, 40); }
           }
           function toggle() {
             playing = !playing;
-            lastFrame = null;
+            lastFrame = window.performance.now();
             if (playButton) {
               playButton.textContent = playing ? 'Pause' : 'Play';
               playButton.setAttribute('aria-pressed', playing ? 'true' : 'false');
             }
             if (playing) {
               if (current >= D.t1) { setTime(D.t0); }
-              window.requestAnimationFrame(step);
+              window.setTimeout(step, 40);
             }
           }
           if (playButton) { playButton.addEventListener('click', toggle); }
@@ -233,9 +233,11 @@ enum WalkViewScript {
             window.addEventListener('pointerup', function () { dragging = false; });
           }
           function fromFragment() {
-            var m = /^#t=([0-9]+(?:[.][0-9]+)?)$/.exec(window.location.hash);
-            if (m) { setTime(Number(m[1]) * 1000); return true; }
-            return false;
+            var m = /^#t=([0-9]+(?:[.][0-9]+)?)(&play)?$/.exec(window.location.hash);
+            if (!m) { return false; }
+            setTime(Number(m[1]) * 1000);
+            if (m[2] && !playing) { toggle(); }
+            return true;
           }
           window.addEventListener('hashchange', fromFragment);
           if (!fromFragment()) { setTime(D.initial); }

@@ -208,6 +208,23 @@ final class WalkViewTests: XCTestCase {
         XCTAssertEqual(field(late, "st-sight"), "-")
         XCTAssertEqual(group(late, "live-rays-0"), "")
 
+        // Dragging the scrubber (its input event, sent by a test-only probe after the page's script) moves it too.
+        let probe = "<script>var s = document.getElementById('scrubber'); s.value = '12.5'; s.dispatchEvent(new Event('input'));</script></body>"
+        let dragged = dir.appendingPathComponent("dragged.html")
+        try Data(html.replacingOccurrences(of: "</body>", with: probe).utf8).write(to: dragged)
+        let scrubbed = try ChromiumScreenshot.dumpDOM(html: dragged)
+        XCTAssertTrue(scrubbed.contains("data-t=\"12.5\""))
+        XCTAssertEqual(field(scrubbed, "st-time"), "12.5 s of 20.0 s")
+        XCTAssertEqual(field(scrubbed, "st-sight"), field(sighting, "st-sight"))
+        XCTAssertEqual(transform(scrubbed, "live-est-0"), transform(sighting, "live-est-0"))
+
+        // Play moves the playhead on by itself: 1 s of (virtual) time at the default 4x is about 4 s of walk.
+        let playing = try ChromiumScreenshot.dumpDOM(html: page, fragment: "t=5&play", virtualTimeBudgetMilliseconds: 1000)
+        XCTAssertTrue(playing.contains("id=\"play\" aria-pressed=\"true\">Pause<"), "the Play button became Pause")
+        let shownT = try XCTUnwrap(playing.range(of: "data-t=\"").map { Double(playing[$0.upperBound...].prefix { $0 != "\"" }) } ?? nil)
+        XCTAssertGreaterThan(shownT, 6.0, "playing advanced the playhead")
+        XCTAssertLessThan(shownT, 20.0)
+
         // And a screenshot of the page.
         let png = dir.appendingPathComponent("walk.png")
         try ChromiumScreenshot.capture(html: page, png: png, width: 1400, height: 1200)
