@@ -90,7 +90,17 @@ protocol Subcommand {
     static func run(_ arguments: inout ArgumentList) throws -> Int32
 }
 
-/// Writes progress to stderr (stdout is for results).
+/// Writes progress ("replay:  40%", "eval: BUNDLE") to stderr, only when stderr is a terminal: a log file or a
+/// pipe gets no progress chatter (stdout is for results). Warnings and confirmations use `note`.
 func progress(_ message: String) {
+    guard stderrIsTerminal else { return }
     FileHandle.standardError.write(Data((message + "\n").utf8))
 }
+
+/// Writes a warning or a confirmation ("render: wrote walk.html") to stderr, terminal or not.
+func note(_ message: String) {
+    FileHandle.standardError.write(Data((message + "\n").utf8))
+}
+
+/// True when stderr is a terminal (`isatty(2)`), checked once.
+let stderrIsTerminal: Bool = isatty(STDERR_FILENO) != 0

@@ -18,6 +18,7 @@ enum BenchCommand: Subcommand {
                     array-based O(V^2) Dijkstra.
       pipeline.*    the whole per-frame pipeline replaying BUNDLE (default: the bundled sample walk) with the
                     default 20,000 particles; baseline: the camera's frame interval (the real-time budget).
+    Exit codes: 0 ok, 1 bad input (map, bundle), 2 usage.
     """
 
     struct Row: Encodable {
@@ -38,7 +39,7 @@ enum BenchCommand: Subcommand {
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
         let iterations = try arguments.intOption("iterations") ?? 2000
         let bundlePath = try arguments.option("bundle") ?? "App/Samples/office-walk"
-        let mapPath = try arguments.option("map") ?? "Maps/Buildings/wayfinder-office.json"
+        let mapPath = try arguments.option("map") ?? "office"
         let json = arguments.flag("json")
         _ = try arguments.positionals()
 

@@ -23,7 +23,9 @@ enum EvalCommand: Subcommand {
     and estimated positions, the true turns and the phrases around it.
     True turns are found from truth.jsonl alone (a change of walking direction over a few meters, matched to
     the graph node where the route turns; see docs/evaluation.md); a truth floor that the map lacks is an error.
+    \(MapSpec.usageLine).
     \(EvidenceSwitches.usage)
+    Exit codes: 0 ok, 1 bad input (map, bundle, scenarios) or a regression against --baseline, 2 usage.
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
@@ -69,6 +71,7 @@ enum EvalCommand: Subcommand {
                 do {
                     let (score, result) = try WalkEvaluator.evaluate(name: bundle.url.lastPathComponent, bundle: bundle,
                                                                      building: building, options: pipeline)
+                    for w in (bundle.warnings.map { "\($0)" } + result.warnings).prefix(5) { note("warning: \(path): \(w)") }
                     explainWalk(score, result, building, bundle.truth)
                     scores.append(score)
                 } catch {
@@ -89,7 +92,7 @@ enum EvalCommand: Subcommand {
             do { try RegressionBaseline(aggregate: aggregate).write(to: URL(fileURLWithPath: writeBaselinePath)) } catch {
                 throw CLIError.failure("cannot write baseline \(writeBaselinePath): \(error.localizedDescription)")
             }
-            progress("eval: baseline written to \(writeBaselinePath)")
+            note("eval: baseline written to \(writeBaselinePath)")
         }
         if let baselinePath {
             let baseline: RegressionBaseline
@@ -101,7 +104,7 @@ enum EvalCommand: Subcommand {
                 for r in regressions { FileHandle.standardError.write(Data("regression: \(r)\n".utf8)) }
                 return 1
             }
-            progress("eval: no regression against \(baselinePath)")
+            note("eval: no regression against \(baselinePath)")
         }
         return 0
     }

@@ -46,7 +46,7 @@ enum ImportInavigateCommand: Subcommand {
             for r in report {
                 let wallSigns = building.floor(id: r.floorId)?.signs.filter { $0.placement == .wall }.count ?? 0
                 let moved = r.signAdjustmentsMeters.max() ?? 0
-                progress("floor \(r.floorId): \(r.walls) walls, \(r.signs) signs (\(wallSigns) on walls, \(r.signs - wallSigns) projecting; largest move \(String(format: "%.2f", moved)) m), \(r.pointsOfInterest) POIs, \(r.nodes) nodes")
+                note("floor \(r.floorId): \(r.walls) walls, \(r.signs) signs (\(wallSigns) on walls, \(r.signs - wallSigns) projecting; largest move \(String(format: "%.2f", moved)) m), \(r.pointsOfInterest) POIs, \(r.nodes) nodes")
             }
             let c = building.counts
             print("wrote \(out): \(c.floors) floors, \(c.walls) walls, \(c.signs) signs, \(c.pointsOfInterest) POIs, \(c.nodes) nodes, \(c.edges) edges")

@@ -14,6 +14,7 @@ enum ImportOccamCommand: Subcommand {
     frame per pose, one observation (kind "landmark", landmarkId = tag id, horizontal range and bearing
     from the camera) per sighting. Refuses a non-empty BUNDLE unless --overwrite. Prints the figures of
     the import (--json: as JSON).
+    Exit codes: 0 ok, 1 missing or damaged input, 2 usage.
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {

@@ -13,6 +13,7 @@ enum InspectCommand: Subcommand {
     per kind, whether truth is present, image count and the reader's warnings (a cut-off last line, missing
     images). --json prints one JSON object per bundle (an array when several are given).
     A damaged bundle prints the file, line and reason and exits 1.
+    Exit codes: 0 ok, 1 a missing or damaged bundle, 2 usage.
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {

@@ -36,8 +36,7 @@ enum RangeCommand: Subcommand {
     missing columns an error.
 
     Example: wayfinder range --input Tests/Fixtures/range/observations.csv
-    Exit status: 0 when every requested estimate succeeded, 1 when some failed or the input is bad, 2 on
-    usage errors.
+    Exit codes: 0 every requested estimate succeeded, 1 some failed or the input is bad, 2 usage.
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
@@ -61,7 +60,7 @@ enum RangeCommand: Subcommand {
         } catch let error as RangeCSVError {
             throw CLIError.failure(error.description)
         }
-        if rows.isEmpty { progress("wayfinder range: \(input) has no observations") }
+        if rows.isEmpty { note("wayfinder range: \(input) has no observations") }
 
         var output = "line,method,range_m,bearing_deg,center_height_above_camera_m,true_range_m,error_pct,status\n"
         var errorsByMethod: [RangeMethod: [Double]] = [:]
@@ -89,7 +88,7 @@ enum RangeCommand: Subcommand {
                         + "\(truth),\(errorText),ok\n"
                 } catch let error as RangeEstimationError {
                     failures += 1
-                    progress("wayfinder range: \(input):\(row.lineNumber): \(method.commandLineName): \(error)")
+                    note("wayfinder range: \(input):\(row.lineNumber): \(method.commandLineName): \(error)")
                     output += "\(row.lineNumber),\(method.commandLineName),,,,\(truth),,\(csvField("error: \(error)"))\n"
                 }
             }
@@ -100,7 +99,7 @@ enum RangeCommand: Subcommand {
             let sorted = errors.sorted()
             let median = sorted.count % 2 == 1 ? sorted[sorted.count / 2]
                 : 0.5 * (sorted[sorted.count / 2 - 1] + sorted[sorted.count / 2])
-            progress("wayfinder range: \(method.commandLineName): median error \(fmt(median, 2)) % over \(errors.count) observations")
+            note("wayfinder range: \(method.commandLineName): median error \(fmt(median, 2)) % over \(errors.count) observations")
         }
         return failures == 0 ? 0 : 1
     }

@@ -14,7 +14,8 @@ enum ReplayCommand: Subcommand {
                             [--no-compass] [--no-planes] [--param NAME=V]
 
     Replays the recorded-session bundle BUNDLE (frames.jsonl, observations.jsonl or images) on the building
-    MAP and prints each announcement as "[  12.3 s] text" (haptics as "[  12.3 s] (haptic: pattern)").
+    MAP and prints each announcement as "[  12.3 s] text" (haptics as "[  12.3 s] (haptic: pattern)", the
+    phone's tracking prompts as "[  12.3 s] Slow down (tracking prompt)"). \(MapSpec.usageLine).
       --to DEST        destination point-of-interest id or name (default: session.json's destination)
       --from START     start point-of-interest id or name (default: session.json's start; none = floor only)
       --floor FLOOR    start floor id when the start is unknown (default: session.json's floor)
@@ -24,7 +25,8 @@ enum ReplayCommand: Subcommand {
       --models DIR     detector models folder (default SignDetector/models)
       --seed N         particle filter seed (default 1)
       --trace FILE     write one JSON line per frame: t, x, y, floorId, headingRad, confidence, localized,
-                       hypotheses, sightings, announcements, haptics; while not localized also advice
+                       hypotheses, sightings, announcements, haptics; tracking and trackingPrompt when
+                       tracking is not normal; while not localized also advice
                        (the exploratory instruction in force) and spokenAdvice (when one is said)
     \(EvidenceSwitches.usage)
     Warnings (stderr, the replay goes on): session.json's mapId naming another building than MAP, observations
@@ -36,9 +38,8 @@ enum ReplayCommand: Subcommand {
         let mapPath = try arguments.requiredOption("map")
         var pipeline = PipelineOptions()
         try EvidenceSwitches.apply(&arguments, to: &pipeline)
-        pipeline.destinationId = try arguments.option("to")
-        pipeline.startPointOfInterestId = try arguments.option("from")
-        pipeline.floorId = try arguments.option("floor")
+        let to = try arguments.option("to"), from = try arguments.option("from")
+        pipeline.floorId = try arguments.option("floor") ?? MapSpec.floor(of: mapPath)
         pipeline.modelsDirectory = try arguments.option("models")
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
         if let d = try arguments.option("detector") {
@@ -52,11 +53,13 @@ enum ReplayCommand: Subcommand {
         guard positionals.count == 1 else { throw CLIError.usage("expected one BUNDLE directory (see --help)") }
 
         let building = try loadMap(mapPath)
+        pipeline.destinationId = try to.map { try resolvePlace($0, flag: "--to", in: building, mapSpec: mapPath) }
+        pipeline.startPointOfInterestId = try from.map { try resolvePlace($0, flag: "--from", in: building, mapSpec: mapPath) }
         let bundle = try loadBundle(positionals[0])
-        for w in bundle.warnings { progress("warning: \(w)") }
+        for w in bundle.warnings { note("warning: \(w)") }
         if [.cascade, .unet].contains(pipeline.sightingSource),
            !bundle.frames.contains(where: { bundle.presentImageURL(for: $0) != nil }) {
-            progress("warning: --detector \(pipeline.sightingSource.rawValue) but \(positionals[0]) has no images: no sign sightings")
+            note("warning: --detector \(pipeline.sightingSource.rawValue) but \(positionals[0]) has no images: no sign sightings")
         }
         var options = Replay.Options(pipeline: Replay.options(for: bundle, overriding: pipeline))
         options.snapshotParticleCount = 0
@@ -68,12 +71,13 @@ enum ReplayCommand: Subcommand {
         } catch {
             throw CLIError.failure("\(positionals[0]): \(error)")
         }
-        for w in result.warnings.prefix(20) { progress("warning: \(w)") }
-        if result.warnings.count > 20 { progress("warning: ... \(result.warnings.count - 20) more") }
+        for w in result.warnings.prefix(20) { note("warning: \(w)") }
+        if result.warnings.count > 20 { note("warning: ... \(result.warnings.count - 20) more") }
 
         var lines: [(Double, String)] = result.announcements.map { ($0.t, $0.text) }
         lines += result.haptics.map { ($0.t, "(haptic: \($0.pattern))") }
-        lines.sort { $0.0 < $1.0 }
+        lines += result.trackingPrompts.map { ($0.t, "\($0.text) (tracking prompt)") }
+        lines = lines.enumerated().sorted { ($0.element.0, $0.offset) < ($1.element.0, $1.offset) }.map(\.element)
         for (t, text) in lines { print(String(format: "[%7.1f s] ", t) + text) }
 
         if let tracePath {
@@ -87,16 +91,9 @@ enum ReplayCommand: Subcommand {
             do { try data.write(to: URL(fileURLWithPath: tracePath), options: .atomic) } catch {
                 throw CLIError.failure("cannot write trace \(tracePath): \(error.localizedDescription)")
             }
-            progress("replay: trace written to \(tracePath) (\(result.trace.count) lines)")
+            note("replay: trace written to \(tracePath) (\(result.trace.count) lines)")
         }
         return 0
-    }
-}
-
-/// Loads and validates a map file, turning errors into CLI failures that name the file.
-func loadMap(_ path: String) throws -> Building {
-    do { return try MapLoader.load(contentsOf: URL(fileURLWithPath: path)) } catch {
-        throw CLIError.failure("\(error)")
     }
 }
 

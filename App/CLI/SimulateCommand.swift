@@ -17,7 +17,7 @@ enum SimulateCommand: Subcommand {
     Simulates a person walking the shortest route from A to B (point-of-interest ids or names) with a phone held
     camera-forward, and writes the bundle (format v1: session.json, frames.jsonl, observations.jsonl,
     truth.jsonl, images/ with --images) to BUNDLE. The same arguments and seed give the same bundle.
-      --map MAP            map-v1 JSON file, `office` (default: the bundled office) or `skeri:<floor>`
+      --map MAP            `office` (the default), `skeri:FLOOR` or a map-v1 JSON file (as for every command)
       --scenario FILE      start from a scenario definition (Tests/Scenarios/*.json); flags override it
       --carry              handheld (default) or lanyard
       --orientation        portrait (default) or landscape
@@ -89,8 +89,9 @@ enum SimulateCommand: Subcommand {
         guard let out = output else { throw CLIError.usage("missing -o BUNDLE") }
         do { try scenario.validate() } catch { throw CLIError.usage("\(error)") }
 
-        let building: Building
-        do { building = try ScenarioMaps.load(scenario.map) } catch { throw CLIError.failure("\(error)") }
+        let building = try loadMap(scenario.map)
+        scenario.from = try resolvePlace(scenario.from, flag: "--from", in: building, mapSpec: scenario.map)
+        scenario.to = try resolvePlace(scenario.to, flag: "--to", in: building, mapSpec: scenario.map)
         let walk: SimulatedWalk
         do { walk = try WalkSimulator.simulate(building: building, scenario: scenario) } catch {
             throw CLIError.failure("\(error)")
@@ -99,7 +100,7 @@ enum SimulateCommand: Subcommand {
             throw CLIError.failure("\(out): \(error)")
         }
         let duration = walk.truth.last?.t ?? 0
-        progress(String(format: "simulate: %d frames (%.1f s), %d observations, %d images -> %@", walk.frames.count, duration,
+        note(String(format: "simulate: %d frames (%.1f s), %d observations, %d images -> %@", walk.frames.count, duration,
                         walk.observations.count, walk.imageFrameIndices.count, out))
         return 0
     }

@@ -11,7 +11,7 @@ enum ValidateMapCommand: Subcommand {
 
     Loads each MAP (map format v1, docs/map-format.md) with all of its checks and prints
       ok: FILE: N floors, N walls, N signs, N POIs, N nodes
-    or the first error as "FILE: JSONPATH: reason" on stderr. The bundled office is "bundled:office".
+    or the first error as "FILE: JSONPATH: reason" on stderr. \(MapSpec.usageLine).
     Exit codes: 0 all maps valid, 1 some map invalid, 2 usage.
     """
 
@@ -21,18 +21,16 @@ enum ValidateMapCommand: Subcommand {
         var failures = 0
         for path in paths {
             do {
-                let building: Building
-                if path == "bundled:office" {
-                    building = try BundledMaps.office()
-                } else {
-                    building = try MapLoader.load(contentsOf: URL(fileURLWithPath: path))
-                }
+                let building = try MapSpec.resolve(path)
                 let c = building.counts
                 print("ok: \(path): \(c.floors) floors, \(c.walls) walls, \(c.signs) signs, \(c.pointsOfInterest) POIs, \(c.nodes) nodes")
             } catch let e as MapError {
                 failures += 1
                 // MapError.file is the last path component; print the path as the user typed it.
                 FileHandle.standardError.write(Data("error: \(path): \(e.jsonPath): \(e.reason)\n".utf8))
+            } catch let e as CLIError {
+                failures += 1
+                FileHandle.standardError.write(Data("error: \(e.description)\n".utf8))
             }
         }
         if failures > 0 && paths.count > 1 {

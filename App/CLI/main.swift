@@ -3,7 +3,7 @@ import Foundation
 /// Every subcommand of `wayfinder`, in the order `--help` lists them.
 enum Subcommands {
     static let all: [Subcommand.Type] = [
-        ValidateMapCommand.self, ImportInavigateCommand.self,
+        ValidateMapCommand.self, PlacesCommand.self, ImportInavigateCommand.self,
         InspectCommand.self,
         ImportOccamCommand.self,
         ReplayCommand.self,
@@ -15,10 +15,17 @@ enum Subcommands {
     ]
 }
 
+/// The `wayfinder --version` line: the tool's version and the file formats it reads and writes.
+let wayfinderVersion = "wayfinder 0.9.0 (map format v1, session bundle format v1)"
+
 func printTopLevelHelp() {
-    var text = "wayfinder: accessible indoor wayfinding, replayed on the command line.\n\nUsage: wayfinder <command> [options]\n\nCommands:\n"
+    var text = "wayfinder: accessible indoor wayfinding, replayed on the command line.\n\n"
+    text += "Usage: wayfinder <command> [options]\n       wayfinder --help | --version\n\nCommands:\n"
     for c in Subcommands.all { text += "  \(c.name.padding(toLength: 18, withPad: " ", startingAt: 0))\(c.summary)\n" }
-    text += "\nRun 'wayfinder <command> --help' for a command's options.\n"
+    text += "\n\(MapSpec.usageLine); the same names work for every command.\n"
+    text += "Results go to stdout; warnings to stderr, and progress to stderr only when it is a terminal.\n"
+    text += "Exit codes: 0 ok, 1 bad input (each command's --help says which), 2 usage (bad flags or arguments).\n"
+    text += "Run 'wayfinder <command> --help' for a command's options.\n"
     print(text, terminator: "")
 }
 
@@ -26,6 +33,10 @@ let argv = Array(CommandLine.arguments.dropFirst())
 guard let name = argv.first, name != "--help", name != "-h" else {
     printTopLevelHelp()
     exit(argv.isEmpty ? 2 : 0)
+}
+if name == "--version" || name == "-V" {
+    print(wayfinderVersion)
+    exit(0)
 }
 guard let command = Subcommands.all.first(where: { $0.name == name }) else {
     FileHandle.standardError.write(Data("wayfinder: unknown command '\(name)' (see 'wayfinder --help')\n".utf8))

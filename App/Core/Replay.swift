@@ -33,6 +33,11 @@ public struct TraceRecord: Codable, Sendable, Equatable {
     public var advice: String? = nil
     /// The exploratory action spoken on this frame ("ahead", "turnAround", "left", "right"), if one was.
     public var spokenAdvice: String? = nil
+    /// ARKit tracking when not normal: "limited" or "limited (REASON)" (e.g. "limited (excessiveMotion)"),
+    /// or "lost" (not available, or a pose that is not finite); nil while tracking is normal.
+    public var tracking: String? = nil
+    /// What the phone's `TrackingPromptPolicy` says on this frame ("Slow down", ...), if anything.
+    public var trackingPrompt: String? = nil
 
     /// Creates a trace record.
     public init(t: Double, x: Double, y: Double, floorId: String, headingRad: Double, confidence: Double, localized: Bool,
@@ -47,6 +52,12 @@ public struct TraceRecord: Codable, Sendable, Equatable {
 public struct SightingRay: Sendable {
     /// Time, seconds.
     public var t: Double
+    /// Sign kind of the sighting (the map's `Sign.kind`, e.g. "exit").
+    public var kind: String = ""
+    /// Range from the camera, meters.
+    public var rangeMeters: Double = 0
+    /// Bearing from camera forward, radians, positive to the left.
+    public var bearingRad: Double = 0
     /// Floor of the estimate.
     public var floorId: String
     /// Estimated camera position, meters.
@@ -65,6 +76,24 @@ public struct ParticleSnapshot: Sendable {
     public var particles: [ParticleSample]
 }
 
+/// A route the navigator adopted: the first one, or a re-route (the graph nodes visited changed).
+public struct RouteChange: Sendable {
+    /// Time of the frame on which the new route was in force, seconds.
+    public var t: Double
+    /// True for every route after the first.
+    public var isReroute: Bool
+    /// The route's polyline: (floor id, point in meters) per point.
+    public var polyline: [(floorId: String, point: Point2)]
+}
+
+/// The localizer's hypotheses (clusters of the particle cloud) at one frame, for the trainer's view.
+public struct HypothesisSnapshot: Sendable {
+    /// Frame time, seconds.
+    public var t: Double
+    /// The hypotheses, heaviest first as the localizer reports them.
+    public var hypotheses: [PoseHypothesis]
+}
+
 /// Everything a replay produced.
 public struct ReplayResult: Sendable {
     /// One record per frame.
@@ -81,6 +110,15 @@ public struct ReplayResult: Sendable {
     public var routePolyline: [(floorId: String, point: Point2)]
     /// Frames degraded gracefully, with the reason.
     public var warnings: [String]
+    /// What the phone's tracking prompts (`TrackingPromptPolicy`, as `GuidanceSession` runs it) said, with
+    /// times: spoken on the phone like announcements, kept apart here so guidance scoring is unchanged.
+    public var trackingPrompts: [(t: Double, text: String)] = []
+    /// Particle clouds every `Options.particleTimelineIntervalSeconds` (empty when that is nil).
+    public var particleTimeline: [ParticleSnapshot] = []
+    /// Hypotheses at the same moments as `particleTimeline`.
+    public var hypothesisTimeline: [HypothesisSnapshot] = []
+    /// Routes adopted during the walk (first route and re-routes), in time order.
+    public var routeChanges: [RouteChange] = []
 }
 
 /// Replays a recorded-session bundle through exactly the phone's pipeline.
@@ -93,6 +131,11 @@ public enum Replay {
         public var snapshotTimes: [Double] = []
         /// Particles kept per snapshot.
         public var snapshotParticleCount: Int = 1500
+        /// When set, keep a particle cloud and the hypotheses every this many seconds (the trainer's
+        /// scrubbable view); nil keeps none.
+        public var particleTimelineIntervalSeconds: Double? = nil
+        /// Particles kept per timeline cloud.
+        public var particleTimelineCount: Int = 150
         /// Creates options.
         public init(pipeline: PipelineOptions = PipelineOptions()) { self.pipeline = pipeline }
     }
@@ -192,6 +235,9 @@ public enum Replay {
         let middleIndex = n / 2
         var wasLocalized = false
         var pendingSnapshotTimes = options.snapshotTimes.sorted()
+        var trackingPrompts = TrackingPromptPolicy()
+        var lastTimelineT = -Double.infinity
+        var lastRouteNodes: [String]?
         for (i, record) in bundle.frames.enumerated() {
             // In image mode a frame gets recorded observations only as the fallback for its missing image
             // (used by `.automatic`); the detector's frames use the image.
@@ -217,7 +263,8 @@ public enum Replay {
             }
             for s in update.sightings {
                 let angle = e.headingRad + s.bearingRad
-                result.sightingRays.append(SightingRay(t: e.t, floorId: e.floorId, from: e.positionInMap,
+                result.sightingRays.append(SightingRay(t: e.t, kind: s.kind, rangeMeters: s.rangeMeters, bearingRad: s.bearingRad,
+                                                       floorId: e.floorId, from: e.positionInMap,
                                                        to: Point2(x: e.positionInMap.x + s.rangeMeters * cos(angle),
                                                                   y: e.positionInMap.y + s.rangeMeters * sin(angle))))
             }
@@ -228,6 +275,29 @@ public enum Replay {
             if let advice = update.advice { result.trace[result.trace.count - 1].advice = advice.action?.rawValue ?? "unsure" }
             if let spokenAdvice = update.spokenAdvice?.action {
                 result.trace[result.trace.count - 1].spokenAdvice = spokenAdvice.rawValue
+            }
+            // The phone's tracking prompts, exactly as GuidanceSession runs them (no luma: images are optional).
+            let trackingState: TrackingState = frame.cameraPose == nil ? .notAvailable : frame.tracking
+            switch trackingState {
+            case .normal: break
+            case .limited:
+                result.trace[result.trace.count - 1].tracking = frame.trackingReason.map { "limited (\($0.rawValue))" } ?? "limited"
+            case .notAvailable: result.trace[result.trace.count - 1].tracking = "lost"
+            }
+            if let prompt = trackingPrompts.update(t: record.t, state: trackingState, reason: frame.trackingReason) {
+                result.trace[result.trace.count - 1].trackingPrompt = prompt
+                result.trackingPrompts.append((record.t, prompt))
+            }
+            if let interval = options.particleTimelineIntervalSeconds, record.t - lastTimelineT >= interval - 1e-9 || i == n - 1 {
+                lastTimelineT = record.t
+                result.particleTimeline.append(ParticleSnapshot(t: record.t, label: "timeline",
+                                                                particles: pipeline.particleSnapshot(maxCount: options.particleTimelineCount)))
+                result.hypothesisTimeline.append(HypothesisSnapshot(t: record.t, hypotheses: e.hypotheses))
+            }
+            if let route = pipeline.currentRoute, route.nodeIds != lastRouteNodes {
+                result.routeChanges.append(RouteChange(t: record.t, isReroute: lastRouteNodes != nil,
+                                                       polyline: route.points.map { ($0.floorId, $0.position) }))
+                lastRouteNodes = route.nodeIds
             }
             var label: String?
             if i == 0 { label = "start" } else if i == middleIndex { label = "middle" } else if i == n - 1 { label = "end" }

@@ -51,6 +51,41 @@ public enum ChromiumScreenshot {
         }
     }
 
+    /// The page's DOM after its scripts ran (`chromium --headless --dump-dom`), for tests of the page's
+    /// behaviour; `fragment` (without `#`, e.g. "t=12.5") is appended to the file URL. With
+    /// `virtualTimeBudgetMilliseconds` Chromium lets the page run that much (virtual) time before the dump
+    /// (timers and animation frames, e.g. for Play).
+    public static func dumpDOM(html: URL, fragment: String? = nil, virtualTimeBudgetMilliseconds: Int? = nil,
+                               timeoutSeconds: Double = 60) throws -> String {
+        guard let exe = executable() else { throw Failure.chromiumMissing }
+        let p = Process()
+        p.executableURL = URL(fileURLWithPath: exe)
+        let profile = FileManager.default.temporaryDirectory.appendingPathComponent("wf-chromium-dom-\(getpid())-\(UUID().uuidString)")
+        var url = html.absoluteURL.absoluteString
+        if let fragment { url += "#" + fragment }
+        p.arguments = ["--headless", "--disable-gpu", "--no-sandbox", "--disable-dev-shm-usage",
+                       "--user-data-dir=\(profile.path)"]
+            + (virtualTimeBudgetMilliseconds.map { ["--virtual-time-budget=\($0)"] } ?? []) + ["--dump-dom", url]
+        let scratch = FileManager.default.temporaryDirectory.appendingPathComponent("wf-chromium-dom-\(UUID().uuidString).html")
+        _ = FileManager.default.createFile(atPath: scratch.path, contents: nil)
+        defer { try? FileManager.default.removeItem(at: scratch); try? FileManager.default.removeItem(at: profile) }
+        let handle = try FileHandle(forWritingTo: scratch)
+        p.standardOutput = handle
+        p.standardError = FileHandle.nullDevice
+        try p.run()
+        let pid = p.processIdentifier
+        let killer = DispatchWorkItem { kill(pid, SIGKILL) }
+        DispatchQueue.global().asyncAfter(deadline: .now() + timeoutSeconds, execute: killer)
+        p.waitUntilExit()
+        killer.cancel()
+        try handle.close()
+        let dom = String(decoding: try Data(contentsOf: scratch), as: UTF8.self)
+        guard p.terminationReason == .exit, !dom.isEmpty else {
+            throw Failure.failed("--dump-dom of \(url) ended with status \(p.terminationStatus) and \(dom.count) characters")
+        }
+        return dom
+    }
+
     /// Width and height of a PNG file from its IHDR chunk; nil when it is not a PNG.
     public static func pngSize(_ url: URL) -> (width: Int, height: Int)? {
         guard let d = try? Data(contentsOf: url), d.count > 24,

@@ -5,7 +5,7 @@ import XCTest
 /// (exit 2 with a message naming the offending flag). None of these runs the pipeline.
 final class CommandLineUsageTests: XCTestCase {
     /// Every subcommand `wayfinder --help` must list.
-    static let subcommands = ["replay", "eval", "render", "bench", "simulate", "validate-map", "import-inavigate",
+    static let subcommands = ["replay", "eval", "render", "bench", "simulate", "validate-map", "places", "import-inavigate",
                               "inspect", "import-occam", "range"]
 
     func testTopLevelHelpListsEverySubcommandAndExitsZero() throws {

@@ -83,8 +83,9 @@ final class ReplayCommandTests: XCTestCase {
         XCTAssertEqual(r.traceLines.count, r.frameCount, "trace lines vs frames: \(r.description)")
         let documented: Set<String> = ["t", "x", "y", "floorId", "headingRad", "confidence", "localized", "hypotheses",
                                        "sightings", "announcements", "haptics"]
-        // While not localized: the exploratory advice in force, and the action when one is spoken.
-        let optional: Set<String> = ["advice", "spokenAdvice"]
+        // While not localized: the exploratory advice in force, and the action when one is spoken; while
+        // tracking is not normal: its state, and the phone's tracking prompt when one is said.
+        let optional: Set<String> = ["advice", "spokenAdvice", "tracking", "trackingPrompt"]
         var previousT = -Double.infinity
         var spoken = 0
         for (i, line) in r.traceLines.enumerated() {
@@ -100,8 +101,9 @@ final class ReplayCommandTests: XCTestCase {
             XCTAssertTrue((0...1).contains(confidence), "confidence \(confidence) at line \(i + 1)")
             XCTAssertNotNil(object["localized"] as? Bool)
             spoken += (object["announcements"] as? [Any])?.count ?? 0
+            spoken += object["trackingPrompt"] == nil ? 0 : 1
         }
-        // Every announcement printed is in the trace, on its frame.
+        // Every announcement and tracking prompt printed is in the trace, on its frame.
         let printed = r.stdout.split(separator: "\n").filter { !$0.contains("(haptic:") }.count
         XCTAssertEqual(spoken, printed, r.description)
         XCTAssertTrue(r.stderr.contains("trace written"), "no trace confirmation on stderr: \(r.description)")

@@ -31,7 +31,7 @@ final class WalkReportTests: XCTestCase {
         XCTAssertFalse(html.contains("http://") && html.contains("<script src"), "self-contained")
         for a in result.announcements.prefix(5) { XCTAssertTrue(html.contains(WalkReport.escape(a.text))) }
 
-        guard ChromiumScreenshot.executable() != nil else { throw XCTSkip("chromium not installed") }
+        try requireChromium()
         let dir = FileManager.default.temporaryDirectory.appendingPathComponent("wf-render-\(getpid())")
         try FileManager.default.createDirectory(at: dir, withIntermediateDirectories: true)
         defer { try? FileManager.default.removeItem(at: dir) }
@@ -68,14 +68,17 @@ final class WalkReportTests: XCTestCase {
         XCTAssertFalse(html.contains("document.title='"), "the id's quotes are escaped wherever it appears")
         XCTAssertTrue(html.contains("data-floor-id=\"2&#39;);document.title=&#39;PWNED&#39;;//\""), "the id survives as inert attribute text")
         XCTAssertTrue(html.contains("<button type=\"button\" data-floor=\"1\" aria-controls=\"floor-section-1\">Two &lt;b&gt;&quot;&#39;</button>"))
-        // The only script is the fixed floor switcher, identical whatever the map says.
+        // The only executable script is the fixed player (floor switcher included), identical whatever the map
+        // says; the walk's data sits in a JSON element that is never executed.
         let scripts = html.components(separatedBy: "<script>").dropFirst().map { $0.components(separatedBy: "</script>")[0] }
         XCTAssertEqual(scripts.count, 1)
-        XCTAssertEqual("<script>" + scripts[0] + "</script>", WalkReport.floorScript)
+        XCTAssertEqual("<script>" + scripts[0] + "</script>", WalkViewScript.source)
+        XCTAssertEqual(html.components(separatedBy: "<script type=\"application/json\" id=\"walk-data\">").count, 2)
         XCTAssertEqual(WalkReport.escape("a&<>\"'b"), "a&amp;&lt;&gt;&quot;&#39;b")
 
         // In a real browser: the id never runs, and the floor buttons still switch floors.
-        guard let chromium = ChromiumScreenshot.executable() else { throw XCTSkip("chromium not installed") }
+        try requireChromium()
+        let chromium = try XCTUnwrap(ChromiumScreenshot.executable())
         let dir = FileManager.default.temporaryDirectory.appendingPathComponent("wf-render-hostile-\(getpid())")
         try FileManager.default.createDirectory(at: dir, withIntermediateDirectories: true)
         defer { try? FileManager.default.removeItem(at: dir) }
