@@ -90,12 +90,19 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
 
         var lastIndex = readProgress(progress).index
         var lastChange = Date()
+        var cpuAtChange = workerCPUSeconds(p.processIdentifier) ?? 0
         var hung = false
         while p.isRunning {
             usleep(20_000)
             let i = readProgress(progress).index
-            if i != lastIndex { lastIndex = i; lastChange = Date() }
-            if Date().timeIntervalSince(lastChange) > o.inputTimeLimitSeconds {
+            let cpu = workerCPUSeconds(p.processIdentifier)
+            if i != lastIndex { lastIndex = i; lastChange = Date(); cpuAtChange = cpu ?? cpuAtChange }
+            // A hang is an input that has used the time limit in CPU seconds (a loaded or niced machine can starve
+            // a worker of the CPU for longer than the limit: wall time alone reported false hangs), or that has
+            // made no progress for `hangWallFactor` times the limit in wall time (an input blocked in a read).
+            let cpuUsed = cpu.map { $0 - cpuAtChange } ?? Date().timeIntervalSince(lastChange)
+            let wallUsed = Date().timeIntervalSince(lastChange)
+            if cpuUsed > o.inputTimeLimitSeconds || wallUsed > o.inputTimeLimitSeconds * hangWallFactor {
                 // A worker that has written its final statistics is exiting (freeing a large heap can take
                 // seconds after a 10^6-input run), not hanging on an input: wait for it.
                 if let d = FileManager.default.contents(atPath: stdoutPath),
@@ -111,7 +118,7 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
             }
         }
         p.waitUntilExit()
-        let (at, acceptedBefore, rejectedBefore) = readProgress(progress)
+        let (reportedAt, acceptedBefore, rejectedBefore) = readProgress(progress)
         if !hung, p.terminationReason == .exit, p.terminationStatus == 0 {
             if let d = FileManager.default.contents(atPath: stdoutPath),
                let line = String(decoding: d, as: UTF8.self).split(separator: "\n").last,
@@ -122,6 +129,9 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
             break
         }
         // Failure at input `at`: count the inputs before it, write the reproducer and the report.
+        // A worker that failed before reporting its first input leaves the zeroed progress: the failure is at
+        // `next` (never index arithmetic below it).
+        let at = max(reportedAt, next)
         result.stats.executions += Int(at - next) + 1
         result.stats.accepted += acceptedBefore
         result.stats.rejected += rejectedBefore
@@ -149,7 +159,7 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
             try input.write(to: base)
         }
         try Data(report.utf8).write(to: base.appendingPathExtension("log"))
-        let headline = hung ? "no progress for \(o.inputTimeLimitSeconds) s (per-input time limit)"
+        let headline = hung ? "no progress for \(o.inputTimeLimitSeconds) CPU s or \(o.inputTimeLimitSeconds * hangWallFactor) wall s (per-input limits)"
             : (report.split(separator: "\n").first { $0.contains("Fatal error") || $0.contains("runtime failure") || $0.contains("PROPERTY VIOLATION") }
                 ?? report.split(separator: "\n").first { $0.contains("crashed") }).map { $0.trimmingCharacters(in: CharacterSet(charactersIn: "* ")) } ?? "worker ended with \(p.terminationReason == .exit ? "status" : "signal") \(p.terminationStatus)"
         // With the innermost frame in this executable (the project's code, not the runtime's): "function + offset".
@@ -163,6 +173,23 @@ func runCampaign(target: FuzzTarget, options o: CampaignOptions) throws -> Targe
 
 /// The worker's progress record: index of the input running (or last run), inputs accepted and rejected
 /// before it.
+/// Wall time without progress that counts as a hang, in multiples of the per-input CPU limit.
+let hangWallFactor = 6.0
+
+/// CPU time (user + system) the process has used, seconds, from /proc/PID/stat (fields 14 and 15, in clock
+/// ticks); nil where /proc is unavailable (the wall-time backstop then stands alone).
+func workerCPUSeconds(_ pid: Int32) -> Double? {
+    guard let d = FileManager.default.contents(atPath: "/proc/\(pid)/stat") else { return nil }
+    let text = String(decoding: d, as: UTF8.self)
+    // The command name (field 2) is in parentheses and may hold spaces: split after its closing parenthesis.
+    guard let close = text.lastIndex(of: ")") else { return nil }
+    let fields = text[text.index(after: close)...].split(separator: " ")
+    // After ")": field 3 is fields[0], so utime (14) is fields[11] and stime (15) fields[12].
+    guard fields.count > 12, let u = Double(fields[11]), let st = Double(fields[12]) else { return nil }
+    let ticks = Double(sysconf(Int32(_SC_CLK_TCK)))
+    return ticks > 0 ? (u + st) / ticks : nil
+}
+
 private func readProgress(_ path: String) -> (index: UInt64, accepted: Int, rejected: Int) {
     guard let d = FileManager.default.contents(atPath: path), d.count >= 24 else { return (0, 0, 0) }
     let b = [UInt8](d)
