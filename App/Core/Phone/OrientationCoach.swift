@@ -90,12 +90,12 @@ public struct OrientationCoach: Sendable {
         let f = feedback(for: a)
         if condition?.feedback != f { condition = (f, t) }
         guard let c = condition else { return nil }
-        if f == .good, t - c.since >= holdSeconds {
+        if f == .good, t - c.since >= holdSeconds - 1e-9 {
             completed = true
             return phrases.text(.coachDone)
         }
-        guard t - c.since >= settleSeconds else { return nil }
-        if let last = lastSpoken, last.feedback == f, t - last.t < repeatSeconds { return nil }
+        guard t - c.since >= settleSeconds - 1e-9 else { return nil }
+        if let last = lastSpoken, last.feedback == f, t - last.t < repeatSeconds - 1e-9 { return nil }
         // "Good" is said once per stretch of holding right, not repeated.
         if f == .good, lastSpoken?.feedback == .good { return nil }
         lastSpoken = (f, t)

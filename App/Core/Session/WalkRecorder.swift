@@ -19,12 +19,13 @@ public final class WalkRecorder {
     /// Frames written so far.
     public private(set) var frameCount = 0
 
-    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once).
+    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once). `carry` is
+    /// the traveler's lanyard-mode setting, recorded as session.json's `carry` ("handheld" / "lanyard").
     public init(directory: URL, building: Building, floorId: String?, startId: String?, destinationId: String?,
-                device: String, appVersion: String, signHeightMeters: Double = 0.21) throws {
+                device: String, appVersion: String, signHeightMeters: Double = 0.21, carry: PhoneCarry = .handheld) throws {
         self.directory = directory
         let info = SessionInfo(device: device, appVersion: appVersion, mapId: building.id, floorId: floorId, start: startId,
-                               destination: destinationId, signHeightMeters: signHeightMeters, carry: "handheld")
+                               destination: destinationId, signHeightMeters: signHeightMeters, carry: carry.rawValue)
         writer = try BundleWriter(directory: directory, info: info, flushEveryLines: 1)
     }
 
