@@ -197,4 +197,15 @@ final class PhonePipelineTests: XCTestCase {
         XCTAssertEqual(written.frames.count, 40)
         XCTAssertEqual(written.frames.filter { $0.image != nil }.count, 4, "every 10th frame has its JPEG")
     }
+
+    func testVideoFormatIs30HzFourByThree() {
+        let formats = [VideoFormatOption(width: 1920, height: 1440, framesPerSecond: 60),
+                       VideoFormatOption(width: 1920, height: 1080, framesPerSecond: 30),
+                       VideoFormatOption(width: 3840, height: 2880, framesPerSecond: 30),
+                       VideoFormatOption(width: 1920, height: 1440, framesPerSecond: 30),
+                       VideoFormatOption(width: 1280, height: 720, framesPerSecond: 30)]
+        XCTAssertEqual(VideoFormatOption.preferredIndex(formats), 3)
+        XCTAssertEqual(VideoFormatOption.preferredIndex([formats[0]]), 0, "no 30 Hz format: the default")
+        XCTAssertNil(VideoFormatOption.preferredIndex([]))
+    }
 }

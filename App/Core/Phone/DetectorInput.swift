@@ -58,3 +58,31 @@ public struct DetectorInputGeometry: Sendable, Equatable {
         return image
     }
 }
+
+/// One ARKit video format as plain numbers (ARConfiguration.VideoFormat: imageResolution, framesPerSecond).
+public struct VideoFormatOption: Sendable, Equatable {
+    /// Image width, pixels.
+    public var width: Int
+    /// Image height, pixels.
+    public var height: Int
+    /// Frames per second.
+    public var framesPerSecond: Int
+
+    /// Creates an option.
+    public init(width: Int, height: Int, framesPerSecond: Int) {
+        self.width = width; self.height = height; self.framesPerSecond = framesPerSecond
+    }
+
+    /// The format the phone runs: 30 frames per second (the pipeline's design rate, and the rate the
+    /// simulated walks and the battery budget in docs/ios.md assume; ARKit's default 60 Hz doubles the
+    /// motion-update cost for no gain in a walk), 4:3, the resolution nearest 1920 x 1440 (the detector's
+    /// measured frames). Falls back to the first format when none runs at 30 Hz; nil for no formats.
+    public static func preferredIndex(_ formats: [VideoFormatOption]) -> Int? {
+        guard !formats.isEmpty else { return nil }
+        func cost(_ f: VideoFormatOption) -> (Int, Int, Int) {
+            let fourThree = f.width * 3 == f.height * 4 || f.height * 3 == f.width * 4
+            return (f.framesPerSecond == 30 ? 0 : 1, fourThree ? 0 : 1, abs(f.width * f.height - 1920 * 1440))
+        }
+        return formats.indices.min { cost(formats[$0]) < cost(formats[$1]) }
+    }
+}

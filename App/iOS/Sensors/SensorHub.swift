@@ -57,6 +57,10 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate, @
         let configuration = ARWorldTrackingConfiguration()
         configuration.worldAlignment = .gravity
         configuration.planeDetection = [.vertical]   // walls, scored against the map (PlaneAnchorForwarding)
+        let formats = ARWorldTrackingConfiguration.supportedVideoFormats
+        let options = formats.map { VideoFormatOption(width: Int($0.imageResolution.width), height: Int($0.imageResolution.height),
+                                                      framesPerSecond: $0.framesPerSecond) }
+        if let i = VideoFormatOption.preferredIndex(options) { configuration.videoFormat = formats[i] }
         session.run(configuration, options: [.resetTracking, .removeExistingAnchors])
         let now = CACurrentMediaTime()
         post(.sessionStarted(t: now))
