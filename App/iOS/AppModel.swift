@@ -162,7 +162,7 @@ final class AppModel: ObservableObject {
         guard sensorsRunning else { return }
         sensorsRunning = false
         sensors.statistics { stats in
-            NSLog("Wayfinder frames: %d arrived, %d processed (%.1f Hz), %d detected (%.1f Hz), max backlog %d, pipeline %.0f %% of a core",
+            NSLog("Wayfinder frames: %ld arrived, %ld processed (%.1f Hz), %ld detected (%.1f Hz), max backlog %ld, pipeline %.0f %% of a core",
                   stats.arrived, stats.processed, stats.processedHz, stats.detected, stats.detectedHz, stats.maxBacklog, 100 * stats.coreShare)
         }
         sensors.stop()

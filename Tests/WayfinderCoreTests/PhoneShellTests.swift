@@ -136,6 +136,10 @@ final class PhoneShellTests: XCTestCase {
         XCTAssertEqual(speech(failed), [phrases.text(.sessionFailed)])
         XCTAssertEqual(h.state, .failed)
         XCTAssertEqual(h.handle(.frame(t: 40, tracking: .normal, reason: nil)), [], "a failed session says nothing more")
+        // The shell stops the sensors on .endGuidance: the reason stays on the status line until Start.
+        XCTAssertEqual(h.handle(.stopped), [])
+        XCTAssertEqual(h.statusOverride, phrases.text(.statusFailed))
+        XCTAssertEqual(h.handle(.startRequested(.authorized)), [.status(nil), .offerSettings(false), .beginGuidance])
     }
 
     func testStuckTrackingIsSpokenAndRepeatedWhileTheStatusSaysSo() {

@@ -163,6 +163,8 @@ public struct SessionHealth: Sendable {
             thermalAnnounced = true
             return [.speak(phrases.text(.thermalCritical), interrupt: false)]
         case .stopped:
+            // A failure keeps saying why on the status line until Start is pressed again.
+            guard state != .failed else { return [] }
             let hadOverride = statusOverride != nil
             state = .idle
             reset()

@@ -139,9 +139,11 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate, @
         }
         let luma = PixelBufferTools.meanLuma(pixelBuffer)
         let jpeg = decision.recordJPEG ? PixelBufferTools.jpeg(pixelBuffer, geometry: geometry) : nil
+        let detected = hadImage
         worker.process(pipelineFrame, meanLuma: luma, jpeg: jpeg) { [weak self] seconds in
             guard let self else { return }
-            self.queue.async { self.scheduler.frameProcessed(processingSeconds: seconds, detectionSeconds: hadImage ? seconds : nil) }
+            // A detected frame's time is its detection time (the motion update's ~1 ms included).
+            self.queue.async { self.scheduler.frameProcessed(processingSeconds: seconds, detectionSeconds: detected ? seconds : nil) }
         }
         // Health: on a change of tracking state, else twice a second (the watchdog needs freshness only).
         let described = state + (reason ?? "")
