@@ -198,6 +198,15 @@ final class PhoneShellTests: XCTestCase {
         XCTAssertEqual(q.handle(.announcementFinished(text: "X", success: true)), [.deactivateAudioSession])
     }
 
+    func testALostCompletionDoesNotSilenceTheQueue() {
+        var q = queue(voiceOver: true)
+        _ = q.handle(.say("Continue 20 meters.", interrupt: false, t: 10))
+        _ = q.handle(.say("Then turn left.", interrupt: false, t: 10.5))
+        XCTAssertEqual(q.handle(.tick(t: 14)), [], "3 words: allowed 5 s")
+        XCTAssertEqual(q.handle(.tick(t: 15.5)), [.announce(id: 2, text: "Then turn left.")], "no notification came: given up")
+        XCTAssertEqual(q.handle(.announcementFinished(text: "Then turn left.", success: true)), [.deactivateAudioSession])
+    }
+
     func testInterruptionAndHeadphonesUnplugged() {
         var q = queue(voiceOver: false)
         _ = q.handle(.say("In 8 meters, turn left.", interrupt: false, t: 0))

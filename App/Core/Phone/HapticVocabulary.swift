@@ -4,7 +4,12 @@ import Navigation
 /// One element of a haptic pattern, in Core Haptics terms (CHHapticEvent).
 public struct HapticPulse: Sendable, Equatable {
     /// Transient tap (`.hapticTransient`) or a held buzz (`.hapticContinuous`).
-    public enum Kind: String, Sendable { case tap, buzz }
+    public enum Kind: String, Sendable {
+        /// A transient tap (CHHapticEvent .hapticTransient).
+        case tap
+        /// A held vibration (CHHapticEvent .hapticContinuous) of `durationSeconds`.
+        case buzz
+    }
     /// Kind.
     public var kind: Kind
     /// Start, seconds after the pattern starts.

@@ -28,6 +28,9 @@ public enum SpeechEvent: Sendable, Equatable {
     case resume(t: Double)
     /// Stop what is being said and drop what waits (Magic Tap while speaking).
     case silence
+    /// A clock tick at `t` (about once a second): an utterance whose completion never came is given up
+    /// after `maximumSeconds(for:)`, so a lost notification cannot silence the queue.
+    case tick(t: Double)
 }
 
 /// What the speech adapter must do.
@@ -66,6 +69,8 @@ public struct SpeechQueue: Sendable {
         public var t: Double
         /// Times it was handed to the platform.
         public var attempts: Int
+        /// When it was last handed to the platform, seconds (nil while waiting).
+        public var startedT: Double? = nil
     }
 
     /// True while VoiceOver is running (announcements instead of the synthesizer).
@@ -95,6 +100,13 @@ public struct SpeechQueue: Sendable {
 
     private var nextId = 1
     private var cutByInterruption: Utterance?
+    private var clockT = -Double.infinity
+
+    /// Longest an utterance may take before its completion is presumed lost, seconds: 3 s plus 1.5 words a
+    /// second (the slowest rate offered speaks about 1.7 words a second).
+    public static func maximumSeconds(for text: String) -> Double {
+        3 + Double(text.split(whereSeparator: { $0 == " " }).count) / 1.5
+    }
 
     /// Creates an idle queue.
     public init(voiceOverRunning: Bool, synthesizerRate: Double = SpeechRate.defaultSynthesizerRate,
@@ -112,6 +124,7 @@ public struct SpeechQueue: Sendable {
     public mutating func handle(_ event: SpeechEvent) -> [SpeechCommand] {
         switch event {
         case .say(let text, let interrupt, let requested, let t):
+            clockT = max(clockT, t)
             guard !text.isEmpty, !paused || requested else { return [] }
             let u = Utterance(id: nextId, text: text, requested: requested, t: t, attempts: 0)
             nextId += 1
@@ -157,6 +170,7 @@ public struct SpeechQueue: Sendable {
             waiting.removeAll()
             return []
         case .interruptionEnded(let shouldResume, let t):
+            clockT = max(clockT, t)
             guard interrupted else { return [] }
             interrupted = false
             let cut = cutByInterruption
@@ -165,6 +179,7 @@ public struct SpeechQueue: Sendable {
             waiting = [c]
             return startNextIfIdle()
         case .outputDeviceLost(let t):
+            clockT = max(clockT, t)
             guard let c = current else { return [] }
             var out: [SpeechCommand] = voiceOverRunning ? [] : [.stopSpeaking]
             current = nil
@@ -181,6 +196,11 @@ public struct SpeechQueue: Sendable {
             return []
         case .silence:
             return silence()
+        case .tick(let t):
+            clockT = max(clockT, t)
+            guard let c = current, let started = c.startedT, t - started > Self.maximumSeconds(for: c.text) else { return [] }
+            current = nil
+            return startNextIfIdle() + deactivateIfDone()
         }
     }
 
@@ -197,6 +217,7 @@ public struct SpeechQueue: Sendable {
         guard current == nil, !interrupted, !waiting.isEmpty else { return [] }
         var u = waiting.removeFirst()
         u.attempts += 1
+        u.startedT = clockT.isFinite ? clockT : u.t
         current = u
         var out: [SpeechCommand] = []
         if !audioActive { audioActive = true; out.append(.activateAudioSession) }

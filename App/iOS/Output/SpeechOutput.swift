@@ -13,6 +13,7 @@ final class SpeechOutput: NSObject, AVSpeechSynthesizerDelegate {
     private var queue: SpeechQueue
     private var observers: [NSObjectProtocol] = []
     private var idByUtterance: [ObjectIdentifier: Int] = [:]
+    private var tickTimer: Timer?
     /// Called when the queue starts or stops speaking (for Magic Tap's "stop if speaking").
     var isSpeaking: Bool { queue.isSpeaking }
     /// Guidance speech paused by the traveler.
@@ -25,6 +26,11 @@ final class SpeechOutput: NSObject, AVSpeechSynthesizerDelegate {
         try? AVAudioSession.sharedInstance().setCategory(.playback, mode: .voicePrompt,
                                                          options: [.duckOthers, .interruptSpokenAudioAndMixWithOthers])
         let center = NotificationCenter.default
+        // A completion that never comes (VoiceOver does not always report a superseded announcement) must
+        // not silence the queue: SpeechQueue gives it up on a tick.
+        tickTimer = Timer.scheduledTimer(withTimeInterval: 1, repeats: true) { [weak self] _ in
+            MainActor.assumeIsolated { self?.handle(.tick(t: CACurrentMediaTime())) }
+        }
         observers.append(center.addObserver(forName: UIAccessibility.announcementDidFinishNotification, object: nil, queue: .main) { [weak self] note in
             let text = note.userInfo?[UIAccessibility.announcementStringValueUserInfoKey] as? String ?? ""
             let success = (note.userInfo?[UIAccessibility.announcementWasSuccessfulUserInfoKey] as? NSNumber)?.boolValue ?? true
