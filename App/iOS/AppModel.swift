@@ -101,6 +101,16 @@ final class AppModel: ObservableObject {
         }
     }
 
+    /// Marks that the phone is at this place now (surveyed truth for `wayfinder eval`, docs/ios.md).
+    func markSurveyedSpot(_ placeId: String) {
+        worker.mark(placeId: placeId) { [weak self] problem in
+            if let problem { self?.lastError = problem }
+        }
+    }
+
+    /// True while a walk is being recorded.
+    var recordingWalk: Bool { sensorsRunning && settings.recordWalks }
+
     func whereAmI() { handle(.whereAmIButton) }
     func repeatLast() { handle(.repeatButton) }
 

@@ -208,4 +208,61 @@ final class PhonePipelineTests: XCTestCase {
         XCTAssertEqual(VideoFormatOption.preferredIndex([formats[0]]), 0, "no 30 Hz format: the default")
         XCTAssertNil(VideoFormatOption.preferredIndex([]))
     }
+
+    func testSurveyedTruthFromMarkedSpotsFollowsTheWalk() throws {
+        let bundle = try TestData.sample()
+        let truth = bundle.truth
+        // Marks where the simulated walker really was: start, two moments on the way, end.
+        let picks = [0, truth.count / 3, 2 * truth.count / 3, truth.count - 1]
+        let marks = picks.map { i in SurveyMark(t: truth[i].t, placeId: "spot\(i)", floorId: truth[i].floorId, x: truth[i].x, y: truth[i].y) }
+        let made = try SurveyedTruth.truth(frames: bundle.frames, marks: marks)
+        XCTAssertEqual(made.count, bundle.frames.count)
+        var errors: [Double] = [], headingErrors: [Double] = []
+        for (a, b) in zip(made, truth) {
+            XCTAssertEqual(a.t, b.t)
+            errors.append(hypot(a.x - b.x, a.y - b.y))
+            let d = a.headingRad - b.headingRad
+            headingErrors.append(abs(atan2(sin(d), cos(d))))
+        }
+        errors.sort(); headingErrors.sort()
+        print("surveyed truth: median \(errors[errors.count / 2]) m, max \(errors.last!) m, heading median \(headingErrors[headingErrors.count / 2]) rad")
+        for i in picks { XCTAssertEqual(hypot(made[i].x - truth[i].x, made[i].y - truth[i].y), 0, accuracy: 0.05, "exact at a mark") }
+        XCTAssertLessThan(errors[errors.count / 2], 0.3)
+        XCTAssertLessThan(errors.last!, 1.0)
+        XCTAssertLessThan(headingErrors[headingErrors.count / 2], 0.1)
+        // Too few or mixed marks are explained.
+        XCTAssertThrowsError(try SurveyedTruth.truth(frames: bundle.frames, marks: [marks[0]])) { e in
+            XCTAssertTrue("\(e)".contains("at least two marks"), "\(e)")
+        }
+        var other = marks[1]; other.floorId = "2"
+        XCTAssertThrowsError(try SurveyedTruth.truth(frames: bundle.frames, marks: [marks[0], other])) { e in
+            XCTAssertTrue("\(e)".contains("one floor"), "\(e)")
+        }
+        var late = marks[1]; late.t = 1e6
+        XCTAssertThrowsError(try SurveyedTruth.truth(frames: bundle.frames, marks: [marks[0], late])) { e in
+            XCTAssertTrue("\(e)".contains("spot\(picks[1])"), "\(e)")
+        }
+    }
+
+    func testRecorderWritesMarksAndTruthThatEvalCanRead() throws {
+        let dir = FileManager.default.temporaryDirectory.appendingPathComponent("phone-truth-\(getpid())-\(UUID().uuidString)")
+        defer { try? FileManager.default.removeItem(at: dir) }
+        let bundle = try TestData.sample()
+        let recorder = try WalkRecorder(directory: dir, building: try TestData.office(), floorId: "1", startId: nil,
+                                        destinationId: "room-102", device: "test", appVersion: "t")
+        XCTAssertThrowsError(try recorder.mark(placeId: "p", floorId: "1", x: 0, y: 0), "nothing recorded yet")
+        for (i, record) in bundle.frames.enumerated() {
+            try recorder.append(frame: PipelineFrame(record: record, imagesDirectory: nil), jpeg: nil)
+            if i == 0 || i == bundle.frames.count - 1 {
+                let tr = bundle.truth[i]
+                try recorder.mark(placeId: "spot\(i)", floorId: tr.floorId, x: tr.x, y: tr.y)
+            }
+        }
+        try recorder.close()
+        let written = try SessionBundle.read(from: dir)
+        XCTAssertEqual(written.truth.count, bundle.frames.count)
+        let marksText = try String(contentsOf: dir.appendingPathComponent(WalkRecorder.marksFileName), encoding: .utf8)
+        XCTAssertEqual(marksText.split(separator: "\n").count, 2)
+        XCTAssertEqual(written.truth.last!.x, bundle.truth.last!.x, accuracy: 0.05)
+    }
 }

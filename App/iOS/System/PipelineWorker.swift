@@ -82,6 +82,21 @@ final class PipelineWorker: @unchecked Sendable {
         }
     }
 
+    /// Marks a surveyed spot in the recording (the walker stands at this place now); `reply` on the main
+    /// queue with nil or the problem. Two or more marks give the bundle a truth.jsonl for `wayfinder eval`.
+    func mark(placeId: String, reply: @escaping @MainActor @Sendable (String?) -> Void) {
+        queue.async { [self] in
+            var problem: String?
+            if let recorder, let (poi, floorId) = phone.session.building?.pointOfInterest(idOrName: placeId) {
+                do { try recorder.mark(placeId: poi.id, floorId: floorId, x: poi.position.x, y: poi.position.y) } catch { problem = "\(error)" }
+            } else {
+                problem = "not recording"
+            }
+            let result = problem
+            DispatchQueue.main.async { MainActor.assumeIsolated { reply(result) } }
+        }
+    }
+
     /// Plane-anchor events, scored at the next frame (and recorded).
     func ingest(planes: [PlaneRecord]) {
         queue.async { [self] in
@@ -102,6 +117,7 @@ final class PipelineWorker: @unchecked Sendable {
 
     private func finishRecording() {
         guard let r = recorder else { return }
+        if let problem = r.writeSurveyedTruth() { NSLog("Wayfinder: %@", problem) }
         try? r.close()
         recorder = nil
         if let url = recordingURL {

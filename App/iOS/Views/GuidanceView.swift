@@ -7,6 +7,8 @@ import WayfinderCore
 /// status line is also announced. Scrolls at the largest text sizes.
 struct GuidanceView: View {
     @EnvironmentObject var model: AppModel
+    @State private var markingSpot = false
+    @State private var spotQuery = ""
 
     var body: some View {
         ScrollView {
@@ -37,6 +39,11 @@ struct GuidanceView: View {
                 Button(action: model.repeatLast) { Text("Repeat").font(.largeTitle).frame(maxWidth: .infinity, minHeight: 120) }
                     .buttonStyle(.bordered)
                     .accessibilityHint("Also: two-finger double tap anywhere, or one click of the headphone button")
+                if model.recordingWalk {
+                    Button("Mark where I stand") { markingSpot = true }
+                        .buttonStyle(.bordered)
+                        .accessibilityHint("For testing: choose the place you are standing at, so the recording can be scored")
+                }
                 if let url = model.lastBundleURL {
                     ShareLink(item: url) { Text("Share the last recorded walk") }
                 }
@@ -44,6 +51,16 @@ struct GuidanceView: View {
             .padding()
         }
         .navigationTitle("Guidance")
+        .sheet(isPresented: $markingSpot) {
+            NavigationStack {
+                List(model.snapshot.places?.search(spotQuery) ?? []) { place in
+                    Button(place.name) { model.markSurveyedSpot(place.id); markingSpot = false }
+                        .accessibilityLabel(place.accessibilityLabel)
+                }
+                .searchable(text: $spotQuery, prompt: "Search places")
+                .navigationTitle("Where do you stand?")
+            }
+        }
     }
 }
 #endif
