@@ -54,6 +54,9 @@ public final class GuidanceSession {
     private var pipeline: WayfinderPipeline?
     private var prompts = TrackingPromptPolicy()
     private var wasLocalized = false
+    private var arrivedAtT: Double?
+    /// Longest time the pipeline keeps running after arrival for the arrival phrase to be spoken, seconds.
+    static let arrivalDrainSeconds = 5.0
     /// Pipeline options used when guidance starts (detector, seeds...).
     public var pipelineOptions = PipelineOptions()
 
@@ -125,9 +128,19 @@ public final class GuidanceSession {
 
     /// Feeds one camera frame while guiding; returns what to say and play.
     public func process(_ frame: PipelineFrame, meanLuma: Double? = nil) -> [GuidanceCommand] {
-        guard let pipeline, state == .guiding else { return [] }
+        guard let pipeline, state == .guiding || state == .arrived else { return [] }
         let update = pipeline.process(frame)
         var commands = update.events.map(Self.command(of:))
+        if state == .arrived {
+            // After arrival the pipeline runs on until the arrival phrase is out (it can wait behind a cue
+            // still being spoken), at most `arrivalDrainSeconds`; then the sensors stop.
+            if commands.contains(where: { if case .speak = $0 { return true } else { return false } })
+                || frame.t - (arrivedAtT ?? frame.t) >= Self.arrivalDrainSeconds {
+                commands.append(.stopSensors)
+                self.pipeline = nil
+            }
+            return commands
+        }
         if let prompt = prompts.update(t: frame.t, state: frame.cameraPose == nil ? .notAvailable : frame.tracking,
                                        reason: frame.trackingReason, meanLuma: meanLuma) {
             commands.append(.speak(prompt, interrupt: false))
@@ -139,8 +152,11 @@ public final class GuidanceSession {
         if pipeline.hasArrived {
             state = .arrived
             statusText = "Arrived"
-            commands.append(.stopSensors)
-            self.pipeline = nil
+            arrivedAtT = frame.t
+            if commands.contains(where: { if case .speak = $0 { return true } else { return false } }) {
+                commands.append(.stopSensors)
+                self.pipeline = nil
+            }
         }
         return commands
     }

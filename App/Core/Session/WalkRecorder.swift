@@ -18,13 +18,20 @@ public final class WalkRecorder {
     private var lastT = -Double.infinity
     /// Frames written so far.
     public private(set) var frameCount = 0
+    /// Surveyed spots marked during the walk (marks.jsonl; truth.jsonl at `close` from two or more).
+    public private(set) var marks: [SurveyMark] = []
+    private var track: [SurveyedTruth.TrackPoint] = []
+    private var truthWritten = false
+    /// The time of the last frame written, seconds (the clock a mark is stamped with).
+    public var lastFrameT: Double? { lastT.isFinite ? lastT : nil }
 
-    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once).
+    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once). `carry` is
+    /// the traveler's lanyard-mode setting, recorded as session.json's `carry` ("handheld" / "lanyard").
     public init(directory: URL, building: Building, floorId: String?, startId: String?, destinationId: String?,
-                device: String, appVersion: String, signHeightMeters: Double = 0.21) throws {
+                device: String, appVersion: String, signHeightMeters: Double = 0.21, carry: PhoneCarry = .handheld) throws {
         self.directory = directory
         let info = SessionInfo(device: device, appVersion: appVersion, mapId: building.id, floorId: floorId, start: startId,
-                               destination: destinationId, signHeightMeters: signHeightMeters, carry: "handheld")
+                               destination: destinationId, signHeightMeters: signHeightMeters, carry: carry.rawValue)
         writer = try BundleWriter(directory: directory, info: info, flushEveryLines: 1)
     }
 
@@ -43,6 +50,44 @@ public final class WalkRecorder {
         try writer.append(record)
         lastT = frame.t
         frameCount += 1
+        if let p = SurveyedTruth.TrackPoint(record) { track.append(p) }
+    }
+
+    /// Marks that the walker stands at a surveyed spot now (at the last frame's time), appended to
+    /// marks.jsonl at once. Throws when no frame was recorded yet (nothing to stamp it with).
+    public func mark(placeId: String, floorId: String, x: Double, y: Double) throws {
+        guard let t = lastFrameT else { throw PipelineError.frame("a surveyed spot can be marked only after the first frame") }
+        let m = SurveyMark(t: t, placeId: placeId, floorId: floorId, x: x, y: y)
+        marks.append(m)
+        let e = JSONEncoder()
+        e.outputFormatting = [.sortedKeys]
+        var line = try e.encode(m)
+        line.append(0x0A)
+        let url = directory.appendingPathComponent(Self.marksFileName)
+        if let handle = try? FileHandle(forWritingTo: url) {
+            defer { try? handle.close() }
+            try handle.seekToEnd()
+            try handle.write(contentsOf: line)
+        } else {
+            try line.write(to: url)
+        }
+    }
+
+    /// The bundle's extra file of surveyed spots (one `SurveyMark` JSON object per line).
+    public static let marksFileName = "marks.jsonl"
+
+    /// Writes truth.jsonl from the marks (`SurveyedTruth`); returns the problem when it cannot (fewer than
+    /// two spots, several floors), nil when written or when nothing was marked.
+    @discardableResult
+    public func writeSurveyedTruth() -> String? {
+        guard !marks.isEmpty, !truthWritten else { return nil }
+        truthWritten = true
+        do {
+            for r in try SurveyedTruth.truth(track: track, marks: marks) { try writer.append(r) }
+            return nil
+        } catch {
+            return "\(directory.lastPathComponent): no truth.jsonl: \(error)"
+        }
     }
 
     /// Appends ARKit plane-anchor events to planes.jsonl. Events the writer refuses (out of time order, bad
@@ -51,8 +96,11 @@ public final class WalkRecorder {
         for p in planes { try? writer.append(p) }
     }
 
-    /// Finishes the bundle.
-    public func close() throws { try writer.close() }
+    /// Finishes the bundle (truth.jsonl first, when spots were marked: `writeSurveyedTruth`).
+    public func close() throws {
+        writeSurveyedTruth()
+        try writer.close()
+    }
 
     /// A bundle folder name for a walk started at `date`: "walk-2026-11-22T14-05-09".
     public static func folderName(for date: Date) -> String {

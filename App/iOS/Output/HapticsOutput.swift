@@ -1,31 +1,38 @@
 #if canImport(CoreHaptics) && os(iOS)
 import CoreHaptics
+import WayfinderCore
 
-/// Plays the navigator's haptic patterns with Core Haptics: a strong double pulse for "wrong way", a short
-/// tick for turn cues, a long soft pulse for arrival. Pattern names come from Navigation's HapticPattern.
+/// Plays the shared haptic vocabulary (`HapticCue.pattern`, defined and tested in App/Core/Phone): each
+/// cue's pulses become CHHapticEvents one to one. No name matching here: the cue is resolved upstream from
+/// the navigator's exact pattern name (`TurnCueResolver`).
+@MainActor
 final class HapticsOutput {
     private var engine: CHHapticEngine?
+    /// Haptics on (settings).
+    var enabled = true
 
     init() {
         guard CHHapticEngine.capabilitiesForHardware().supportsHaptics else { return }
         engine = try? CHHapticEngine()
-        engine?.resetHandler = { [weak self] in try? self?.engine?.start() }
+        engine?.playsHapticsOnly = true
+        engine?.resetHandler = { [weak self] in
+            DispatchQueue.main.async { MainActor.assumeIsolated { try? self?.engine?.start() } }
+        }
         try? engine?.start()
     }
 
-    func play(_ pattern: String) {
-        guard let engine else { return }
-        let events: [CHHapticEvent]
-        func tap(_ t: TimeInterval, _ intensity: Float) -> CHHapticEvent {
-            CHHapticEvent(eventType: .hapticTransient, parameters: [CHHapticEventParameter(parameterID: .hapticIntensity, value: intensity)], relativeTime: t)
+    func play(_ cue: HapticCue) {
+        guard enabled, let engine else { return }
+        let events = cue.pattern.map { p -> CHHapticEvent in
+            let parameters = [CHHapticEventParameter(parameterID: .hapticIntensity, value: Float(p.intensity)),
+                              CHHapticEventParameter(parameterID: .hapticSharpness, value: Float(p.sharpness))]
+            switch p.kind {
+            case .tap: return CHHapticEvent(eventType: .hapticTransient, parameters: parameters, relativeTime: p.timeSeconds)
+            case .buzz: return CHHapticEvent(eventType: .hapticContinuous, parameters: parameters, relativeTime: p.timeSeconds,
+                                             duration: p.durationSeconds)
+            }
         }
-        switch pattern {
-        case let p where p.lowercased().contains("wrong"): events = [tap(0, 1), tap(0.15, 1), tap(0.45, 1), tap(0.6, 1)]
-        case let p where p.lowercased().contains("arriv"):
-            events = [CHHapticEvent(eventType: .hapticContinuous, parameters: [CHHapticEventParameter(parameterID: .hapticIntensity, value: 0.6)], relativeTime: 0, duration: 0.6)]
-        default: events = [tap(0, 0.7)]
-        }
-        if let p = try? CHHapticPattern(events: events, parameters: []), let player = try? engine.makePlayer(with: p) {
+        if let pattern = try? CHHapticPattern(events: events, parameters: []), let player = try? engine.makePlayer(with: pattern) {
             try? player.start(atTime: CHHapticTimeImmediate)
         }
     }

@@ -4,9 +4,9 @@ import SessionFormat
 import WayfinderCore
 
 /// ARPlaneAnchor add / update / remove events of `SensorHub`'s session, turned into `PlaneRecord`s by
-/// `PlaneConversion.record` (plain numbers; tested on Linux) and handed to `SensorHub.onPlanes` on the main
-/// queue, for the pipeline (scored against the walls) and the recorder (planes.jsonl). Vertical planes only
-/// (the configuration asks for `.vertical` detection).
+/// `PlaneConversion.record` (plain numbers; tested on Linux) and handed to the `PipelineWorker` (never the
+/// main queue), for the pipeline (scored against the walls at the next frame, as in replay) and the
+/// recorder (planes.jsonl). Vertical planes only (the configuration asks for `.vertical` detection).
 extension SensorHub {
     func session(_ session: ARSession, didAdd anchors: [ARAnchor]) { forward(anchors, event: .add, session: session) }
 
@@ -31,7 +31,7 @@ extension SensorHub {
                 classification: ARPlaneAnchor.isClassificationSupported ? Self.describe(plane.classification) : nil)
         }
         guard !records.isEmpty else { return }
-        DispatchQueue.main.async { [weak self] in self?.onPlanes?(records) }
+        worker.ingest(planes: records)
     }
 
     static func describe(_ c: ARPlaneAnchor.Classification) -> String {

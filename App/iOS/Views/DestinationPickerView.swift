@@ -8,7 +8,7 @@ struct DestinationPickerView: View {
     @State private var query = ""
 
     var body: some View {
-        List(model.session.places?.search(query) ?? []) { place in
+        List(model.snapshot.places?.search(query) ?? []) { place in
             Button(place.name) { model.selectDestination(place.id) }
                 .accessibilityLabel(place.accessibilityLabel)
                 .accessibilityHint("Choose as destination")

@@ -12,7 +12,7 @@ struct StartPickerView: View {
             Button("I don't know where I am") { model.selectStart(nil) }
                 .font(.title3)
                 .accessibilityHint("Wayfinder will find your position as you walk")
-            ForEach(model.session.places?.search(query) ?? []) { place in
+            ForEach(model.snapshot.places?.search(query) ?? []) { place in
                 Button(place.name) { model.selectStart(place.id) }
                     .accessibilityLabel(place.accessibilityLabel)
             }
