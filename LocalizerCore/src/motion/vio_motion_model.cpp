@@ -56,6 +56,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         d.jump_position_sigma = static_cast<float>(
             std::min(kMaxLostPositionSigmaM, opts_.jump_position_sigma_m + opts_.lost_tracking_speed_mps * lost_s));
         d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
+        d.after_tracking_loss = true;
         lost_since_ = -1;
         last_ = s;
         return d;

@@ -55,6 +55,8 @@ struct VioDelta {
     float noise_factor = 1;
     /// For kJump: extra position and yaw-offset std to add, meters / radians.
     float jump_position_sigma = 0, jump_yaw_sigma = 0;
+    /// For kJump: tracking was lost (notAvailable) before this sample, so the traveler moved unobserved.
+    bool after_tracking_loss = false;
 };
 
 class VioDeltaTracker {

@@ -356,6 +356,10 @@ int ParticleFilter::predict(const wf_vio_sample &s) {
     if (!initialized_) return WF_LOC_OK;
     if (compass_pending_ && tracker_.has_yaw()) apply_compass_reweight();
     if (d.kind == DeltaKind::kMove) compass_.add_distance(std::hypot(d.d_east, d.d_north));
+    // The traveler walked unobserved while tracking was lost: the hypothesis where they really are may have no
+    // particle left (tests: office-tracking-loss, a lock 10 m off after the loss). The next lock, or a lock
+    // that survives, must be corroborated against rivals drawn from the next sighting.
+    if (d.kind == DeltaKind::kJump && d.after_tracking_loss) arm_corroboration(opts_.start_point_doubt_share > 0);
     if (d.kind != DeltaKind::kNone) {
         const double sum = apply_motion(p_, d, motion_, map_, rng_, &motion_acc_);
         normalize(sum);
@@ -861,12 +865,13 @@ void ParticleFilter::compute_estimate() {
         hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, 1.0);
     }
     const bool localized = hysteresis_.update(hin);
-    // A lock is corroborated; a lock that sightings break (within a second of one) must be earned again
-    // against fresh rivals: the cloud that was wrong may have no particle left where the traveler is. A lock
-    // lost to a spreading cloud (tracking loss) or to the redraw after a floor ride is not refuted, only unsure.
-    if (localized) {
+    // A new lock is corroborated. A lock that sightings break (within a second of one) must be earned again
+    // against fresh rivals: the cloud that was wrong may have no particle left where the traveler is. (A
+    // tracking loss arms the rule in predict(); a lock held through it stays armed until the rivals drawn at the
+    // next sighting have been refuted or have won. A lock lost to the redraw after a floor ride is only unsure.)
+    if (localized && !was_localized_) {
         arm_corroboration(false);
-    } else if (was_localized_ && has_sighting_t_ && t_last_ - last_sighting_t_ <= 1.0) {
+    } else if (!localized && was_localized_ && has_sighting_t_ && t_last_ - last_sighting_t_ <= 1.0) {
         arm_corroboration(opts_.start_point_doubt_share > 0);
     }
     was_localized_ = localized;
