@@ -12,8 +12,8 @@ final class CDetector {
 
     init(configuration c: DetectorConfiguration) throws {
         var opts = wf_detector_options()
-        guard wf_detector_options_init(&opts, UInt32(WF_DETECTOR_OPTIONS_VERSION)) == WF_OK else {
-            throw CDetector.error(status: WF_ERR_VERSION, message: String(cString: wf_thread_last_error()))
+        guard wf_detector_options_init(&opts, UInt32(WF_DETECTOR_OPTIONS_VERSION)) == WF_STATUS_OK else {
+            throw CDetector.error(status: WF_STATUS_VERSION, message: String(cString: wf_thread_last_error()))
         }
         opts.kind = c.kind == .cascade ? WF_DETECTOR_CASCADE : WF_DETECTOR_UNET
         opts.cascade_scale_factor = c.cascadeScaleFactor
@@ -67,7 +67,7 @@ final class CDetector {
                 }
             }
         }
-        guard status == WF_OK, let created else {
+        guard status == WF_STATUS_OK, let created else {
             throw CDetector.error(status: status, message: String(cString: wf_thread_last_error()))
         }
         handle = created
@@ -112,7 +112,7 @@ final class CDetector {
         }
         var owned = wf_owned_image()
         let status = wf_image_read(&owned, path, format(pixelFormat))
-        guard status == WF_OK else { throw error(status: status, message: String(cString: wf_thread_last_error())) }
+        guard status == WF_STATUS_OK else { throw error(status: status, message: String(cString: wf_thread_last_error())) }
         defer { wf_owned_image_free(&owned) }
         let bytes = Array(UnsafeBufferPointer(start: owned.data, count: owned.stride * Int(owned.height)))
         return ImageBuffer(width: Int(owned.width), height: Int(owned.height), bytesPerRow: owned.stride,
@@ -147,11 +147,11 @@ final class CDetector {
 
     static func error(status: Int32, message: String) -> SignDetectorError {
         switch status {
-        case WF_ERR_INVALID_ARGUMENT: return .invalidArgument(message)
-        case WF_ERR_VERSION: return .unsupportedVersion(message)
-        case WF_ERR_MODEL_LOAD: return .modelLoad(message)
-        case WF_ERR_BAD_FRAME: return .badFrame(message)
-        case WF_ERR_IMAGE_READ: return .imageRead(message)
+        case WF_STATUS_INVALID_ARGUMENT: return .invalidArgument(message)
+        case WF_STATUS_VERSION: return .unsupportedVersion(message)
+        case WF_STATUS_MODEL_LOAD: return .modelLoad(message)
+        case WF_STATUS_BAD_FRAME: return .badFrame(message)
+        case WF_STATUS_IMAGE_READ: return .imageRead(message)
         default: return .internalFailure(message.isEmpty ? "status \(status)" : message)
         }
     }

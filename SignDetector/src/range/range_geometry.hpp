@@ -15,7 +15,7 @@
 
 namespace wf::range {
 
-/// Status of an internal computation; values are the C ABI's wf_range_status.
+/// Status of an internal computation; values are wf_status.h codes.
 using Status = int;
 
 /// Range, bearing and centre height (see wf_range_result).
