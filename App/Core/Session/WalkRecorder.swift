@@ -19,10 +19,14 @@ public final class WalkRecorder {
     /// Frames written so far.
     public private(set) var frameCount = 0
 
-    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once).
+    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once). The session's
+    /// `signHeightMeters` is the building's Exit-sign face height (`Building.signCatalogue`) unless given.
     public init(directory: URL, building: Building, floorId: String?, startId: String?, destinationId: String?,
-                device: String, appVersion: String, signHeightMeters: Double = 0.21) throws {
+                device: String, appVersion: String, signHeightMeters: Double? = nil) throws {
         self.directory = directory
+        let catalogue = building.signCatalogue
+        let signHeightMeters = signHeightMeters ?? catalogue.heightMeters(kind: SignKindSpec.defaultExit.kind)
+            ?? SignKindSpec.defaultExit.heightMeters
         let info = SessionInfo(device: device, appVersion: appVersion, mapId: building.id, floorId: floorId, start: startId,
                                destination: destinationId, signHeightMeters: signHeightMeters, carry: "handheld")
         writer = try BundleWriter(directory: directory, info: info, flushEveryLines: 1)

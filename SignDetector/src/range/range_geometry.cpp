@@ -433,19 +433,17 @@ Status makeUnrollMap(const Intrinsics &raw, double rollRad, double imageWidthPx,
 Eigen::Vector2d unrollPoint(const wf_range_unroll_map &map, const Eigen::Vector2d &raw) {
     const double x = (raw.x() - map.raw.cx) / map.raw.fx;
     const double y = (raw.y() - map.raw.cy) / map.raw.fy;
-    const double c = std::cos(map.roll_rad), s = std::sin(map.roll_rad);
     // Rotation by -roll in (u, v) (v down): world up, seen at angle roll in the camera, becomes image up.
-    const double xu = c * x + s * y;
-    const double yu = -s * x + c * y;
+    double xu, yu;
+    wf::camera::unrollNormalised(std::cos(map.roll_rad), std::sin(map.roll_rad), x, y, &xu, &yu);
     return {map.unrolled.cx + map.unrolled.fx * xu, map.unrolled.cy + map.unrolled.fy * yu};
 }
 
 Eigen::Vector2d rerollPoint(const wf_range_unroll_map &map, const Eigen::Vector2d &unrolled) {
     const double xu = (unrolled.x() - map.unrolled.cx) / map.unrolled.fx;
     const double yu = (unrolled.y() - map.unrolled.cy) / map.unrolled.fy;
-    const double c = std::cos(map.roll_rad), s = std::sin(map.roll_rad);
-    const double x = c * xu - s * yu;
-    const double y = s * xu + c * yu;
+    double x, y;
+    wf::camera::rerollNormalised(std::cos(map.roll_rad), std::sin(map.roll_rad), xu, yu, &x, &y);
     return {map.raw.cx + map.raw.fx * x, map.raw.cy + map.raw.fy * y};
 }
 

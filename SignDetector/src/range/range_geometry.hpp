@@ -11,6 +11,7 @@
 #include <array>
 #include <cstddef>
 
+#include "camera_geometry.hpp"
 #include "wf_range.h"
 
 namespace wf::range {
@@ -25,10 +26,8 @@ struct RangeBearing {
     double centerHeightAboveCameraMeters = 0;
 };
 
-/// Pinhole intrinsics of an image, pixels.
-struct Intrinsics {
-    double fx = 1, fy = 1, cx = 0, cy = 0;
-};
+/// Pinhole intrinsics of an image, pixels (camera_geometry.hpp: the detector's type).
+using Intrinsics = wf::camera::Intrinsics;
 
 /// True when every number is finite.
 bool allFinite(const double *values, std::size_t count);
