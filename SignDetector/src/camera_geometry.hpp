@@ -5,6 +5,9 @@
 // (src/range/*) include it.
 #pragma once
 
+#include <algorithm>
+#include <cmath>
+
 namespace wf::camera {
 
 /// Pinhole intrinsics, pixels (pixel-centre convention: pixel (i, j) is centred on (i, j)).
@@ -24,6 +27,14 @@ inline void unrollNormalised(double c, double s, double x, double y, double* xUn
 inline void rerollNormalised(double c, double s, double xUnrolled, double yUnrolled, double* x, double* y) {
     *x = c * xUnrolled - s * yUnrolled;
     *y = s * xUnrolled + c * yUnrolled;
+}
+
+/// Row v (pixels, growing downwards) of an unrolled image with intrinsics `unrolled` where rays at elevation
+/// `elevationRad` (radians above the horizontal) appear, for a camera pitched up by `pitchRad`:
+/// v = cy' - fy' tan(elevation - pitch) (pinhole model, roll already removed). The angle is clamped to +-1.5 rad,
+/// so the row is always finite (far outside the image for rays behind or beside the frame).
+inline double unrolledRowAtElevation(const Intrinsics& unrolled, double elevationRad, double pitchRad) {
+    return unrolled.cy - unrolled.fy * std::tan(std::clamp(elevationRad - pitchRad, -1.5, 1.5));
 }
 
 }  // namespace wf::camera

@@ -117,8 +117,4 @@ cv::Point2d Unrolling::unrolledToRaw(cv::Point2d p) const {
     return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
 }
 
-double unrolledRowAtElevation(const Intrinsics& unrolled, double elevationRad, double pitchRad) {
-    return unrolled.cy - unrolled.fy * std::tan(std::clamp(elevationRad - pitchRad, -1.5, 1.5));
-}
-
 }  // namespace wf::sign

@@ -13,11 +13,8 @@ namespace wf::sign {
 /// range).
 using Intrinsics = wf::camera::Intrinsics;
 
-/// Row v (pixels, growing downwards) of an unrolled image with intrinsics `unrolled` where rays at elevation
-/// `elevationRad` (radians above the horizontal) appear, for a camera pitched up by `pitchRad`:
-/// v = cy' - fy' tan(elevation - pitch) (pinhole model, roll already removed). The angle is clamped to +-1.5 rad,
-/// so the row is always finite (far outside the image for rays behind or beside the frame).
-double unrolledRowAtElevation(const Intrinsics& unrolled, double elevationRad, double pitchRad);
+/// Row of an unrolled image at a ray elevation (camera_geometry.hpp).
+using wf::camera::unrolledRowAtElevation;
 
 /// The exact geometric map between a raw image and its unrolled image, for one roll and one set of
 /// intrinsics. A value: cheap to copy, no image data.

@@ -11,7 +11,7 @@
 #include <array>
 #include <cstddef>
 
-#include "camera_geometry.hpp"
+#include "../camera_geometry.hpp"
 #include "wf_range.h"
 
 namespace wf::range {
