@@ -1,4 +1,5 @@
 import Foundation
+import Localizer
 import Maps
 import SessionFormat
 import SignDetection
