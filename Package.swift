@@ -19,28 +19,32 @@ let package = Package(
         .executable(name: "wayfinder-fuzz", targets: ["WayfinderFuzz"]),
     ],
     targets: [
-        // C++17 particle filter + range estimation behind the C ABI in LocalizerCore/include.
+        // The status vocabulary shared by the C ABIs of LocalizerCore and SignDetector (wf_status.h).
+        .target(name: "WayfinderStatus", path: "WayfinderStatus", sources: ["src"], publicHeadersPath: "include"),
+        // C++17 particle filter behind the C ABI in LocalizerCore/include (the filter alone).
         .target(
             name: "LocalizerCore",
+            dependencies: ["WayfinderStatus"],
             path: "LocalizerCore",
             sources: ["src"],
             publicHeadersPath: "include",
-            cxxSettings: cxxCoreFlags + [.headerSearchPath("src")],
-            linkerSettings: openCVLibraries
+            cxxSettings: cxxCoreFlags + [.headerSearchPath("src")]
         ),
         // Swift wrapper over LocalizerCore (no C type in its public API).
         .target(name: "Localizer", dependencies: ["LocalizerCore", "Maps"], path: "LocalizerCore/Swift"),
-        // C++ sign detector (unrolling, cascade, U-Net, slice measurement) behind SignDetector/include.
+        // The C++ sign-perception library behind SignDetector/include: unrolling, cascade, U-Net, slice
+        // measurement, range estimation (src/range, wf_range.h) and the sign-kind catalogue.
         .target(
             name: "SignDetector",
+            dependencies: ["WayfinderStatus"],
             path: "SignDetector",
             sources: ["src"],
             publicHeadersPath: "include",
-            cxxSettings: cxxCoreFlags + [.headerSearchPath("src")],
+            cxxSettings: cxxCoreFlags + [.headerSearchPath("src"), .headerSearchPath("src/range")],
             linkerSettings: openCVLibraries
         ),
-        // Swift wrapper over SignDetector.
-        .target(name: "SignDetection", dependencies: ["SignDetector"], path: "SignDetector/Swift"),
+        // Swift wrapper over SignDetector: SignDetector (frame -> sightings), RangeEstimator, RangeCSV.
+        .target(name: "SignDetection", dependencies: ["SignDetector", "Maps"], path: "SignDetector/Swift"),
         // Map model, format v1, validation, importers, bundled buildings.
         .target(
             name: "Maps",
@@ -81,12 +85,13 @@ let package = Package(
             path: "App/CLI"
         ),
         // `wayfinder-fuzz`: mutation fuzzer of every file reader (docs/fuzzing.md).
-        .executableTarget(name: "WayfinderFuzz", dependencies: ["Maps", "SessionFormat", "Localizer"], path: "App/Fuzz"),
+        .executableTarget(name: "WayfinderFuzz", dependencies: ["Maps", "SessionFormat", "Localizer", "SignDetection"],
+                         path: "App/Fuzz"),
 
         .testTarget(name: "MapsTests", dependencies: ["Maps"], path: "Tests/MapsTests"),
         .testTarget(name: "SessionFormatTests", dependencies: ["SessionFormat"], path: "Tests/SessionFormatTests"),
         .testTarget(name: "LocalizerTests", dependencies: ["Localizer", "Maps"], path: "Tests/LocalizerTests"),
-        .testTarget(name: "SignDetectionTests", dependencies: ["SignDetection"], path: "Tests/SignDetectionTests"),
+        .testTarget(name: "SignDetectionTests", dependencies: ["SignDetection", "Maps"], path: "Tests/SignDetectionTests"),
         .testTarget(name: "NavigationTests", dependencies: ["Navigation", "Maps"], path: "Tests/NavigationTests"),
         .testTarget(name: "WayfinderCoreTests", dependencies: ["WayfinderCore"], path: "Tests/WayfinderCoreTests"),
         .testTarget(name: "SimulationTests", dependencies: ["Simulation", "Maps", "SessionFormat"],

@@ -1,5 +1,6 @@
 import Foundation
 import Localizer
+import SignDetection
 
 /// `wayfinder range`: range and bearing to signs from a CSV of corner observations, by every method, with
 /// the percent error when the true range is known. Method details: docs/range-estimation.md.

@@ -1,5 +1,6 @@
 import Foundation
 import Localizer
+import Maps
 import Navigation
 
 /// Where sign sightings come from during a run.
@@ -28,8 +29,9 @@ public struct PipelineOptions: Sendable {
     public var sightingSource: SightingSource = .automatic
     /// Folder holding the detector models (SignDetector/models); nil = found relative to the package.
     public var modelsDirectory: String?
-    /// Physical height of the signs' face used by the range estimator, meters (paper: h0).
-    public var signHeightMeters: Double = 0.21
+    /// Sign kinds and their face sizes for the range estimator (paper: h0); nil = the map's
+    /// (`Building.signCatalogue`: its "signKinds", or sizes from its signs and the default Exit sign).
+    public var signCatalogue: SignCatalogue?
     /// Minimum time between two detector runs, seconds (the phone runs the detector at about 10 Hz and
     /// drops frames while it is busy). Also the cadence of "nothing seen" updates for negative information.
     public var detectionIntervalSeconds: Double = 0.1

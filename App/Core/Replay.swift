@@ -140,13 +140,13 @@ public enum Replay {
         public init(pipeline: PipelineOptions = PipelineOptions()) { self.pipeline = pipeline }
     }
 
-    /// Fills unset pipeline options from the bundle's session.json (floor, start, destination, sign height).
+    /// Fills unset pipeline options from the bundle's session.json (floor, start, destination). Sign sizes come
+    /// from the map's sign-kind catalogue, not from the session's recorded `signHeightMeters`.
     public static func options(for bundle: SessionBundle, overriding base: PipelineOptions) -> PipelineOptions {
         var o = base
         if o.floorId == nil { o.floorId = bundle.info.floorId }
         if o.destinationId == nil { o.destinationId = bundle.info.destination }
         if o.startPointOfInterestId == nil { o.startPointOfInterestId = bundle.info.start }
-        o.signHeightMeters = bundle.info.signHeightMeters
         // The field of view the localizer expects sightings in follows how the phone is held.
         let poses = bundle.frames.lazy.compactMap { f in CameraPose(columnMajor: f.cameraToWorld).map { ($0, f.intrinsics) } }
         if let (pose, intrinsics) = poses.first {

@@ -1,10 +1,12 @@
 import Foundation
 import Localizer
+import Maps
 import SessionFormat
 import SignDetection
 
-/// Produces the sign sightings of a frame: either the recorded (already measured) observations, or the
-/// detector run on the frame's image followed by the apparent-height range estimator.
+/// Produces the sign sightings of a frame: either the recorded (already measured) observations, or the sign
+/// perception run on the frame's image: one C call per frame (`SignDetector.sense`: detection, slices and the
+/// apparent-height range with each kind's face height from the map's sign-kind catalogue).
 ///
 /// With `.automatic` and a detector loaded, a frame that carries no image but does carry recorded
 /// observations gets those (replay passes them only for frames whose named image is missing: "a missing
@@ -14,8 +16,9 @@ final class SignSightingSource {
     private let options: PipelineOptions
     private let detector: SignDetector?
 
-    /// Loads the detector when images will be processed. Throws when its model is missing.
-    init(options: PipelineOptions, imagesAvailable: Bool) throws {
+    /// Loads the detector when images will be processed, with the sign sizes of `catalogue` (the map's
+    /// `Building.signCatalogue` unless `options.signCatalogue` overrides it). Throws when its model is missing.
+    init(options: PipelineOptions, catalogue: SignCatalogue, imagesAvailable: Bool) throws {
         self.options = options
         let kind: DetectorKind?
         switch options.sightingSource {
@@ -26,8 +29,8 @@ final class SignSightingSource {
         }
         if let kind {
             do {
-                detector = try SignDetector(configuration: DetectorConfiguration.bundled(kind: kind,
-                                                                                          modelsDirectory: options.modelsDirectory))
+                detector = try SignDetector(configuration: DetectorConfiguration.bundled(
+                    kind: kind, modelsDirectory: options.modelsDirectory, catalogue: options.signCatalogue ?? catalogue))
             } catch {
                 throw PipelineError.invalidConfiguration("cannot load the \(kind.rawValue) sign detector: \(error)")
             }
@@ -50,19 +53,10 @@ final class SignSightingSource {
         do {
             let image = try frame.image ?? ImageBuffer.load(path: frame.imagePath!)
             let k = frame.intrinsics
-            let detections = try detector.detect(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
-                                                 pitchRad: pose.pitchRad, rollRad: pose.rollRad)
-            var sightings: [SignSighting] = []
-            for d in detections {
-                let measurement = SignImageMeasurement(medianBottomRowPx: d.medianBottomRowPx, medianHeightPx: d.medianHeightPx,
-                                                       centerColumnPx: d.centerColumnPx, bottomEdgeSlope: d.bottomEdgeSlope,
-                                                       topEdgeSlope: d.topEdgeSlope, extentWidthPx: d.extentWidthPx)
-                let camera = UnrolledCamera(fx: d.unrolledFx, fy: d.unrolledFy, cx: d.unrolledCx, cy: d.unrolledCy,
-                                            pitchRad: pose.pitchRad, rollRad: d.appliedRollRad)
-                if let r = try? RangeEstimator.apparentHeight(measurement, camera: camera,
-                                                              signHeightMeters: options.signHeightMeters) {
-                    sightings.append(SignSighting(kind: d.kind, rangeMeters: r.rangeMeters, bearingRad: r.bearingRad, score: d.score))
-                }
+            let sensed = try detector.sense(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
+                                            pitchRad: pose.pitchRad, rollRad: pose.rollRad)
+            let sightings = sensed.map {
+                SignSighting(kind: $0.kind, rangeMeters: $0.rangeMeters, bearingRad: $0.bearingRad, score: $0.score)
             }
             return .success(sightings)
         } catch {

@@ -68,7 +68,8 @@ public final class WayfinderPipeline {
         if let destination = options.destinationId {
             navigator = try Navigator(building: building, destinationId: destination, options: options.navigator)
         }
-        sightingSource = try SignSightingSource(options: options, imagesAvailable: imagesAvailable)
+        sightingSource = try SignSightingSource(options: options, catalogue: building.signCatalogue,
+                                                imagesAvailable: imagesAvailable)
     }
 
     /// Processes one frame: motion update, altitude, detection (at most every `detectionIntervalSeconds`),

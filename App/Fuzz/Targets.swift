@@ -2,6 +2,7 @@ import Foundation
 import Localizer
 import Maps
 import SessionFormat
+import SignDetection
 
 /// A check the harness makes beyond "does not crash": something a reader accepted that the project's own
 /// writer or a second read then rejects or changes. Reported like a crash.

@@ -27,30 +27,34 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "wf_status.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/** Status codes. 0 is success; every error is negative so bindings can test `< 0`. */
+/** Status codes: the shared vocabulary of wf_status.h (the same numbers as WF_STATUS_*, which every C ABI of
+ *  the project returns). The WF_LOC_ names are this header's spelling of those codes, kept so that the filter's
+ *  sources and bindings read as before; new code may use either. 0 is success; every error is negative. */
 typedef enum wf_localizer_status {
-    WF_LOC_OK = 0,
+    WF_LOC_OK = WF_STATUS_OK,
     /** A NULL pointer, a count out of range, or an option outside its documented range. */
-    WF_LOC_ERR_INVALID_ARGUMENT = -1,
+    WF_LOC_ERR_INVALID_ARGUMENT = WF_STATUS_INVALID_ARGUMENT,
     /** Allocation failed. */
-    WF_LOC_ERR_OUT_OF_MEMORY = -2,
+    WF_LOC_ERR_OUT_OF_MEMORY = WF_STATUS_OUT_OF_MEMORY,
     /** The options or map struct carries a version this library does not know. */
-    WF_LOC_ERR_VERSION = -3,
+    WF_LOC_ERR_VERSION = WF_STATUS_VERSION,
     /** The map is unusable (no floors, non-finite coordinates, a floor index out of range). */
-    WF_LOC_ERR_INVALID_MAP = -4,
+    WF_LOC_ERR_INVALID_MAP = WF_STATUS_INVALID_MAP,
     /** The requested floor has no walkable cell (zero-area floor, seeds outside the walls) or the start
      *  point is not inside the map. */
-    WF_LOC_ERR_NO_WALKABLE_SPACE = -5,
+    WF_LOC_ERR_NO_WALKABLE_SPACE = WF_STATUS_NO_WALKABLE_SPACE,
     /** The filter has not been initialised yet (call an init function first). */
-    WF_LOC_ERR_NOT_INITIALIZED = -6,
+    WF_LOC_ERR_NOT_INITIALIZED = WF_STATUS_NOT_INITIALIZED,
     /** An input carried NaN or infinity; it was ignored and the filter state is unchanged. */
-    WF_LOC_ERR_NON_FINITE_INPUT = -7,
+    WF_LOC_ERR_NON_FINITE_INPUT = WF_STATUS_NON_FINITE_INPUT,
     /** An unexpected internal failure (a bug); the message says what. */
-    WF_LOC_ERR_INTERNAL = -8
+    WF_LOC_ERR_INTERNAL = WF_STATUS_INTERNAL
 } wf_localizer_status;
 
 /** Opaque filter handle. */

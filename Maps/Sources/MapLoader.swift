@@ -182,13 +182,23 @@ enum MapDocumentDecoder {
         if let d = northDeg, !(d >= 0 && d < 360) {
             throw PathError(path: "$.compassHeadingOfMapNorthDeg", reason: "compassHeadingOfMapNorthDeg must be in [0, 360) degrees, got \(d)")
         }
+        let signKinds = try (o.optional("signKinds") == nil ? nil : o.array("signKinds"))?.map { (v, p) -> SignKindSpec in
+            var k = try ObjectReader(v, path: p)
+            let spec = SignKindSpec(kind: try k.string("kind"), heightMeters: try k.number("heightMeters"),
+                                    widthMeters: try k.number("widthMeters"), faceColor: try k.optionalString("faceColor"),
+                                    legendColor: try k.optionalString("legendColor"),
+                                    doubleSided: try k.bool("doubleSided", default: false))
+            try k.rejectUnknownMembers()
+            return spec
+        }
         var g = try ObjectReader(try o.required("graph"), path: "$.graph")
         let nodes = try g.array("nodes").map { try decodeNode($0.0, path: $0.1) }
         let edges = try g.array("edges").map { try decodeEdge($0.0, path: $0.1) }
         try g.rejectUnknownMembers()
         try o.rejectUnknownMembers()
         return Building(formatVersion: Int(v), id: id, name: name, floors: floors,
-                        graph: NavigationGraph(nodes: nodes, edges: edges), compassHeadingOfMapNorthDeg: northDeg)
+                        graph: NavigationGraph(nodes: nodes, edges: edges), compassHeadingOfMapNorthDeg: northDeg,
+                        signKinds: signKinds)
     }
 
     static func decodeFloor(_ value: JSONValue, path: String) throws -> Floor {

@@ -48,12 +48,15 @@ public struct Building: Codable, Equatable, Sendable {
     /// What a compass reads when the phone faces the map's +y axis: degrees clockwise from magnetic north, in
     /// [0, 360). nil when the plan's orientation is unknown; the localizer then uses no compass prior.
     public var compassHeadingOfMapNorthDeg: Double?
+    /// The sign-kind catalogue as the map states it ("signKinds": each kind's face size, colours, sidedness), or
+    /// nil when the map has none; `signCatalogue` (SignCatalogue.swift) resolves it with defaults.
+    public var signKinds: [SignKindSpec]?
 
     /// Creates a building from its parts (no validation; see `MapLoader`).
     public init(formatVersion: Int = 1, id: String, name: String, floors: [Floor], graph: NavigationGraph,
-                compassHeadingOfMapNorthDeg: Double? = nil) {
+                compassHeadingOfMapNorthDeg: Double? = nil, signKinds: [SignKindSpec]? = nil) {
         self.formatVersion = formatVersion; self.id = id; self.name = name; self.floors = floors; self.graph = graph
-        self.compassHeadingOfMapNorthDeg = compassHeadingOfMapNorthDeg
+        self.compassHeadingOfMapNorthDeg = compassHeadingOfMapNorthDeg; self.signKinds = signKinds
     }
 
     /// The floor with this id, if any.

@@ -105,6 +105,36 @@ public enum MapValidator {
         try checkNumber(p.y, path + "[1]", range: -m...m, what: "coordinate y (meters)")
     }
 
+    /// Largest difference, meters, between a sign's face size and its kind's size in "signKinds": 1 mm.
+    public static let signSizeToleranceMeters = 0.001
+
+    /// Checks the optional "signKinds" catalogue: at least one entry, kinds non-empty and unique, sizes positive,
+    /// finite and at most `maximumSignSizeMeters`. Returns the entries by kind (nil when the map has none).
+    private static func checkSignKinds(_ kinds: [SignKindSpec]?) throws -> [String: SignKindSpec]? {
+        guard let kinds else { return nil }
+        guard !kinds.isEmpty else {
+            throw fail("$.signKinds", "signKinds is empty: list each sign kind with its face size, or leave the field out for the defaults")
+        }
+        var byKind: [String: (spec: SignKindSpec, index: Int)] = [:]
+        for (i, k) in kinds.enumerated() {
+            let kp = "$.signKinds[\(i)]"
+            if k.kind.isEmpty { throw fail(kp + ".kind", "sign kind must not be empty (e.g. \"exit\")") }
+            if let first = byKind[k.kind] {
+                throw fail(kp + ".kind", "sign kind \"\(k.kind)\" is listed twice (also $.signKinds[\(first.index)]): one size per kind")
+            }
+            for (key, v) in [("widthMeters", k.widthMeters), ("heightMeters", k.heightMeters)] {
+                guard v.isFinite, v > 0, v <= maximumSignSizeMeters else {
+                    throw fail("\(kp).\(key)", "sign face size must be in (0, \(fmt(maximumSignSizeMeters))] m, got \(fmt(v))")
+                }
+            }
+            byKind[k.kind] = (k, i)
+        }
+        guard byKind.count <= maximumSignKindCount else {
+            throw fail("$.signKinds", "the building has more than \(maximumSignKindCount) distinct sign kinds")
+        }
+        return byKind.mapValues(\.spec)
+    }
+
     private static func check(_ b: Building) throws {
         guard b.formatVersion == MapLoader.supportedFormatVersion else {
             throw fail("$.formatVersion", "unsupported formatVersion \(b.formatVersion); this build reads version \(MapLoader.supportedFormatVersion)")
@@ -115,6 +145,7 @@ public enum MapValidator {
             throw fail("$.floors", "the building has \(b.floors.count) floors; at most \(maximumFloorCount) are supported")
         }
         var signKinds = Set<String>()
+        let catalogue = try checkSignKinds(b.signKinds)
 
         var floorIndex: [String: Int] = [:]
         var poiLocation: [String: (floor: Int, index: Int)] = [:]
@@ -171,6 +202,15 @@ public enum MapValidator {
                     guard v.isFinite, v > 0 else { throw fail("\(sp).\(key)", "sign size must be positive, got \(fmt(v)) m") }
                     guard v <= maximumSignSizeMeters else {
                         throw fail("\(sp).\(key)", "sign size \(fmt(v)) m is out of range (0, \(fmt(maximumSignSizeMeters))] m")
+                    }
+                }
+                if let catalogue {
+                    guard let spec = catalogue[s.kind] else {
+                        throw fail(sp + ".kind", "sign kind \"\(s.kind)\" is not in $.signKinds (kinds: \(catalogue.keys.sorted().joined(separator: ", ")))")
+                    }
+                    if abs(spec.heightMeters - s.heightMeters) > signSizeToleranceMeters
+                        || abs(spec.widthMeters - s.widthMeters) > signSizeToleranceMeters {
+                        throw fail(sp, "sign \"\(s.id)\" is \(fmt(s.widthMeters)) x \(fmt(s.heightMeters)) m but $.signKinds gives kind \"\(s.kind)\" \(fmt(spec.widthMeters)) x \(fmt(spec.heightMeters)) m (contradictory sizes)")
                     }
                 }
                 if let h = s.mountingHeightMeters {

@@ -21,10 +21,10 @@ public enum OfficeBuildingGenerator {
     public static let doorWidthMeters = 0.9
     /// Clear width of the entrance / exit doors and corridor openings, meters.
     public static let wideDoorWidthMeters = 1.8
-    /// Exit-sign face width, meters.
-    public static let exitSignWidthMeters = 0.30
-    /// Exit-sign face height, meters.
-    public static let exitSignHeightMeters = 0.21
+    /// Exit-sign face width, meters (the catalogue's default Exit sign, SignCatalogue.swift).
+    public static let exitSignWidthMeters = SignKindSpec.defaultExit.widthMeters
+    /// Exit-sign face height, meters (the catalogue's default Exit sign).
+    public static let exitSignHeightMeters = SignKindSpec.defaultExit.heightMeters
     /// Height of an Exit sign's bottom edge above the floor, meters.
     public static let exitSignMountingHeightMeters = 2.3
 

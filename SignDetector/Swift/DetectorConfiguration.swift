@@ -1,4 +1,5 @@
 import Foundation
+import Maps
 
 /// Which detector runs.
 public enum DetectorKind: String, Sendable, CaseIterable {
@@ -32,6 +33,10 @@ public struct DetectorConfiguration: Sendable, Equatable {
     public var unetPath: String?
     /// U-Net class names, index 0 = background; empty = read classes.json next to the model.
     public var classNames: [String]
+    /// Sign kinds and their face sizes (from the map: `Building.signCatalogue`), which `SignDetector.sense`
+    /// ranges with; detections of other kinds are left out there. Empty: `detect` works, `sense` throws
+    /// `SignDetectorError.invalidCatalogue`.
+    public var catalogue: SignCatalogue = SignCatalogue(kinds: [])
     /// Detections scoring below this are dropped (cascade: neighbour count; U-Net: mean probability).
     public var minScore: Double
     /// Cascade scale step (0 = 1.2), minimum neighbours (0 = 3), smallest window (0 = the cascade's training
@@ -54,7 +59,7 @@ public struct DetectorConfiguration: Sendable, Equatable {
     /// contrast threshold is multiplied by this once (0 = the C default 2.5; 1 = off; otherwise > 1).
     public var cascadeGateCrowdedContrastFactor: Double = 0
     /// Colour gate: smallest margin around a colour blob's search region, pixels of the frame (0 = the C default
-    /// 16; options version 4 used 24).
+    /// 16; the earlier setting was 24).
     public var cascadeGateMinMarginPixels: Int = 0
     /// Colour gate, large colour components (cut into tiles): the smallest window searched in a tile's region as a
     /// fraction of the whole component's width (0 = the C default 0.4; nil = off, every window size: also finds a
@@ -90,8 +95,10 @@ public struct DetectorConfiguration: Sendable, Equatable {
 
     /// A configuration with the given models; `cascadePath` becomes one cascade of kind `cascadeKind`.
     public init(kind: DetectorKind, cascadePath: String? = nil, cascadeKind: String = "exit",
-                unetPath: String? = nil, classNames: [String] = [], minScore: Double = 0) {
+                unetPath: String? = nil, classNames: [String] = [], minScore: Double = 0,
+                catalogue: SignCatalogue = SignCatalogue(kinds: [])) {
         self.kind = kind
+        self.catalogue = catalogue
         self.cascades = cascadePath.map { [CascadeModel(kind: cascadeKind, path: $0)] } ?? []
         self.unetPath = unetPath
         self.classNames = classNames
@@ -107,15 +114,18 @@ public struct DetectorConfiguration: Sendable, Equatable {
     /// names of `classes.json` (when readable). Without `modelsDirectory`, the first of these that exists is
     /// used: $WAYFINDER_MODELS_DIR, the app bundle's `models` folder, `SignDetector/models` under the package
     /// root (found from this source file's location, then from the current directory upwards). Never
-    /// throws: a missing file is reported by SignDetector.init, naming the path.
-    public static func bundled(kind: DetectorKind, modelsDirectory: String? = nil) -> DetectorConfiguration {
+    /// throws: a missing file is reported by SignDetector.init, naming the path. `catalogue`: the map's sign
+    /// kinds (`Building.signCatalogue`); the default is the default Exit sign alone.
+    public static func bundled(kind: DetectorKind, modelsDirectory: String? = nil,
+                               catalogue: SignCatalogue = .defaultCatalogue) -> DetectorConfiguration {
         let directory = modelsDirectory ?? locateModelsDirectory() ?? "SignDetector/models"
         switch kind {
         case .cascade:
-            return DetectorConfiguration(kind: .cascade, cascadePath: directory + "/" + cascadeFileName)
+            return DetectorConfiguration(kind: .cascade, cascadePath: directory + "/" + cascadeFileName, catalogue: catalogue)
         case .unet:
             let classes = readClassNames(path: directory + "/" + classListFileName) ?? []
-            return DetectorConfiguration(kind: .unet, unetPath: directory + "/" + unetFileName, classNames: classes)
+            return DetectorConfiguration(kind: .unet, unetPath: directory + "/" + unetFileName, classNames: classes,
+                                         catalogue: catalogue)
         }
     }
 

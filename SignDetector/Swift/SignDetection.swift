@@ -1,6 +1,6 @@
 /// One detected sign, measured on the unrolled image (the raw frame rotated by the camera roll so that the
-/// horizon is horizontal; pixel-centre coordinates, u right, v down). Range and bearing are computed from
-/// these by LocalizerCore's RangeEstimator, never here.
+/// horizon is horizontal; pixel-centre coordinates, u right, v down). `SignDetector.detect` returns these;
+/// `SignDetector.sense` also ranges them (`SensedSign`) in the same C call.
 public struct SignDetection: Sendable {
     /// Kind name from the model ("exit", ...).
     public var kind: String
@@ -41,4 +41,38 @@ public struct SignDetection: Sendable {
         let m = unrolledToRaw
         return (m[0] * u + m[1] * v + m[2], m[3] * u + m[4] * v + m[5])
     }
+}
+
+/// One sign seen and ranged in one frame (`SignDetector.sense`, one C call per frame: wf_detector_sense): the
+/// apparent-height range from the sign's slices and its kind's face height in the catalogue.
+public struct SensedSign: Sendable, Equatable {
+    /// Kind name ("exit"...), always a kind of the detector's catalogue.
+    public var kind: String
+    /// Horizontal distance from the camera centre to the sign's vertical centre line, meters.
+    public var rangeMeters: Double
+    /// Horizontal angle of the sign centre from the camera's forward direction, radians, positive to the left.
+    public var bearingRad: Double
+    /// Confidence: cascade neighbour count, or U-Net mean class probability in [0, 1].
+    public var score: Double
+    /// Height of the sign's centre above the camera centre, meters (negative below).
+    public var centerHeightAboveCameraMeters: Double
+    /// The face's corners in the raw image, pixels: top-left, top-right, bottom-right, bottom-left.
+    public var cornersRaw: [PixelPoint]
+
+    /// Creates a sensed sign (normally from `SignDetector.sense`).
+    public init(kind: String, rangeMeters: Double, bearingRad: Double, score: Double,
+                centerHeightAboveCameraMeters: Double, cornersRaw: [PixelPoint]) {
+        self.kind = kind; self.rangeMeters = rangeMeters; self.bearingRad = bearingRad; self.score = score
+        self.centerHeightAboveCameraMeters = centerHeightAboveCameraMeters; self.cornersRaw = cornersRaw
+    }
+}
+
+/// A position in an image, pixels (pixel-centre convention, u right, v down).
+public struct PixelPoint: Sendable, Equatable {
+    /// Column, pixels.
+    public var u: Double
+    /// Row, pixels.
+    public var v: Double
+    /// Creates a point.
+    public init(u: Double, v: Double) { self.u = u; self.v = v }
 }

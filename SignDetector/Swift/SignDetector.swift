@@ -8,8 +8,9 @@ public struct DetectionOutcome: Sendable {
     public var warning: String?
 }
 
-/// The run-time sign detector (C++/OpenCV behind a C ABI): unrolls each frame by the camera roll, detects
-/// signs with cascades or a U-Net, and measures them by vertical slices (Fusco et al. 2020, section 3).
+/// The run-time sign perception (C++/OpenCV behind a C ABI): unrolls each frame by the camera roll, detects
+/// signs with cascades or a U-Net, measures them by vertical slices and (`sense`) ranges them with the sizes of
+/// the sign-kind catalogue (Fusco et al. 2020, section 3).
 ///
 /// Owns its C handle (models loaded once) and frees it on deinit. Calls are serialised by an internal lock,
 /// so one instance may be shared across tasks; for parallel throughput create one per task.
@@ -51,6 +52,21 @@ public final class SignDetector: @unchecked Sendable {
         lock.lock()
         defer { lock.unlock() }
         return try handle.detect(image: image, intrinsics: (fx, fy, cx, cy), pitchRad: pitchRad, rollRad: rollRad)
+    }
+
+    /// The whole perception of one frame in one C call (wf_detector_sense): detection, slice measurement and
+    /// the apparent-height range of each sign with its kind's face height from `configuration.catalogue`.
+    /// Parameters as `detect`; `pitchRad` and `rollRad` are the camera pose (from gravity) the range uses.
+    /// - Returns: ranged signs, highest score first; [] for a skipped (dark) frame. Detections of kinds outside
+    ///   the catalogue, and measurements without a finite positive range, are left out.
+    /// - Throws: `SignDetectorError.invalidCatalogue` when the configuration has no catalogue, `.badFrame` for
+    ///   a frame of the wrong size or stride or a non-finite pose, `.internalFailure` for an OpenCV failure.
+    public func sense(image: ImageBuffer, fx: Double, fy: Double, cx: Double, cy: Double,
+                      pitchRad: Double, rollRad: Double) throws -> [SensedSign] {
+        try image.validate()
+        lock.lock()
+        defer { lock.unlock() }
+        return try handle.sense(image: image, intrinsics: (fx, fy, cx, cy), pitchRad: pitchRad, rollRad: rollRad).signs
     }
 
     /// Version of the linked C library.

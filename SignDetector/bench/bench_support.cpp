@@ -106,9 +106,45 @@ std::unique_ptr<PreparedFrame> prepareFrame(const cv::Mat& bgr, const LabelledFr
     return p;
 }
 
+void convertPixelFormat(PreparedFrame* p, wf_pixel_format format) {
+    const cv::Mat rgb = p->rgb;
+    switch (format) {
+        case WF_PIXEL_RGB8: return;
+        case WF_PIXEL_GRAY8:
+            cv::cvtColor(rgb, p->rgb, cv::COLOR_RGB2GRAY);
+            p->frame.image = wf_image{p->rgb.data, p->rgb.cols, p->rgb.rows, p->rgb.step, WF_PIXEL_GRAY8, nullptr, 0};
+            return;
+        case WF_PIXEL_BGRA8:
+            cv::cvtColor(rgb, p->rgb, cv::COLOR_RGB2BGRA);
+            p->frame.image = wf_image{p->rgb.data, p->rgb.cols, p->rgb.rows, p->rgb.step, WF_PIXEL_BGRA8, nullptr, 0};
+            return;
+        case WF_PIXEL_NV12: {
+            // Full-range BT.601: Y = 0.299 R + 0.587 G + 0.114 B, Cb = 128 + (B - Y) / 1.772, Cr = 128 + (R - Y) / 1.402.
+            cv::Mat y(rgb.size(), CV_8UC1), cbcr(rgb.size(), CV_32FC2);
+            for (int r = 0; r < rgb.rows; ++r) {
+                const cv::Vec3b* in = rgb.ptr<cv::Vec3b>(r);
+                uchar* outY = y.ptr<uchar>(r);
+                cv::Vec2f* outC = cbcr.ptr<cv::Vec2f>(r);
+                for (int c = 0; c < rgb.cols; ++c) {
+                    const double luma = 0.299 * in[c][0] + 0.587 * in[c][1] + 0.114 * in[c][2];
+                    outY[c] = cv::saturate_cast<uchar>(luma);
+                    outC[c] = cv::Vec2f(float(128 + (in[c][2] - luma) / 1.772), float(128 + (in[c][0] - luma) / 1.402));
+                }
+            }
+            cv::Mat half;
+            cv::resize(cbcr, half, cv::Size((rgb.cols + 1) / 2, (rgb.rows + 1) / 2), 0, 0, cv::INTER_AREA);
+            half.convertTo(p->chroma, CV_8UC2);
+            p->rgb = y;
+            p->frame.image = wf_image{p->rgb.data, p->rgb.cols, p->rgb.rows, p->rgb.step, WF_PIXEL_NV12,
+                                      p->chroma.data, p->chroma.step};
+            return;
+        }
+    }
+}
+
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth, int minWindowHeight,
                                             double maxWindowFactor, double minElevationRad, bool fullSearch,
-                                            int searchVersion) {
+                                            CascadeSearch search) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_CASCADE;
@@ -119,11 +155,11 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     opts.cascade_min_window_height = minWindowHeight;
     opts.cascade_max_window_factor = maxWindowFactor;
     opts.cascade_full_search = fullSearch ? 1 : 0;
-    if (searchVersion <= 4) {
+    if (search != CascadeSearch::Defaults) {
         opts.cascade_gate_min_margin_px = 24;
         opts.cascade_gate_component_window_fraction = -1;
     }
-    if (searchVersion <= 3) {
+    if (search == CascadeSearch::WideGateRegionsNoPrior) {
         opts.cascade_placement_prior = -1;
         opts.cascade_gate_crowded_contrast_factor = 1;
     }
@@ -133,7 +169,7 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
         opts.cascade_search_above_elevation = 1;
         opts.cascade_min_elevation_rad = minElevationRad;
     }
-    if (wf_detector_create(&d->handle, &opts) != WF_OK) d->error = wf_thread_last_error();
+    if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
     return d;
 }
 
@@ -143,7 +179,7 @@ std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseM
     opts.kind = WF_DETECTOR_UNET;
     opts.unet_path = path.c_str();
     opts.unet_coarse_min_elevation_rad = coarseMinElevationRad;
-    if (wf_detector_create(&d->handle, &opts) != WF_OK) d->error = wf_thread_last_error();
+    if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
     return d;
 }
 

@@ -40,10 +40,19 @@ bool readLabels(const std::string& dir, std::vector<LabelledFrame>* frames, std:
 /// A frame resized to a working resolution, with its intrinsics and labels scaled (pixel-centre
 /// convention: u' = (u + 0.5) s - 0.5). Owns its pixels; `frame` points into `rgb`.
 struct PreparedFrame {
+    /// Pixels of frame.image: RGB8 as prepared, or after convertPixelFormat the first plane (GRAY8, BGRA8, NV12's
+    /// Y plane).
     cv::Mat rgb;
+    /// NV12 only: the interleaved CbCr plane (CV_8UC2, half size).
+    cv::Mat chroma;
     wf_frame frame{};
     LabelledFrame labels;
 };
+
+/// Converts a prepared RGB8 frame in place to `format`, the way a phone delivers it: GRAY8 (luma only),
+/// BGRA8 (kCVPixelFormatType_32BGRA), or NV12 (ARKit's capturedImage, kCVPixelFormatType_420YpCbCr8BiPlanarFullRange:
+/// full-range BT.601 Y plane plus 2 x 2-averaged interleaved Cb, Cr). RGB8 leaves it as it is.
+void convertPixelFormat(PreparedFrame* frame, wf_pixel_format format);
 
 /// Resizes `bgr` (the labelled image) to `size` (INTER_AREA down, INTER_LINEAR up) and fills a wf_frame.
 /// `shiftPx` > 0 then drops the first shiftPx columns and rows (intrinsics and labels follow): the same scene
@@ -59,17 +68,26 @@ struct DetectorHandle {
     explicit operator bool() const { return handle != nullptr; }
 };
 
+/// Cascade search settings to compare against the defaults (each is a set of named options).
+enum class CascadeSearch {
+    /// All defaults: 16-pixel gate margins, component-width windows in tiles, placement prior, crowded-frame gate.
+    Defaults,
+    /// The earlier gate regions: 24-pixel margins, every window size in a large component's tiles.
+    WideGateRegions,
+    /// ... and no placement prior, no crowded-frame gate (the earliest gated search).
+    WideGateRegionsNoPrior,
+};
+
 /// Creates a cascade detector for one Exit cascade with the given smallest window and largest-window factor
 /// (the reference app's exit_sign_config.yaml: 36 x 24, factor 5; 0 = unlimited).
 /// `minElevationRad`: 0 = the detector's default (rows above -0.15 rad), NaN = the whole frame, else only rows at
 /// least this elevation (radians).
 /// `minWindowWidth/Height` 0 = the cascade's training window. `fullSearch`: true = no colour gate (search the
-/// whole frame, as before the gate); false = the default colour gate. `searchVersion`: the cascade search of that
-/// options version, set through the current struct: 5 (default) = all defaults; 4 = 24-pixel gate margins and
-/// every window size in a large component's tiles; 3 = also no placement prior and no crowded-frame gate.
+/// whole frame, as before the gate); false = the default colour gate. `search`: see CascadeSearch.
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
                                             double maxWindowFactor = 0, double minElevationRad = 0,
-                                            bool fullSearch = false, int searchVersion = 5);
+                                            bool fullSearch = false,
+                                            CascadeSearch search = CascadeSearch::Defaults);
 /// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
 /// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0);

@@ -12,13 +12,17 @@
 //                                           threshold raised in crowded frames), rows at elevation >= -0.15 rad
 //                                           only, placement prior (per scale, only the rows a sign can hang in),
 //                                           16-pixel gate margins, component-width windows in large components' tiles
-//   cascade_ours_v4_search/VGA              the same with the gate regions of options version 4 (24-pixel margins,
-//                                           every window size in tiles)
-//   cascade_ours_v3_search/VGA              ... and without the placement prior and the crowded-frame gate (the
-//                                           defaults of options version 3)
+//   cascade_ours_v4_search/VGA              the same with the earlier gate regions (24-pixel margins, every window
+//                                           size in tiles; named options, CascadeSearch::WideGateRegions)
+//   cascade_ours_v3_search/VGA              ... and without the placement prior and the crowded-frame gate
+//                                           (CascadeSearch::WideGateRegionsNoPrior)
 //   cascade_ours_full_search/VGA, .../HR    the same cascade searching the whole frame (no gate, no row limit,
 //                                           no placement prior)
-//   cascade_ours_gray/VGA                   GRAY8 frames: no colour, so the gate falls back to the full search
+//   cascade_ours_gray/VGA                   GRAY8 frames: no colour, so the gate falls back to the full search (what
+//                                           the phone sent before it sent colour)
+//   cascade_phone_nv12/VGA, .../HR          the frames as ARKit delivers them: NV12 (Y plane + interleaved CbCr),
+//                                           full-range BT.601, handed over without conversion
+//   cascade_phone_bgra/VGA, .../HR          the frames as 32BGRA pixel buffers
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
 //                                           tiny test model (then it times only the pipeline around the net)
@@ -107,13 +111,12 @@ std::vector<std::unique_ptr<PreparedFrame>> prepareAll(const std::vector<Source>
     return out;
 }
 
-/// The frames as GRAY8 (luma only, as from a phone that hands over only the Y plane): no colour for the gate.
-std::vector<std::unique_ptr<PreparedFrame>> prepareAllGray(const std::vector<Source>& sources, cv::Size size) {
+/// The frames in a phone's pixel format (bench_support convertPixelFormat): GRAY8 (luma only, as the app sent
+/// before: no colour for the gate), BGRA8, or NV12 (ARKit's capturedImage as it comes, Y + CbCr planes).
+std::vector<std::unique_ptr<PreparedFrame>> prepareAllAs(const std::vector<Source>& sources, cv::Size size,
+                                                         wf_pixel_format format) {
     std::vector<std::unique_ptr<PreparedFrame>> out = prepareAll(sources, size);
-    for (auto& p : out) {
-        cv::cvtColor(p->rgb, p->rgb, cv::COLOR_RGB2GRAY);
-        p->frame.image = wf_image{p->rgb.data, p->rgb.cols, p->rgb.rows, p->rgb.step, WF_PIXEL_GRAY8, nullptr, 0};
-    }
+    for (auto& p : out) convertPixelFormat(p.get(), format);
     return out;
 }
 
@@ -206,6 +209,9 @@ public:
         ratio("cascade_ours/HR", "cascade_reference/HR");
         ratio("cascade_ours_full_search/VGA", "cascade_reference/VGA");
         ratio("cascade_ours_full_search/HR", "cascade_reference/HR");
+        ratio("cascade_phone_nv12/VGA", "cascade_ours_gray/VGA");
+        ratio("cascade_phone_bgra/VGA", "cascade_ours_gray/VGA");
+        ratio("cascade_phone_nv12/VGA", "cascade_ours/VGA");
         ratio("cascade_ours/VGA", "cascade_ours_v4_search/VGA");
         ratio("cascade_ours/VGA", "cascade_ours_v3_search/VGA");
         ratio("cascade_ours/VGA", "cascade_ours_full_search/VGA");
@@ -234,18 +240,23 @@ int main(int argc, char** argv) {
     static const std::vector<Source> sources = loadSources(&description);
     static const auto vga = prepareAll(sources, {640, 480});
     static const auto hr = prepareAll(sources, {1920, 1440});
-    static const auto vgaGray = prepareAllGray(sources, {640, 480});
+    static const auto vgaGray = prepareAllAs(sources, {640, 480}, WF_PIXEL_GRAY8);
+    static const auto vgaNv12 = prepareAllAs(sources, {640, 480}, WF_PIXEL_NV12);
+    static const auto vgaBgra = prepareAllAs(sources, {640, 480}, WF_PIXEL_BGRA8);
+    static const auto hrNv12 = prepareAllAs(sources, {1920, 1440}, WF_PIXEL_NV12);
+    static const auto hrBgra = prepareAllAs(sources, {1920, 1440}, WF_PIXEL_BGRA8);
 
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
     static std::unique_ptr<DetectorHandle> oursCascade, oursV4, oursV3, oursFull, refCascade, unet, unetWholeFrame;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
-        oursV4 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, /*searchVersion=*/4);
-        oursV3 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, /*searchVersion=*/3);
-        oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true, /*searchVersion=*/3);
+        oursV4 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, CascadeSearch::WideGateRegions);
+        oursV3 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, CascadeSearch::WideGateRegionsNoPrior);
+        oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true, CascadeSearch::WideGateRegionsNoPrior);
     }
     // The reference app searched all rows, with no placement prior.
-    refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0, std::nan(""), false, /*searchVersion=*/3);
+    refCascade = makeCascade(referenceCascadePath(), 36, 24, 5.0, std::nan(""), false,
+                             CascadeSearch::WideGateRegionsNoPrior);
     const char* unetOverride = std::getenv("WF_BENCH_UNET");
     const std::string unetModel = unetOverride ? std::string(unetOverride)
                                   : fileExists(productModelsDir() + "/sign_unet.onnx") ? productModelsDir() + "/sign_unet.onnx"
@@ -274,6 +285,10 @@ int main(int argc, char** argv) {
         pipeline("cascade_ours_full_search/VGA", oursFull.get(), &vga);
         pipeline("cascade_ours_full_search/HR", oursFull.get(), &hr);
         pipeline("cascade_ours_gray/VGA", oursCascade.get(), &vgaGray);
+        pipeline("cascade_phone_nv12/VGA", oursCascade.get(), &vgaNv12);
+        pipeline("cascade_phone_bgra/VGA", oursCascade.get(), &vgaBgra);
+        pipeline("cascade_phone_nv12/HR", oursCascade.get(), &hrNv12);
+        pipeline("cascade_phone_bgra/HR", oursCascade.get(), &hrBgra);
     }
     if (refCascade && *refCascade) {
         pipeline("cascade_reference/VGA", refCascade.get(), &vga);

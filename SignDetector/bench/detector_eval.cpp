@@ -11,16 +11,15 @@
 // A row whose model is missing is reported as skipped. Prints Markdown: median percent range error per
 // true distance (2..9 m), missed signs per distance, precision / recall / false positives per 1000 sign-free
 // frames, mean time per frame. Range uses the labelled face height and, in the root CMake build, the
-// product's estimator (LocalizerCore's wf_range_apparent_height_slices, ray-elevation model: elevations of
+// product's estimator (wf_range_apparent_height_slices, ray-elevation model: elevations of
 // the sign's centre line at its column); a second table uses the paper's equation 3, which ignores the
 // column (it gives about range x cos(bearing)) and is therefore biased short off-axis. Reference rows range
 // the labelled corners with each formula: the floor that the formula alone leaves.
 #include "bench_support.hpp"
 #include "range_formula.hpp"
-
-#if WF_EVAL_WITH_LOCALIZER_RANGE
 #include "wf_range.h"
-#endif
+
+#include "wf_range.h"
 
 #include <opencv2/core/utility.hpp>
 #include <opencv2/imgcodecs.hpp>
@@ -69,19 +68,13 @@ std::string percent(double value) {
     return buf;
 }
 
-#if WF_EVAL_WITH_LOCALIZER_RANGE
-constexpr bool kProductEstimator = true;
-#else
-constexpr bool kProductEstimator = false;
-#endif
 
 /// Range (meters) from slice medians in the unrolled image (rows and columns in unrolled pixels, slopes
-/// dv/du) by the product's estimator: LocalizerCore's apparent-height method, ray-elevation model. NaN when
-/// the estimator rejects the measurement. Standalone (no LocalizerCore): the paper's equation 3.
+/// dv/du) by the product's estimator: the apparent-height method, ray-elevation model. NaN when
+/// the estimator rejects the measurement.
 double productRangeMeters(double bottomEdgePx, double heightPx, double centerColumnPx, double extentWidthPx,
                           double bottomSlope, double topSlope, double fxPx, double fyPx, double cxPx, double cyPx,
                           double signHeightMeters, double pitchRad) {
-#if WF_EVAL_WITH_LOCALIZER_RANGE
     const wf_range_unrolled_camera camera{fxPx, fyPx, cxPx, cyPx, pitchRad, 0.0};
     wf_range_slice_measurement m{};
     m.median_bottom_row_px = bottomEdgePx;
@@ -95,10 +88,6 @@ double productRangeMeters(double bottomEdgePx, double heightPx, double centerCol
         return std::nan("");
     }
     return result.range_m;
-#else
-    (void)centerColumnPx, (void)extentWidthPx, (void)bottomSlope, (void)topSlope, (void)fxPx;
-    return wf::sign::rangeFromApparentHeight(signHeightMeters, bottomEdgePx, heightPx, fyPx, cyPx, pitchRad);
-#endif
 }
 
 /// Range (meters) of a detector observation by the product's estimator (see productRangeMeters).
@@ -109,16 +98,15 @@ double observationProductRangeMeters(const wf_detector_observation& o, double si
 }
 
 /// Ranges (meters) of a labelled sign from its exact corners (TL, TR, BR, BL raw pixels), unrolled with
-/// LocalizerCore's map for the frame's intrinsics and roll: `eq3` by the paper's equation 3 at the
+/// the range library's map for the frame's intrinsics and roll: `eq3` by the paper's equation 3 at the
 /// midpoints of the top and bottom edges, `product` by the product's estimator on the slice measurement an
-/// exact mask would give (edge lines through the corners). NaN without LocalizerCore.
+/// exact mask would give (edge lines through the corners).
 struct CornerRanges {
     double eq3 = std::nan(""), product = std::nan("");
 };
 
 CornerRanges cornerRanges(const LabelledFrame& frame, const LabelledSign& sign) {
     CornerRanges out;
-#if WF_EVAL_WITH_LOCALIZER_RANGE
     const wf_range_intrinsics raw{frame.fx, frame.fy, frame.cx, frame.cy};
     wf_range_unroll_map map{};
     if (wf_range_unroll_map_make(&map, &raw, frame.rollRad, frame.width, frame.height) != 0) return out;
@@ -137,9 +125,6 @@ CornerRanges cornerRanges(const LabelledFrame& frame, const LabelledSign& sign) 
     const double topAtMid = c[0].v + topSlope * (midU - c[0].u), bottomAtMid = c[3].v + bottomSlope * (midU - c[3].u);
     out.product = productRangeMeters(bottomAtMid, bottomAtMid - topAtMid, midU, maxU - minU, bottomSlope, topSlope, u.fx,
                                      u.fy, u.cx, u.cy, sign.heightMeters, frame.pitchRad);
-#else
-    (void)frame, (void)sign;
-#endif
     return out;
 }
 
@@ -227,13 +212,16 @@ int main(int argc, char** argv) {
             r.size = vga ? cv::Size(640, 480) : cv::Size(1920, 1440);
             r.title = vga ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
             if (full) r.title += ", full search";
-            if (v3) r.title += ", options v3 search (no placement prior, no crowded gate)";
-            if (v4) r.title += ", options v4 search (24 px gate margins, every window in tiles)";
+            if (v3) r.title += ", earliest gated search (24 px gate margins, every window in tiles, no placement prior, no crowded gate)";
+            if (v4) r.title += ", earlier gate regions (24 px gate margins, every window in tiles)";
             // Full search: no gate and every row (the cascade before the gate and the row limit).
             const double rowLimit = full ? std::nan("") : minElevation;
             if (std::isnan(rowLimit) && !full) r.title += ", all rows";
             if (!std::isnan(rowLimit) && rowLimit != 0) r.title += ", rows above " + std::to_string(rowLimit).substr(0, 5) + " rad";
-            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full, full || v3 ? 3 : v4 ? 4 : 5);
+            if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full,
+                                                                 full || v3 ? CascadeSearch::WideGateRegionsNoPrior
+                                                                 : v4      ? CascadeSearch::WideGateRegions
+                                                                           : CascadeSearch::Defaults);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
@@ -244,7 +232,7 @@ int main(int argc, char** argv) {
             r.size = cv::Size(640, 480);
             r.title = "Reference cascade (iNavigate), VGA";
             // All rows and no placement prior, as the app did.
-            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0, std::nan(""), false, 3);
+            if (fileExists(model)) r.detector = makeCascade(model, 36, 24, 5.0, std::nan(""), false, CascadeSearch::WideGateRegionsNoPrior);
         } else {
             std::cerr << "wf_detector_eval: unknown row " << id << "\n";
             return 2;
@@ -363,7 +351,7 @@ int main(int argc, char** argv) {
             }
             std::cout << "\n";
         }
-        if (kProductEstimator && cornerErrors != nullptr) {
+        if (cornerErrors != nullptr) {
             std::cout << "| " << cornerTitle << " |";
             for (int b : bins) {
                 const auto it = cornerErrors->find(b);
@@ -372,11 +360,8 @@ int main(int argc, char** argv) {
             std::cout << "\n";
         }
     };
-    errorTable(kProductEstimator
-                   ? "Median percent range error |e - a| / a per true distance (matched signs only; product estimator: "
-                     "LocalizerCore wf_range_apparent_height_slices, ray-elevation model)"
-                   : "Median percent range error |e - a| / a per true distance (matched signs only; paper eq. 3: "
-                     "standalone build without LocalizerCore)",
+    errorTable("Median percent range error |e - a| / a per true distance (matched signs only; product estimator: "
+               "wf_range_apparent_height_slices, ray-elevation model)",
                &Row::errorsPercent, &cornerProductErrors, "(reference) labelled corners, product estimator");
     std::cout << "\n";
     errorTable("Median percent range error with the paper's equation 3 (column ignored: biased short off-axis)",

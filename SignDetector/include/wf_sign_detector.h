@@ -3,15 +3,15 @@
  *
  * Pipeline per frame (docs/sign-detection.md; Fusco et al. 2020, section 3, in
  * ../shared/reference/paper.md):
- *   1. validate the frame (bad frames are rejected with WF_ERR_BAD_FRAME or skipped with a positive
+ *   1. validate the frame (bad frames are rejected with WF_STATUS_BAD_FRAME or skipped with a positive
  *      warning status, never a crash);
  *   2. "unroll": rotate the raw camera image about the principal point by the camera roll so that the
  *      horizon is horizontal (exact cv::rotate for multiples of 90 degrees, cv::warpAffine otherwise);
  *   3. detect signs on the unrolled image, either with per-kind AdaBoost cascades (a rough box per
  *      sign) or with a U-Net (coarse 224x224 pass, then a zoomed 224x224 pass per candidate);
  *   4. measure each sign by vertical slices: median height, median bottom edge, centre column.
- * Range and bearing are NOT computed here (LocalizerCore's RangeEstimator does that from the
- * observation and the unrolled intrinsics).
+ *   5. (wf_detector_sense) range and bearing of each sign from its slices and its kind's face height in the
+ *      sign-kind catalogue (wf_range.h's apparent-height method): one call per frame from frame to sightings.
  *
  * Conventions
  *   - Pixel coordinates are pixel-centre based: pixel (column i, row j) covers [i-0.5, i+0.5] x
@@ -21,12 +21,12 @@
  *   - "Unrolled" quantities live in the rotated image in which world-up is image-up (-v).
  *
  * Conventions of the ABI (libgit2 / sqlite style)
- *   - Every function returns int: 0 = WF_OK, > 0 = a warning (the call did its job, see the status
+ *   - Every function returns int: 0 = WF_STATUS_OK, > 0 = a warning (the call did its job, see the status
  *     list), < 0 = an error; wf_detector_last_error() then gives a message naming the problem.
  *   - Opaque handles; every allocation has its free function; *_free(NULL) is a no-op.
- *   - Options structs carry a version field; initialise them with the *_INIT macro or
- *     wf_detector_options_init(). Zero in a numeric option field means "use the default" given in
- *     its comment.
+ *   - Initialise options with WF_DETECTOR_OPTIONS_INIT or wf_detector_options_init() (all zero). Zero in
+ *     a numeric option field means "use the default" given in its comment; no behaviour depends on a
+ *     version number: every choice is a named option.
  *   - No C++ exception crosses this boundary. A handle is not thread-safe: use one handle per thread
  *     or serialise calls (the Swift wrapper serialises).
  *   - Every type name here must be unique among ALL C headers linked into the app (LocalizerCore's
@@ -42,30 +42,16 @@
 #include <stddef.h>
 #include <stdint.h>
 
+#include "wf_status.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
 /* ---- Status codes ---------------------------------------------------------------------------- */
-
-/** Success. */
-#define WF_OK 0
-/** Warning: the frame was skipped (mean luma < 2: lens covered, phone in a pocket); 0 observations. */
-#define WF_SKIPPED_DARK_FRAME 1
-/** Warning: more signs were found than the output capacity; the highest-scoring ones were written. */
-#define WF_TRUNCATED 2
-/** Error: a NULL pointer or an out-of-range argument (message names it). */
-#define WF_ERR_INVALID_ARGUMENT (-1)
-/** Error: the options struct version is not supported by this library. */
-#define WF_ERR_VERSION (-2)
-/** Error: a model file (cascade XML, ONNX, classes.json) is missing or unreadable. */
-#define WF_ERR_MODEL_LOAD (-3)
-/** Error: the frame was rejected (empty, wrong size for its intrinsics, non-finite intrinsics/pitch/roll). */
-#define WF_ERR_BAD_FRAME (-4)
-/** Error: an image file could not be read or decoded (wf_image_read). */
-#define WF_ERR_IMAGE_READ (-5)
-/** Error: an unexpected internal failure (an OpenCV exception caught at the boundary). */
-#define WF_ERR_INTERNAL (-6)
+/* The shared vocabulary of wf_status.h: WF_STATUS_OK; warnings WF_STATUS_SKIPPED_DARK_FRAME, WF_STATUS_TRUNCATED;
+ * errors WF_STATUS_INVALID_ARGUMENT, WF_STATUS_MODEL_LOAD, WF_STATUS_BAD_FRAME, WF_STATUS_IMAGE_READ,
+ * WF_STATUS_INVALID_CATALOGUE, WF_STATUS_INTERNAL. */
 
 /* ---- Images ---------------------------------------------------------------------------------- */
 
@@ -99,6 +85,12 @@ typedef struct wf_image {
     const uint8_t *data_uv;
     /** NV12 only: bytes per CbCr row (>= 2 * ((width + 1) / 2)). */
     size_t stride_uv;
+    /** Bytes readable from `data` (a buffer's length), or 0 = not stated (the caller vouches for the size). When
+     *  set, a frame whose rows (stride x (height - 1) + width x bytes per pixel) do not fit is rejected with
+     *  WF_STATUS_BAD_FRAME instead of being read past its end. */
+    size_t data_bytes;
+    /** NV12 with chroma only: bytes readable from `data_uv`, or 0 = not stated; checked like data_bytes. */
+    size_t data_uv_bytes;
 } wf_image;
 
 /** Pinhole intrinsics of the raw image, pixels (pixel-centre convention). */
@@ -151,20 +143,38 @@ typedef enum wf_detector_kind {
     WF_DETECTOR_UNET = 1
 } wf_detector_kind;
 
-/** Version of wf_detector_options understood by this header. Versions 1 to 4 (without the fields marked
- *  "version 2" ... "version 5") are still accepted: their callers get the defaults of the missing fields, and
- *  the cascade search of their version. */
-#define WF_DETECTOR_OPTIONS_VERSION 5
+/** One kind of sign in the catalogue (read from the map's sign kinds; Maps/schema/map-v1.schema.json
+ *  "signKinds"): its name and the physical size of its face, which range estimation needs. */
+typedef struct wf_sign_kind {
+    /** Kind name as the detector reports it ("exit"...), 1 to WF_KIND_NAME_CAPACITY - 1 characters. */
+    const char *kind;
+    /** Height of the sign face, meters (> 0, finite): h0 of the apparent-height method. */
+    double face_height_m;
+    /** Width of the sign face, meters (> 0, finite). */
+    double face_width_m;
+    /** Colour of the face's background and of its legend (lettering, pictogram), e.g. "white", "red";
+     *  NULL = unknown. Copied; informative (the colour gate looks for red/green contrast whatever they are). */
+    const char *face_colour;
+    const char *legend_colour;
+    /** 1 = the sign has a face on both sides (hung across a corridor), 0 = one face. */
+    int double_sided;
+} wf_sign_kind;
 
 /**
  * Detector options. Initialise with WF_DETECTOR_OPTIONS_INIT (all defaults) and set what you need.
  * Strings and arrays are borrowed only during wf_detector_create (they are copied).
  */
 typedef struct wf_detector_options {
-    /** Must be WF_DETECTOR_OPTIONS_VERSION. */
-    unsigned int version;
     /** Detector to run. */
     wf_detector_kind kind;
+
+    /* Sign-kind catalogue (sizes for range; wf_detector_sense). */
+    /** `catalogue_count` kinds; may be 0 for wf_detector_detect alone (wf_detector_sense then fails with
+     *  WF_STATUS_INVALID_CATALOGUE). A kind named twice with different sizes, a size that is not a positive
+     *  finite number, or a NULL / empty / too long name is rejected by wf_detector_create with
+     *  WF_STATUS_INVALID_CATALOGUE. */
+    const wf_sign_kind *catalogue;
+    size_t catalogue_count;
 
     /* Cascade detector: one cascade per sign kind. */
     /** `cascade_count` paths of OpenCV cascade XML files. */
@@ -183,11 +193,11 @@ typedef struct wf_detector_options {
     int cascade_min_window_height;
     /** Largest window as a multiple of the smallest; 0 = no limit. */
     double cascade_max_window_factor;
-    /** 1 = search only the unrolled rows whose ray elevation (pitch + atan((cy' - v) / fy')) is at least
-     *  cascade_min_elevation_rad: signs mounted above eye level never appear far below the horizon, and the
-     *  floor and door panels there are where false alarms come from. 0 = the default: the whole frame for a
-     *  version-1 or -2 struct, rows above -0.15 rad for version 3 (same recall on the rendered test set, half
-     *  the false positives, about 0.7 x the time). -1 = the whole frame (version 3). */
+    /** Which unrolled rows the cascade searches, by ray elevation (pitch + atan((cy' - v) / fy')): signs mounted
+     *  above eye level never appear far below the horizon, and the floor and door panels there are where false
+     *  alarms come from. 0 = default: rows at elevation >= -0.15 rad (same recall on the rendered test set as
+     *  the whole frame, half the false positives, about 0.7 x the time); 1 = rows at elevation >=
+     *  cascade_min_elevation_rad; -1 = the whole frame. */
     int cascade_search_above_elevation;
     /** Lowest elevation searched when cascade_search_above_elevation is 1, radians (e.g. -0.15). */
     double cascade_min_elevation_rad;
@@ -212,6 +222,11 @@ typedef struct wf_detector_options {
     int unet_min_blob_area_px;
     /** At most this many coarse candidates are zoomed, largest first; 0 = 8. */
     int unet_max_candidates;
+    /** U-Net coarse pass: unrolled rows whose ray elevation (pitch + atan((cy' - v) / fy')) is below this are
+     *  not run through the network, radians. 0 = default -0.10 (Exit signs hang above eye level; the margin
+     *  covers a low sign or a pitch error of about 6 degrees); -1.5 or lower = the whole frame (e.g. for
+     *  kinds mounted low). Frames without a finite pitch are always searched whole. Must not be NaN. */
+    double unet_coarse_min_elevation_rad;
 
     /* Both. */
     /** Observations scoring below this are dropped (cascade: neighbour count; U-Net: mean class
@@ -225,53 +240,42 @@ typedef struct wf_detector_options {
      *  0 = always rotate by the exact roll. Radians. */
     double roll_snap_tolerance_rad;
 
-    /* Version 2 (read only when version >= 2). */
-    /** Cascade: 1 = search the whole (row-limited) frame; 0 = default: when the frame has colour (RGB8,
-     *  BGRA8, NV12 with chroma), search only around regions of strong local red-green contrast (Exit-sign
-     *  lettering; docs/sign-detection.md "colour gate"); GRAY8 and NV12 without chroma are always searched
-     *  whole. */
+    /* Cascade colour gate (docs/sign-detection.md "colour gate"). */
+    /** 1 = search the whole (row-limited) frame; 0 = default: when the frame has colour (RGB8, BGRA8, NV12 with
+     *  chroma), search only around regions of strong local red-green contrast (Exit-sign lettering); GRAY8 and
+     *  NV12 without chroma are always searched whole (about 20 x slower at VGA: send colour). */
     int cascade_full_search;
-    /** Colour gate: minimum |(R - G) - local mean| of a candidate pixel, 8-bit levels; 0 = 25. */
+    /** Minimum |(R - G) - local mean| of a candidate pixel, 8-bit levels; 0 = 25. */
     double cascade_gate_min_contrast;
+    /** Crowded frames: when the gate's regions cover more than 15 % of the searched image (or it would fall back
+     *  to the full search), the contrast threshold is multiplied by this once and the stricter regions are
+     *  searched. 0 = default 2.5; 1 = off; otherwise must be > 1. */
+    double cascade_gate_crowded_contrast_factor;
+    /** Smallest margin added around a colour blob's region, pixels of the frame; 0 = default 16 (24 was the
+     *  earlier setting). Must not be negative. */
+    int cascade_gate_min_margin_px;
+    /** Large colour components (cut into tiles): the smallest window searched in a tile's region is this fraction
+     *  of the whole component's width. 0 = default 0.4; -1 = off (every window size); otherwise in (0, 1]. Gives
+     *  up small signs merged into a large coloured component (a stripe, a poster's edge); docs/benchmarks.md has
+     *  the measured trade. */
+    double cascade_gate_component_window_fraction;
 
-    /* Version 3 (read only when version >= 3). */
-    /** U-Net coarse pass: unrolled rows whose ray elevation (pitch + atan((cy' - v) / fy')) is below this are
-     *  not run through the network, radians. 0 = default -0.10 (Exit signs hang above eye level; the margin
-     *  covers a low sign or a pitch error of about 6 degrees); -1.5 or lower = the whole frame (e.g. for
-     *  kinds mounted low). Frames without a finite pitch are always searched whole. Must not be NaN. */
-    double unet_coarse_min_elevation_rad;
-
-    /* Version 4 (read only when version >= 4). */
-    /** Cascade placement prior: 1 = at each scale, search only the rows where a sign whose window is that size
-     *  can hang (its centre cascade_sign_above_camera_min_m .. _max_m above the camera; pinhole model with the
-     *  frame's pitch; docs/sign-detection.md "placement prior"); 0 = default: on for version 4, off before;
+    /* Cascade placement prior (docs/sign-detection.md "placement prior"). */
+    /** 1 or 0 = default: at each scale, search only the rows where a sign whose window is that size can hang (its
+     *  centre cascade_sign_above_camera_min_m .. _max_m above the camera; pinhole model with the frame's pitch);
      *  -1 = off (every row at every scale). */
     int cascade_placement_prior;
     /** Height of a sign's centre above the camera for the placement prior, metres; 0 = 0.3 and 2.0 (Exit signs:
      *  bottom edge 2.03 to about 2.6 m above the floor; phone 1.0 to 1.7 m). Min < max when both are set. */
     double cascade_sign_above_camera_min_m;
     double cascade_sign_above_camera_max_m;
-    /** Colour gate, crowded frames: when the gate's regions cover more than 15 % of the searched image (or it
-     *  would fall back to the full search), the contrast threshold is multiplied by this once and the stricter
-     *  regions are searched. 0 = default: 2.5 for version 4, off before; 1 = off; otherwise must be > 1. */
-    double cascade_gate_crowded_contrast_factor;
-
-    /* Version 5 (read only when version >= 5). */
-    /** Colour gate: smallest margin added around a colour blob's region, pixels of the frame; 0 = default: 16 for
-     *  version 5, 24 before. Must not be negative. */
-    int cascade_gate_min_margin_px;
-    /** Colour gate, large colour components (cut into tiles): the smallest window searched in a tile's region is
-     *  this fraction of the whole component's width. 0 = default: 0.4 for version 5, off before; -1 = off (every
-     *  window size); otherwise in (0, 1]. Gives up small signs merged into a large coloured component (a stripe,
-     *  a poster's edge); docs/benchmarks.md "options version 5" has the measured trade. */
-    double cascade_gate_component_window_fraction;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */
-#define WF_DETECTOR_OPTIONS_INIT { WF_DETECTOR_OPTIONS_VERSION }
+#define WF_DETECTOR_OPTIONS_INIT { WF_DETECTOR_CASCADE }
 
-/** Fills `opts` with the defaults of `version` (like WF_DETECTOR_OPTIONS_INIT). */
-int wf_detector_options_init(wf_detector_options *opts, unsigned int version);
+/** Fills `opts` with the defaults (all zero, like WF_DETECTOR_OPTIONS_INIT). */
+int wf_detector_options_init(wf_detector_options *opts);
 
 /** Opaque detector handle (models loaded once). */
 typedef struct wf_detector wf_detector;
@@ -327,11 +331,44 @@ void wf_detector_free(wf_detector *detector);
 
 /**
  * Detects signs in one frame. Writes at most `capacity` observations, highest score first, to `out`
- * (caller-owned) and their number to `*count_out`. Returns WF_OK, a warning (WF_SKIPPED_DARK_FRAME,
- * WF_TRUNCATED) or an error; on error or skip `*count_out` is 0. `out` may be NULL when capacity is 0.
+ * (caller-owned) and their number to `*count_out`. Returns WF_STATUS_OK, a warning (WF_STATUS_SKIPPED_DARK_FRAME,
+ * WF_STATUS_TRUNCATED) or an error; on error or skip `*count_out` is 0. `out` may be NULL when capacity is 0.
  */
 int wf_detector_detect(wf_detector *detector, const wf_frame *frame, wf_detector_observation *out,
                        size_t capacity, size_t *count_out);
+
+/** One sign seen and ranged in one frame: the output of wf_detector_sense. */
+typedef struct wf_sign_sighting {
+    /** Kind name ("exit"...), NUL-terminated; always a kind of the catalogue. */
+    char kind[WF_KIND_NAME_CAPACITY];
+    /** Horizontal distance from the camera centre to the sign's vertical centre line, meters (> 0). */
+    double range_m;
+    /** Horizontal angle of the sign centre from the camera's forward direction, radians, positive to the left
+     *  (counter-clockwise seen from above), in (-pi, pi]. */
+    double bearing_rad;
+    /** Confidence: cascade neighbour count, or U-Net mean class probability in [0, 1]. */
+    double score;
+    /** Height of the sign's centre above the camera centre, meters (negative below). */
+    double center_height_above_camera_m;
+    /** The sign face's corners in the raw image, pixels: top-left, top-right, bottom-right, bottom-left of the
+     *  upright sign as u0, v0, u1, v1, ...: the measured edge lines (median edges and slopes) at the ends of the
+     *  sign's horizontal extent in the unrolled image, mapped back to the raw image. */
+    double corners_raw_px[8];
+} wf_sign_sighting;
+
+/**
+ * The whole perception of one frame in one call: validate, unroll by the frame's roll, detect, measure by
+ * slices, and range each sign with the apparent-height method (wf_range_apparent_height_slices, ray-elevation
+ * model) using its kind's face height from the catalogue given at creation. `frame` carries the camera pose as
+ * the range needs it (pitch and roll from gravity). Detections of a kind absent from the catalogue, and
+ * measurements the range estimator rejects (no finite positive range), are left out. Writes at most `capacity`
+ * sightings, highest score first, and their number to `*count_out`. Returns WF_STATUS_OK, a warning
+ * (WF_STATUS_SKIPPED_DARK_FRAME, WF_STATUS_TRUNCATED) or an error: WF_STATUS_INVALID_CATALOGUE when the detector
+ * was created without a catalogue, WF_STATUS_BAD_FRAME for a frame of the wrong size or stride or a non-finite
+ * pose; on error or skip `*count_out` is 0.
+ */
+int wf_detector_sense(wf_detector *detector, const wf_frame *frame, wf_sign_sighting *out, size_t capacity,
+                      size_t *count_out);
 
 /** Message of the last non-zero status on this handle ("" if none); owned by the handle, valid until
  *  its next call. NULL handle: same as wf_thread_last_error(). */

@@ -1,5 +1,7 @@
 #include "detector.hpp"
 
+#include "wf_range.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -15,91 +17,86 @@ std::string directoryOf(const std::string& path) {
 }  // namespace
 
 int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOptions* out, std::string* error) {
-    if (opts.version < 1 || opts.version > WF_DETECTOR_OPTIONS_VERSION) {
-        *error = "wf_detector_options version " + std::to_string(opts.version) + " is not supported (expected 1 to " +
-                 std::to_string(WF_DETECTOR_OPTIONS_VERSION) + ")";
-        return WF_ERR_VERSION;
-    }
     ResolvedOptions r;
     const int kind = enumValue(opts.kind);
     if (kind != WF_DETECTOR_CASCADE && kind != WF_DETECTOR_UNET) {
         *error = "unknown detector kind " + std::to_string(kind);
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     r.kind = static_cast<wf_detector_kind>(kind);
+    if (const int status = parseCatalogue(opts.catalogue, opts.catalogue_count, &r.catalogue, error);
+        status != WF_STATUS_OK) {
+        return status;
+    }
     if (opts.cascade_count > 0 && opts.cascade_paths == nullptr) {
         *error = "cascade_count is " + std::to_string(opts.cascade_count) + " but cascade_paths is NULL";
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     for (size_t i = 0; i < opts.cascade_count; ++i) {
         if (opts.cascade_paths[i] == nullptr) {
             *error = "cascade_paths[" + std::to_string(i) + "] is NULL";
-            return WF_ERR_INVALID_ARGUMENT;
+            return WF_STATUS_INVALID_ARGUMENT;
         }
         r.cascadePaths.emplace_back(opts.cascade_paths[i]);
         std::string kind = opts.cascade_kinds && opts.cascade_kinds[i] ? opts.cascade_kinds[i] : "exit";
         if (kind.empty() || kind.size() >= WF_KIND_NAME_CAPACITY) {
             *error = "cascade kind name '" + kind + "' must have 1 to " + std::to_string(WF_KIND_NAME_CAPACITY - 1) +
                      " characters";
-            return WF_ERR_INVALID_ARGUMENT;
+            return WF_STATUS_INVALID_ARGUMENT;
         }
         r.cascadeKinds.push_back(kind);
     }
     if (opts.unet_path) r.unetPath = opts.unet_path;
     if (opts.class_count > 0 && opts.class_names == nullptr) {
         *error = "class_count is " + std::to_string(opts.class_count) + " but class_names is NULL";
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     for (size_t i = 0; i < opts.class_count; ++i) {
         if (opts.class_names[i] == nullptr || std::strlen(opts.class_names[i]) == 0 ||
             std::strlen(opts.class_names[i]) >= WF_KIND_NAME_CAPACITY) {
             *error = "class_names[" + std::to_string(i) + "] must have 1 to " +
                      std::to_string(WF_KIND_NAME_CAPACITY - 1) + " characters";
-            return WF_ERR_INVALID_ARGUMENT;
+            return WF_STATUS_INVALID_ARGUMENT;
         }
         r.classNames.emplace_back(opts.class_names[i]);
     }
     if (opts.class_count == 1) {
         *error = "class_names needs background plus at least one class";
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     auto positiveOr = [](double v, double d) { return v > 0 ? v : d; };
     r.cascade.scaleFactor = positiveOr(opts.cascade_scale_factor, 1.2);
     if (r.cascade.scaleFactor <= 1.0) {
         *error = "cascade_scale_factor must be > 1";
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     r.cascade.minNeighbors = opts.cascade_min_neighbors > 0 ? opts.cascade_min_neighbors : 3;
     if ((opts.cascade_min_window_width > 0) != (opts.cascade_min_window_height > 0)) {
         *error = "cascade_min_window_width and cascade_min_window_height must both be set or both be 0";
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     r.cascade.minWindow = opts.cascade_min_window_width > 0
                               ? cv::Size(opts.cascade_min_window_width, opts.cascade_min_window_height)
                               : cv::Size();  // each cascade's training window
     r.cascade.maxWindowFactor = positiveOr(opts.cascade_max_window_factor, 0);
-    // cascade_search_above_elevation: 1 = rows above cascade_min_elevation_rad; 0 = the version's default (whole
-    // frame before version 3, rows above CascadeParams' -0.15 rad since); -1 = whole frame (version 3).
+    // cascade_search_above_elevation: 0 = default (rows above CascadeParams' -0.15 rad), 1 = rows above
+    // cascade_min_elevation_rad, -1 = the whole frame.
     const int above = opts.cascade_search_above_elevation;
-    if (opts.version >= 3 && (above < -1 || above > 1)) {
+    if (above < -1 || above > 1) {
         *error = "cascade_search_above_elevation must be -1 (whole frame), 0 (default) or 1, not " + std::to_string(above);
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
-    if (opts.version >= 3 ? above == 1 : above != 0) {
-        r.cascade.searchAboveElevation = true;
-        r.cascade.minElevationRad = opts.cascade_min_elevation_rad;
-    } else {
-        r.cascade.searchAboveElevation = opts.version >= 3 && above == 0;  // minElevationRad keeps its default
-    }
+    r.cascade.searchAboveElevation = above >= 0;
+    if (above == 1) r.cascade.minElevationRad = opts.cascade_min_elevation_rad;
     if (r.cascade.searchAboveElevation && !(std::abs(r.cascade.minElevationRad) < 1.5)) {
         *error = "cascade_min_elevation_rad must be finite and within (-1.5, 1.5) rad";
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     r.unetInputSize = opts.unet_input_size > 0 ? opts.unet_input_size : 224;
     r.unet.maskThreshold = positiveOr(opts.unet_mask_threshold, 0.5);
     if (r.unet.maskThreshold >= 1.0) {
         *error = "unet_mask_threshold must be in (0, 1)";
-        return WF_ERR_INVALID_ARGUMENT;
+        return WF_STATUS_INVALID_ARGUMENT;
     }
     r.unet.zoomFactor = positiveOr(opts.unet_zoom_factor, 3.5);
     r.unet.minCropPx = opts.unet_min_crop_px > 0 ? opts.unet_min_crop_px : 64;
@@ -112,105 +109,92 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
     r.cascade.slices = slices;
     r.unet.slices = slices;
     r.rollSnapToleranceRad = std::max(0.0, opts.roll_snap_tolerance_rad);
-    if (opts.version >= 2) {  // a version-1 struct ends before these fields
-        r.cascade.colourGate.enabled = opts.cascade_full_search == 0;
-        if (opts.cascade_gate_min_contrast < 0 || !std::isfinite(opts.cascade_gate_min_contrast)) {
-            *error = "cascade_gate_min_contrast must be finite and >= 0";
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        if (opts.cascade_gate_min_contrast > 0) r.cascade.colourGate.minContrast = opts.cascade_gate_min_contrast;
+    r.cascade.colourGate.enabled = opts.cascade_full_search == 0;
+    if (opts.cascade_gate_min_contrast < 0 || !std::isfinite(opts.cascade_gate_min_contrast)) {
+        *error = "cascade_gate_min_contrast must be finite and >= 0";
+        return WF_STATUS_INVALID_ARGUMENT;
     }
-    if (opts.version >= 3) {  // a version-1 or -2 struct ends before these fields
-        const double cut = opts.unet_coarse_min_elevation_rad;
-        if (std::isnan(cut) || cut >= 1.5) {
-            *error = "unet_coarse_min_elevation_rad must be a number below 1.5 rad (0 = default, <= -1.5 = off)";
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        if (cut <= -1.5) {
-            r.unet.coarseMinElevationRad = std::nan("");
-        } else if (cut != 0) {
-            r.unet.coarseMinElevationRad = cut;
-        }
+    if (opts.cascade_gate_min_contrast > 0) r.cascade.colourGate.minContrast = opts.cascade_gate_min_contrast;
+    const double cut = opts.unet_coarse_min_elevation_rad;
+    if (std::isnan(cut) || cut >= 1.5) {
+        *error = "unet_coarse_min_elevation_rad must be a number below 1.5 rad (0 = default, <= -1.5 = off)";
+        return WF_STATUS_INVALID_ARGUMENT;
     }
-    // Version 4: the placement prior and the crowded-frame gate, on by default; older structs keep the search of
-    // their version (CascadeParams' placement is off and the gate's crowded factor 1 = off).
-    r.cascade.colourGate.crowdedContrastFactor = 1.0;
-    if (opts.version >= 4) {  // older structs end before these fields
-        const int prior = opts.cascade_placement_prior;
-        if (prior < -1 || prior > 1) {
-            *error = "cascade_placement_prior must be -1 (off), 0 (default) or 1, not " + std::to_string(prior);
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        r.cascade.placement.enabled = prior >= 0;
-        const double low = opts.cascade_sign_above_camera_min_m, high = opts.cascade_sign_above_camera_max_m;
-        if (!std::isfinite(low) || !std::isfinite(high)) {
-            *error = "cascade_sign_above_camera_min_m and _max_m must be finite";
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        if (low != 0) r.cascade.placement.centreAboveCameraMinMeters = low;
-        if (high != 0) r.cascade.placement.centreAboveCameraMaxMeters = high;
-        if (!(r.cascade.placement.centreAboveCameraMinMeters < r.cascade.placement.centreAboveCameraMaxMeters)) {
-            *error = "cascade_sign_above_camera_min_m (" + std::to_string(r.cascade.placement.centreAboveCameraMinMeters) +
-                     ") must be below cascade_sign_above_camera_max_m (" +
-                     std::to_string(r.cascade.placement.centreAboveCameraMaxMeters) + ")";
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        const double factor = opts.cascade_gate_crowded_contrast_factor;
-        if (!std::isfinite(factor) || factor < 0 || (factor > 0 && factor < 1)) {
-            *error = "cascade_gate_crowded_contrast_factor must be 0 (default), 1 (off) or above 1";
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        r.cascade.colourGate.crowdedContrastFactor = factor == 0 ? ColourGateParams{}.crowdedContrastFactor : factor;
+    if (cut <= -1.5) {
+        r.unet.coarseMinElevationRad = std::nan("");
+    } else if (cut != 0) {
+        r.unet.coarseMinElevationRad = cut;
     }
-    // Version 5: the gate's smaller margins and the component-width window floor in tiles; older structs keep the
-    // regions of their version (24-pixel margins, every window size in tiles).
-    r.cascade.colourGate.minMarginPx = 24;
-    r.cascade.colourGate.componentWindowFraction = 0;
-    if (opts.version >= 5) {  // older structs end before these fields
-        const int margin = opts.cascade_gate_min_margin_px;
-        if (margin < 0) {
-            *error = "cascade_gate_min_margin_px must be 0 (default) or positive, not " + std::to_string(margin);
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        r.cascade.colourGate.minMarginPx = margin == 0 ? ColourGateParams{}.minMarginPx : margin;
-        const double fraction = opts.cascade_gate_component_window_fraction;
-        if (!std::isfinite(fraction) || fraction > 1 || (fraction < 0 && fraction != -1)) {
-            *error = "cascade_gate_component_window_fraction must be 0 (default), -1 (off) or in (0, 1]";
-            return WF_ERR_INVALID_ARGUMENT;
-        }
-        r.cascade.colourGate.componentWindowFraction =
-            fraction == 0 ? ColourGateParams{}.componentWindowFraction : std::max(0.0, fraction);
+    // Placement prior: on unless -1.
+    const int prior = opts.cascade_placement_prior;
+    if (prior < -1 || prior > 1) {
+        *error = "cascade_placement_prior must be -1 (off), 0 (default: on) or 1 (on), not " + std::to_string(prior);
+        return WF_STATUS_INVALID_ARGUMENT;
     }
+    r.cascade.placement.enabled = prior >= 0;
+    const double low = opts.cascade_sign_above_camera_min_m, high = opts.cascade_sign_above_camera_max_m;
+    if (!std::isfinite(low) || !std::isfinite(high)) {
+        *error = "cascade_sign_above_camera_min_m and _max_m must be finite";
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    if (low != 0) r.cascade.placement.centreAboveCameraMinMeters = low;
+    if (high != 0) r.cascade.placement.centreAboveCameraMaxMeters = high;
+    if (!(r.cascade.placement.centreAboveCameraMinMeters < r.cascade.placement.centreAboveCameraMaxMeters)) {
+        *error = "cascade_sign_above_camera_min_m (" + std::to_string(r.cascade.placement.centreAboveCameraMinMeters) +
+                 ") must be below cascade_sign_above_camera_max_m (" +
+                 std::to_string(r.cascade.placement.centreAboveCameraMaxMeters) + ")";
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    // Colour gate in crowded frames, margins, and the component-width window floor in tiles.
+    const double factor = opts.cascade_gate_crowded_contrast_factor;
+    if (!std::isfinite(factor) || factor < 0 || (factor > 0 && factor < 1)) {
+        *error = "cascade_gate_crowded_contrast_factor must be 0 (default), 1 (off) or above 1";
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.cascade.colourGate.crowdedContrastFactor = factor == 0 ? ColourGateParams{}.crowdedContrastFactor : factor;
+    const int margin = opts.cascade_gate_min_margin_px;
+    if (margin < 0) {
+        *error = "cascade_gate_min_margin_px must be 0 (default) or positive, not " + std::to_string(margin);
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.cascade.colourGate.minMarginPx = margin == 0 ? ColourGateParams{}.minMarginPx : margin;
+    const double fraction = opts.cascade_gate_component_window_fraction;
+    if (!std::isfinite(fraction) || fraction > 1 || (fraction < 0 && fraction != -1)) {
+        *error = "cascade_gate_component_window_fraction must be 0 (default), -1 (off) or in (0, 1]";
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.cascade.colourGate.componentWindowFraction =
+        fraction == 0 ? ColourGateParams{}.componentWindowFraction : std::max(0.0, fraction);
     *out = std::move(r);
-    return WF_OK;
+    return WF_STATUS_OK;
 }
 
 int Detector::load(const ResolvedOptions& options, std::string* error) {
     options_ = options;
     kinds_.clear();
     if (options_.kind == WF_DETECTOR_CASCADE) {
-        if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_ERR_MODEL_LOAD;
+        if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_STATUS_MODEL_LOAD;
         kinds_ = cascade_.kinds();
-        return WF_OK;
+        return WF_STATUS_OK;
     }
     if (options_.unetPath.empty()) {
         *error = "U-Net detector needs unet_path";
-        return WF_ERR_MODEL_LOAD;
+        return WF_STATUS_MODEL_LOAD;
     }
     std::vector<std::string> classes = options_.classNames;
     if (classes.empty()) {
         const std::string classesPath = directoryOf(options_.unetPath) + "/classes.json";
-        if (std::ifstream(classesPath).good() && !readClassList(classesPath, &classes, error)) return WF_ERR_MODEL_LOAD;
+        if (std::ifstream(classesPath).good() && !readClassList(classesPath, &classes, error)) return WF_STATUS_MODEL_LOAD;
     }
-    if (!unet_.load(options_.unetPath, classes, options_.unetInputSize, error)) return WF_ERR_MODEL_LOAD;
+    if (!unet_.load(options_.unetPath, classes, options_.unetInputSize, error)) return WF_STATUS_MODEL_LOAD;
     for (const auto& name : unet_.classNames()) {
         if (name.size() >= WF_KIND_NAME_CAPACITY) {
             *error = "class name '" + name + "' is longer than " + std::to_string(WF_KIND_NAME_CAPACITY - 1);
-            return WF_ERR_MODEL_LOAD;
+            return WF_STATUS_MODEL_LOAD;
         }
     }
     kinds_.assign(unet_.classNames().begin() + 1, unet_.classNames().end());
-    return WF_OK;
+    return WF_STATUS_OK;
 }
 
 wf_detector_observation makeObservation(const Detection& d, const Unrolling& unrolling) {
@@ -299,15 +283,74 @@ FrameResult Detector::detect(const wf_frame& frame) {
             }
         }
     } catch (const cv::Exception& e) {
-        result.status = WF_ERR_INTERNAL;
+        result.status = WF_STATUS_INTERNAL;
         result.message = std::string("OpenCV error: ") + e.what();
         result.observations.clear();
     } catch (const std::exception& e) {
-        result.status = WF_ERR_INTERNAL;
+        result.status = WF_STATUS_INTERNAL;
         result.message = std::string("internal error: ") + e.what();
         result.observations.clear();
     }
     return result;
+}
+
+bool sightingFromObservation(const wf_detector_observation& o, const SignKindSpec& kind, double pitchRad,
+                             wf_sign_sighting* out) {
+    const wf_range_unrolled_camera camera{o.unrolled_fx, o.unrolled_fy, o.unrolled_cx, o.unrolled_cy, pitchRad,
+                                          o.applied_roll_rad};
+    wf_range_slice_measurement m{};
+    m.median_bottom_row_px = o.median_bottom_row_px;
+    m.median_height_px = o.median_height_px;
+    m.center_column_px = o.center_column_px;
+    m.bottom_edge_slope = o.bottom_edge_slope;
+    m.top_edge_slope = o.top_edge_slope;
+    m.extent_width_px = o.extent_width_px;
+    wf_range_result r{};
+    if (wf_range_apparent_height_slices(&r, &camera, &m, kind.faceHeightMeters, WF_RANGE_SLICE_MODEL_RAY_ELEVATION) !=
+        WF_STATUS_OK) {
+        return false;
+    }
+    std::memset(out, 0, sizeof *out);
+    std::strncpy(out->kind, kind.kind.c_str(), WF_KIND_NAME_CAPACITY - 1);
+    out->range_m = r.range_m;
+    out->bearing_rad = r.bearing_rad;
+    out->score = o.score;
+    out->center_height_above_camera_m = r.center_height_above_camera_m;
+    // Corners: the edge lines (medians at the centre column, slopes) at the ends of the extent, unrolled -> raw.
+    const double half = 0.5 * o.extent_width_px;
+    const double bottom = o.median_bottom_row_px, top = o.median_bottom_row_px - o.median_height_px;
+    const double cornerU[4] = {o.center_column_px - half, o.center_column_px + half, o.center_column_px + half,
+                               o.center_column_px - half};
+    const double cornerV[4] = {top - o.top_edge_slope * half, top + o.top_edge_slope * half,
+                               bottom + o.bottom_edge_slope * half, bottom - o.bottom_edge_slope * half};
+    const double* a = o.unrolled_to_raw;
+    for (int i = 0; i < 4; ++i) {
+        out->corners_raw_px[2 * i] = a[0] * cornerU[i] + a[1] * cornerV[i] + a[2];
+        out->corners_raw_px[2 * i + 1] = a[3] * cornerU[i] + a[4] * cornerV[i] + a[5];
+    }
+    return true;
+}
+
+FrameSightings Detector::sense(const wf_frame& frame) {
+    FrameSightings out;
+    if (options_.catalogue.empty()) {
+        out.status = WF_STATUS_INVALID_CATALOGUE;
+        out.message = "the sign-kind catalogue is empty: no face size to range with (set catalogue in "
+                      "wf_detector_options, e.g. from the map's signKinds)";
+        return out;
+    }
+    FrameResult detected = detect(frame);
+    out.status = detected.status;
+    out.message = std::move(detected.message);
+    if (detected.status < 0) return out;
+    for (const wf_detector_observation& o : detected.observations) {
+        const SignKindSpec* kind = findKind(options_.catalogue, o.kind);
+        wf_sign_sighting sighting;
+        if (kind != nullptr && sightingFromObservation(o, *kind, frame.pitch_rad, &sighting)) {
+            out.sightings.push_back(sighting);
+        }
+    }
+    return out;
 }
 
 }  // namespace wf::sign

@@ -4,6 +4,7 @@
 
 #include "cascade_detector.hpp"
 #include "image_input.hpp"
+#include "sign_catalogue.hpp"
 #include "unet_detector.hpp"
 #include "unroll.hpp"
 #include "wf_sign_detector.h"
@@ -24,29 +25,44 @@ struct ResolvedOptions {
     UnetParams unet;
     double minScore = 0;
     double rollSnapToleranceRad = 0;
+    /// Sign kinds and their face sizes (may be empty: then sense() fails).
+    std::vector<SignKindSpec> catalogue;
 
-    /// Copies `opts` (borrowed strings are copied) and applies defaults. Returns WF_OK or an error code with
+    /// Copies `opts` (borrowed strings are copied) and applies defaults. Returns WF_STATUS_OK or an error code with
     /// `error` set.
     static int fromOptions(const wf_detector_options& opts, ResolvedOptions* out, std::string* error);
 };
 
 /// Result of one frame.
 struct FrameResult {
-    /// WF_OK, a warning or an error code.
-    int status = WF_OK;
+    /// WF_STATUS_OK, a warning or an error code.
+    int status = WF_STATUS_OK;
     std::string message;
     /// Observations, best score first (empty unless status >= 0).
     std::vector<wf_detector_observation> observations;
 };
 
+/// Result of sense(): ranged sightings of one frame.
+struct FrameSightings {
+    /// WF_STATUS_OK, a warning or an error code.
+    int status = WF_STATUS_OK;
+    std::string message;
+    /// Sightings, best score first (empty unless status >= 0).
+    std::vector<wf_sign_sighting> sightings;
+};
+
 /// Loaded models plus options. Not thread-safe.
 class Detector {
 public:
-    /// Loads the models named by `options`. Returns WF_OK or WF_ERR_MODEL_LOAD with `error` set.
+    /// Loads the models named by `options`. Returns WF_STATUS_OK or WF_STATUS_MODEL_LOAD with `error` set.
     int load(const ResolvedOptions& options, std::string* error);
 
-    /// Runs the pipeline on one frame. Never throws (OpenCV exceptions become WF_ERR_INTERNAL).
+    /// Runs the pipeline on one frame. Never throws (OpenCV exceptions become WF_STATUS_INTERNAL).
     FrameResult detect(const wf_frame& frame);
+
+    /// detect(), then range each observation with its kind's face height from the catalogue (see
+    /// wf_detector_sense). Never throws.
+    FrameSightings sense(const wf_frame& frame);
 
     /// Kind names the detector reports (cascade kinds, or U-Net classes without background).
     const std::vector<std::string>& kinds() const { return kinds_; }
@@ -62,5 +78,10 @@ private:
 
 /// Packs a detection into the C observation struct with the unrolling's intrinsics and map.
 wf_detector_observation makeObservation(const Detection& detection, const Unrolling& unrolling);
+
+/// Ranges one observation (apparent height, ray-elevation model) with `kind`'s face height, for a camera of
+/// pitch `pitchRad`. Returns false (no sighting) when the range estimator rejects the measurement.
+bool sightingFromObservation(const wf_detector_observation& o, const SignKindSpec& kind, double pitchRad,
+                             wf_sign_sighting* out);
 
 }  // namespace wf::sign

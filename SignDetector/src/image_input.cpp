@@ -24,23 +24,38 @@ FrameCheck checkImage(const wf_image& image) {
     const int bpp = bytesPerPixel(format);
     if (bpp == 0) {
         msg << "unknown pixel format " << format;
-        return {WF_ERR_INVALID_ARGUMENT, msg.str()};
+        return {WF_STATUS_INVALID_ARGUMENT, msg.str()};
     }
     if (image.data == nullptr || image.width <= 0 || image.height <= 0) {
         msg << "empty frame: data " << (image.data ? "set" : "NULL") << ", size " << image.width << "x"
             << image.height;
-        return {WF_ERR_BAD_FRAME, msg.str()};
+        return {WF_STATUS_BAD_FRAME, msg.str()};
     }
     if (image.stride < static_cast<size_t>(image.width) * bpp) {
         msg << "row stride " << image.stride << " bytes is smaller than width " << image.width << " x " << bpp
             << " bytes per pixel";
-        return {WF_ERR_BAD_FRAME, msg.str()};
+        return {WF_STATUS_BAD_FRAME, msg.str()};
+    }
+    const size_t rowBytes = static_cast<size_t>(image.width) * bpp;
+    const size_t needed = image.stride * static_cast<size_t>(image.height - 1) + rowBytes;
+    if (image.data_bytes != 0 && image.data_bytes < needed) {
+        msg << "pixel buffer of " << image.data_bytes << " bytes is shorter than the " << image.width << "x"
+            << image.height << " frame it describes (" << needed << " bytes at stride " << image.stride
+            << "): wrong size or stride";
+        return {WF_STATUS_BAD_FRAME, msg.str()};
     }
     if (format == WF_PIXEL_NV12 && image.data_uv != nullptr) {
         const size_t need = 2 * static_cast<size_t>((image.width + 1) / 2);
         if (image.stride_uv < need) {
             msg << "NV12 chroma stride " << image.stride_uv << " bytes is smaller than " << need;
-            return {WF_ERR_BAD_FRAME, msg.str()};
+            return {WF_STATUS_BAD_FRAME, msg.str()};
+        }
+        const size_t chromaRows = static_cast<size_t>((image.height + 1) / 2);
+        const size_t neededUv = image.stride_uv * (chromaRows - 1) + need;
+        if (image.data_uv_bytes != 0 && image.data_uv_bytes < neededUv) {
+            msg << "NV12 chroma buffer of " << image.data_uv_bytes << " bytes is shorter than the " << neededUv
+                << " bytes of " << chromaRows << " rows at stride " << image.stride_uv << ": wrong size or stride";
+            return {WF_STATUS_BAD_FRAME, msg.str()};
         }
     }
     return {};
@@ -53,26 +68,26 @@ FrameCheck checkFrame(const wf_frame& frame) {
     std::ostringstream msg;
     if (!std::isfinite(k.fx) || !std::isfinite(k.fy) || !std::isfinite(k.cx) || !std::isfinite(k.cy)) {
         msg << "non-finite intrinsics (fx " << k.fx << ", fy " << k.fy << ", cx " << k.cx << ", cy " << k.cy << ")";
-        return {WF_ERR_BAD_FRAME, msg.str()};
+        return {WF_STATUS_BAD_FRAME, msg.str()};
     }
     if (k.fx <= 0 || k.fy <= 0) {
         msg << "focal lengths must be positive (fx " << k.fx << ", fy " << k.fy << ")";
-        return {WF_ERR_BAD_FRAME, msg.str()};
+        return {WF_STATUS_BAD_FRAME, msg.str()};
     }
     const double w = frame.image.width, h = frame.image.height;
     if (std::abs(k.cx - 0.5 * (w - 1)) > 0.25 * w || std::abs(k.cy - 0.5 * (h - 1)) > 0.25 * h) {
         msg << "principal point (" << k.cx << ", " << k.cy << ") is far from the centre of the "
             << frame.image.width << "x" << frame.image.height
             << " image: the intrinsics belong to another resolution (scale them with the image)";
-        return {WF_ERR_BAD_FRAME, msg.str()};
+        return {WF_STATUS_BAD_FRAME, msg.str()};
     }
     if (!std::isfinite(frame.pitch_rad) || std::abs(frame.pitch_rad) >= 1.5707963267948966) {
         msg << "pitch " << frame.pitch_rad << " rad is not finite or not in (-pi/2, pi/2)";
-        return {WF_ERR_BAD_FRAME, msg.str()};
+        return {WF_STATUS_BAD_FRAME, msg.str()};
     }
     if (!std::isfinite(frame.roll_rad)) {
         msg << "roll " << frame.roll_rad << " rad is not finite";
-        return {WF_ERR_BAD_FRAME, msg.str()};
+        return {WF_STATUS_BAD_FRAME, msg.str()};
     }
     return {};
 }
@@ -91,7 +106,7 @@ FrameCheck checkBrightness(const cv::Mat& gray) {
     if (mean < kDarkFrameMeanLuma) {
         std::ostringstream msg;
         msg << "frame skipped: mean luma " << mean << " < " << kDarkFrameMeanLuma << " (lens covered or dark)";
-        return {WF_SKIPPED_DARK_FRAME, msg.str()};
+        return {WF_STATUS_SKIPPED_DARK_FRAME, msg.str()};
     }
     return {};
 }

@@ -11,12 +11,12 @@
 
 namespace wf::sign {
 
-/// Outcome of a frame check: a wf status code (WF_OK, WF_SKIPPED_DARK_FRAME or WF_ERR_BAD_FRAME /
-/// WF_ERR_INVALID_ARGUMENT) and a message naming the problem.
+/// Outcome of a frame check: a wf status code (WF_STATUS_OK, WF_STATUS_SKIPPED_DARK_FRAME or WF_STATUS_BAD_FRAME /
+/// WF_STATUS_INVALID_ARGUMENT) and a message naming the problem.
 struct FrameCheck {
-    int status = WF_OK;
+    int status = WF_STATUS_OK;
     std::string message;
-    bool ok() const { return status == WF_OK; }
+    bool ok() const { return status == WF_STATUS_OK; }
 };
 
 /// Checks the image description alone: non-NULL data, positive size, stride large enough, known format,
@@ -31,7 +31,7 @@ FrameCheck checkFrame(const wf_frame& frame);
 /// Mean luma under which a frame is skipped as dark (lens covered, phone in a pocket).
 constexpr double kDarkFrameMeanLuma = 2.0;
 
-/// Checks the gray image's mean (sampled every 4th pixel): WF_SKIPPED_DARK_FRAME when below
+/// Checks the gray image's mean (sampled every 4th pixel): WF_STATUS_SKIPPED_DARK_FRAME when below
 /// kDarkFrameMeanLuma.
 FrameCheck checkBrightness(const cv::Mat& gray);
 

@@ -41,8 +41,12 @@ Unrolling Unrolling::forRoll(double rollRad, const Intrinsics& raw, cv::Size raw
     }
     // Linear part (raw pixel offsets -> unrolled pixel offsets):
     // [du'; dv'] = diag(fx', fy') * [[c, s], [-s, c]] * diag(1/fx, 1/fy) * [du; dv].
-    const double a00 = fxU * c / raw.fx, a01 = fxU * s / raw.fy;
-    const double a10 = -fyU * s / raw.fx, a11 = fyU * c / raw.fy;
+    // Columns: the unrolled normalised images (camera_geometry.hpp) of the raw unit offsets along x and y.
+    double x0, y0, x1, y1;
+    wf::camera::unrollNormalised(c, s, 1.0, 0.0, &x0, &y0);
+    wf::camera::unrollNormalised(c, s, 0.0, 1.0, &x1, &y1);
+    const double a00 = fxU * x0 / raw.fx, a01 = fxU * x1 / raw.fy;
+    const double a10 = fyU * y0 / raw.fx, a11 = fyU * y1 / raw.fy;
     // Bounding box of the raw frame's outer pixel edges after rotation about the principal point.
     const double w = rawSize.width, h = rawSize.height;
     const double cornersU[4] = {-0.5, w - 0.5, w - 0.5, -0.5};
@@ -111,10 +115,6 @@ cv::Point2d Unrolling::rawToUnrolled(cv::Point2d p) const {
 cv::Point2d Unrolling::unrolledToRaw(cv::Point2d p) const {
     const auto& m = unrolledToRaw_;
     return {m(0, 0) * p.x + m(0, 1) * p.y + m(0, 2), m(1, 0) * p.x + m(1, 1) * p.y + m(1, 2)};
-}
-
-double unrolledRowAtElevation(const Intrinsics& unrolled, double elevationRad, double pitchRad) {
-    return unrolled.cy - unrolled.fy * std::tan(std::clamp(elevationRad - pitchRad, -1.5, 1.5));
 }
 
 }  // namespace wf::sign

@@ -2,21 +2,19 @@
 // horizon is horizontal (Fusco et al. 2020, section 3, "unrolled image"; docs/sign-detection.md).
 #pragma once
 
+#include "camera_geometry.hpp"
+
 #include <opencv2/core.hpp>
 #include <opencv2/imgproc.hpp>
 
 namespace wf::sign {
 
-/// Pinhole intrinsics, pixels, pixel-centre convention (pixel (i, j) is centred on (i, j)).
-struct Intrinsics {
-    double fx = 0, fy = 0, cx = 0, cy = 0;
-};
+/// Pinhole intrinsics, pixels, pixel-centre convention (camera_geometry.hpp: one definition for detection and
+/// range).
+using Intrinsics = wf::camera::Intrinsics;
 
-/// Row v (pixels, growing downwards) of an unrolled image with intrinsics `unrolled` where rays at elevation
-/// `elevationRad` (radians above the horizontal) appear, for a camera pitched up by `pitchRad`:
-/// v = cy' - fy' tan(elevation - pitch) (pinhole model, roll already removed). The angle is clamped to +-1.5 rad,
-/// so the row is always finite (far outside the image for rays behind or beside the frame).
-double unrolledRowAtElevation(const Intrinsics& unrolled, double elevationRad, double pitchRad);
+/// Row of an unrolled image at a ray elevation (camera_geometry.hpp).
+using wf::camera::unrolledRowAtElevation;
 
 /// The exact geometric map between a raw image and its unrolled image, for one roll and one set of
 /// intrinsics. A value: cheap to copy, no image data.

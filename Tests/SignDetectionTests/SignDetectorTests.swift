@@ -1,5 +1,6 @@
 import Foundation
 import XCTest
+import Maps
 @testable import SignDetection
 
 /// Tests of the SignDetection wrapper against the real C++ detector: the reference cascade (read in place
@@ -74,7 +75,7 @@ final class SignDetectorTests: XCTestCase {
         XCTAssertNoThrow(try SignDetector(configuration: config))
         config.cascadeGateMinMarginPixels = -1
         expectInvalid("cascade_gate_min_margin_px", config)
-        config.cascadeGateMinMarginPixels = 24  // the margins of options version 4
+        config.cascadeGateMinMarginPixels = 24  // the earlier, wider margins
         XCTAssertNoThrow(try SignDetector(configuration: config))
         config.cascadeGateComponentWindowFraction = 1.5
         expectInvalid("cascade_gate_component_window_fraction", config)
@@ -224,5 +225,104 @@ final class SignDetectorTests: XCTestCase {
         XCTAssertEqual(SignDetectorError.badFrame("x").description, "bad frame: x")
         XCTAssertEqual(SignDetectorError.modelLoad("m").message, "m")
         XCTAssertFalse(SignDetector.libraryVersion.isEmpty)
+    }
+}
+
+/// `SignDetector.sense`: one C call per frame from pixels to ranged signs, with sizes from the catalogue.
+final class SignSenseTests: XCTestCase {
+    private static let repoRoot = URL(fileURLWithPath: #filePath).deletingLastPathComponent()
+        .deletingLastPathComponent().deletingLastPathComponent()
+    private static let tinyUnet = repoRoot.appendingPathComponent("Tests/SignDetector/data/tiny_red_unet.onnx").path
+
+    /// 640 x 480 RGB wall with a red plate covering raw columns 300..339 and rows 200..259 (40 x 60 px).
+    private func redPlateFrame() -> ImageBuffer {
+        let width = 640, height = 480
+        var pixels = [UInt8](repeating: 120, count: width * height * 3)
+        for v in 200..<260 {
+            for u in 300..<340 {
+                let i = (v * width + u) * 3
+                pixels[i] = 220; pixels[i + 1] = 25; pixels[i + 2] = 25
+            }
+        }
+        return ImageBuffer(width: width, height: height, bytesPerRow: width * 3, pixelFormat: .rgb8, data: pixels)
+    }
+
+    private func detector(_ catalogue: SignCatalogue) throws -> SignDetector {
+        try SignDetector(configuration: DetectorConfiguration(kind: .unet, unetPath: Self.tinyUnet, catalogue: catalogue))
+    }
+
+    func testSenseEqualsDetectThenRangeWithTheCatalogueHeight() throws {
+        let d = try detector(.defaultCatalogue)
+        let frame = redPlateFrame()
+        let sensed = try d.sense(image: frame, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: 0.05, rollRad: -Double.pi / 2)
+        XCTAssertEqual(sensed.count, 1)
+        let s = try XCTUnwrap(sensed.first)
+        let detection = try XCTUnwrap(try d.detect(image: frame, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: 0.05,
+                                                   rollRad: -Double.pi / 2).first)
+        let m = SignImageMeasurement(medianBottomRowPx: detection.medianBottomRowPx, medianHeightPx: detection.medianHeightPx,
+                                     centerColumnPx: detection.centerColumnPx, bottomEdgeSlope: detection.bottomEdgeSlope,
+                                     topEdgeSlope: detection.topEdgeSlope, extentWidthPx: detection.extentWidthPx)
+        let camera = UnrolledCamera(fx: detection.unrolledFx, fy: detection.unrolledFy, cx: detection.unrolledCx,
+                                    cy: detection.unrolledCy, pitchRad: 0.05, rollRad: detection.appliedRollRad)
+        let r = try RangeEstimator.apparentHeight(m, camera: camera, signHeightMeters: 0.21)
+        XCTAssertEqual(s.kind, "exit")
+        XCTAssertEqual(s.rangeMeters, r.rangeMeters)
+        XCTAssertEqual(s.bearingRad, r.bearingRad)
+        XCTAssertEqual(s.score, detection.score)
+        // 40 px of a 0.21 m face at f = 534 px: about 2.8 m.
+        XCTAssertEqual(s.rangeMeters, 0.21 * 534 / 40, accuracy: 0.1)
+        // Corners: the plate's raw corners, in the upright sign's TL, TR, BR, BL order (portrait: the sign's top
+        // is raw -u... its left raw +v).
+        XCTAssertEqual(s.cornersRaw.count, 4)
+        let us = s.cornersRaw.map(\.u), vs = s.cornersRaw.map(\.v)
+        XCTAssertEqual(us.min()!, 299.5, accuracy: 1.5)
+        XCTAssertEqual(us.max()!, 339.5, accuracy: 1.5)
+        XCTAssertEqual(vs.min()!, 199.5, accuracy: 2.5)
+        XCTAssertEqual(vs.max()!, 259.5, accuracy: 2.5)
+    }
+
+    func testTheFaceHeightComesFromTheCatalogue() throws {
+        let tall = SignCatalogue(kinds: [SignKindSpec(kind: "exit", heightMeters: 0.42, widthMeters: 0.6)])
+        let frame = redPlateFrame()
+        let a = try detector(.defaultCatalogue).sense(image: frame, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: 0,
+                                                      rollRad: -Double.pi / 2)
+        let b = try detector(tall).sense(image: frame, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: 0,
+                                         rollRad: -Double.pi / 2)
+        XCTAssertEqual(try XCTUnwrap(b.first).rangeMeters / (try XCTUnwrap(a.first).rangeMeters), 2, accuracy: 1e-9)
+        // A catalogue without the detector's kind: nothing to range.
+        let other = SignCatalogue(kinds: [SignKindSpec(kind: "restroom", heightMeters: 0.2, widthMeters: 0.2)])
+        XCTAssertEqual(try detector(other).sense(image: frame, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: 0,
+                                                 rollRad: -Double.pi / 2).count, 0)
+    }
+
+    func testEmptyOrContradictoryCataloguesAndBadFramesThrowClearErrors() throws {
+        let frame = redPlateFrame()
+        XCTAssertThrowsError(try detector(SignCatalogue(kinds: [])).sense(image: frame, fx: 534, fy: 530, cx: 319.5, cy: 239.5,
+                                                                          pitchRad: 0, rollRad: 0)) { error in
+            guard case SignDetectorError.invalidCatalogue(let message) = error else { return XCTFail("\(error)") }
+            XCTAssertTrue(message.contains("catalogue is empty"), message)
+        }
+        let contradictory = SignCatalogue(kinds: [.defaultExit, SignKindSpec(kind: "exit", heightMeters: 0.3, widthMeters: 0.3)])
+        XCTAssertThrowsError(try detector(contradictory)) { error in
+            guard case SignDetectorError.invalidCatalogue(let message) = error else { return XCTFail("\(error)") }
+            XCTAssertTrue(message.contains("contradicts an earlier entry"), message)
+        }
+        let d = try detector(.defaultCatalogue)
+        for (pitch, fragment) in [(Double.nan, "pitch nan"), (2.0, "pitch 2")] {
+            XCTAssertThrowsError(try d.sense(image: frame, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: pitch, rollRad: 0)) {
+                guard case SignDetectorError.badFrame(let message) = $0 else { return XCTFail("\($0)") }
+                XCTAssertTrue(message.contains(fragment), message)
+            }
+        }
+        var short = frame
+        short.data.removeLast(10)  // a buffer shorter than its rows
+        XCTAssertThrowsError(try d.sense(image: short, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: 0, rollRad: 0)) {
+            guard case SignDetectorError.badFrame = $0 else { return XCTFail("\($0)") }
+        }
+        var strided = frame
+        strided.bytesPerRow = 640 * 3 + 8  // another buffer's stride: the rows would run past the end
+        XCTAssertThrowsError(try d.sense(image: strided, fx: 534, fy: 530, cx: 319.5, cy: 239.5, pitchRad: 0, rollRad: 0)) {
+            guard case SignDetectorError.badFrame = $0 else { return XCTFail("\($0)") }
+        }
     }
 }

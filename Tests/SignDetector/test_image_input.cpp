@@ -40,25 +40,25 @@ TEST(FrameCheck, RejectsEmptyFrames) {
     OwnedFrame f = grayFrame();
     f.frame.image.data = nullptr;
     FrameCheck c = checkFrame(f.frame);
-    EXPECT_EQ(c.status, WF_ERR_BAD_FRAME);
+    EXPECT_EQ(c.status, WF_STATUS_BAD_FRAME);
     EXPECT_NE(c.message.find("empty"), std::string::npos);
     f = grayFrame();
     f.frame.image.width = 0;
-    EXPECT_EQ(checkFrame(f.frame).status, WF_ERR_BAD_FRAME);
+    EXPECT_EQ(checkFrame(f.frame).status, WF_STATUS_BAD_FRAME);
     f = grayFrame();
     f.frame.image.stride = 100;
     EXPECT_NE(checkFrame(f.frame).message.find("stride"), std::string::npos);
     f = grayFrame();
     const int bogus = 42;  // what a C caller may store in the enum field
     std::memcpy(&f.frame.image.format, &bogus, sizeof bogus);
-    EXPECT_EQ(checkFrame(f.frame).status, WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(checkFrame(f.frame).status, WF_STATUS_INVALID_ARGUMENT);
 }
 
 TEST(FrameCheck, RejectsIntrinsicsOfAnotherResolution) {
     OwnedFrame f = grayFrame();
     f.frame.intrinsics = wf_intrinsics{1602, 1602, 959.5, 719.5};  // 1920 x 1440 intrinsics on a VGA image
     const FrameCheck c = checkFrame(f.frame);
-    EXPECT_EQ(c.status, WF_ERR_BAD_FRAME);
+    EXPECT_EQ(c.status, WF_STATUS_BAD_FRAME);
     EXPECT_NE(c.message.find("another resolution"), std::string::npos) << c.message;
 }
 
@@ -76,7 +76,7 @@ TEST(FrameCheck, RejectsNonFiniteGeometry) {
     EXPECT_NE(checkFrame(f.frame).message.find("pitch"), std::string::npos);
     f = grayFrame();
     f.frame.pitch_rad = 2.0;
-    EXPECT_EQ(checkFrame(f.frame).status, WF_ERR_BAD_FRAME);
+    EXPECT_EQ(checkFrame(f.frame).status, WF_STATUS_BAD_FRAME);
     f = grayFrame();
     f.frame.roll_rad = inf;
     EXPECT_NE(checkFrame(f.frame).message.find("roll"), std::string::npos);
@@ -84,7 +84,7 @@ TEST(FrameCheck, RejectsNonFiniteGeometry) {
 
 TEST(FrameCheck, SkipsBlackFrames) {
     OwnedFrame f = grayFrame(1);
-    EXPECT_EQ(checkBrightness(toGray(f.frame.image)).status, WF_SKIPPED_DARK_FRAME);
+    EXPECT_EQ(checkBrightness(toGray(f.frame.image)).status, WF_STATUS_SKIPPED_DARK_FRAME);
     f = grayFrame(3);
     EXPECT_TRUE(checkBrightness(toGray(f.frame.image)).ok());
 }

@@ -31,7 +31,7 @@ wf_detector* makeUnet(double coarseMinElevationRad = 0) {
     const std::string path = wf::sign::testing::tinyUnetPath();
     opts.unet_path = path.c_str();
     wf_detector* d = nullptr;
-    EXPECT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
     return d;
 }
 
@@ -110,54 +110,34 @@ void toNv12(const cv::Mat& bgr, std::vector<uint8_t>* y, std::vector<uint8_t>* u
         }
 }
 
-/// Options of `version` (wf_detector_options_init) for one cascade at paths[0] (borrowed), the rest defaults.
-wf_detector_options cascadeOptions(unsigned version, const char* const* paths) {
+/// Default options (wf_detector_options_init) for one cascade at paths[0] (borrowed).
+wf_detector_options cascadeOptions(const char* const* paths) {
     wf_detector_options opts;
-    EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
+    EXPECT_EQ(wf_detector_options_init(&opts), WF_STATUS_OK);
     opts.cascade_paths = paths;
     opts.cascade_count = 1;
     return opts;
 }
 
-/// wf_detector_create must refuse `bad` with WF_ERR_INVALID_ARGUMENT, no handle, and an error naming `field`.
+/// wf_detector_create must refuse `bad` with WF_STATUS_INVALID_ARGUMENT, no handle, and an error naming `field`.
 void expectRejected(const wf_detector_options& bad, const char* field) {
     wf_detector* d = nullptr;
-    EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT) << field;
+    EXPECT_EQ(wf_detector_create(&d, &bad), WF_STATUS_INVALID_ARGUMENT) << field;
     EXPECT_EQ(d, nullptr);
     EXPECT_NE(std::string(wf_thread_last_error()).find(field), std::string::npos) << wf_thread_last_error();
 }
 
 }  // namespace
 
-TEST(CApi, OptionsInitAndVersion) {
-    wf_detector_options opts;
-    EXPECT_EQ(wf_detector_options_init(&opts, WF_DETECTOR_OPTIONS_VERSION), WF_OK);
-    EXPECT_EQ(opts.version, unsigned(WF_DETECTOR_OPTIONS_VERSION));
-    EXPECT_EQ(opts.cascade_count, 0u);
-    EXPECT_EQ(wf_detector_options_init(&opts, 99), WF_ERR_VERSION);
-    EXPECT_EQ(wf_detector_options_init(nullptr, WF_DETECTOR_OPTIONS_VERSION), WF_ERR_INVALID_ARGUMENT);
+TEST(CApi, OptionsInitZeroesEveryField) {
+    std::vector<unsigned char> bytes(sizeof(wf_detector_options), 0xAB);
+    wf_detector_options* opts = reinterpret_cast<wf_detector_options*>(bytes.data());
+    EXPECT_EQ(wf_detector_options_init(opts), WF_STATUS_OK);
+    for (size_t i = 0; i < bytes.size(); ++i) ASSERT_EQ(bytes[i], 0) << "byte " << i;
+    EXPECT_EQ(opts->kind, WF_DETECTOR_CASCADE);
+    EXPECT_EQ(opts->catalogue_count, 0u);
+    EXPECT_EQ(wf_detector_options_init(nullptr), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_STRNE(wf_sign_detector_version(), "");
-}
-
-TEST(CApi, OlderOptionVersionsAreInitialisedWithoutWritingPastTheirEnd) {
-    const size_t end[] = {offsetof(wf_detector_options, cascade_full_search),
-                          offsetof(wf_detector_options, unet_coarse_min_elevation_rad),
-                          offsetof(wf_detector_options, cascade_placement_prior),
-                          offsetof(wf_detector_options, cascade_gate_min_margin_px), sizeof(wf_detector_options)};
-    for (unsigned version = 1; version <= WF_DETECTOR_OPTIONS_VERSION; ++version) {
-        std::vector<unsigned char> bytes(sizeof(wf_detector_options) + 16, 0xAB);
-        wf_detector_options* opts = reinterpret_cast<wf_detector_options*>(bytes.data());
-        ASSERT_EQ(wf_detector_options_init(opts, version), WF_OK);
-        EXPECT_EQ(opts->version, version);
-        const size_t n = end[version - 1];
-        for (size_t i = sizeof(unsigned); i < n; ++i) {
-            if (bytes[i] != 0 && bytes[i] != 0xAB) ADD_FAILURE() << "byte " << i;  // padding may stay
-        }
-        for (size_t i = n; i < bytes.size(); ++i) ASSERT_EQ(bytes[i], 0xAB) << "version " << version << " byte " << i;
-    }
-    wf_detector_options opts;
-    EXPECT_EQ(wf_detector_options_init(&opts, 0), WF_ERR_VERSION);
-    EXPECT_EQ(wf_detector_options_init(&opts, WF_DETECTOR_OPTIONS_VERSION + 1), WF_ERR_VERSION);
 }
 
 TEST(CApi, UnetCoarseElevationCutIsValidatedAndCanBeTurnedOff) {
@@ -167,7 +147,7 @@ TEST(CApi, UnetCoarseElevationCutIsValidatedAndCanBeTurnedOff) {
     opts.unet_path = path.c_str();
     opts.unet_coarse_min_elevation_rad = std::nan("");
     wf_detector* bad = nullptr;
-    EXPECT_EQ(wf_detector_create(&bad, &opts), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_create(&bad, &opts), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("unet_coarse_min_elevation_rad"), std::string::npos);
     EXPECT_EQ(bad, nullptr);
     // A red plate 1.0 m below the camera at 3 m (elevation about -0.3 rad): skipped by the default cut, found
@@ -184,9 +164,9 @@ TEST(CApi, UnetCoarseElevationCutIsValidatedAndCanBeTurnedOff) {
         const wf_frame frame = frameOf(f, {rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0});
         wf_detector_observation obs[4];
         size_t count = 0;
-        ASSERT_EQ(wf_detector_detect(noCut, &frame, obs, 4, &count), WF_OK) << wf_detector_last_error(noCut);
+        ASSERT_EQ(wf_detector_detect(noCut, &frame, obs, 4, &count), WF_STATUS_OK) << wf_detector_last_error(noCut);
         EXPECT_EQ(count, 1u) << "no cut, bottom " << bottomAboveCamera << " m above the camera";
-        ASSERT_EQ(wf_detector_detect(withCut, &frame, obs, 4, &count), WF_OK) << wf_detector_last_error(withCut);
+        ASSERT_EQ(wf_detector_detect(withCut, &frame, obs, 4, &count), WF_STATUS_OK) << wf_detector_last_error(withCut);
         EXPECT_EQ(count, bottomAboveCamera > 0 ? 1u : 0u) << "cut, bottom " << bottomAboveCamera << " m above the camera";
     }
     wf_detector_free(withCut);
@@ -196,32 +176,29 @@ TEST(CApi, UnetCoarseElevationCutIsValidatedAndCanBeTurnedOff) {
 TEST(CApi, CreateErrorsLeaveNoHandleAndAMessage) {
     wf_detector* d = reinterpret_cast<wf_detector*>(0x1);
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
-    EXPECT_EQ(wf_detector_create(&d, nullptr), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_create(&d, nullptr), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_EQ(d, nullptr);
-    EXPECT_EQ(wf_detector_create(nullptr, &opts), WF_ERR_INVALID_ARGUMENT);
-    opts.version = 7;
-    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_VERSION);
-    opts.version = WF_DETECTOR_OPTIONS_VERSION;
-    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);  // cascade with no path
+    EXPECT_EQ(wf_detector_create(nullptr, &opts), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_MODEL_LOAD);  // cascade with no path
     const char* missing = "/nonexistent/exit.xml";
     opts.cascade_paths = &missing;
     opts.cascade_count = 1;
-    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_MODEL_LOAD);
     EXPECT_NE(std::string(wf_thread_last_error()).find(missing), std::string::npos);
     EXPECT_EQ(d, nullptr);
     opts.kind = WF_DETECTOR_UNET;
     opts.unet_path = "/nonexistent/sign_unet.onnx";
-    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_MODEL_LOAD);
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_MODEL_LOAD);
     EXPECT_NE(std::string(wf_detector_last_error(nullptr)).find("sign_unet.onnx"), std::string::npos);
     wf_detector_free(nullptr);  // no-op
     wf_detector_options halfWindow = WF_DETECTOR_OPTIONS_INIT;
     halfWindow.cascade_min_window_width = 36;  // height left 0
-    EXPECT_EQ(wf_detector_create(&d, &halfWindow), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_create(&d, &halfWindow), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("both"), std::string::npos);
     wf_detector_options badKind = WF_DETECTOR_OPTIONS_INIT;
     int bogus = 9;
     std::memcpy(&badKind.kind, &bogus, sizeof bogus);  // what a C caller may store
-    EXPECT_EQ(wf_detector_create(&d, &badKind), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_create(&d, &badKind), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("unknown detector kind 9"), std::string::npos);
 }
 
@@ -234,7 +211,7 @@ TEST(CApi, CascadeHandleReportsItsKinds) {
     opts.cascade_kinds = kinds;
     opts.cascade_count = 2;
     wf_detector* d = nullptr;
-    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
     EXPECT_EQ(wf_detector_kind_count(d), 2u);
     EXPECT_STREQ(wf_detector_kind_name(d, 1), "restroom");
     EXPECT_EQ(wf_detector_kind_name(d, 2), nullptr);
@@ -259,7 +236,7 @@ TEST(CApi, BadFramesAreRejectedWithAMessage) {
     good.roll_rad = -kPi / 2;
     wf_detector_observation obs[4];
     size_t count = 99;
-    EXPECT_EQ(wf_detector_detect(d, &good, obs, 4, &count), WF_OK) << wf_detector_last_error(d);
+    EXPECT_EQ(wf_detector_detect(d, &good, obs, 4, &count), WF_STATUS_OK) << wf_detector_last_error(d);
     EXPECT_EQ(count, 0u);
 
     const double nan = std::numeric_limits<double>::quiet_NaN();
@@ -270,12 +247,12 @@ TEST(CApi, BadFramesAreRejectedWithAMessage) {
         const char* fragment;
     };
     const Case cases[] = {
-        {"empty", [](wf_frame& f) { f.image.data = nullptr; }, WF_ERR_BAD_FRAME, "empty"},
-        {"zero size", [](wf_frame& f) { f.image.height = 0; }, WF_ERR_BAD_FRAME, "empty"},
-        {"wrong size", [](wf_frame& f) { f.intrinsics = {1602, 1602, 959.5, 719.5}; }, WF_ERR_BAD_FRAME, "resolution"},
-        {"nan fx", [](wf_frame& f) { f.intrinsics.fx = std::numeric_limits<double>::quiet_NaN(); }, WF_ERR_BAD_FRAME, "intrinsics"},
-        {"nan pitch", [](wf_frame& f) { f.pitch_rad = std::numeric_limits<double>::quiet_NaN(); }, WF_ERR_BAD_FRAME, "pitch"},
-        {"nan roll", [](wf_frame& f) { f.roll_rad = std::numeric_limits<double>::quiet_NaN(); }, WF_ERR_BAD_FRAME, "roll"},
+        {"empty", [](wf_frame& f) { f.image.data = nullptr; }, WF_STATUS_BAD_FRAME, "empty"},
+        {"zero size", [](wf_frame& f) { f.image.height = 0; }, WF_STATUS_BAD_FRAME, "empty"},
+        {"wrong size", [](wf_frame& f) { f.intrinsics = {1602, 1602, 959.5, 719.5}; }, WF_STATUS_BAD_FRAME, "resolution"},
+        {"nan fx", [](wf_frame& f) { f.intrinsics.fx = std::numeric_limits<double>::quiet_NaN(); }, WF_STATUS_BAD_FRAME, "intrinsics"},
+        {"nan pitch", [](wf_frame& f) { f.pitch_rad = std::numeric_limits<double>::quiet_NaN(); }, WF_STATUS_BAD_FRAME, "pitch"},
+        {"nan roll", [](wf_frame& f) { f.roll_rad = std::numeric_limits<double>::quiet_NaN(); }, WF_STATUS_BAD_FRAME, "roll"},
     };
     (void)nan;
     for (const Case& c : cases) {
@@ -290,12 +267,12 @@ TEST(CApi, BadFramesAreRejectedWithAMessage) {
     std::vector<uint8_t> black(640 * 480, 0);
     wf_frame dark = good;
     dark.image.data = black.data();
-    EXPECT_EQ(wf_detector_detect(d, &dark, obs, 4, &count), WF_SKIPPED_DARK_FRAME);
+    EXPECT_EQ(wf_detector_detect(d, &dark, obs, 4, &count), WF_STATUS_SKIPPED_DARK_FRAME);
     EXPECT_NE(std::string(wf_detector_last_error(d)).find("mean luma"), std::string::npos);
-    EXPECT_EQ(wf_detector_detect(d, nullptr, obs, 4, &count), WF_ERR_INVALID_ARGUMENT);
-    EXPECT_EQ(wf_detector_detect(d, &good, nullptr, 4, &count), WF_ERR_INVALID_ARGUMENT);
-    EXPECT_EQ(wf_detector_detect(d, &good, obs, 4, nullptr), WF_ERR_INVALID_ARGUMENT);
-    EXPECT_EQ(wf_detector_detect(nullptr, &good, obs, 4, &count), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_detect(d, nullptr, obs, 4, &count), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_detect(d, &good, nullptr, 4, &count), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_detect(d, &good, obs, 4, nullptr), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_detect(nullptr, &good, obs, 4, &count), WF_STATUS_INVALID_ARGUMENT);
     wf_detector_free(d);
 }
 
@@ -320,7 +297,7 @@ TEST(CApi, EveryPixelFormatFindsThePortraitSign) {
         const wf_frame frame = frameOf(f, image);
         wf_detector_observation obs[4];
         size_t count = 0;
-        ASSERT_EQ(wf_detector_detect(d, &frame, obs, 4, &count), WF_OK) << wf_detector_last_error(d);
+        ASSERT_EQ(wf_detector_detect(d, &frame, obs, 4, &count), WF_STATUS_OK) << wf_detector_last_error(d);
         ASSERT_EQ(count, 1u) << "format " << image.format;
         const wf_detector_observation& o = obs[0];
         EXPECT_STREQ(o.kind, "exit");
@@ -356,11 +333,11 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
     opts.cascade_count = 1;
     opts.cascade_min_neighbors = 1;
     wf_detector* d = nullptr;
-    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
     const wf_frame frame = g.frame;
     wf_detector_observation obs[8];
     size_t count = 0;
-    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
+    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_STATUS_OK) << wf_detector_last_error(d);
     ASSERT_GE(count, 1u);
     // The best box, mapped back to raw pixels, covers the drawn sign's centre.
     cv::Point2d centre(0, 0);
@@ -376,23 +353,23 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
     // Searching only above -0.15 rad of elevation keeps the sign (0.3 m above the camera at 2.5 m).
     opts.cascade_search_above_elevation = 1;
     opts.cascade_min_elevation_rad = -0.15;
-    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
     size_t restricted = 0;
-    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &restricted), WF_OK);
+    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &restricted), WF_STATUS_OK);
     EXPECT_GE(restricted, 1u);
     EXPECT_LE(restricted, count);
     // ... and 0.3 rad above the horizon (the sign is at about 0.12 rad) loses it.
     wf_detector_free(d);
     opts.cascade_min_elevation_rad = 0.3;
-    ASSERT_EQ(wf_detector_create(&d, &opts), WF_OK);
-    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &restricted), WF_OK);
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK);
+    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &restricted), WF_STATUS_OK);
     EXPECT_EQ(restricted, 0u);
     wf_detector_free(d);
     opts.cascade_min_elevation_rad = 2.0;
-    EXPECT_EQ(wf_detector_create(&d, &opts), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_INVALID_ARGUMENT);
 }
 
-TEST(CApi, CascadeSearchesAboveMinus015RadByDefaultFromVersion3) {
+TEST(CApi, CascadeSearchesAboveMinus015RadByDefault) {
     // The sign is about 0.12 rad above the horizon for a level camera; handed over with a pitch of -0.5 rad, its
     // rows lie at about -0.38 rad, below the default limit.
     const GrayPortraitFrame g = grayPortraitFrame();
@@ -400,103 +377,102 @@ TEST(CApi, CascadeSearchesAboveMinus015RadByDefaultFromVersion3) {
     const wf_frame frame = g.frame;
     const std::string path = wf::sign::testing::referenceCascadePath();
     const char* paths[] = {path.c_str()};
-    auto found = [&](unsigned version, int searchAbove, double pitch) {
+    auto found = [&](int searchAbove, double pitch) {
         wf_detector_options opts;
-        EXPECT_EQ(wf_detector_options_init(&opts, version), WF_OK);
+        EXPECT_EQ(wf_detector_options_init(&opts), WF_STATUS_OK);
         opts.cascade_paths = paths;
         opts.cascade_count = 1;
         opts.cascade_min_neighbors = 1;
         opts.cascade_search_above_elevation = searchAbove;
+        opts.cascade_placement_prior = -1;  // off: this test isolates the row limit
         wf_detector* d = nullptr;
-        EXPECT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+        EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
         if (d == nullptr) return size_t(99);
         wf_frame f = frame;
         f.pitch_rad = pitch;
         wf_detector_observation obs[8];
         size_t count = 0;
-        EXPECT_EQ(wf_detector_detect(d, &f, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
+        EXPECT_EQ(wf_detector_detect(d, &f, obs, 8, &count), WF_STATUS_OK) << wf_detector_last_error(d);
         wf_detector_free(d);
         return count;
     };
-    EXPECT_GE(found(3, 0, 0.0), 1u);          // level camera: the sign is above the default limit
-    EXPECT_EQ(found(3, 0, -0.5), 0u);         // version 3 default: rows below -0.15 rad are not searched
-    EXPECT_GE(found(3, -1, -0.5), 1u);        // -1: the whole frame
-    EXPECT_GE(found(2, 0, -0.5), 1u);         // a version-2 caller keeps the whole frame
+    EXPECT_GE(found(0, 0.0), 1u);          // level camera: the sign is above the default limit
+    EXPECT_EQ(found(0, -0.5), 0u);         // default: rows below -0.15 rad are not searched
+    EXPECT_GE(found(-1, -0.5), 1u);        // -1: the whole frame
     wf_detector_options bad;
-    ASSERT_EQ(wf_detector_options_init(&bad, WF_DETECTOR_OPTIONS_VERSION), WF_OK);
+    ASSERT_EQ(wf_detector_options_init(&bad), WF_STATUS_OK);
     bad.cascade_paths = paths;
     bad.cascade_count = 1;
     bad.cascade_search_above_elevation = 2;
     wf_detector* d = nullptr;
-    EXPECT_EQ(wf_detector_create(&d, &bad), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_create(&d, &bad), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_search_above_elevation"), std::string::npos);
 }
 
-TEST(CApi, PlacementPriorAndCrowdedGateAreVersion4DefaultsAndValidated) {
+TEST(CApi, PlacementPriorAndCrowdedGateAreDefaultsAndValidated) {
     // The drawn sign's centre is about 0.4 m above the camera: inside the default prior (0.3 .. 2.0 m), outside a
     // prior for signs hung 1.5 .. 2.0 m above it.
     const GrayPortraitFrame g = grayPortraitFrame();
     ASSERT_TRUE(g.truth.visible);
     const std::string path = wf::sign::testing::referenceCascadePath();
     const char* paths[] = {path.c_str()};
-    auto options = [&](unsigned version) {
-        wf_detector_options opts = cascadeOptions(version, paths);
+    auto options = [&]() {
+        wf_detector_options opts = cascadeOptions(paths);
         opts.cascade_min_neighbors = 1;
         return opts;
     };
     auto found = [&](const wf_detector_options& opts) {
         wf_detector* d = nullptr;
-        EXPECT_EQ(wf_detector_create(&d, &opts), WF_OK) << wf_thread_last_error();
+        EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
         if (d == nullptr) return size_t(99);
         const wf_frame frame = g.frame;
         wf_detector_observation obs[8];
         size_t count = 0;
-        EXPECT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_OK) << wf_detector_last_error(d);
+        EXPECT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_STATUS_OK) << wf_detector_last_error(d);
         wf_detector_free(d);
         return count;
     };
-    wf_detector_options opts = options(4);
-    EXPECT_GE(found(opts), 1u);  // version 4 defaults: prior on, sign inside it
+    wf_detector_options opts = options();
+    EXPECT_GE(found(opts), 1u);  // defaults: prior on, sign inside it
     opts.cascade_sign_above_camera_min_m = 1.5;
     EXPECT_EQ(found(opts), 0u);  // the sign hangs below this prior's band
     opts.cascade_placement_prior = -1;
     EXPECT_GE(found(opts), 1u);  // prior off: every row
-    wf_detector_options v3 = options(3);
-    EXPECT_GE(found(v3), 1u);    // a version-3 caller has no prior
 
-    wf_detector_options bad = options(4);
+    wf_detector_options bad = options();
     bad.cascade_placement_prior = 2;
     expectRejected(bad, "cascade_placement_prior");
-    bad = options(4);
+    bad = options();
     bad.cascade_sign_above_camera_min_m = 2.5;  // above the default maximum of 2.0
     expectRejected(bad, "cascade_sign_above_camera_min_m");
-    bad = options(4);
+    bad = options();
     bad.cascade_sign_above_camera_max_m = std::nan("");
     expectRejected(bad, "cascade_sign_above_camera_min_m and _max_m");
-    bad = options(4);
+    bad = options();
     bad.cascade_gate_crowded_contrast_factor = 0.5;
     expectRejected(bad, "cascade_gate_crowded_contrast_factor");
     bad.cascade_gate_crowded_contrast_factor = 1.0;  // off is valid
     EXPECT_GE(found(bad), 1u);
 }
 
-TEST(CApi, GateMarginAndComponentWindowAreVersion5DefaultsAndValidated) {
+TEST(CApi, GateMarginAndComponentWindowAreDefaultsAndValidated) {
     const std::string path = wf::sign::testing::referenceCascadePath();
     const char* paths[] = {path.c_str()};
-    auto options = [&](unsigned version) { return cascadeOptions(version, paths); };
+    auto options = [&]() { return cascadeOptions(paths); };
     auto resolved = [](const wf_detector_options& opts) {
         wf::sign::ResolvedOptions r;
         std::string error;
-        EXPECT_EQ(wf::sign::ResolvedOptions::fromOptions(opts, &r, &error), WF_OK) << error;
+        EXPECT_EQ(wf::sign::ResolvedOptions::fromOptions(opts, &r, &error), WF_STATUS_OK) << error;
         return r.cascade.colourGate;
     };
-    // Version 5 defaults: 16-pixel margins, windows of at least 0.4 x a large component's width in its tiles.
-    EXPECT_EQ(resolved(options(5)).minMarginPx, 16);
-    EXPECT_DOUBLE_EQ(resolved(options(5)).componentWindowFraction, 0.4);
-    // A version-4 caller keeps the regions of version 4.
-    EXPECT_EQ(resolved(options(4)).minMarginPx, 24);
-    EXPECT_DOUBLE_EQ(resolved(options(4)).componentWindowFraction, 0.0);
-    wf_detector_options set = options(5);
+    // Defaults: 16-pixel margins, windows of at least 0.4 x a large component's width in its tiles, the
+    // crowded-frame gate at 2.5 x the contrast, the placement prior on.
+    const wf::sign::ColourGateParams defaults = resolved(options());
+    EXPECT_EQ(defaults.minMarginPx, 16);
+    EXPECT_DOUBLE_EQ(defaults.componentWindowFraction, 0.4);
+    EXPECT_DOUBLE_EQ(defaults.crowdedContrastFactor, 2.5);
+    EXPECT_TRUE(defaults.enabled);
+    wf_detector_options set = options();
     set.cascade_gate_min_margin_px = 30;
     set.cascade_gate_component_window_fraction = -1;  // off
     EXPECT_EQ(resolved(set).minMarginPx, 30);
@@ -504,11 +480,11 @@ TEST(CApi, GateMarginAndComponentWindowAreVersion5DefaultsAndValidated) {
     set.cascade_gate_component_window_fraction = 0.7;
     EXPECT_DOUBLE_EQ(resolved(set).componentWindowFraction, 0.7);
 
-    wf_detector_options bad = options(5);
+    wf_detector_options bad = options();
     bad.cascade_gate_min_margin_px = -1;
     expectRejected(bad, "cascade_gate_min_margin_px");
     for (const double fraction : {1.5, -0.5, std::nan("")}) {
-        bad = options(5);
+        bad = options();
         bad.cascade_gate_component_window_fraction = fraction;
         expectRejected(bad, "cascade_gate_component_window_fraction");
     }
@@ -522,7 +498,7 @@ TEST(CApi, CapacityTooSmallTruncates) {
     cv::cvtColor(f.bgr, rgb, cv::COLOR_BGR2RGB);
     const wf_frame frame = frameOf(f, {rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0});
     size_t count = 5;
-    EXPECT_EQ(wf_detector_detect(d, &frame, nullptr, 0, &count), WF_TRUNCATED);
+    EXPECT_EQ(wf_detector_detect(d, &frame, nullptr, 0, &count), WF_STATUS_TRUNCATED);
     EXPECT_EQ(count, 0u);
     EXPECT_NE(std::string(wf_detector_last_error(d)).find("capacity"), std::string::npos);
     wf_detector_free(d);
@@ -533,7 +509,7 @@ TEST(CApi, ImageReadDecodesFilesAndNamesMissingOnes) {
     cv::Mat bgr(3, 5, CV_8UC3, cv::Scalar(10, 20, 30));
     ASSERT_TRUE(cv::imwrite(path, bgr));
     wf_owned_image image;
-    ASSERT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_RGB8), WF_OK) << wf_thread_last_error();
+    ASSERT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_RGB8), WF_STATUS_OK) << wf_thread_last_error();
     EXPECT_EQ(image.width, 5);
     EXPECT_EQ(image.height, 3);
     EXPECT_EQ(image.stride, 15u);
@@ -542,11 +518,11 @@ TEST(CApi, ImageReadDecodesFilesAndNamesMissingOnes) {
     wf_owned_image_free(&image);
     EXPECT_EQ(image.data, nullptr);
     wf_owned_image_free(nullptr);
-    ASSERT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_GRAY8), WF_OK);
+    ASSERT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_GRAY8), WF_STATUS_OK);
     EXPECT_EQ(image.stride, 5u);
     wf_owned_image_free(&image);
-    EXPECT_EQ(wf_image_read(&image, "/nonexistent/frame.png", WF_PIXEL_RGB8), WF_ERR_IMAGE_READ);
+    EXPECT_EQ(wf_image_read(&image, "/nonexistent/frame.png", WF_PIXEL_RGB8), WF_STATUS_IMAGE_READ);
     EXPECT_NE(std::string(wf_thread_last_error()).find("/nonexistent/frame.png"), std::string::npos);
-    EXPECT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_NV12), WF_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_image_read(&image, path.c_str(), WF_PIXEL_NV12), WF_STATUS_INVALID_ARGUMENT);
     std::remove(path.c_str());
 }

@@ -25,11 +25,15 @@ public final class WalkRecorder {
     /// The time of the last frame written, seconds (the clock a mark is stamped with).
     public var lastFrameT: Double? { lastT.isFinite ? lastT : nil }
 
-    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once). `carry` is
-    /// the traveler's lanyard-mode setting, recorded as session.json's `carry` ("handheld" / "lanyard").
+    /// Starts a bundle in `directory` for a walk in `building` (session.json written at once). The session's
+    /// `signHeightMeters` is the building's Exit-sign face height (`Building.signCatalogue`) unless given;
+    /// `carry` is the traveler's lanyard-mode setting, recorded as session.json's `carry` ("handheld" / "lanyard").
     public init(directory: URL, building: Building, floorId: String?, startId: String?, destinationId: String?,
-                device: String, appVersion: String, signHeightMeters: Double = 0.21, carry: PhoneCarry = .handheld) throws {
+                device: String, appVersion: String, signHeightMeters: Double? = nil, carry: PhoneCarry = .handheld) throws {
         self.directory = directory
+        let catalogue = building.signCatalogue
+        let signHeightMeters = signHeightMeters ?? catalogue.heightMeters(kind: SignKindSpec.defaultExit.kind)
+            ?? SignKindSpec.defaultExit.heightMeters
         let info = SessionInfo(device: device, appVersion: appVersion, mapId: building.id, floorId: floorId, start: startId,
                                destination: destinationId, signHeightMeters: signHeightMeters, carry: carry.rawValue)
         writer = try BundleWriter(directory: directory, info: info, flushEveryLines: 1)

@@ -35,10 +35,12 @@ public enum InavigateImporter {
     public struct Options: Sendable {
         /// Floor-to-floor height used for elevations (not in the source data): floor N is at (N - 1) x this.
         public var floorHeightMeters = 4.0
-        /// Exit-sign face width, meters (not in the source data; a standard US Exit sign).
-        public var signWidthMeters = 0.30
-        /// Exit-sign face height, meters (fits the surveyed photos, ../shared/reference/arkit-frames.md).
-        public var signHeightMeters = 0.21
+        /// Exit-sign face width, meters (not in the source data; a standard US Exit sign: the catalogue's default
+        /// Exit sign, SignCatalogue.swift).
+        public var signWidthMeters = SignKindSpec.defaultExit.widthMeters
+        /// Exit-sign face height, meters (fits the surveyed photos, ../shared/reference/arkit-frames.md; the
+        /// catalogue's default Exit sign).
+        public var signHeightMeters = SignKindSpec.defaultExit.heightMeters
         /// Mounting height used when a sign record has no `height`, meters.
         public var defaultSignMountingHeightMeters = 2.38
         /// A sign further than this from every wall is left where surveyed (and then fails validation).

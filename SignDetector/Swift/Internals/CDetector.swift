@@ -1,5 +1,6 @@
 // The only file of the SignDetection module that touches the C ABI (SignDetector/include/wf_sign_detector.h).
 import Foundation
+import Maps
 internal import SignDetector
 
 /// Owns a wf_detector handle; converts Swift values to C and C statuses to SignDetectorError.
@@ -12,8 +13,8 @@ final class CDetector {
 
     init(configuration c: DetectorConfiguration) throws {
         var opts = wf_detector_options()
-        guard wf_detector_options_init(&opts, UInt32(WF_DETECTOR_OPTIONS_VERSION)) == WF_OK else {
-            throw CDetector.error(status: WF_ERR_VERSION, message: String(cString: wf_thread_last_error()))
+        guard wf_detector_options_init(&opts) == WF_STATUS_OK else {
+            throw CDetector.error(status: WF_STATUS_INTERNAL, message: String(cString: wf_thread_last_error()))
         }
         opts.kind = c.kind == .cascade ? WF_DETECTOR_CASCADE : WF_DETECTOR_UNET
         opts.cascade_scale_factor = c.cascadeScaleFactor
@@ -46,9 +47,17 @@ final class CDetector {
         let cascadeKinds = c.cascades.map { strdup($0.kind) }
         let classNames = c.classNames.map { strdup($0) }
         let unetPath = c.unetPath.map { strdup($0) } ?? nil
+        let catalogueStrings = c.catalogue.kinds.map { k in (strdup(k.kind), k.faceColor.map { strdup($0) } ?? nil,
+                                                             k.legendColor.map { strdup($0) } ?? nil) }
         defer {
             (cascadePaths + cascadeKinds + classNames).forEach { free($0) }
             free(unetPath)
+            catalogueStrings.forEach { free($0.0); free($0.1); free($0.2) }
+        }
+        var catalogue = zip(c.catalogue.kinds, catalogueStrings).map { k, strings in
+            wf_sign_kind(kind: UnsafePointer(strings.0), face_height_m: k.heightMeters, face_width_m: k.widthMeters,
+                         face_colour: UnsafePointer(strings.1), legend_colour: UnsafePointer(strings.2),
+                         double_sided: k.doubleSided ? 1 : 0)
         }
         var pathPointers = cascadePaths.map { UnsafePointer<CChar>($0) }
         var kindPointers = cascadeKinds.map { UnsafePointer<CChar>($0) }
@@ -58,16 +67,20 @@ final class CDetector {
         let status: Int32 = pathPointers.withUnsafeMutableBufferPointer { paths in
             kindPointers.withUnsafeMutableBufferPointer { kinds in
                 classPointers.withUnsafeMutableBufferPointer { classes in
+                  catalogue.withUnsafeMutableBufferPointer { entries in
+                    opts.catalogue = UnsafePointer(entries.baseAddress)
+                    opts.catalogue_count = entries.count
                     opts.cascade_paths = UnsafePointer(paths.baseAddress)
                     opts.cascade_kinds = UnsafePointer(kinds.baseAddress)
                     opts.cascade_count = paths.count
                     opts.class_names = UnsafePointer(classes.baseAddress)
                     opts.class_count = classes.count
                     return wf_detector_create(&created, &opts)
+                  }
                 }
             }
         }
-        guard status == WF_OK, let created else {
+        guard status == WF_STATUS_OK, let created else {
             throw CDetector.error(status: status, message: String(cString: wf_thread_last_error()))
         }
         handle = created
@@ -76,25 +89,35 @@ final class CDetector {
 
     deinit { wf_detector_free(handle) }
 
-    func detect(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
-                rollRad: Double) throws -> DetectionOutcome {
-        var observations = [wf_detector_observation](repeating: wf_detector_observation(), count: CDetector.capacity)
-        var count = 0
-        let status: Int32 = image.data.withUnsafeBufferPointer { pixels in
+    /// Calls `body` with a wf_frame borrowing the image's bytes (valid only during the call).
+    private static func withFrame<R>(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
+                                     rollRad: Double, _ body: (inout wf_frame) -> R) -> R {
+        image.data.withUnsafeBufferPointer { pixels in
             let chroma = image.chromaData ?? []
             return chroma.withUnsafeBufferPointer { chromaPixels in
                 var frame = wf_frame()
                 frame.image = wf_image(
-                    data: pixels.baseAddress, width: Int32(image.width), height: Int32(image.height),
+                    data: pixels.baseAddress, width: Int32(clamping: image.width), height: Int32(clamping: image.height),
                     stride: image.bytesPerRow, format: CDetector.format(image.pixelFormat),
                     data_uv: image.chromaData == nil ? nil : chromaPixels.baseAddress,
-                    stride_uv: image.chromaBytesPerRow)
+                    stride_uv: image.chromaBytesPerRow, data_bytes: pixels.count,
+                    data_uv_bytes: image.chromaData == nil ? 0 : chromaPixels.count)
                 frame.intrinsics = wf_intrinsics(fx: intrinsics.0, fy: intrinsics.1, cx: intrinsics.2, cy: intrinsics.3)
                 frame.pitch_rad = pitchRad
                 frame.roll_rad = rollRad
-                return observations.withUnsafeMutableBufferPointer { out in
-                    wf_detector_detect(handle, &frame, out.baseAddress, out.count, &count)
-                }
+                return body(&frame)
+            }
+        }
+    }
+
+    func detect(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
+                rollRad: Double) throws -> DetectionOutcome {
+        var observations = [wf_detector_observation](repeating: wf_detector_observation(), count: CDetector.capacity)
+        var count = 0
+        let status: Int32 = CDetector.withFrame(image: image, intrinsics: intrinsics, pitchRad: pitchRad,
+                                                rollRad: rollRad) { frame in
+            observations.withUnsafeMutableBufferPointer { out in
+                wf_detector_detect(handle, &frame, out.baseAddress, out.count, &count)
             }
         }
         if status < 0 {
@@ -102,6 +125,33 @@ final class CDetector {
         }
         let warning = status > 0 ? String(cString: wf_detector_last_error(handle)) : nil
         return DetectionOutcome(detections: observations.prefix(count).map(CDetector.detection), warning: warning)
+    }
+
+    /// One wf_detector_sense call: the frame's ranged sightings, and the warning of a skipped frame.
+    func sense(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
+               rollRad: Double) throws -> (signs: [SensedSign], warning: String?) {
+        var sightings = [wf_sign_sighting](repeating: wf_sign_sighting(), count: CDetector.capacity)
+        var count = 0
+        let status: Int32 = CDetector.withFrame(image: image, intrinsics: intrinsics, pitchRad: pitchRad,
+                                                rollRad: rollRad) { frame in
+            sightings.withUnsafeMutableBufferPointer { out in
+                wf_detector_sense(handle, &frame, out.baseAddress, out.count, &count)
+            }
+        }
+        if status < 0 {
+            throw CDetector.error(status: status, message: String(cString: wf_detector_last_error(handle)))
+        }
+        let warning = status > 0 ? String(cString: wf_detector_last_error(handle)) : nil
+        return (sightings.prefix(count).map(CDetector.sensed), warning)
+    }
+
+    private static func sensed(_ g: wf_sign_sighting) -> SensedSign {
+        let kind = withUnsafeBytes(of: g.kind) { raw in String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self) }
+        let c = g.corners_raw_px
+        return SensedSign(kind: kind, rangeMeters: g.range_m, bearingRad: g.bearing_rad, score: g.score,
+                          centerHeightAboveCameraMeters: g.center_height_above_camera_m,
+                          cornersRaw: [PixelPoint(u: c.0, v: c.1), PixelPoint(u: c.2, v: c.3),
+                                       PixelPoint(u: c.4, v: c.5), PixelPoint(u: c.6, v: c.7)])
     }
 
     static var libraryVersion: String { String(cString: wf_sign_detector_version()) }
@@ -112,7 +162,7 @@ final class CDetector {
         }
         var owned = wf_owned_image()
         let status = wf_image_read(&owned, path, format(pixelFormat))
-        guard status == WF_OK else { throw error(status: status, message: String(cString: wf_thread_last_error())) }
+        guard status == WF_STATUS_OK else { throw error(status: status, message: String(cString: wf_thread_last_error())) }
         defer { wf_owned_image_free(&owned) }
         let bytes = Array(UnsafeBufferPointer(start: owned.data, count: owned.stride * Int(owned.height)))
         return ImageBuffer(width: Int(owned.width), height: Int(owned.height), bytesPerRow: owned.stride,
@@ -147,11 +197,11 @@ final class CDetector {
 
     static func error(status: Int32, message: String) -> SignDetectorError {
         switch status {
-        case WF_ERR_INVALID_ARGUMENT: return .invalidArgument(message)
-        case WF_ERR_VERSION: return .unsupportedVersion(message)
-        case WF_ERR_MODEL_LOAD: return .modelLoad(message)
-        case WF_ERR_BAD_FRAME: return .badFrame(message)
-        case WF_ERR_IMAGE_READ: return .imageRead(message)
+        case WF_STATUS_INVALID_ARGUMENT: return .invalidArgument(message)
+        case WF_STATUS_INVALID_CATALOGUE: return .invalidCatalogue(message)
+        case WF_STATUS_MODEL_LOAD: return .modelLoad(message)
+        case WF_STATUS_BAD_FRAME: return .badFrame(message)
+        case WF_STATUS_IMAGE_READ: return .imageRead(message)
         default: return .internalFailure(message.isEmpty ? "status \(status)" : message)
         }
     }

@@ -13,11 +13,11 @@ namespace wf::range {
 
 Status estimatePnP(const Corners &corners, const Intrinsics &k, const Eigen::Matrix3d &cameraToWorld,
                    double signWidthMeters, double signHeightMeters, RangeBearing *out) {
-    if (std::isnan(signWidthMeters)) return WF_RANGE_ERR_MISSING_INPUT;
-    if (!std::isfinite(signWidthMeters) || !std::isfinite(signHeightMeters)) return WF_RANGE_ERR_NOT_FINITE;
-    if (!(signWidthMeters > 0) || !(signHeightMeters > 0)) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
-    if (const Status s = checkIntrinsics(k); s != WF_RANGE_OK) return s;
-    if (const Status s = checkCorners(corners); s != WF_RANGE_OK) return s;
+    if (std::isnan(signWidthMeters)) return WF_STATUS_MISSING_INPUT;
+    if (!std::isfinite(signWidthMeters) || !std::isfinite(signHeightMeters)) return WF_STATUS_NON_FINITE_INPUT;
+    if (!(signWidthMeters > 0) || !(signHeightMeters > 0)) return WF_STATUS_NONPOSITIVE_SIZE;
+    if (const Status s = checkIntrinsics(k); s != WF_STATUS_OK) return s;
+    if (const Status s = checkCorners(corners); s != WF_STATUS_OK) return s;
 
     // Sign frame: x right, y up, z out of the face toward the viewer; the face is the plane z = 0 (IPPE
     // needs a planar target with z = 0).
@@ -55,21 +55,21 @@ Status estimatePnP(const Corners &corners, const Intrinsics &k, const Eigen::Mat
             tvec = t;
         }
     }
-    if (tvec.empty()) return WF_RANGE_ERR_PNP_FAILED;
+    if (tvec.empty()) return WF_STATUS_PNP_FAILED;
     const cv::Vec3d t(tvec.at<double>(0), tvec.at<double>(1), tvec.at<double>(2));
     // OpenCV camera: x right, y down, z forward; ours: x right, y up, looking along -z.
     if (!(t[2] > 0) || !std::isfinite(t[0]) || !std::isfinite(t[1]) || !std::isfinite(t[2]))
-        return WF_RANGE_ERR_PNP_FAILED;
+        return WF_STATUS_PNP_FAILED;
     const Eigen::Vector3d centerInCamera(t[0], -t[1], -t[2]);
     const Eigen::Vector3d centerInWorld = cameraToWorld * centerInCamera;
     const double range = std::hypot(centerInWorld.x(), centerInWorld.z());
     double bearing = 0;
     if (!(range > 0) || !bearingFromForward(cameraToWorld, centerInWorld, &bearing))
-        return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+        return WF_STATUS_DEGENERATE_GEOMETRY;
     out->rangeMeters = range;
     out->bearingRad = bearing;
     out->centerHeightAboveCameraMeters = centerInWorld.y();
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 }  // namespace wf::range

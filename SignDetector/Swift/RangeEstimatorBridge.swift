@@ -1,4 +1,4 @@
-internal import LocalizerCore
+internal import SignDetector
 
 // Every call into the C range-estimation ABI (LocalizerCore/include/wf_range.h) goes through this file; the
 // public Swift API (RangeEstimator.swift) never shows a C type. Status codes become RangeEstimationError.
@@ -7,11 +7,11 @@ internal import LocalizerCore
 enum RangeBridge {
     /// Throws the error of a negative status.
     static func check(_ status: Int32) throws {
-        guard status == WF_RANGE_OK.rawValue else { throw RangeEstimationError(status: status) }
+        guard status == WF_STATUS_OK else { throw RangeEstimationError(status: status) }
     }
 
-    /// English description of a status code (wf_range_status_string).
-    static func describe(_ status: Int32) -> String { String(cString: wf_range_status_string(status)) }
+    /// English description of a status code (wf_status_string).
+    static func describe(_ status: Int32) -> String { String(cString: wf_status_string(status)) }
 
     static func cIntrinsics(_ k: RangeEstimator.Intrinsics) -> wf_range_intrinsics {
         wf_range_intrinsics(fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy)
@@ -151,14 +151,14 @@ enum RangeBridge {
     }
 
     /// Status codes, for RangeEstimationError's mapping.
-    static let statusOK = WF_RANGE_OK.rawValue
-    static let statusNull = WF_RANGE_ERR_NULL.rawValue
-    static let statusNotFinite = WF_RANGE_ERR_NOT_FINITE.rawValue
-    static let statusNonpositiveSize = WF_RANGE_ERR_NONPOSITIVE_SIZE.rawValue
-    static let statusDegenerateCorners = WF_RANGE_ERR_DEGENERATE_CORNERS.rawValue
-    static let statusDegenerateGeometry = WF_RANGE_ERR_DEGENERATE_GEOMETRY.rawValue
-    static let statusNotARotation = WF_RANGE_ERR_NOT_A_ROTATION.rawValue
-    static let statusPnPFailed = WF_RANGE_ERR_PNP_FAILED.rawValue
-    static let statusVersion = WF_RANGE_ERR_VERSION.rawValue
-    static let statusMissingInput = WF_RANGE_ERR_MISSING_INPUT.rawValue
+    static let statusOK = WF_STATUS_OK
+    static let statusNull = WF_STATUS_INVALID_ARGUMENT
+    static let statusNotFinite = WF_STATUS_NON_FINITE_INPUT
+    static let statusNonpositiveSize = WF_STATUS_NONPOSITIVE_SIZE
+    static let statusDegenerateCorners = WF_STATUS_DEGENERATE_CORNERS
+    static let statusDegenerateGeometry = WF_STATUS_DEGENERATE_GEOMETRY
+    static let statusNotARotation = WF_STATUS_NOT_A_ROTATION
+    static let statusPnPFailed = WF_STATUS_PNP_FAILED
+    static let statusVersion = WF_STATUS_VERSION
+    static let statusMissingInput = WF_STATUS_MISSING_INPUT
 }

@@ -11,11 +11,12 @@
 #include <array>
 #include <cstddef>
 
+#include "../camera_geometry.hpp"
 #include "wf_range.h"
 
 namespace wf::range {
 
-/// Status of an internal computation; values are the C ABI's wf_range_status.
+/// Status of an internal computation; values are wf_status.h codes.
 using Status = int;
 
 /// Range, bearing and centre height (see wf_range_result).
@@ -25,10 +26,8 @@ struct RangeBearing {
     double centerHeightAboveCameraMeters = 0;
 };
 
-/// Pinhole intrinsics of an image, pixels.
-struct Intrinsics {
-    double fx = 1, fy = 1, cx = 0, cy = 0;
-};
+/// Pinhole intrinsics of an image, pixels (camera_geometry.hpp: the detector's type).
+using Intrinsics = wf::camera::Intrinsics;
 
 /// True when every number is finite.
 bool allFinite(const double *values, std::size_t count);

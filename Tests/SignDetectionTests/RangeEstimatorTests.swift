@@ -1,6 +1,6 @@
 import Foundation
 import XCTest
-@testable import Localizer
+@testable import SignDetection
 
 /// Synthetic scene for the Swift range tests: a sign at a known horizontal range and bearing, projected by a
 /// pinhole camera with the ARKit rotation R = Ry(yaw) Rx(pitch) Rz(roll) (world y up, camera looks along -z,

@@ -64,20 +64,20 @@ bool allFinite(const double *values, std::size_t count) {
 
 Status checkIntrinsics(const Intrinsics &k) {
     const double v[4] = {k.fx, k.fy, k.cx, k.cy};
-    if (!allFinite(v, 4)) return WF_RANGE_ERR_NOT_FINITE;
-    if (!(k.fx > 0) || !(k.fy > 0)) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
-    return WF_RANGE_OK;
+    if (!allFinite(v, 4)) return WF_STATUS_NON_FINITE_INPUT;
+    if (!(k.fx > 0) || !(k.fy > 0)) return WF_STATUS_NONPOSITIVE_SIZE;
+    return WF_STATUS_OK;
 }
 
 Status rotationFromColumnMajor(const double cameraToWorld[16], Eigen::Matrix3d *outRotation) {
-    if (!allFinite(cameraToWorld, 16)) return WF_RANGE_ERR_NOT_FINITE;
+    if (!allFinite(cameraToWorld, 16)) return WF_STATUS_NON_FINITE_INPUT;
     Eigen::Matrix3d r;
     for (int col = 0; col < 3; ++col)
         for (int row = 0; row < 3; ++row) r(row, col) = cameraToWorld[col * 4 + row];
     const double orthoError = (r.transpose() * r - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
-    if (!(orthoError < 1e-3) || !(std::abs(r.determinant() - 1.0) < 1e-3)) return WF_RANGE_ERR_NOT_A_ROTATION;
+    if (!(orthoError < 1e-3) || !(std::abs(r.determinant() - 1.0) < 1e-3)) return WF_STATUS_NOT_A_ROTATION;
     *outRotation = r;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Eigen::Matrix3d rotationFromPitchRoll(double pitchRad, double rollRad) {
@@ -114,34 +114,34 @@ bool bearingFromForward(const Eigen::Matrix3d &r, const Eigen::Vector3d &d, doub
 
 Status apparentHeightFromRays(const Eigen::Matrix3d &r, const Eigen::Vector3d &topRay,
                               const Eigen::Vector3d &bottomRay, double signHeightMeters, RangeBearing *out) {
-    if (!std::isfinite(signHeightMeters)) return WF_RANGE_ERR_NOT_FINITE;
-    if (!(signHeightMeters > 0)) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
+    if (!std::isfinite(signHeightMeters)) return WF_STATUS_NON_FINITE_INPUT;
+    if (!(signHeightMeters > 0)) return WF_STATUS_NONPOSITIVE_SIZE;
     double tanTop = 0, tanBottom = 0;
     if (!tanElevation(topRay, &tanTop) || !tanElevation(bottomRay, &tanBottom))
-        return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+        return WF_STATUS_DEGENERATE_GEOMETRY;
     // tan(e) = height above camera / horizontal distance for both points of one vertical line, so the
     // difference of tangents is h0 / Z (paper eq. 1-3, written with elevations instead of pitch + angle).
     const double difference = tanTop - tanBottom;
-    if (!(difference > 0)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!(difference > 0)) return WF_STATUS_DEGENERATE_GEOMETRY;
     const double range = signHeightMeters / difference;
-    if (!std::isfinite(range)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!std::isfinite(range)) return WF_STATUS_DEGENERATE_GEOMETRY;
     // Both rays lie in the same vertical plane when exact; with noise, average their horizontal unit
     // directions.
     Eigen::Vector3d top(topRay.x(), 0, topRay.z()), bottom(bottomRay.x(), 0, bottomRay.z());
     const Eigen::Vector3d mean = top.normalized() + bottom.normalized();
     double bearing = 0;
-    if (!bearingFromForward(r, mean, &bearing)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!bearingFromForward(r, mean, &bearing)) return WF_STATUS_DEGENERATE_GEOMETRY;
     out->rangeMeters = range;
     out->bearingRad = bearing;
     out->centerHeightAboveCameraMeters = 0.5 * (tanTop + tanBottom) * range;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Status apparentHeightExact(const Eigen::Vector2d &topCenterPx, const Eigen::Vector2d &bottomCenterPx,
                            const Intrinsics &k, const Eigen::Matrix3d &r, double signHeightMeters,
                            RangeBearing *out) {
-    if (!topCenterPx.allFinite() || !bottomCenterPx.allFinite()) return WF_RANGE_ERR_NOT_FINITE;
-    if (const Status s = checkIntrinsics(k); s != WF_RANGE_OK) return s;
+    if (!topCenterPx.allFinite() || !bottomCenterPx.allFinite()) return WF_STATUS_NON_FINITE_INPUT;
+    if (const Status s = checkIntrinsics(k); s != WF_STATUS_OK) return s;
     return apparentHeightFromRays(r, rayInWorld(r, k, topCenterPx.x(), topCenterPx.y()),
                                   rayInWorld(r, k, bottomCenterPx.x(), bottomCenterPx.y()), signHeightMeters,
                                   out);
@@ -150,17 +150,17 @@ Status apparentHeightExact(const Eigen::Vector2d &topCenterPx, const Eigen::Vect
 Status paperEquation3(double pitchRad, double alphaRad, double deltaRad, double signHeightMeters,
                       double *outRangeMeters) {
     const double v[4] = {pitchRad, alphaRad, deltaRad, signHeightMeters};
-    if (!allFinite(v, 4)) return WF_RANGE_ERR_NOT_FINITE;
-    if (!(signHeightMeters > 0)) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
+    if (!allFinite(v, 4)) return WF_STATUS_NON_FINITE_INPUT;
+    if (!(signHeightMeters > 0)) return WF_STATUS_NONPOSITIVE_SIZE;
     const double bottom = pitchRad + alphaRad;
     const double top = bottom + deltaRad;
-    if (!(std::abs(bottom) < kPi / 2) || !(std::abs(top) < kPi / 2)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!(std::abs(bottom) < kPi / 2) || !(std::abs(top) < kPi / 2)) return WF_STATUS_DEGENERATE_GEOMETRY;
     const double difference = std::tan(top) - std::tan(bottom);
-    if (!(difference > 0)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!(difference > 0)) return WF_STATUS_DEGENERATE_GEOMETRY;
     const double range = signHeightMeters / difference;
-    if (!std::isfinite(range)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!std::isfinite(range)) return WF_STATUS_DEGENERATE_GEOMETRY;
     *outRangeMeters = range;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 namespace {
@@ -217,13 +217,13 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
     const double v[12] = {camera.fx, camera.fy, camera.cx, camera.cy, camera.pitch_rad,
                           m.median_bottom_row_px, m.median_height_px, m.center_column_px,
                           m.bottom_edge_slope, m.top_edge_slope, m.extent_width_px, signHeightMeters};
-    if (!allFinite(v, 12)) return WF_RANGE_ERR_NOT_FINITE;
-    if (m.extent_width_px < 0) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
+    if (!allFinite(v, 12)) return WF_STATUS_NON_FINITE_INPUT;
+    if (m.extent_width_px < 0) return WF_STATUS_NONPOSITIVE_SIZE;
     if (!(camera.fx > 0) || !(camera.fy > 0) || !(m.median_height_px > 0) || !(signHeightMeters > 0))
-        return WF_RANGE_ERR_NONPOSITIVE_SIZE;
-    if (!(std::abs(camera.pitch_rad) < kPi / 2)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+        return WF_STATUS_NONPOSITIVE_SIZE;
+    if (!(std::abs(camera.pitch_rad) < kPi / 2)) return WF_STATUS_DEGENERATE_GEOMETRY;
     if (model != WF_RANGE_SLICE_MODEL_RAY_ELEVATION && model != WF_RANGE_SLICE_MODEL_PAPER_PLANAR)
-        return WF_RANGE_ERR_MISSING_INPUT;
+        return WF_STATUS_MISSING_INPUT;
 
     // The unrolled image is a camera with roll 0: R' = Rx(pitch) (yaw irrelevant).
     const Eigen::Matrix3d r = rotationFromPitchRoll(camera.pitch_rad, 0.0);
@@ -235,7 +235,7 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
     Corners corners;
     Eigen::Vector2d center;
     if (!(m.extent_width_px > 0 && cornersFromSlices(camera, m, &corners) &&
-          signCenterPoints(corners, &center, &topPoint, &bottomPoint) == WF_RANGE_OK)) {
+          signCenterPoints(corners, &center, &topPoint, &bottomPoint) == WF_STATUS_OK)) {
         const double column = m.center_column_px;
         const double bottomRow = m.median_bottom_row_px;
         const double topRow = m.median_bottom_row_px - m.median_height_px;
@@ -247,11 +247,11 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
         // centre line: a 1-3 % range error at 30 degrees of pitch and 12 of bearing.
         const double tanPitch = std::tan(camera.pitch_rad);
         const double toVanishing = (bottomRow - camera.cy) * tanPitch + camera.fy;
-        if (!(std::abs(toVanishing) > 1e-9 * camera.fy)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+        if (!(std::abs(toVanishing) > 1e-9 * camera.fy)) return WF_STATUS_DEGENERATE_GEOMETRY;
         const double k = (column - camera.cx) * tanPitch / toVanishing;
         const double topSlope = m.top_edge_slope;
         const double denominator = 1.0 - topSlope * k;
-        if (!(std::abs(denominator) > 1e-9)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+        if (!(std::abs(denominator) > 1e-9)) return WF_STATUS_DEGENERATE_GEOMETRY;
         const double topPointRow = (topRow - topSlope * k * bottomRow) / denominator;
         topPoint = {column + k * (topPointRow - bottomRow), topPointRow};
         bottomPoint = {column, bottomRow};
@@ -261,7 +261,7 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
     if (const Status s = apparentHeightFromRays(r, rayInWorld(r, intrinsics, topPoint.x(), topPoint.y()),
                                                 rayInWorld(r, intrinsics, bottomPoint.x(), bottomPoint.y()),
                                                 signHeightMeters, &result);
-        s != WF_RANGE_OK)
+        s != WF_STATUS_OK)
         return s;
     if (model == WF_RANGE_SLICE_MODEL_PAPER_PLANAR) {
         // Paper, verbatim on the medians: alpha = angle of the bottom row above the optical axis, delta =
@@ -271,22 +271,22 @@ Status apparentHeightSlices(const wf_range_unrolled_camera &camera, const wf_ran
             std::atan((camera.cy - (m.median_bottom_row_px - m.median_height_px)) / camera.fy);
         double range = 0;
         const Status s = paperEquation3(camera.pitch_rad, alpha, alphaPlusDelta - alpha, signHeightMeters, &range);
-        if (s != WF_RANGE_OK) return s;
+        if (s != WF_STATUS_OK) return s;
         result.rangeMeters = range;
         result.centerHeightAboveCameraMeters =
             0.5 * (std::tan(camera.pitch_rad + alphaPlusDelta) + std::tan(camera.pitch_rad + alpha)) * range;
     }
     *out = result;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Status sliceMeasurementFromColumns(const double *columnU, const double *topRow, const double *bottomRow,
                                    std::size_t count, wf_range_slice_measurement *out) {
-    if (count == 0) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
+    if (count == 0) return WF_STATUS_NONPOSITIVE_SIZE;
     double minU = columnU[0], maxU = columnU[0];
     for (std::size_t i = 0; i < count; ++i) {
         if (!std::isfinite(columnU[i]) || !std::isfinite(topRow[i]) || !std::isfinite(bottomRow[i]))
-            return WF_RANGE_ERR_NOT_FINITE;
+            return WF_STATUS_NON_FINITE_INPUT;
         minU = std::min(minU, columnU[i]);
         maxU = std::max(maxU, columnU[i]);
     }
@@ -325,54 +325,54 @@ Status sliceMeasurementFromColumns(const double *columnU, const double *topRow, 
             m.top_edge_slope = median(topSlopes);
         }
     }
-    if (!(m.median_height_px > 0)) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
+    if (!(m.median_height_px > 0)) return WF_STATUS_NONPOSITIVE_SIZE;
     *out = m;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Status horizon(const Eigen::Vector2d &centerPx, const Intrinsics &k, const Eigen::Matrix3d &r,
                double cameraHeightMeters, double signCenterHeightMeters, RangeBearing *out) {
-    if (!centerPx.allFinite()) return WF_RANGE_ERR_NOT_FINITE;
-    if (std::isnan(cameraHeightMeters) || std::isnan(signCenterHeightMeters)) return WF_RANGE_ERR_MISSING_INPUT;
+    if (!centerPx.allFinite()) return WF_STATUS_NON_FINITE_INPUT;
+    if (std::isnan(cameraHeightMeters) || std::isnan(signCenterHeightMeters)) return WF_STATUS_MISSING_INPUT;
     if (!std::isfinite(cameraHeightMeters) || !std::isfinite(signCenterHeightMeters))
-        return WF_RANGE_ERR_NOT_FINITE;
-    if (const Status s = checkIntrinsics(k); s != WF_RANGE_OK) return s;
+        return WF_STATUS_NON_FINITE_INPUT;
+    if (const Status s = checkIntrinsics(k); s != WF_STATUS_OK) return s;
     const Eigen::Vector3d ray = rayInWorld(r, k, centerPx.x(), centerPx.y());
     double tanCenter = 0;
-    if (!tanElevation(ray, &tanCenter)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!tanElevation(ray, &tanCenter)) return WF_STATUS_DEGENERATE_GEOMETRY;
     const double heightAboveCamera = signCenterHeightMeters - cameraHeightMeters;
     // A sign near the horizon line makes the ratio blow up: refuse below 1e-6 (0.06 mrad).
-    if (!(std::abs(tanCenter) > 1e-6)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!(std::abs(tanCenter) > 1e-6)) return WF_STATUS_DEGENERATE_GEOMETRY;
     const double range = heightAboveCamera / tanCenter;
-    if (!(range > 0) || !std::isfinite(range)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!(range > 0) || !std::isfinite(range)) return WF_STATUS_DEGENERATE_GEOMETRY;
     double bearing = 0;
-    if (!bearingFromForward(r, ray, &bearing)) return WF_RANGE_ERR_DEGENERATE_GEOMETRY;
+    if (!bearingFromForward(r, ray, &bearing)) return WF_STATUS_DEGENERATE_GEOMETRY;
     out->rangeMeters = range;
     out->bearingRad = bearing;
     out->centerHeightAboveCameraMeters = heightAboveCamera;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Status checkCorners(const Corners &c) {
     for (const auto &p : c)
-        if (!p.allFinite()) return WF_RANGE_ERR_NOT_FINITE;
+        if (!p.allFinite()) return WF_STATUS_NON_FINITE_INPUT;
     double scale = 0;
     for (int i = 0; i < 4; ++i) scale = std::max(scale, (c[(i + 1) % 4] - c[i]).norm());
-    if (!(scale > 0)) return WF_RANGE_ERR_DEGENERATE_CORNERS;
+    if (!(scale > 0)) return WF_STATUS_DEGENERATE_CORNERS;
     // Clockwise on the screen (v down) = positive z of consecutive edge cross products; each turn must be
     // clearly nonzero (1e-9 of the squared size: collinear or repeated corners fail).
     for (int i = 0; i < 4; ++i) {
         const Eigen::Vector2d e1 = c[(i + 1) % 4] - c[i];
         const Eigen::Vector2d e2 = c[(i + 2) % 4] - c[(i + 1) % 4];
         const double turn = e1.x() * e2.y() - e1.y() * e2.x();
-        if (!(turn > 1e-9 * scale * scale)) return WF_RANGE_ERR_DEGENERATE_CORNERS;
+        if (!(turn > 1e-9 * scale * scale)) return WF_STATUS_DEGENERATE_CORNERS;
     }
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Status signCenterPoints(const Corners &c, Eigen::Vector2d *center, Eigen::Vector2d *topCenter,
                         Eigen::Vector2d *bottomCenter) {
-    if (const Status s = checkCorners(c); s != WF_RANGE_OK) return s;
+    if (const Status s = checkCorners(c); s != WF_STATUS_OK) return s;
     // Work around the centroid for conditioning; translate back at the end.
     const Eigen::Vector2d origin = 0.25 * (c[0] + c[1] + c[2] + c[3]);
     double scale = 0;
@@ -385,23 +385,23 @@ Status signCenterPoints(const Corners &c, Eigen::Vector2d *center, Eigen::Vector
     // Vanishing point of the verticals (possibly at infinity: z = 0 is fine for a join).
     const Eigen::Vector3d verticalVanishing = joinOrMeet(leftLine, rightLine);
     const Eigen::Vector3d centerLine = joinOrMeet(centerH, verticalVanishing);
-    if (centerLine.norm() == 0) return WF_RANGE_ERR_DEGENERATE_CORNERS;
+    if (centerLine.norm() == 0) return WF_STATUS_DEGENERATE_CORNERS;
     Eigen::Vector2d cN, tN, bN;
     if (!finitePoint(centerH, &cN) || !finitePoint(joinOrMeet(topLine, centerLine), &tN) ||
         !finitePoint(joinOrMeet(bottomLine, centerLine), &bN))
-        return WF_RANGE_ERR_DEGENERATE_CORNERS;
+        return WF_STATUS_DEGENERATE_CORNERS;
     *center = origin + scale * cN;
     *topCenter = origin + scale * tN;
     *bottomCenter = origin + scale * bN;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Status makeUnrollMap(const Intrinsics &raw, double rollRad, double imageWidthPx, double imageHeightPx,
                      wf_range_unroll_map *out) {
-    if (const Status s = checkIntrinsics(raw); s != WF_RANGE_OK) return s;
+    if (const Status s = checkIntrinsics(raw); s != WF_STATUS_OK) return s;
     const double v[3] = {rollRad, imageWidthPx, imageHeightPx};
-    if (!allFinite(v, 3)) return WF_RANGE_ERR_NOT_FINITE;
-    if (!(imageWidthPx > 0) || !(imageHeightPx > 0)) return WF_RANGE_ERR_NONPOSITIVE_SIZE;
+    if (!allFinite(v, 3)) return WF_STATUS_NON_FINITE_INPUT;
+    if (!(imageWidthPx > 0) || !(imageHeightPx > 0)) return WF_STATUS_NONPOSITIVE_SIZE;
     wf_range_unroll_map map{};
     map.raw = {raw.fx, raw.fy, raw.cx, raw.cy};
     map.roll_rad = rollRad;
@@ -427,25 +427,23 @@ Status makeUnrollMap(const Intrinsics &raw, double rollRad, double imageWidthPx,
     map.unrolled_width_px = maxU - minU;
     map.unrolled_height_px = maxV - minV;
     *out = map;
-    return WF_RANGE_OK;
+    return WF_STATUS_OK;
 }
 
 Eigen::Vector2d unrollPoint(const wf_range_unroll_map &map, const Eigen::Vector2d &raw) {
     const double x = (raw.x() - map.raw.cx) / map.raw.fx;
     const double y = (raw.y() - map.raw.cy) / map.raw.fy;
-    const double c = std::cos(map.roll_rad), s = std::sin(map.roll_rad);
     // Rotation by -roll in (u, v) (v down): world up, seen at angle roll in the camera, becomes image up.
-    const double xu = c * x + s * y;
-    const double yu = -s * x + c * y;
+    double xu, yu;
+    wf::camera::unrollNormalised(std::cos(map.roll_rad), std::sin(map.roll_rad), x, y, &xu, &yu);
     return {map.unrolled.cx + map.unrolled.fx * xu, map.unrolled.cy + map.unrolled.fy * yu};
 }
 
 Eigen::Vector2d rerollPoint(const wf_range_unroll_map &map, const Eigen::Vector2d &unrolled) {
     const double xu = (unrolled.x() - map.unrolled.cx) / map.unrolled.fx;
     const double yu = (unrolled.y() - map.unrolled.cy) / map.unrolled.fy;
-    const double c = std::cos(map.roll_rad), s = std::sin(map.roll_rad);
-    const double x = c * xu - s * yu;
-    const double y = s * xu + c * yu;
+    double x, y;
+    wf::camera::rerollNormalised(std::cos(map.roll_rad), std::sin(map.roll_rad), xu, yu, &x, &y);
     return {map.raw.cx + map.raw.fx * x, map.raw.cy + map.raw.fy * y};
 }
 

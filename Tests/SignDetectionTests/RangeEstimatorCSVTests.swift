@@ -1,6 +1,6 @@
 import Foundation
 import XCTest
-@testable import Localizer
+@testable import SignDetection
 
 /// The range-observation CSV (input of `wayfinder range`) and the committed synthetic fixture.
 final class RangeEstimatorCSVTests: XCTestCase {

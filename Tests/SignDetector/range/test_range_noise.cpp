@@ -62,7 +62,7 @@ Table measure(double sigmaPx) {
                 continue;
             }
             auto record = [&](int column, int status, const wf_range_result &r) {
-                if (status == WF_RANGE_OK)
+                if (status == WF_STATUS_OK)
                     errors[static_cast<std::size_t>(column)].push_back(100.0 * relativeError(r.range_m, s.rangeM));
                 else
                     ++table.failures[static_cast<std::size_t>(column)];
@@ -76,11 +76,11 @@ Table measure(double sigmaPx) {
             wf_range_result r{};
             int status = wf_range_slice_measurement_from_columns(&m, slices.columnU.data(), slices.topRow.data(),
                                                                  slices.bottomRow.data(), slices.columnU.size());
-            if (status == WF_RANGE_OK)
+            if (status == WF_STATUS_OK)
                 status = wf_range_apparent_height_slices(&r, &cam, &m, s.signHeightM,
                                                          WF_RANGE_SLICE_MODEL_RAY_ELEVATION);
             record(0, status, r);
-            if (status == WF_RANGE_OK || status == WF_RANGE_ERR_DEGENERATE_GEOMETRY)
+            if (status == WF_STATUS_OK || status == WF_STATUS_DEGENERATE_GEOMETRY)
                 status = wf_range_apparent_height_slices(&r, &cam, &m, s.signHeightM,
                                                          WF_RANGE_SLICE_MODEL_PAPER_PLANAR);
             record(1, status, r);
@@ -88,7 +88,7 @@ Table measure(double sigmaPx) {
             const Slices biased = maskSlices(map, *exact, sigmaPx, true, &rng, sigmaPx);
             status = wf_range_slice_measurement_from_columns(&m, biased.columnU.data(), biased.topRow.data(),
                                                              biased.bottomRow.data(), biased.columnU.size());
-            if (status == WF_RANGE_OK)
+            if (status == WF_STATUS_OK)
                 status = wf_range_apparent_height_slices(&r, &cam, &m, s.signHeightM,
                                                          WF_RANGE_SLICE_MODEL_RAY_ELEVATION);
             record(2, status, r);

@@ -1,6 +1,6 @@
 /*
  * wf_range.h: range and bearing to a rectangular sign (Exit sign) of known size, seen by a calibrated
- * camera whose gravity direction is known. C ABI of LocalizerCore's range estimation.
+ * camera whose gravity direction is known. C ABI of SignDetector's range estimation (the sign-perception library).
  *
  * Methods (docs/range-estimation.md derives each one):
  *   - apparent height (the product's method): Fusco, Cheraghi, Neat & Coughlan 2020, section 3,
@@ -27,8 +27,8 @@
  *   - corners: raw-image pixels of the sign's top-left, top-right, bottom-right, bottom-left corners as
  *     the upright sign is seen (TL, TR, BR, BL), which is clockwise on the screen (v down).
  *
- * ABI rules: every function returns an int status, 0 (WF_RANGE_OK) on success and a negative
- * wf_range_status on failure; outputs come first and are written only on success; no C++ exception
+ * ABI rules: every function returns an int status, 0 (WF_STATUS_OK) on success and a negative
+ * wf_status.h code on failure; outputs come first and are written only on success; no C++ exception
  * crosses this boundary; no function returns memory to free, keeps a pointer after it returns, or has
  * global state (all are thread-safe). Inputs are borrowed for the duration of the call.
  */
@@ -37,43 +37,16 @@
 
 #include <stddef.h>
 
+#include "wf_status.h"
+
 #ifdef __cplusplus
 extern "C" {
 #endif
 
-/** Status codes. 0 is success; every failure is negative. */
-typedef enum wf_range_status {
-    /** Success. */
-    WF_RANGE_OK = 0,
-    /** A required pointer argument was NULL. */
-    WF_RANGE_ERR_NULL = -1,
-    /** An input number is NaN or infinite. */
-    WF_RANGE_ERR_NOT_FINITE = -2,
-    /** A size is zero or negative: sign height or width, focal length, image size, pixel height. */
-    WF_RANGE_ERR_NONPOSITIVE_SIZE = -3,
-    /** The four corners are not a convex, non-degenerate quadrilateral in TL, TR, BR, BL order
-     * (clockwise on the screen), or a construction from them is at infinity. */
-    WF_RANGE_ERR_DEGENERATE_CORNERS = -4,
-    /** The geometry has no finite positive range: tan(top) - tan(bottom) <= 0 (sign upside down or of no
-     * angular height), an angle at or beyond +-90 degrees, the camera looking straight up or down, or, for
-     * the horizon method, the sign centre at camera height or on the wrong side of the horizon. */
-    WF_RANGE_ERR_DEGENERATE_GEOMETRY = -5,
-    /** The 3x3 block of camera_to_world is not a rotation (orthonormal, determinant +1, tolerance 1e-3). */
-    WF_RANGE_ERR_NOT_A_ROTATION = -6,
-    /** OpenCV's solvePnP failed or returned a pose with the sign behind the camera. */
-    WF_RANGE_ERR_PNP_FAILED = -7,
-    /** The struct's version field is not one this library knows. */
-    WF_RANGE_ERR_VERSION = -8,
-    /** The chosen method needs an input given as NaN (absent): sign width for PnP, camera and sign-centre
-     * heights for the horizon method; or an unknown method / model enum value. */
-    WF_RANGE_ERR_MISSING_INPUT = -9,
-    /** An unexpected internal failure (a caught C++ exception). */
-    WF_RANGE_ERR_INTERNAL = -99
-} wf_range_status;
-
-/** Returns a static, NUL-terminated English description of a status code (never NULL; the caller must not
- * free it). Unknown codes give "unknown wf_range status". */
-const char *wf_range_status_string(int status);
+/* Status codes: the shared vocabulary of wf_status.h. Range functions return WF_STATUS_OK or one of
+ * WF_STATUS_INVALID_ARGUMENT (a NULL pointer), WF_STATUS_NON_FINITE_INPUT, WF_STATUS_NONPOSITIVE_SIZE,
+ * WF_STATUS_DEGENERATE_CORNERS, WF_STATUS_DEGENERATE_GEOMETRY, WF_STATUS_NOT_A_ROTATION, WF_STATUS_PNP_FAILED,
+ * WF_STATUS_VERSION, WF_STATUS_MISSING_INPUT, WF_STATUS_INTERNAL; wf_status_string describes each. */
 
 /** A point in image pixels (u right, v down, continuous coordinates: the same ones as the principal
  * point). */
@@ -225,7 +198,7 @@ typedef enum wf_range_slice_model {
      * atan((cy - v_top) / fy), the column and slopes ignored for the range. */
     WF_RANGE_SLICE_MODEL_PAPER_PLANAR = 1,
     /** Not a model: makes the enum int-sized, so that any int a C caller passes is a valid value in C++
-     * (and is rejected with WF_RANGE_ERR_MISSING_INPUT rather than being undefined behaviour). */
+     * (and is rejected with WF_STATUS_MISSING_INPUT rather than being undefined behaviour). */
     WF_RANGE_SLICE_MODEL_MAX_ENUM = 0x7FFFFFFF
 } wf_range_slice_model;
 

@@ -16,8 +16,8 @@ namespace wf::range::test {
 namespace {
 
 std::string fixturePath() {
-    std::string here = __FILE__;  // .../Tests/LocalizerCore/range/test_range_fixture.cpp
-    const std::size_t cut = here.rfind("/LocalizerCore/range/");
+    std::string here = __FILE__;  // .../Tests/SignDetector/range/test_range_fixture.cpp
+    const std::size_t cut = here.rfind("/SignDetector/range/");
     return here.substr(0, cut) + "/Fixtures/range/observations.csv";
 }
 

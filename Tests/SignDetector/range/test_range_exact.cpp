@@ -50,12 +50,12 @@ TEST(RangeOrientation, PitchRollRoundTripMatchesCameraPoseDefinitions) {
             s.rollRad = deg(roll);
             const auto m = columnMajor(rotation(s));
             double p = 0, r = 0;
-            ASSERT_EQ(wf_range_pitch_roll_from_camera_to_world(&p, &r, m.data()), WF_RANGE_OK);
+            ASSERT_EQ(wf_range_pitch_roll_from_camera_to_world(&p, &r, m.data()), WF_STATUS_OK);
             EXPECT_NEAR(p, s.pitchRad, 1e-12);
             EXPECT_NEAR(r, s.rollRad, 1e-12);
             double built[16];
-            ASSERT_EQ(wf_range_camera_to_world_from_pitch_roll(built, s.pitchRad, s.rollRad), WF_RANGE_OK);
-            ASSERT_EQ(wf_range_pitch_roll_from_camera_to_world(&p, &r, built), WF_RANGE_OK);
+            ASSERT_EQ(wf_range_camera_to_world_from_pitch_roll(built, s.pitchRad, s.rollRad), WF_STATUS_OK);
+            ASSERT_EQ(wf_range_pitch_roll_from_camera_to_world(&p, &r, built), WF_STATUS_OK);
             EXPECT_NEAR(p, s.pitchRad, 1e-12);
             EXPECT_NEAR(r, s.rollRad, 1e-12);
             EXPECT_NEAR(built[8], 0.0, 1e-12);  // forward = -col2 has no x component: yaw-free
@@ -68,7 +68,7 @@ TEST(RangeOrientation, SignToTheLeftHasPositiveBearingInLandscapeAndPortrait) {
     const wf_range_intrinsics k = iphone8();
     for (double roll : {0.0, -kPi / 2}) {
         double m[16];
-        ASSERT_EQ(wf_range_camera_to_world_from_pitch_roll(m, 0.0, roll), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_camera_to_world_from_pitch_roll(m, 0.0, roll), WF_STATUS_OK);
         // Corners of a 0.4 x 0.2 m sign facing +z at x = -1, z = -3, centre height 0.5 m.
         const double xs[4] = {-1.2, -0.8, -0.8, -1.2}, ys[4] = {0.6, 0.6, 0.4, 0.4};
         wf_range_point corners[4];
@@ -93,7 +93,7 @@ TEST(RangeOrientation, SignToTheLeftHasPositiveBearingInLandscapeAndPortrait) {
         o.sign_width_m = 0.4;
         for (auto method : {WF_RANGE_METHOD_APPARENT_HEIGHT, WF_RANGE_METHOD_PNP}) {
             wf_range_result r{};
-            ASSERT_EQ(wf_range_estimate(&r, method, &o), WF_RANGE_OK);
+            ASSERT_EQ(wf_range_estimate(&r, method, &o), WF_STATUS_OK);
             EXPECT_NEAR(r.bearing_rad, std::atan(1.0 / 3.0), 1e-9);
             EXPECT_NEAR(r.range_m, std::sqrt(10.0), 1e-9);
             EXPECT_NEAR(r.center_height_above_camera_m, 0.5, 1e-9);
@@ -104,7 +104,7 @@ TEST(RangeOrientation, SignToTheLeftHasPositiveBearingInLandscapeAndPortrait) {
 TEST(RangeUnroll, PortraitCanvasIsTheRotatedImage) {
     const wf_range_intrinsics k = iphone8();
     wf_range_unroll_map map{};
-    ASSERT_EQ(wf_range_unroll_map_make(&map, &k, -kPi / 2, kImageWidth, kImageHeight), WF_RANGE_OK);
+    ASSERT_EQ(wf_range_unroll_map_make(&map, &k, -kPi / 2, kImageWidth, kImageHeight), WF_STATUS_OK);
     EXPECT_NEAR(map.unrolled_width_px, 1440, 1e-9);
     EXPECT_NEAR(map.unrolled_height_px, 1920, 1e-9);
     EXPECT_NEAR(map.unrolled.cx, 720, 1e-9);
@@ -113,12 +113,12 @@ TEST(RangeUnroll, PortraitCanvasIsTheRotatedImage) {
     // Portrait: camera x (raw +u) points down in the world, so raw +u goes to unrolled +v.
     const wf_range_point raw{960 + 100, 720}, rawUp{960, 720 - 50};
     wf_range_point out{};
-    ASSERT_EQ(wf_range_unroll_point(&out, &map, &raw), WF_RANGE_OK);
+    ASSERT_EQ(wf_range_unroll_point(&out, &map, &raw), WF_STATUS_OK);
     EXPECT_NEAR(out.u, 720, 1e-9);
     EXPECT_NEAR(out.v, 960 + 100, 1e-9);
     // Raw -v is camera +y, which R = Rz(-pi/2) turns to world +x: to the right of a camera looking along -z,
     // so it goes to unrolled +u.
-    ASSERT_EQ(wf_range_unroll_point(&out, &map, &rawUp), WF_RANGE_OK);
+    ASSERT_EQ(wf_range_unroll_point(&out, &map, &rawUp), WF_STATUS_OK);
     EXPECT_NEAR(out.u, 720 + 50, 1e-9);
     EXPECT_NEAR(out.v, 960, 1e-9);
 }
@@ -129,11 +129,11 @@ TEST(RangeUnroll, RoundTripIsExactWithUnequalFocalLengths) {
     std::uniform_real_distribution<double> u(0, kImageWidth), v(0, kImageHeight), roll(-kPi, kPi);
     for (int i = 0; i < 200; ++i) {
         wf_range_unroll_map map{};
-        ASSERT_EQ(wf_range_unroll_map_make(&map, &k, roll(rng), kImageWidth, kImageHeight), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_unroll_map_make(&map, &k, roll(rng), kImageWidth, kImageHeight), WF_STATUS_OK);
         const wf_range_point raw{u(rng), v(rng)};
         wf_range_point unrolled{}, back{};
-        ASSERT_EQ(wf_range_unroll_point(&unrolled, &map, &raw), WF_RANGE_OK);
-        ASSERT_EQ(wf_range_reroll_point(&back, &map, &unrolled), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_unroll_point(&unrolled, &map, &raw), WF_STATUS_OK);
+        ASSERT_EQ(wf_range_reroll_point(&back, &map, &unrolled), WF_STATUS_OK);
         EXPECT_NEAR(back.u, raw.u, 1e-9);
         EXPECT_NEAR(back.v, raw.v, 1e-9);
         // Inside the canvas.
@@ -156,7 +156,7 @@ TEST(RangeUnroll, UnrolledPointsAreTheProjectionOfTheRollFreeCamera) {
         s.rollRad = deg(180) * unit(rng);
         s.yawRad = kPi * unit(rng);
         wf_range_unroll_map map{};
-        ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, s.rollRad, kImageWidth, kImageHeight), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, s.rollRad, kImageWidth, kImageHeight), WF_STATUS_OK);
         Scene rollFree = s;
         rollFree.rollRad = 0;
         rollFree.k = map.unrolled;
@@ -167,7 +167,7 @@ TEST(RangeUnroll, UnrolledPointsAreTheProjectionOfTheRollFreeCamera) {
         const auto expected = project(rollFree, world);
         ASSERT_TRUE(raw && expected);
         wf_range_point rawPoint{raw->x(), raw->y()}, unrolled{};
-        ASSERT_EQ(wf_range_unroll_point(&unrolled, &map, &rawPoint), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_unroll_point(&unrolled, &map, &rawPoint), WF_STATUS_OK);
         EXPECT_NEAR(unrolled.u, expected->x(), 1e-8);
         EXPECT_NEAR(unrolled.v, expected->y(), 1e-8);
     }
@@ -176,7 +176,7 @@ TEST(RangeUnroll, UnrolledPointsAreTheProjectionOfTheRollFreeCamera) {
 TEST(RangeCenterPoints, ConstructionGivesTheProjectionsOfTheCentreLine) {
     const int n = forEachGridScene([](const Scene &s, const std::array<wf_range_point, 4> &corners) {
         wf_range_point c{}, t{}, b{};
-        ASSERT_EQ(wf_range_sign_center_points(&c, &t, &b, corners.data()), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_sign_center_points(&c, &t, &b, corners.data()), WF_STATUS_OK);
         const SignWorld w = signInWorld(s);
         const auto ec = project(s, w.center), et = project(s, w.topCenter), eb = project(s, w.bottomCenter);
         EXPECT_NEAR(c.u, ec->x(), 1e-7);
@@ -193,7 +193,7 @@ TEST(RangeExact, ApparentHeightFromFullRotationIsExactForAnyRollAndPitch) {
     const int n = forEachGridScene([](const Scene &s, const std::array<wf_range_point, 4> &corners) {
         const wf_range_observation o = observation(s, corners);
         wf_range_result r{};
-        ASSERT_EQ(wf_range_estimate(&r, WF_RANGE_METHOD_APPARENT_HEIGHT, &o), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_estimate(&r, WF_RANGE_METHOD_APPARENT_HEIGHT, &o), WF_STATUS_OK);
         EXPECT_LT(relativeError(r.range_m, s.rangeM), 1e-6)
             << "pitch " << s.pitchRad << " roll " << s.rollRad << " range " << s.rangeM;
         EXPECT_NEAR(wrap(r.bearing_rad - s.bearingRad), 0.0, 1e-6);
@@ -206,7 +206,7 @@ TEST(RangeExact, HorizonMethodIsExactWithTrueHeights) {
     forEachGridScene([](const Scene &s, const std::array<wf_range_point, 4> &corners) {
         const wf_range_observation o = observation(s, corners, 1.37);
         wf_range_result r{};
-        ASSERT_EQ(wf_range_estimate(&r, WF_RANGE_METHOD_HORIZON, &o), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_estimate(&r, WF_RANGE_METHOD_HORIZON, &o), WF_STATUS_OK);
         EXPECT_LT(relativeError(r.range_m, s.rangeM), 1e-6);
         EXPECT_NEAR(wrap(r.bearing_rad - s.bearingRad), 0.0, 1e-6);
     });
@@ -216,7 +216,7 @@ TEST(RangeExact, PnPIsExactOnExactCorners) {
     forEachGridScene([](const Scene &s, const std::array<wf_range_point, 4> &corners) {
         const wf_range_observation o = observation(s, corners);
         wf_range_result r{};
-        ASSERT_EQ(wf_range_estimate(&r, WF_RANGE_METHOD_PNP, &o), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_estimate(&r, WF_RANGE_METHOD_PNP, &o), WF_STATUS_OK);
         EXPECT_LT(relativeError(r.range_m, s.rangeM), 1e-6);
         EXPECT_NEAR(wrap(r.bearing_rad - s.bearingRad), 0.0, 1e-6);
         EXPECT_NEAR(r.center_height_above_camera_m, s.centerHeightAboveCameraM, 1e-6 * s.rangeM);
@@ -231,7 +231,7 @@ TEST(RangeExact, PaperEquation3EqualsTheTangentDifference) {
         const double alpha = std::atan(hBottom / z) - p;
         const double delta = std::atan((hBottom + h0) / z) - std::atan(hBottom / z);
         double range = 0;
-        ASSERT_EQ(wf_range_paper_equation3(&range, p, alpha, delta, h0), WF_RANGE_OK);
+        ASSERT_EQ(wf_range_paper_equation3(&range, p, alpha, delta, h0), WF_STATUS_OK);
         EXPECT_NEAR(range, z, 1e-12);
     }
 }
@@ -240,11 +240,11 @@ TEST(RangeExact, PaperEquation3EqualsTheTangentDifference) {
 void exactSliceMeasurement(const Scene &s, const std::array<wf_range_point, 4> &corners,
                            wf_range_slice_measurement *m, wf_range_unrolled_camera *cam) {
     wf_range_unroll_map map{};
-    ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, s.rollRad, kImageWidth, kImageHeight), WF_RANGE_OK);
+    ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, s.rollRad, kImageWidth, kImageHeight), WF_STATUS_OK);
     const Slices slices = maskSlices(map, corners);
     ASSERT_EQ(wf_range_slice_measurement_from_columns(m, slices.columnU.data(), slices.topRow.data(),
                                                       slices.bottomRow.data(), slices.columnU.size()),
-              WF_RANGE_OK);
+              WF_STATUS_OK);
     *cam = unrolledCamera(s, map);
 }
 
@@ -265,7 +265,7 @@ TEST(RangeSlices, RayElevationModelIsExactToAColumnOnExactMasks) {
         exactSliceMeasurement(s, corners, &m, &cam);
         wf_range_result r{};
         ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
-                  WF_RANGE_OK);
+                  WF_STATUS_OK);
         worst = std::max(worst, relativeError(r.range_m, s.rangeM));
         worstBearing = std::max(worstBearing, std::abs(wrap(r.bearing_rad - s.bearingRad)));
         if (s.rangeM >= 4) {
@@ -276,11 +276,11 @@ TEST(RangeSlices, RayElevationModelIsExactToAColumnOnExactMasks) {
         wf_range_slice_measurement level = m;
         level.bottom_edge_slope = level.top_edge_slope = level.extent_width_px = 0;
         ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &level, s.signHeightM, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
-                  WF_RANGE_OK);
+                  WF_STATUS_OK);
         worstLevel = std::max(worstLevel, relativeError(r.range_m, s.rangeM));
 
         ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_PAPER_PLANAR),
-                  WF_RANGE_OK);
+                  WF_STATUS_OK);
         worstPlanarVsCos = std::max(worstPlanarVsCos, relativeError(r.range_m, s.rangeM * std::cos(s.bearingRad)));
         worstPlanar = std::max(worstPlanar, relativeError(r.range_m, s.rangeM));
     });
@@ -310,9 +310,9 @@ TEST(RangeSlices, PaperPlanarModelEqualsRayModelForALevelSignOnTheCentreColumn) 
         m.top_edge_slope = m.bottom_edge_slope = 0;
         wf_range_result planar{}, ray{};
         ASSERT_EQ(wf_range_apparent_height_slices(&planar, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_PAPER_PLANAR),
-                  WF_RANGE_OK);
+                  WF_STATUS_OK);
         ASSERT_EQ(wf_range_apparent_height_slices(&ray, &cam, &m, s.signHeightM, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
-                  WF_RANGE_OK);
+                  WF_STATUS_OK);
         EXPECT_NEAR(planar.range_m, ray.range_m, 1e-9 * s.rangeM);
         EXPECT_NEAR(planar.bearing_rad, ray.bearing_rad, 1e-12);
     });
@@ -331,7 +331,7 @@ TEST(RangeSlices, CentreColumnMeasurementMatchesPaperFormulaExactly) {
         const wf_range_slice_measurement m{vBottom, vBottom - vTop, cam.cx, 0, 0, 0};
         for (auto model : {WF_RANGE_SLICE_MODEL_RAY_ELEVATION, WF_RANGE_SLICE_MODEL_PAPER_PLANAR}) {
             wf_range_result r{};
-            ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &m, h0, model), WF_RANGE_OK);
+            ASSERT_EQ(wf_range_apparent_height_slices(&r, &cam, &m, h0, model), WF_STATUS_OK);
             EXPECT_NEAR(r.range_m, z, 1e-9);
             EXPECT_NEAR(r.bearing_rad, 0.0, 1e-12);
             EXPECT_NEAR(r.center_height_above_camera_m, bottomAboveCamera + h0 / 2, 1e-9);
@@ -358,34 +358,34 @@ TEST(RangeArkitFacts, PortraitShotAtTwoMetersGivesTwoMeters) {
     EXPECT_LT(std::abs((*corners)[3].v - (*corners)[0].v), 10.0);
     const auto m = columnMajor(rotation(s));
     double pitch = 0, roll = 0;
-    ASSERT_EQ(wf_range_pitch_roll_from_camera_to_world(&pitch, &roll, m.data()), WF_RANGE_OK);
+    ASSERT_EQ(wf_range_pitch_roll_from_camera_to_world(&pitch, &roll, m.data()), WF_STATUS_OK);
     EXPECT_NEAR(pitch, 0.093, 1e-12);
     EXPECT_NEAR(roll, -1.580, 1e-12);
 
     wf_range_result exact{};
     const wf_range_observation o = observation(s, *corners);
-    ASSERT_EQ(wf_range_estimate(&exact, WF_RANGE_METHOD_APPARENT_HEIGHT, &o), WF_RANGE_OK);
+    ASSERT_EQ(wf_range_estimate(&exact, WF_RANGE_METHOD_APPARENT_HEIGHT, &o), WF_STATUS_OK);
     EXPECT_NEAR(exact.range_m, 2.0, 2e-6);
 
     // The product path: unroll with the gravity roll, slice medians, pitch.
     wf_range_unroll_map map{};
-    ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, roll, kImageWidth, kImageHeight), WF_RANGE_OK);
+    ASSERT_EQ(wf_range_unroll_map_make(&map, &s.k, roll, kImageWidth, kImageHeight), WF_STATUS_OK);
     const Slices slices = maskSlices(map, *corners);
     wf_range_slice_measurement meas{};
     ASSERT_EQ(wf_range_slice_measurement_from_columns(&meas, slices.columnU.data(), slices.topRow.data(),
                                                       slices.bottomRow.data(), slices.columnU.size()),
-              WF_RANGE_OK);
+              WF_STATUS_OK);
     const wf_range_unrolled_camera cam{map.unrolled.fx, map.unrolled.fy, map.unrolled.cx, map.unrolled.cy, pitch,
                                        roll};
     wf_range_result sliced{};
     ASSERT_EQ(wf_range_apparent_height_slices(&sliced, &cam, &meas, 0.21, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
-              WF_RANGE_OK);
+              WF_STATUS_OK);
     EXPECT_NEAR(sliced.range_m, 2.0, 0.001);
     EXPECT_NEAR(sliced.bearing_rad, deg(3), deg(0.05));
     // The same shot with a 0.195 m face assumed (the reference app's constant) reads 7 % short.
     wf_range_result shortFace{};
     ASSERT_EQ(wf_range_apparent_height_slices(&shortFace, &cam, &meas, 0.195, WF_RANGE_SLICE_MODEL_RAY_ELEVATION),
-              WF_RANGE_OK);
+              WF_STATUS_OK);
     EXPECT_NEAR(shortFace.range_m, 2.0 * 0.195 / 0.21, 0.01);
 }
 

@@ -1,0 +1,89 @@
+// The sign-kind catalogue of a building: for each kind of sign, the physical size of its face (which range
+// estimation needs: the apparent-height method's h0), its colours and whether it has two faces. Map format v1
+// carries it as the optional top-level "signKinds" (Maps/schema/map-v1.schema.json, docs/map-format.md); a map
+// without it gets one entry per kind its signs use, sized like those signs, and the default Exit sign.
+
+/// One kind of sign and the size of its face.
+public struct SignKindSpec: Codable, Hashable, Sendable {
+    /// Sign class as signs and detections name it, e.g. `exit`.
+    public var kind: String
+    /// Height of the face, meters (> 0): the apparent-height method's h0.
+    public var heightMeters: Double
+    /// Width of the face, meters (> 0).
+    public var widthMeters: Double
+    /// Background colour of the face, e.g. "white"; nil = unknown.
+    public var faceColor: String?
+    /// Colour of the legend (lettering, pictogram), e.g. "red"; nil = unknown.
+    public var legendColor: String?
+    /// Whether signs of this kind have a face on both sides (hung across a corridor).
+    public var doubleSided: Bool
+
+    /// Creates a catalogue entry.
+    public init(kind: String, heightMeters: Double, widthMeters: Double, faceColor: String? = nil,
+                legendColor: String? = nil, doubleSided: Bool = false) {
+        self.kind = kind; self.heightMeters = heightMeters; self.widthMeters = widthMeters
+        self.faceColor = faceColor; self.legendColor = legendColor; self.doubleSided = doubleSided
+    }
+
+    /// Decodes an entry; `doubleSided` defaults to false.
+    public init(from decoder: Decoder) throws {
+        let c = try decoder.container(keyedBy: CodingKeys.self)
+        self.init(kind: try c.decode(String.self, forKey: .kind), heightMeters: try c.decode(Double.self, forKey: .heightMeters),
+                  widthMeters: try c.decode(Double.self, forKey: .widthMeters),
+                  faceColor: try c.decodeIfPresent(String.self, forKey: .faceColor),
+                  legendColor: try c.decodeIfPresent(String.self, forKey: .legendColor),
+                  doubleSided: try c.decodeIfPresent(Bool.self, forKey: .doubleSided) ?? false)
+    }
+
+    /// The Exit sign of the project's buildings (the Smith-Kettlewell signs measured for the paper, and the
+    /// bundled office): a face 0.30 m wide and 0.21 m high, red legend on white.
+    public static let defaultExit = SignKindSpec(kind: "exit", heightMeters: 0.21, widthMeters: 0.30,
+                                                 faceColor: "white", legendColor: "red")
+}
+
+/// The sign kinds of a building, one entry per kind.
+public struct SignCatalogue: Hashable, Sendable {
+    /// Entries, kinds unique.
+    public var kinds: [SignKindSpec]
+
+    /// Wraps entries (not checked; see `MapValidator` for a map's "signKinds" and `Building.signCatalogue`).
+    public init(kinds: [SignKindSpec]) { self.kinds = kinds }
+
+    /// Only the default Exit sign (`SignKindSpec.defaultExit`).
+    public static let defaultCatalogue = SignCatalogue(kinds: [.defaultExit])
+
+    /// The entry of `kind`, or nil.
+    public func spec(kind: String) -> SignKindSpec? { kinds.first { $0.kind == kind } }
+
+    /// Face height of `kind`, meters, or nil when the catalogue does not know the kind.
+    public func heightMeters(kind: String) -> Double? { spec(kind: kind)?.heightMeters }
+}
+
+extension Building {
+    /// The building's sign-kind catalogue: its "signKinds" when the map has them; otherwise one entry per kind
+    /// its signs use, sized like the most common size among that kind's signs (ties: the first sign's), plus
+    /// `SignKindSpec.defaultExit` when no sign is an Exit sign.
+    public var signCatalogue: SignCatalogue {
+        if let explicit = signKinds { return SignCatalogue(kinds: explicit) }
+        var order: [String] = []
+        var sizes: [String: [(width: Double, height: Double, doubleSided: Bool)]] = [:]
+        for sign in floors.flatMap(\.signs) {
+            if sizes[sign.kind] == nil { order.append(sign.kind) }
+            sizes[sign.kind, default: []].append((sign.widthMeters, sign.heightMeters, sign.doubleSided))
+        }
+        var kinds = order.map { kind -> SignKindSpec in
+            let all = sizes[kind]!
+            var best = all[0], bestCount = 0
+            for candidate in all {
+                let count = all.filter { $0.width == candidate.width && $0.height == candidate.height }.count
+                if count > bestCount { best = candidate; bestCount = count }
+            }
+            let colours = kind == SignKindSpec.defaultExit.kind ? SignKindSpec.defaultExit : nil
+            return SignKindSpec(kind: kind, heightMeters: best.height, widthMeters: best.width,
+                                faceColor: colours?.faceColor, legendColor: colours?.legendColor,
+                                doubleSided: all.allSatisfy(\.doubleSided))
+        }
+        if sizes[SignKindSpec.defaultExit.kind] == nil { kinds.append(.defaultExit) }
+        return SignCatalogue(kinds: kinds)
+    }
+}

@@ -1,0 +1,89 @@
+import Foundation
+import Localizer
+import Maps
+import SessionFormat
+import SignDetection
+import XCTest
+@testable import WayfinderCore
+
+/// SignSightingSource ranges detections with the map's sign-kind catalogue in one `SignDetector.sense` call per
+/// frame (the tiny red-pixel U-Net, Tests/SignDetector/data, standing in for the product model).
+final class SignSightingSourceTests: XCTestCase {
+    private var modelsDirectory: URL!
+
+    override func setUpWithError() throws {
+        // A models folder holding the tiny test model under the product's file names.
+        modelsDirectory = FileManager.default.temporaryDirectory.appendingPathComponent("wf-sighting-models-\(UUID().uuidString)")
+        try FileManager.default.createDirectory(at: modelsDirectory, withIntermediateDirectories: true)
+        let data = TestData.packageRoot.appendingPathComponent("Tests/SignDetector/data")
+        try FileManager.default.copyItem(at: data.appendingPathComponent("tiny_red_unet.onnx"),
+                                         to: modelsDirectory.appendingPathComponent(DetectorConfiguration.unetFileName))
+        try FileManager.default.copyItem(at: data.appendingPathComponent("classes.json"),
+                                         to: modelsDirectory.appendingPathComponent(DetectorConfiguration.classListFileName))
+    }
+
+    override func tearDownWithError() throws {
+        try? FileManager.default.removeItem(at: modelsDirectory)
+    }
+
+    /// A 640 x 480 portrait frame: gray wall, a red plate over raw columns 300..339 (40 px: the upright sign's
+    /// height) and rows 200..259.
+    private func frame() -> (PipelineFrame, CameraPose) {
+        let width = 640, height = 480
+        var pixels = [UInt8](repeating: 120, count: width * height * 3)
+        for v in 200..<260 {
+            for u in 300..<340 {
+                let i = (v * width + u) * 3
+                pixels[i] = 220; pixels[i + 1] = 25; pixels[i + 2] = 25
+            }
+        }
+        let image = ImageBuffer(width: width, height: height, bytesPerRow: width * 3, pixelFormat: .rgb8, data: pixels)
+        let pose = CameraPose(positionInWorld: (0, 1.4, 0), yawRad: 0, pitchRad: 0.05, rollRad: -Double.pi / 2)
+        let f = PipelineFrame(t: 0, cameraPose: pose, tracking: .normal,
+                              intrinsics: CameraIntrinsics(fx: 534, fy: 530, cx: 319.5, cy: 239.5, width: width, height: height),
+                              image: image)
+        return (f, pose)
+    }
+
+    private func sightings(options: PipelineOptions, building: Building) throws -> [SignSighting] {
+        let source = try SignSightingSource(options: options, catalogue: building.signCatalogue, imagesAvailable: true)
+        let (f, pose) = frame()
+        return try XCTUnwrap(try source.sightings(for: f, pose: pose).get())
+    }
+
+    func testTheMapsCatalogueSetsTheRange() throws {
+        var options = PipelineOptions()
+        options.sightingSource = .unet
+        options.modelsDirectory = modelsDirectory.path
+        let office = try TestData.office()
+        XCTAssertEqual(office.signCatalogue.heightMeters(kind: "exit"), 0.21)
+        let base = try sightings(options: options, building: office)
+        XCTAssertEqual(base.count, 1)
+        let exit = try XCTUnwrap(base.first)
+        XCTAssertEqual(exit.kind, "exit")
+        XCTAssertEqual(exit.rangeMeters, 0.21 * 534 / 40, accuracy: 0.1)  // 40 px of a 0.21 m face at f = 534 px
+
+        // A map whose Exit signs are twice as tall: twice the range, with no other setting.
+        var tall = office
+        tall.signKinds = [SignKindSpec(kind: "exit", heightMeters: 0.42, widthMeters: 0.6)]
+        let far = try XCTUnwrap(try sightings(options: options, building: tall).first)
+        XCTAssertEqual(far.rangeMeters / exit.rangeMeters, 2, accuracy: 1e-9)
+        XCTAssertEqual(far.bearingRad, exit.bearingRad, accuracy: 1e-12)
+
+        // The pipeline option overrides the map's catalogue.
+        options.signCatalogue = SignCatalogue(kinds: [SignKindSpec(kind: "exit", heightMeters: 0.42, widthMeters: 0.6)])
+        let overridden = try XCTUnwrap(try sightings(options: options, building: office).first)
+        XCTAssertEqual(overridden.rangeMeters, far.rangeMeters)
+    }
+
+    func testAFrameOfTheWrongSizeIsAFrameErrorNotACrash() throws {
+        var options = PipelineOptions()
+        options.sightingSource = .unet
+        options.modelsDirectory = modelsDirectory.path
+        let source = try SignSightingSource(options: options, catalogue: try TestData.office().signCatalogue, imagesAvailable: true)
+        var (f, pose) = frame()
+        f.image?.data.removeLast(100)
+        guard case .failure(let error) = source.sightings(for: f, pose: pose) else { return XCTFail("expected a frame error") }
+        XCTAssertTrue("\(error)".contains("image data has"), "\(error)")
+    }
+}
