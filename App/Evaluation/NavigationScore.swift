@@ -64,6 +64,16 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     public var arrivalDistanceMeters: Double?
     /// Seconds from each wrong-way/off-route correction to the next route instruction.
     public var rerouteSeconds: [Double]
+    /// For each expected turn cued by a "now" cue ("Turn left now."): meters walked (truth) between the
+    /// estimated END of the cue (its time + `SpeechTimingModel` duration, espeak-ng calibrated, 175 words per
+    /// minute) and the control point; positive = the cue was over before the point (issue 17 wants >= 0.5 m).
+    /// Nil in scores made before it existed.
+    public var nowCueEndBeforeMeters: [Double]?
+
+    /// A "now" cue should end at least this far before its control point, meters (issue 17).
+    public static let nowCueEndMarginMeters = 0.5
+    /// The duration model used for `nowCueEndBeforeMeters` (English phrase book at espeak-ng's default rate).
+    public static let speechTiming = SpeechTimingModel.calibrated(language: "en")
 
     /// Change of walking direction above which a turn is a true turn, degrees (see `trueTurns`).
     public static let turnThresholdDeg = 35.0
@@ -89,6 +99,7 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         }.map(\.1)
         expectedTurns = turns
         var distances: [Double] = []
+        var endDistances: [Double] = []
         var missing: [TrueTurn] = []
         var usedCues = Set<Int>()
         let cues: [(index: Int, t: Double, direction: String)] = announcements.enumerated().compactMap { (i, a) in
@@ -100,11 +111,17 @@ public struct NavigationScore: Codable, Sendable, Equatable {
                 // Distance to the first node of the turn not yet passed when the cue was spoken.
                 let passT = turn.passTimes.first { $0 >= cue.t } ?? turn.t
                 distances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: cue.t))
+                let text = announcements[cue.index].text
+                if Self.isNowCue(text) {
+                    let endT = cue.t + Self.speechTiming.durationSeconds(text)
+                    endDistances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: endT))
+                }
             } else {
                 missing.append(turn)
             }
         }
         cueDistancesBeforeMeters = distances
+        nowCueEndBeforeMeters = endDistances
         missingInstructions = missing.count
         missingTurns = missing
         let wrong = cues.filter { cue in
@@ -149,6 +166,12 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         let left = words.contains("left"), right = words.contains("right")
         if left == right { return nil }
         return left ? "left" : "right"
+    }
+
+    /// True for a cue to turn at once, said at the turn ("Turn left now.", "Bear right now."): not a
+    /// chained "Then turn left." nor a route start.
+    public static func isNowCue(_ text: String) -> Bool {
+        cueDirection(text) != nil && text.lowercased().split { !$0.isLetter }.contains("now")
     }
 
     /// True for the arrival phrase ("Arrived. Room 312 is on your left...").

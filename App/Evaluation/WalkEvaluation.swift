@@ -50,6 +50,10 @@ public struct AggregateScore: Codable, Sendable, Equatable {
     public var directedShareWhileUnsure: Double?
     /// Exploratory instructions that would lead into a wall, onto stairs or through a door from the true pose.
     public var unsafeUnsureInstructions: Int?
+    /// "Now" cues of expected turns (`NavigationScore.nowCueEndBeforeMeters`), and the share of them that
+    /// end at least 0.5 m (truth) before their control point, 0...1 (nil when there is none).
+    public var nowCues: Int?
+    public var nowCuesEndingInTimeShare: Double?
 
     /// Aggregates walk scores.
     public init(_ scores: [WalkScore]) {
@@ -80,6 +84,10 @@ public struct AggregateScore: Codable, Sendable, Equatable {
             floorChangeRelocalizedWithin10mShare = Double(changed.filter { ($0.localization.floorChangeRelocalizationMeters ?? .infinity) <= 10 }.count)
                 / Double(changed.count)
         }
+        let ends = scores.flatMap { $0.navigation.nowCueEndBeforeMeters ?? [] }
+        nowCues = ends.count
+        nowCuesEndingInTimeShare = ends.isEmpty ? nil
+            : Double(ends.filter { $0 >= NavigationScore.nowCueEndMarginMeters - 1e-9 }.count) / Double(ends.count)
         let unsure = scores.compactMap(\.unsureGuidance)
         let unsureSeconds = unsure.map(\.unsureSeconds).reduce(0, +)
         if !unsure.isEmpty {
