@@ -67,8 +67,12 @@ public struct NavigatorOptions: Sendable {
     public var maxCornerCutMeters = 1.5
     /// The early alert ("In 8 meters, turn left") is issued this far before a maneuver.
     public var alertDistanceMeters = 8.0
-    /// No alert when the maneuver is closer than the cue distance plus this gap (the cue follows at once).
+    /// No alert when the maneuver is closer than the cue distance plus this gap (the cue follows at once),
+    /// and an alert ends at least this far before its cue starts (at the walking speed), meters.
     public var alertCueGapMeters = 1.0
+    /// A long alert (clock-face wording, steps) is said up to this much earlier than `alertDistanceMeters`
+    /// so that it ends `alertCueGapMeters` before the cue, meters.
+    public var maximumAlertAdvanceMeters = 4.0
     /// Arrival when the remaining route is at most this long. 1 m from the paper (section 4).
     public var arrivalRadiusMeters = 1.0
     /// Never route over stairs.
@@ -725,17 +729,17 @@ public final class Navigator {
                     say(text, cuePriority, t, about: m, variant: "cue")
                     sayChained(after: i, route: r, t: t)
                 }
-            } else if !lookingAhead && !alertIssued[i] && d <= options.alertDistanceMeters
-                        && d > options.cueDistanceMeters + options.alertCueGapMeters {
-                let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName)
-                // The alert must end (at the walking speed) a gap before its cue is due; otherwise the cue
-                // would cut it off or follow it back to back: only the cue is said.
-                let alertEnd = text.map { d - schedulingSpeed() * (policy.earliestStart(priority: .alert, t: t) - t
-                                                                   + policy.estimatedDurationSeconds($0)) } ?? d
-                if options.phrasing.verbosity == .brief || alertEnd > cueLead + options.alertCueGapMeters {
+            } else if !lookingAhead && !alertIssued[i], d > options.cueDistanceMeters + options.alertCueGapMeters,
+                      let alertDue = alertDueMeters(m, d: d, cueLead: cueLead, t: t), d <= alertDue.trigger {
+                let text = alertDue.text
+                // The alert must end (at the walking speed) a gap before its cue is due; it is brought
+                // forward from `alertDistanceMeters` when it is long. When it can no longer end in time (the
+                // maneuver came into view late), the cue would cut it off or follow it back to back: only
+                // the cue is said.
+                if options.phrasing.verbosity == .brief || alertDue.endBeforeMeters > cueLead + options.alertCueGapMeters - 1e-9 {
                     alertIssued[i] = true
                     continuationDue = nil
-                    if let text, options.phrasing.verbosity != .brief { say(text, .alert, t, about: m, variant: "alert") }
+                    if options.phrasing.verbosity != .brief { say(text, .alert, t, about: m, variant: "alert") }
                 }
             }
             if !cueIssued[i] && m.kind == .goThroughDoor && !lookingAhead {
@@ -795,6 +799,21 @@ public final class Navigator {
         let lead = options.cueEndMarginMeters + options.cueSchedulingSlackMeters
             + schedulingSpeed() * (wait + policy.estimatedDurationSeconds(text))
         return max(options.cueDistanceMeters, lead)
+    }
+
+    /// Scheduling of the early alert of maneuver `m`, `d` meters ahead: its text, the distance at which it
+    /// is due (`alertDistanceMeters`, or earlier so that it ends `alertCueGapMeters` before the cue's
+    /// `cueLead`, plus the scheduling slack for the update step, at most `alertDistanceMeters + maximumAlertAdvanceMeters`) and the distance left when it
+    /// would end if said now. Nil for maneuvers without an alert.
+    private func alertDueMeters(_ m: Maneuver, d: Double, cueLead: Double, t: Double)
+        -> (text: String, trigger: Double, endBeforeMeters: Double)? {
+        guard let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) else { return nil }
+        let v = schedulingSpeed()
+        let lasts = v * (policy.earliestStart(priority: .alert, t: t) - t + policy.estimatedDurationSeconds(text))
+        let trigger = min(options.alertDistanceMeters + options.maximumAlertAdvanceMeters,
+                          max(options.alertDistanceMeters, cueLead + options.alertCueGapMeters + lasts
+                                + options.cueSchedulingSlackMeters))
+        return (text, trigger, d - lasts)
     }
 
     /// `text` (a route start or "Continue N meters" that names the distance to maneuver `next`), merged

@@ -46,19 +46,36 @@ public final class GuidanceSession {
     public private(set) var startId: String?
     /// Chosen destination place id.
     public private(set) var destinationId: String?
-    /// A short status line, shown and exposed to VoiceOver ("Locating. Keep walking.", "On route.").
-    public private(set) var statusText = "Choose a building"
+    /// A short status line, shown and exposed to VoiceOver ("Locating. Keep walking.", "On route."), from
+    /// the phrase book of `pipelineOptions.navigator.phrasing.language`.
+    public private(set) var statusText: String
     /// The places of the chosen building, for the pickers.
     public private(set) var places: PlaceList?
 
     private var pipeline: WayfinderPipeline?
     private var prompts = TrackingPromptPolicy()
     private var wasLocalized = false
-    /// Pipeline options used when guidance starts (detector, seeds...).
-    public var pipelineOptions = PipelineOptions()
+    /// Pipeline options used when guidance starts (detector, seeds, the phrasing of guidance). Setting a
+    /// different phrasing language switches the status and tracking prompts to its phrase book too.
+    public var pipelineOptions = PipelineOptions() {
+        didSet {
+            let language = pipelineOptions.navigator.phrasing.language
+            guard language != phrases.language else { return }
+            phrases = (try? PhraseBook.load(language: language)) ?? .english
+            statusText = phrases.phrase(statusKey)
+        }
+    }
+    /// The app's own words (status lines, tracking prompts, "Guidance stopped").
+    public private(set) var phrases: PhraseBook = .english
+    private var statusKey = "status.chooseBuilding"
 
-    /// Creates a session at the first step.
-    public init() {}
+    /// Creates a session at the first step (English until `pipelineOptions` names another language).
+    public init() { statusText = PhraseBook.english.phrase("status.chooseBuilding") }
+
+    private func setStatus(_ key: String) {
+        statusKey = key
+        statusText = phrases.phrase(key)
+    }
 
     /// Chooses the building (from the bundled maps or a file opened from Files).
     public func selectBuilding(_ building: Building) {
@@ -68,7 +85,7 @@ public final class GuidanceSession {
         startId = nil
         destinationId = nil
         state = .choosingStart
-        statusText = "Choose where you are, or I don't know where I am"
+        setStatus("status.chooseStart")
     }
 
     /// Chooses the floor used when the start is unknown.
@@ -83,7 +100,7 @@ public final class GuidanceSession {
         startId = placeId
         if let placeId, let floor = building?.floor(ofPointOfInterest: placeId) { floorId = floor.id }
         state = .choosingDestination
-        statusText = "Choose a destination"
+        setStatus("status.chooseDestination")
     }
 
     /// Chooses the destination.
@@ -91,7 +108,7 @@ public final class GuidanceSession {
         guard state == .choosingDestination || state == .ready, building?.pointOfInterest(id: placeId) != nil else { return }
         destinationId = placeId
         state = .ready
-        statusText = "Ready. Press Start guidance."
+        setStatus("status.ready")
     }
 
     /// Starts guidance: builds the pipeline (localizer from the start prior, navigator to the destination).
@@ -104,10 +121,10 @@ public final class GuidanceSession {
         options.startPointOfInterestId = startId
         options.destinationId = destinationId
         pipeline = try WayfinderPipeline(building: building, options: options, imagesAvailable: true)
-        prompts = TrackingPromptPolicy()
+        prompts = TrackingPromptPolicy(phrases: phrases)
         wasLocalized = false
         state = .guiding
-        statusText = "Locating. Keep walking."
+        setStatus("status.locating")
         return [.startSensors]
     }
 
@@ -116,8 +133,8 @@ public final class GuidanceSession {
         guard pipeline != nil else { return [] }
         pipeline = nil
         state = destinationId == nil ? .choosingDestination : .ready
-        statusText = "Guidance stopped"
-        return [.stopSensors, .speak("Guidance stopped", interrupt: true)]
+        setStatus("status.stopped")
+        return [.stopSensors, .speak(statusText, interrupt: true)]
     }
 
     /// Forwards ARKit plane-anchor events to the pipeline while guiding (scored at the next frame).
@@ -134,11 +151,11 @@ public final class GuidanceSession {
         }
         if update.estimate.isLocalized != wasLocalized {
             wasLocalized = update.estimate.isLocalized
-            statusText = wasLocalized ? "On route" : "Not sure where you are. Keep walking."
+            setStatus(wasLocalized ? "status.onRoute" : "status.unsure")
         }
         if pipeline.hasArrived {
             state = .arrived
-            statusText = "Arrived"
+            setStatus("status.arrived")
             commands.append(.stopSensors)
             self.pipeline = nil
         }
