@@ -157,8 +157,11 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     /// now.", "Bear right now.", "Sharp left now."), the cue chained right after another one ("Then turn
     /// left.", said for a turn less than 3 m after the first) and a departure that starts with a turn ("Turn
     /// right, then go 10 meters.", said on first localizing when the route turns within 1.5 m).
+    /// Only the first sentence counts: a route start merged with the next maneuver ("Turn left, then go 10
+    /// meters. Then turn right.") is a cue for its first turn only.
     public static func cueDirection(_ text: String) -> String? {
-        let words = text.lowercased().split { !$0.isLetter }.map(String.init)
+        let firstSentence = text.components(separatedBy: ". ").first ?? text
+        let words = firstSentence.lowercased().split { !$0.isLetter }.map(String.init)
         guard let first = words.first, first != "arrived", first != "near" else { return nil }
         let isCue = words.contains("now") || first == "then"
             || (words.count >= 3 && first == "turn" && words[2] == "then")
