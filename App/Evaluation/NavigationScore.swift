@@ -111,16 +111,23 @@ public struct NavigationScore: Codable, Sendable, Equatable {
                 // Distance to the first node of the turn not yet passed when the cue was spoken.
                 let passT = turn.passTimes.first { $0 >= cue.t } ?? turn.t
                 distances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: cue.t))
-                let text = announcements[cue.index].text
-                if Self.isNowCue(text) {
-                    let endT = cue.t + Self.speechTiming.durationSeconds(text)
-                    endDistances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: endT))
-                }
             } else {
                 missing.append(turn)
             }
         }
         cueDistancesBeforeMeters = distances
+        // The "now" cue of each expected turn (the last one of its direction in the window before it, each
+        // used once): a chained "Then turn right." said right after it may be the turn's last cue above.
+        var usedNowCues = Set<Int>()
+        for turn in turns {
+            guard let cue = cues.last(where: { $0.t <= turn.t && $0.t >= turn.t - Self.cueWindowSeconds
+                && $0.direction == turn.direction && !usedNowCues.contains($0.index)
+                && Self.isNowCue(announcements[$0.index].text) }) else { continue }
+            usedNowCues.insert(cue.index)
+            let passT = turn.passTimes.first { $0 >= cue.t } ?? turn.t
+            let endT = cue.t + Self.speechTiming.durationSeconds(announcements[cue.index].text)
+            endDistances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: endT))
+        }
         nowCueEndBeforeMeters = endDistances
         missingInstructions = missing.count
         missingTurns = missing

@@ -182,9 +182,18 @@ final class NowCueTimingTests: XCTestCase {
     /// A 90-degree left at (20, 0) walked at 1 m/s from (0, 0), cue "Turn left now." said `cueMetersBefore`
     /// before the corner (t = 20 - that).
     func score(cueMetersBefore: Double, text: String = "Turn left now.") -> NavigationScore {
-        let s = NavigationScoreTests()
-        let truth = s.walk([Point2(0, 0), Point2(20, 0), Point2(20, 15)])
-        let building = s.building([Point2(0, 0), Point2(20, 0), Point2(20, 15)])
+        // Truth at 1 m/s, 10 Hz, along the two legs.
+        var truth: [TruthRecord] = []
+        for i in 0...350 {
+            let s = Double(i) / 10
+            truth.append(TruthRecord(t: s, x: min(s, 20), y: max(0, s - 20), floorId: "1", headingRad: s < 20 ? 0 : .pi / 2))
+        }
+        let nodes = [Point2(0, 0), Point2(20, 0), Point2(20, 15)].enumerated().map {
+            GraphNode(id: "n\($0.offset)", kind: .control, floorId: "1", position: $0.element)
+        }
+        let building = Building(id: "test", name: "Test", floors: [Floor(id: "1", name: "F1", elevationMeters: 0, walls: [])],
+                                graph: NavigationGraph(nodes: nodes, edges: [GraphEdge(from: "n0", to: "n1"),
+                                                                            GraphEdge(from: "n1", to: "n2")]))
         return NavigationScore(announcements: [(t: 20 - cueMetersBefore, text: text)], truth: TruthTrack(truth),
                                building: building, destination: nil, convergenceT: 0)
     }

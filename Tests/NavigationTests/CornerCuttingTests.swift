@@ -35,8 +35,9 @@ final class CornerCuttingTests: XCTestCase {
         var w = Walker(start: Point2(x: 2, y: 0), floorId: "1")
         w.run(nav, [.walk(to: Point2(x: 20, y: 0)), .walk(to: Point2(x: 20, y: 14.5))])
         let cue = try XCTUnwrap(w.records.first { $0.events.contains { $0.spokenText == "Turn left now." } })
-        // Ends 0.5 m (+ 0.3 m slack) before the corner at 1.2 m/s: starts 0.8 + 1.2 x 1.15 s = 2.18 m before.
-        let lead = 0.8 + 1.2 * nav.policy.estimatedDurationSeconds("Turn left now.")
+        // Ends 0.5 m (+ 0.5 m slack) before the corner at 1.2 m/s: starts 1.0 + 1.2 x 1.15 s = 2.38 m before.
+        let lead = nav.options.cueEndMarginMeters + nav.options.cueSchedulingSlackMeters
+            + 1.2 * nav.policy.estimatedDurationSeconds("Turn left now.")
         XCTAssertEqual(cue.input.positionInMap.x, 20 - lead, accuracy: 0.13)
     }
 

@@ -82,8 +82,8 @@ final class NavigatorTests: XCTestCase {
         XCTAssertEqual(kindsList(route.maneuvers), "depart,turnRight,turnLeft,turnRight,arrive")
         w.run(nav, route.points.dropFirst().map { .walk(to: $0.position) })
         XCTAssertTrue(nav.hasArrived)
-        // Every turn got its cue, started so that at 1.2 m/s it ends 0.5 m (plus the 0.3 m slack) before the
-        // control point: "Turn left now." lasts 1.15 s, 1.38 m, so it starts 2.18 m before.
+        // Every turn got its cue, started so that at 1.2 m/s it ends 0.5 m (plus the 0.5 m slack) before the
+        // control point: "Turn left now." lasts 1.15 s, 1.38 m, so it starts 2.38 m before.
         let cueRecords = w.records.filter { r in r.events.contains { $0.spokenText?.hasSuffix(" now.") ?? false } }
         XCTAssertEqual(cueRecords.compactMap { $0.events.compactMap(\.spokenText).first }, ["Turn right now.", "Turn left now.", "Turn right now."])
         for r in cueRecords {
@@ -91,7 +91,8 @@ final class NavigatorTests: XCTestCase {
             let text = try XCTUnwrap(r.events.compactMap(\.spokenText).first)
             let lasts = 1.2 * nav.policy.estimatedDurationSeconds(text)
             XCTAssertGreaterThanOrEqual(d - lasts, 0.5, "ends at least 0.5 m before the turn")
-            XCTAssertLessThanOrEqual(d - lasts, 0.5 + 0.3 + 0.12, "and not more than one update earlier")
+            XCTAssertLessThanOrEqual(d - lasts, 0.5 + nav.options.cueSchedulingSlackMeters + 0.12,
+                                     "and not more than one update earlier")
         }
         XCTAssertEqual(w.haptics, [.turnCue, .turnCue, .turnCue, .arrived])
         XCTAssertEqual(w.spoken, [
@@ -111,7 +112,7 @@ final class NavigatorTests: XCTestCase {
     func testNoisyEstimatesDoNotFlapOrRaiseFalseAlarms() throws {
         // Localizer noise of 0.3 m and 10 deg (seeded), walking the zigzag: one route, no corrections,
         // every turn cued once, ending (true position, 1.2 m/s) before its control point and starting at
-        // most 3.5 m before it.
+        // most 4 m before it (2.4 m without noise; 0.3 m of position noise also moves the speed estimate).
         for seed in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] as [UInt64] {
             let nav = try Navigator(building: zigzag, destinationId: "e")
             var w = Walker(start: zigzag.nodePosition("a"), floorId: "1")
@@ -135,7 +136,7 @@ final class NavigatorTests: XCTestCase {
                 let before = m.distanceFromStartMeters - truth
                 let text = r.events.compactMap(\.spokenText).first ?? ""
                 XCTAssertGreaterThanOrEqual(before - 1.2 * nav.policy.estimatedDurationSeconds(text), 0, "seed \(seed) \(m.kind)")
-                XCTAssertLessThanOrEqual(before, 3.5, "seed \(seed) \(m.kind)")
+                XCTAssertLessThanOrEqual(before, 4.0, "seed \(seed) \(m.kind)")
             }
         }
     }

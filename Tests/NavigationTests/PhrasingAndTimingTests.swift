@@ -195,7 +195,7 @@ final class PhrasingAndTimingTests: XCTestCase {
         for speed in [0.6, 1.1, 1.4, 1.8] {
             let timing = try cueTiming(speed: speed)
             XCTAssertGreaterThanOrEqual(timing.endBeforeMeters, 0.5, "at \(speed) m/s")
-            XCTAssertLessThanOrEqual(timing.endBeforeMeters, 0.5 + 0.3 + 0.2 + max(0, 1.1 - speed) * 1.17,
+            XCTAssertLessThanOrEqual(timing.endBeforeMeters, 0.5 + 0.5 + 0.2 + max(0, 1.1 - speed) * 1.17,
                                      "at \(speed) m/s: not needlessly early")
         }
         XCTAssertGreaterThan(try cueTiming(speed: 1.8).startBeforeMeters, try cueTiming(speed: 1.1).startBeforeMeters + 0.6,

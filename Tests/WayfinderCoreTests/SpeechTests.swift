@@ -95,6 +95,7 @@ final class SpeechTests: XCTestCase {
     func testMissingSynthesizerIsAClearError() {
         XCTAssertThrowsError(try EspeakSynthesizer(searchPath: "/nonexistent-dir")) { e in
             XCTAssertEqual(e as? SpeechError, .synthesizerMissing("espeak-ng"))
+            XCTAssertTrue("\(e)".contains("espeak-ng not found on PATH"), "\(e)")
             XCTAssertTrue("\(e)".contains("apt-get install espeak-ng"), "\(e)")
         }
     }

@@ -48,34 +48,33 @@ public final class GuidanceSession {
     public private(set) var destinationId: String?
     /// A short status line, shown and exposed to VoiceOver ("Locating. Keep walking.", "On route."), from
     /// the phrase book of `pipelineOptions.navigator.phrasing.language`.
-    public private(set) var statusText: String
+    public var statusText: String { phrases.phrase(statusKey) }
     /// The places of the chosen building, for the pickers.
     public private(set) var places: PlaceList?
 
     private var pipeline: WayfinderPipeline?
     private var prompts = TrackingPromptPolicy()
     private var wasLocalized = false
-    /// Pipeline options used when guidance starts (detector, seeds, the phrasing of guidance). Setting a
-    /// different phrasing language switches the status and tracking prompts to its phrase book too.
-    public var pipelineOptions = PipelineOptions() {
-        didSet {
-            let language = pipelineOptions.navigator.phrasing.language
-            guard language != phrases.language else { return }
-            phrases = (try? PhraseBook.load(language: language)) ?? .english
-            statusText = phrases.phrase(statusKey)
-        }
-    }
-    /// The app's own words (status lines, tracking prompts, "Guidance stopped").
-    public private(set) var phrases: PhraseBook = .english
+    /// Pipeline options used when guidance starts (detector, seeds, the phrasing of guidance). Its phrasing
+    /// language also chooses the words of the status and the tracking prompts.
+    public var pipelineOptions = PipelineOptions()
+    private var cachedPhrases: PhraseBook = .english
     private var statusKey = "status.chooseBuilding"
 
-    /// Creates a session at the first step (English until `pipelineOptions` names another language).
-    public init() { statusText = PhraseBook.english.phrase("status.chooseBuilding") }
-
-    private func setStatus(_ key: String) {
-        statusKey = key
-        statusText = phrases.phrase(key)
+    /// The app's own words (status lines, tracking prompts, "Guidance stopped"): the phrase book of the
+    /// phrasing language (English when it has no file).
+    public var phrases: PhraseBook {
+        let language = pipelineOptions.navigator.phrasing.language
+        if cachedPhrases.language != language {
+            cachedPhrases = (try? PhraseBook.load(language: language)) ?? .english
+        }
+        return cachedPhrases
     }
+
+    /// Creates a session at the first step.
+    public init() {}
+
+    private func setStatus(_ key: String) { statusKey = key }
 
     /// Chooses the building (from the bundled maps or a file opened from Files).
     public func selectBuilding(_ building: Building) {

@@ -16,7 +16,8 @@ public enum SpeechError: Error, CustomStringConvertible, Sendable, Equatable {
     public var description: String {
         switch self {
         case .synthesizerMissing(let name):
-            return "\(name) not found on PATH: speech needs it (Debian: apt-get install espeak-ng; scripts/setup.sh installs it)"
+            let what = name.contains("/") ? "\(name) is not an executable file" : "\(name) not found on PATH"
+            return "\(what): speech needs espeak-ng (Debian: apt-get install espeak-ng; scripts/setup.sh installs it)"
         case .synthesizerFailed(let m): return m
         }
     }
