@@ -185,19 +185,32 @@ func speakInRealTime(_ result: ReplayResult, startT: Double, synthesizer: Espeak
     func say(_ line: String) { FileHandle.standardOutput.write(Data((line + "\n").utf8)) }
     let clock = Date()
     var playing: Process? = nil
+    var warned = false
+    /// Waits for an utterance to end; espeak-ng's complaints (no sound device) are shown once, not per line.
+    func finish(_ p: Process) {
+        p.waitUntilExit()
+        guard let pipe = p.standardError as? Pipe else { return }
+        let text = String(decoding: pipe.fileHandleForReading.readDataToEndOfFile(), as: UTF8.self)
+        guard !warned, let line = text.split(separator: "\n").first else { return }
+        warned = true
+        progress("warning: espeak-ng could not play the speech: \(line) (no sound device? --audio OUT.wav writes the walk's sound to a file)")
+    }
     for (t, item) in items {
         let wait = (t - startT) - Date().timeIntervalSince(clock)
         if wait > 0 { Thread.sleep(forTimeInterval: wait) }
         switch item {
         case .say(let text):
             say(String(format: "[%7.1f s] ", t) + text)
-            if let p = playing, p.isRunning { p.terminate(); p.waitUntilExit() }
+            if let p = playing {
+                if p.isRunning { p.terminate() }
+                finish(p)
+            }
             do { playing = try synthesizer.speak(text) } catch { throw CLIError.failure("--speak: \(error)") }
         case .feel(let pattern):
             say(String(format: "[%7.1f s] ", t) + "(haptic: \(pattern))")
         }
     }
-    playing?.waitUntilExit()
+    if let p = playing { finish(p) }
 }
 
 /// Loads and validates a map file, turning errors into CLI failures that name the file.

@@ -50,9 +50,10 @@ public struct AggregateScore: Codable, Sendable, Equatable {
     public var directedShareWhileUnsure: Double?
     /// Exploratory instructions that would lead into a wall, onto stairs or through a door from the true pose.
     public var unsafeUnsureInstructions: Int?
-    /// "Now" cues of expected turns (`NavigationScore.nowCueEndBeforeMeters`), and the share of them that
-    /// end at least 0.5 m (truth) before their control point, 0...1 (nil when there is none).
+    /// "Now" cues of expected turns (`NavigationScore.nowCueEndBeforeMeters`), over all walks.
     public var nowCues: Int?
+    /// Share of those cues that end (model duration) at least 0.5 m of true walking before their control
+    /// point, 0...1 (nil when there is none). Issue 17's target: >= 0.95 on the convergence study.
     public var nowCuesEndingInTimeShare: Double?
 
     /// Aggregates walk scores.

@@ -84,12 +84,13 @@ public struct EspeakSynthesizer: Sendable {
 
     /// Starts speaking `text` on the default audio device and returns at once; the returned process can
     /// be stopped (`terminate()`) to cut the utterance off. espeak-ng's own messages (e.g. no sound card)
-    /// go to this process's standard error.
+    /// are collected in the `Pipe` that is the process's `standardError` (read it once it has exited).
     public func speak(_ text: String) throws -> Process {
         let p = Process()
         p.executableURL = URL(fileURLWithPath: executable)
         p.arguments = ["-v", voice, "-s", String(wordsPerMinute), "--", text]
         p.standardOutput = FileHandle.nullDevice
+        p.standardError = Pipe()
         do { try p.run() } catch {
             throw SpeechError.synthesizerFailed("\(executable): cannot run (\(error.localizedDescription))")
         }
