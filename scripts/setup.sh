@@ -11,6 +11,7 @@ APT_PACKAGES=(
   libopencv-dev libopencv-dnn-dev libopencv-objdetect-dev libopencv-calib3d-dev
   libgtest-dev libbenchmark-dev
   chromium fonts-dejavu-core
+  espeak-ng
 )
 
 missing=()

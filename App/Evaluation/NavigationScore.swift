@@ -64,6 +64,16 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     public var arrivalDistanceMeters: Double?
     /// Seconds from each wrong-way/off-route correction to the next route instruction.
     public var rerouteSeconds: [Double]
+    /// For each expected turn cued by a "now" cue ("Turn left now."): meters walked (truth) between the
+    /// estimated END of the cue (its time + `SpeechTimingModel` duration, espeak-ng calibrated, 175 words per
+    /// minute) and the control point; positive = the cue was over before the point (issue 17 wants >= 0.5 m).
+    /// Nil in scores made before it existed.
+    public var nowCueEndBeforeMeters: [Double]?
+
+    /// A "now" cue should end at least this far before its control point, meters (issue 17).
+    public static let nowCueEndMarginMeters = 0.5
+    /// The duration model used for `nowCueEndBeforeMeters` (English phrase book at espeak-ng's default rate).
+    public static let speechTiming = SpeechTimingModel.calibrated(language: "en")
 
     /// Change of walking direction above which a turn is a true turn, degrees (see `trueTurns`).
     public static let turnThresholdDeg = 35.0
@@ -89,6 +99,7 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         }.map(\.1)
         expectedTurns = turns
         var distances: [Double] = []
+        var endDistances: [Double] = []
         var missing: [TrueTurn] = []
         var usedCues = Set<Int>()
         let cues: [(index: Int, t: Double, direction: String)] = announcements.enumerated().compactMap { (i, a) in
@@ -105,6 +116,19 @@ public struct NavigationScore: Codable, Sendable, Equatable {
             }
         }
         cueDistancesBeforeMeters = distances
+        // The "now" cue of each expected turn (the last one of its direction in the window before it, each
+        // used once): a chained "Then turn right." said right after it may be the turn's last cue above.
+        var usedNowCues = Set<Int>()
+        for turn in turns {
+            guard let cue = cues.last(where: { $0.t <= turn.t && $0.t >= turn.t - Self.cueWindowSeconds
+                && $0.direction == turn.direction && !usedNowCues.contains($0.index)
+                && Self.isNowCue(announcements[$0.index].text) }) else { continue }
+            usedNowCues.insert(cue.index)
+            let passT = turn.passTimes.first { $0 >= cue.t } ?? turn.t
+            let endT = cue.t + Self.speechTiming.durationSeconds(announcements[cue.index].text)
+            endDistances.append(truth.distanceWalked(at: passT) - truth.distanceWalked(at: endT))
+        }
+        nowCueEndBeforeMeters = endDistances
         missingInstructions = missing.count
         missingTurns = missing
         let wrong = cues.filter { cue in
@@ -140,8 +164,11 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     /// now.", "Bear right now.", "Sharp left now."), the cue chained right after another one ("Then turn
     /// left.", said for a turn less than 3 m after the first) and a departure that starts with a turn ("Turn
     /// right, then go 10 meters.", said on first localizing when the route turns within 1.5 m).
+    /// Only the first sentence counts: a route start merged with the next maneuver ("Turn left, then go 10
+    /// meters. Then turn right.") is a cue for its first turn only.
     public static func cueDirection(_ text: String) -> String? {
-        let words = text.lowercased().split { !$0.isLetter }.map(String.init)
+        let firstSentence = text.components(separatedBy: ". ").first ?? text
+        let words = firstSentence.lowercased().split { !$0.isLetter }.map(String.init)
         guard let first = words.first, first != "arrived", first != "near" else { return nil }
         let isCue = words.contains("now") || first == "then"
             || (words.count >= 3 && first == "turn" && words[2] == "then")
@@ -149,6 +176,12 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         let left = words.contains("left"), right = words.contains("right")
         if left == right { return nil }
         return left ? "left" : "right"
+    }
+
+    /// True for a cue to turn at once, said at the turn ("Turn left now.", "Bear right now."): not a
+    /// chained "Then turn left." nor a route start.
+    public static func isNowCue(_ text: String) -> Bool {
+        cueDirection(text) != nil && text.lowercased().split { !$0.isLetter }.contains("now")
     }
 
     /// True for the arrival phrase ("Arrived. Room 312 is on your left...").

@@ -69,6 +69,7 @@ public struct RegressionBaseline: Codable, Sendable {
         dropped("localized share after convergence", current.localizedShareAfterConvergence, b.localizedShareAfterConvergence)
         dropped("relocalized within 10 m of a floor change", current.floorChangeRelocalizedWithin10mShare,
                 b.floorChangeRelocalizedWithin10mShare)
+        dropped("now cues ending 0.5 m before the point", current.nowCuesEndingInTimeShare, b.nowCuesEndingInTimeShare)
         if let then = b.unsafeUnsureInstructions, (current.unsafeUnsureInstructions ?? 0) > then {
             out.append("unsafe instructions while not localized: \(current.unsafeUnsureInstructions ?? 0) > baseline \(then)")
         }

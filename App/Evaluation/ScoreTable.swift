@@ -34,6 +34,8 @@ public enum ScoreTable {
         }
         out += "; while not localized: directional instruction \(pct(aggregate.directedShareWhileUnsure)) of the time, "
             + "\(aggregate.unsafeUnsureInstructions.map(String.init) ?? "-") unsafe under the true pose\n"
+        out += "\"now\" cues ending >= 0.5 m before the control point: \(pct(aggregate.nowCuesEndingInTimeShare)) of "
+            + "\(aggregate.nowCues ?? 0)\n"
         return out
     }
 }

@@ -50,6 +50,11 @@ public struct AggregateScore: Codable, Sendable, Equatable {
     public var directedShareWhileUnsure: Double?
     /// Exploratory instructions that would lead into a wall, onto stairs or through a door from the true pose.
     public var unsafeUnsureInstructions: Int?
+    /// "Now" cues of expected turns (`NavigationScore.nowCueEndBeforeMeters`), over all walks.
+    public var nowCues: Int?
+    /// Share of those cues that end (model duration) at least 0.5 m of true walking before their control
+    /// point, 0...1 (nil when there is none). Issue 17's target: >= 0.95 on the convergence study.
+    public var nowCuesEndingInTimeShare: Double?
 
     /// Aggregates walk scores.
     public init(_ scores: [WalkScore]) {
@@ -80,6 +85,10 @@ public struct AggregateScore: Codable, Sendable, Equatable {
             floorChangeRelocalizedWithin10mShare = Double(changed.filter { ($0.localization.floorChangeRelocalizationMeters ?? .infinity) <= 10 }.count)
                 / Double(changed.count)
         }
+        let ends = scores.flatMap { $0.navigation.nowCueEndBeforeMeters ?? [] }
+        nowCues = ends.count
+        nowCuesEndingInTimeShare = ends.isEmpty ? nil
+            : Double(ends.filter { $0 >= NavigationScore.nowCueEndMarginMeters - 1e-9 }.count) / Double(ends.count)
         let unsure = scores.compactMap(\.unsureGuidance)
         let unsureSeconds = unsure.map(\.unsureSeconds).reduce(0, +)
         if !unsure.isEmpty {

@@ -74,9 +74,9 @@ extension TimedGuidanceEvent: CustomStringConvertible {
 
 /// Tunables of `AnnouncementPolicy`, seconds unless named otherwise.
 public struct AnnouncementPolicyConfig: Sendable, Equatable {
-    /// Speaking rate used to estimate how long an utterance lasts. 2.5 words/s (150 words per minute,
-    /// the usual VoiceOver default rate).
-    public var wordsPerSecond = 2.5
+    /// How long an utterance lasts (syllables and pauses at a speaking rate, calibrated on espeak-ng;
+    /// `SpeechTimingModel`). The navigator sets its language to the phrase book's.
+    public var speechTiming = SpeechTimingModel.espeakEnglish
     /// Shortest estimated utterance, seconds.
     public var minimumUtteranceSeconds = 0.5
     /// A cue not spoken within this time after it was submitted is dropped: it would be said after the
@@ -124,10 +124,18 @@ public final class AnnouncementPolicy {
     /// Creates a policy.
     public init(config: AnnouncementPolicyConfig = AnnouncementPolicyConfig()) { self.config = config }
 
-    /// Estimated speaking time of `text`: words / `wordsPerSecond`, at least `minimumUtteranceSeconds`.
+    /// Estimated speaking time of `text`: `config.speechTiming`, at least `minimumUtteranceSeconds`.
     public func estimatedDurationSeconds(_ text: String) -> Double {
-        let words = text.split(whereSeparator: { $0 == " " || $0 == "\n" }).count
-        return max(config.minimumUtteranceSeconds, Double(words) / config.wordsPerSecond)
+        max(config.minimumUtteranceSeconds, config.speechTiming.durationSeconds(text))
+    }
+
+    /// The earliest time at or after `t` at which a message of `priority` could start: now when the
+    /// channel is silent or the message may interrupt what is playing (see `flush`), else when the current
+    /// utterance is estimated to end.
+    public func earliestStart(priority: AnnouncementPriority, t: Double) -> Double {
+        guard t < speakingUntil else { return t }
+        if priority >= .cue && priority > speakingPriority { return t }
+        return speakingUntil
     }
 
     /// Queues a message. `requested` marks an answer to the traveler ("Where am I", "Repeat"): it

@@ -13,7 +13,9 @@ public struct PhraseBook: Sendable {
 
     /// Every key the navigator uses. A phrase file must define all of them.
     public static let requiredKeys: [String] = {
-        var keys = ["distance.one", "distance.other", "startWalking", "noRoute",
+        var keys = ["distance.one", "distance.other", "distance.feet.one", "distance.feet.other",
+                    "distance.steps.one", "distance.steps.other", "clock.toward.one", "clock.toward.other",
+                    "startWalking", "noRoute",
                     "depart.ahead", "depart.left", "depart.right", "depart.turnAround",
                     "continuation", "safety.wrongWay", "safety.offRoute",
                     "whereAmI.between", "whereAmI.near", "whereAmI.unknown", "whereAmI.probably",
@@ -28,11 +30,32 @@ public struct PhraseBook: Sendable {
         for side in ArrivalSide.allCases {
             keys += ["arrival.\(side.rawValue)", "arrival.\(side.rawValue).door"]
         }
+        keys += sessionKeys
         return keys
     }()
 
-    /// Placeholders the code fills; any other `{...}` in a template is an error.
-    public static let knownPlaceholders: Set<String> = ["distance", "count", "floor", "destination", "place", "from", "to"]
+    /// Keys of the app's own prompts and status lines (App/Core/Session: tracking prompts, the guidance
+    /// session's status), spoken or shown to VoiceOver, so they come from the phrase book too.
+    public static let sessionKeys: [String] = [
+        "tracking.covered", "tracking.slowDown", "tracking.pointAhead", "tracking.lost",
+        "status.chooseBuilding", "status.chooseStart", "status.chooseDestination", "status.ready", "status.locating",
+        "status.onRoute", "status.unsure", "status.arrived", "status.stopped",
+    ]
+
+    /// Placeholders the code fills; any other `{...}` in a template is an error. `{toward}` is the
+    /// clock-face suffix (`clock.toward.*`, empty with turn words).
+    public static let knownPlaceholders: Set<String> = ["distance", "count", "floor", "destination", "place", "from", "to",
+                                                        "toward"]
+
+    /// The English phrase book, or (should the resource be missing from a broken app bundle) a book that
+    /// says each key: the non-throwing default for the app's session logic.
+    public static let english: PhraseBook = (try? load(language: "en")) ?? PhraseBook(language: "en", templates: [:])
+
+    /// A phrase book from templates already in memory (no validation; tests and fallbacks).
+    public init(language: String, templates: [String: String]) {
+        self.language = language
+        self.templates = templates
+    }
 
     /// Loads `Navigation/Locales/<language>.json` from the module's resources (SwiftPM: `Bundle.module`;
     /// the Xcode app build must copy `Navigation/Locales` into the app bundle, where it is looked up).
@@ -97,9 +120,11 @@ public struct PhraseBook: Sendable {
 
     /// The template for `key` with `{name}` replaced by `values[name]`. A missing key (impossible after
     /// validation) yields the key itself, so nothing crashes.
+    /// `{toward}` left unfilled is empty (turn words).
     public func phrase(_ key: String, _ values: [String: String] = [:]) -> String {
         var text = templates[key] ?? key
         for (name, value) in values { text = text.replacingOccurrences(of: "{\(name)}", with: value) }
+        if values["toward"] == nil { text = text.replacingOccurrences(of: "{toward}", with: "") }
         return text
     }
 
@@ -117,6 +142,53 @@ public struct PhraseBook: Sendable {
     public func distance(_ meters: Double) -> String {
         let n = Self.roundedDistanceMeters(meters)
         return n == 1 ? phrase("distance.one") : phrase("distance.other", ["count": String(n)])
+    }
+
+    /// A count rounded as spoken distances are: to the nearest whole number below `fineBelow` (at least
+    /// 1), to the nearest multiple of 5 from there up (half rounds up).
+    public static func roundedCount(_ value: Double, fineBelow: Int) -> Int {
+        guard value.isFinite else { return 0 }
+        let v = max(0, value)
+        let whole = Int(v.rounded(.toNearestOrAwayFromZero))
+        if whole < fineBelow { return max(1, whole) }
+        return Int((v / 5).rounded(.toNearestOrAwayFromZero)) * 5
+    }
+
+    /// Meters per foot (international foot).
+    public static let metersPerFoot = 0.3048
+
+    /// A distance in the traveler's unit: meters as `distance(_:)`; feet (nearest foot under 30 ft, then
+    /// nearest 5 ft: 8 m is "25 feet"); steps of `strideMeters` (nearest step under 20, then nearest 5:
+    /// 8 m at 0.7 m per step is "11 steps"). A stride that is not a positive finite length falls back to
+    /// meters.
+    public func distance(_ meters: Double, unit: DistanceUnit, strideMeters: Double) -> String {
+        switch unit {
+        case .meters:
+            return distance(meters)
+        case .feet:
+            let n = Self.roundedCount(meters / Self.metersPerFoot, fineBelow: 30)
+            return n == 1 ? phrase("distance.feet.one") : phrase("distance.feet.other", ["count": String(n)])
+        case .steps:
+            guard strideMeters.isFinite, strideMeters > 0 else { return distance(meters) }
+            let n = Self.roundedCount(meters / strideMeters, fineBelow: 20)
+            return n == 1 ? phrase("distance.steps.one") : phrase("distance.steps.other", ["count": String(n)])
+        }
+    }
+
+    /// The clock-face hour of a direction relative to the traveler's heading, 12 straight ahead, 3 to the
+    /// right, 9 to the left (Clew's convention): `relativeDeg` positive = left (counter-clockwise), rounded
+    /// to the nearest 30 deg.
+    public static func clockHour(relativeDeg: Double) -> Int {
+        guard relativeDeg.isFinite else { return 12 }
+        let steps = Int((-relativeDeg / 30).rounded(.toNearestOrAwayFromZero))
+        let h = ((steps % 12) + 12) % 12
+        return h == 0 ? 12 : h
+    }
+
+    /// The `{toward}` suffix: ", toward 9 o'clock" for a direction `relativeDeg` (positive = left).
+    public func toward(relativeDeg: Double) -> String {
+        let h = Self.clockHour(relativeDeg: relativeDeg)
+        return h == 1 ? phrase("clock.toward.one") : phrase("clock.toward.other", ["count": String(h)])
     }
 }
 
@@ -161,17 +233,38 @@ public enum DepartOrientation: String, Sendable, Equatable {
     }
 }
 
-/// Turns maneuvers into phrases with a `PhraseBook`.
+/// Turns maneuvers into phrases with a `PhraseBook`, worded by `PhrasingOptions` (unit, direction style).
+/// Verbosity is applied by the navigator (what is said), not here (how it is said).
 public struct Narrative: Sendable {
     /// The phrase templates.
     public let phrases: PhraseBook
+    /// Unit and direction style of the phrases (its `language` is the phrase book's).
+    public let options: PhrasingOptions
 
-    /// Wraps a phrase book.
-    public init(phrases: PhraseBook) { self.phrases = phrases }
+    /// Wraps a phrase book; `options` defaults to meters and turn words.
+    public init(phrases: PhraseBook, options: PhrasingOptions = PhrasingOptions()) {
+        self.phrases = phrases
+        self.options = options
+    }
 
-    /// Start of a route: "Turn left, then go 10 meters."
-    public func depart(_ orientation: DepartOrientation, distanceMeters: Double) -> String {
-        phrases.phrase("depart.\(orientation.rawValue)", ["distance": phrases.distance(distanceMeters)])
+    /// A distance in the chosen unit ("8 meters", "25 feet", "11 steps").
+    public func distance(_ meters: Double) -> String {
+        phrases.distance(meters, unit: options.distanceUnit, strideMeters: options.strideMeters)
+    }
+
+    /// The `{toward}` value: empty with turn words; with clock-face directions ", toward 9 o'clock" for
+    /// a direction `relativeDeg` from the heading (positive = left); empty when the angle is unknown.
+    public func toward(relativeDeg: Double?) -> String {
+        guard options.directionStyle == .clockFace, let relativeDeg else { return "" }
+        return phrases.toward(relativeDeg: relativeDeg)
+    }
+
+    /// Start of a route: "Turn left, then go 10 meters." (clock face: "Turn left, toward 9 o'clock, then
+    /// go 10 meters."); `relativeBearingRad` is the route's direction from the heading (positive = left).
+    public func depart(_ orientation: DepartOrientation, distanceMeters: Double, relativeBearingRad: Double? = nil) -> String {
+        phrases.phrase("depart.\(orientation.rawValue)",
+                       ["distance": distance(distanceMeters),
+                        "toward": toward(relativeDeg: relativeBearingRad.map { normalizedAngleRad($0) * 180 / Double.pi })])
     }
 
     /// The early alert: "In 8 meters, turn left." Nil for kinds without one (depart, continue).
@@ -180,8 +273,8 @@ public struct Narrative: Sendable {
         case .depart, .continue: return nil
         default:
             return phrases.phrase("alert.\(m.kind.rawValue)",
-                                  ["distance": phrases.distance(distanceMeters), "floor": m.toFloorName ?? "",
-                                   "destination": destinationName])
+                                  ["distance": distance(distanceMeters), "floor": m.toFloorName ?? "",
+                                   "destination": destinationName, "toward": toward(relativeDeg: m.turnAngleDeg)])
         }
     }
 
@@ -195,9 +288,10 @@ public struct Narrative: Sendable {
             if m.distanceToNextMeters < RouteBuilder.chainMeters {
                 return phrases.phrase("cue.continue.short", ["floor": floorName])
             }
-            return phrases.phrase("cue.continue", ["floor": floorName, "distance": phrases.distance(m.distanceToNextMeters)])
+            return phrases.phrase("cue.continue", ["floor": floorName, "distance": distance(m.distanceToNextMeters)])
         default:
-            return phrases.phrase("cue.\(m.kind.rawValue)", ["floor": m.toFloorName ?? ""])
+            return phrases.phrase("cue.\(m.kind.rawValue)", ["floor": m.toFloorName ?? "",
+                                                              "toward": toward(relativeDeg: m.turnAngleDeg)])
         }
     }
 
@@ -206,13 +300,14 @@ public struct Narrative: Sendable {
     public func then(_ m: Maneuver) -> String? {
         switch m.kind {
         case .depart, .continue, .arrive: return nil
-        default: return phrases.phrase("then.\(m.kind.rawValue)", ["floor": m.toFloorName ?? ""])
+        default: return phrases.phrase("then.\(m.kind.rawValue)", ["floor": m.toFloorName ?? "",
+                                                                     "toward": toward(relativeDeg: m.turnAngleDeg)])
         }
     }
 
     /// After a maneuver, on a long leg: "Continue 15 meters."
     public func continuation(distanceMeters: Double) -> String {
-        phrases.phrase("continuation", ["distance": phrases.distance(distanceMeters)])
+        phrases.phrase("continuation", ["distance": distance(distanceMeters)])
     }
 
     /// "Arrived. Room 312 is on your left, behind a door."

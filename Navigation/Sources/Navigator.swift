@@ -33,24 +33,60 @@ public struct NavigationInput: Sendable, Equatable {
 
 /// Navigator tunables. Distances in meters, times in seconds, angles in degrees.
 public struct NavigatorOptions: Sendable {
-    /// The cue ("Turn left now") is issued when the position snapped on the route is this far before the
-    /// control point. 0.75 m from the paper (section 4).
+    /// The cue ("Turn left now") is issued at the latest when the position snapped on the route is this far
+    /// before the control point. 0.75 m from the paper (section 4). It is issued earlier when needed to end
+    /// in time (`cueEndMarginMeters`).
     public var cueDistanceMeters = 0.75
+    /// A "now" cue is scheduled to END at least this far before the control point: it is issued once the
+    /// distance left is at most `cueEndMarginMeters + cueSchedulingSlackMeters + v x (wait + duration)`,
+    /// v the walking speed (`speedWindowSeconds`, at most `maximumSchedulingSpeedMetersPerSecond`), the
+    /// duration from `announcements.speechTiming` and the wait for speech that may not be cut off. 0.5 m
+    /// (issue 17: "Turn left now." lasts 1.17 s, 1.3 m at 1.1 m/s: started 0.75 m before the turn it ended
+    /// past it).
+    public var cueEndMarginMeters = 0.5
+    /// Added to the cue distance for what the schedule cannot see: one update (0.1 s at 10 Hz is 0.11 m at
+    /// 1.1 m/s), the estimate's error along the route, a walker speeding up and the duration model's error
+    /// (95th percentile 0.32 s, 0.35 m at 1.1 m/s), meters. 0.5 m: with 0.3 m, 85 % of the "now" cues of
+    /// the SKERI convergence study ended 0.5 m before the turn (truth), short of the 95 % asked.
+    public var cueSchedulingSlackMeters = 0.5
+    /// Walking speed used for scheduling is capped here, m/s (a jump of the estimate is not walking).
+    public var maximumSchedulingSpeedMetersPerSecond = 2.0
+    /// The scheduling speed is the progress along the route over this window, seconds (along the route,
+    /// so that noise across the corridor does not count as walking; longer than `speedWindowSeconds` to
+    /// average the estimate's noise along it).
+    public var schedulingSpeedWindowSeconds = 2.0
+    /// Two announcements that would follow each other with less than this silence between them (a route
+    /// start or "Continue" and the early alert of the next maneuver) are merged into one utterance
+    /// ("Go straight ahead, 10 meters. Then turn right."), seconds.
+    public var mergeGapSeconds = 2.0
+    /// Least walking speed assumed for scheduling (cue timing, merging) when the measured speed is lower
+    /// (the traveler stopped or is about to walk), m/s: 1.1 m/s, a typical indoor pace of a cane user and
+    /// the figure of issue 17.
+    public var nominalWalkingSpeedMetersPerSecond = 1.1
     /// A traveler off the route toward the inside of a coming turn (cutting its corner) gets the turn's
     /// cue earlier by that offset, up to this much, meters (see `Navigator.cornerCutMeters`).
     public var maxCornerCutMeters = 1.5
     /// The early alert ("In 8 meters, turn left") is issued this far before a maneuver.
     public var alertDistanceMeters = 8.0
-    /// No alert when the maneuver is closer than the cue distance plus this gap (the cue follows at once).
+    /// No alert when the maneuver is closer than the cue distance plus this gap (the cue follows at once),
+    /// and an alert ends at least this far before its cue starts (at the walking speed), meters.
     public var alertCueGapMeters = 1.0
+    /// A long alert (clock-face wording, steps) is said up to this much earlier than `alertDistanceMeters`
+    /// so that it ends `alertCueGapMeters` before the cue, meters.
+    public var maximumAlertAdvanceMeters = 4.0
     /// Arrival when the remaining route is at most this long. 1 m from the paper (section 4).
     public var arrivalRadiusMeters = 1.0
     /// Never route over stairs.
     public var avoidStairs = false
     /// Never route over elevators.
     public var avoidElevators = false
-    /// Phrase file language (`Navigation/Locales/<language>.json`).
-    public var language = "en"
+    /// How guidance is worded: unit, clock-face directions, verbosity, language.
+    public var phrasing = PhrasingOptions()
+    /// Phrase file language (`Navigation/Locales/<language>.json`); the same as `phrasing.language`.
+    public var language: String {
+        get { phrasing.language }
+        set { phrasing.language = newValue }
+    }
     /// Off route when the estimate is farther than this from the route polyline.
     public var offRouteDistanceMeters = 3.0
     /// Re-route when the estimate is nearer to an edge off the route than to the route by this much.
@@ -167,6 +203,8 @@ public final class Navigator {
     private var lastInput: NavigationInput? = nil
     private var lastSnap: SnappedPosition? = nil
     private var history: [(t: Double, p: Vec2, floor: String)] = []
+    /// Progress along the current route per update, for the scheduling speed.
+    private var progressHistory: [(t: Double, s: Double)] = []
     private var wrongWaySince: Double? = nil
     private var lastCorrectionT: [HapticPattern: Double] = [:]
     private var lastRerouteCheckT = -Double.infinity
@@ -185,8 +223,15 @@ public final class Navigator {
         routing.avoidStairs = options.avoidStairs
         routing.avoidElevators = options.avoidElevators
         router = Router(graph: graph, options: routing)
-        narrative = Narrative(phrases: try PhraseBook.load(language: options.language))
-        policy = AnnouncementPolicy(config: options.announcements)
+        let phrases = try PhraseBook.load(language: options.phrasing.language)
+        narrative = Narrative(phrases: phrases, options: options.phrasing)
+        var announcements = options.announcements
+        // Durations are estimated with the syllable rules of the language spoken, at the configured rate.
+        if announcements.speechTiming.language != phrases.language {
+            announcements.speechTiming = .calibrated(language: phrases.language,
+                                                     wordsPerMinute: options.announcements.speechTiming.wordsPerMinute)
+        }
+        policy = AnnouncementPolicy(config: announcements)
         builder = RouteBuilder(graph: graph)
         planner = DisambiguationPlanner(building: building, options: options.disambiguation)
 
@@ -245,6 +290,7 @@ public final class Navigator {
             lastUnsureInput = input
             lastInput = nil
             history.removeAll()
+            progressHistory.removeAll()
             wrongWaySince = nil
             return emit(t)
         }
@@ -272,6 +318,7 @@ public final class Navigator {
         }
         guard currentRoute != nil else { return emit(t) }
         if checkArrival(input: input) { return emit(t) }
+        recordProgress(t: t)
         announceManeuvers(input: input)
         return emit(t)
     }
@@ -360,6 +407,7 @@ public final class Navigator {
         routeCumulativeCost = cc
         polylinePosition = 0
         progressMeters = 0
+        progressHistory.removeAll()
         distanceFromRouteMeters = 0
         nextManeuver = 1
         alertIssued = Array(repeating: false, count: route.maneuvers.count)
@@ -376,8 +424,8 @@ public final class Navigator {
         let ahead = route.point(atDistance: progressMeters + options.lookAheadMeters, fromSegment: 0).point
         let here = route.point(atDistance: progressMeters, fromSegment: 0).point
         let dir = ahead - here
-        let orientation: DepartOrientation = dir.length > 1e-6
-            ? DepartOrientation.classify(relativeBearingRad: dir.angleRad - input.headingRad) : .ahead
+        let relativeBearingRad: Double? = dir.length > 1e-6 ? dir.angleRad - input.headingRad : nil
+        let orientation: DepartOrientation = relativeBearingRad.map { DepartOrientation.classify(relativeBearingRad: $0) } ?? .ahead
         // Turns and doors within the look-ahead of the start are covered by the first instruction, whose
         // direction already points past them (e.g. out of a room's door into the corridor): not cued.
         // Except a turn still to be made: "Go straight ahead" to a traveler facing along the corridor a
@@ -403,10 +451,16 @@ public final class Navigator {
         }
         let next = route.maneuvers[min(first, route.maneuvers.count - 1)]
         let toNext = next.distanceFromStartMeters - progressMeters
-        if next.kind != .arrive || toNext > options.arrivalRadiusMeters {
+        // Facing along the route with a turn so close that its cue is due at once: the cue is the first
+        // instruction ("Go straight ahead, 1 meter." before or after "Turn left now." only confuses).
+        let cueDueAtOnce = orientation == .ahead && next.kind.isTurn && first < route.maneuvers.count
+            && toNext <= cueLeadMeters(narrative.cue(next, floorName: floorName(next.floorId)), priority: .cue, t: input.t)
+        if !cueDueAtOnce && (next.kind != .arrive || toNext > options.arrivalRadiusMeters) {
             // Alert rank: it must precede the alert of the next maneuver, which it makes redundant when
             // that one is already within the alert distance ("Turn left, then go 5 meters." then the cue).
-            say(narrative.depart(orientation, distanceMeters: toNext), .alert, input.t)
+            let text = narrative.depart(orientation, distanceMeters: toNext, relativeBearingRad: relativeBearingRad)
+            say(mergedWithNext(text, remainingMeters: toNext, next: min(first, route.maneuvers.count - 1), route: route),
+                .alert, input.t)
             if first < route.maneuvers.count && toNext <= options.alertDistanceMeters { alertIssued[first] = true }
         }
     }
@@ -641,6 +695,10 @@ public final class Navigator {
         //    nothing after a ride is announced before the ride.
         var i = nextManeuver
         var lookingAhead = false
+        // Doors passed over, their cue not yet out: a turn just beyond a door may be due first (its cue is
+        // timed to end before the turn); the door's cue is then not said (the turn's comes first, and the
+        // door is met anyway).
+        var doorsPassedOver: [Int] = []
         while i < r.maneuvers.count {
             let m = r.maneuvers[i]
             let d = m.distanceFromStartMeters - s
@@ -648,50 +706,135 @@ public final class Navigator {
                 if !lookingAhead, !alertIssued[i], d > options.arrivalRadiusMeters + options.alertCueGapMeters,
                    d <= options.alertDistanceMeters {
                     alertIssued[i] = true
-                    if let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) {
+                    if options.phrasing.verbosity != .brief,
+                       let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) {
                         say(text, .alert, t, about: m, variant: "alert")
                     }
                 }
                 break
             }
             if m.kind == .continue { break }
-            if !cueIssued[i] && d - cornerCutMeters(toward: m, route: r, input: input) <= options.cueDistanceMeters {
+            let cueText = narrative.cue(m, floorName: floorName(m.floorId))
+            // Doors rank as alerts: a door is met anyway; it must not delay or cut off the cue of a turn or
+            // a ride a metre or two away, which it would as a cue.
+            let cuePriority: AnnouncementPriority = m.kind == .goThroughDoor ? .alert : .cue
+            // Turn cues are timed to end before the turn; doors and rides keep the paper's distance (the
+            // traveler stops at them anyway, and their cue must not come before the maneuver ahead of them).
+            let cueLead = m.kind.isTurn ? cueLeadMeters(cueText, priority: cuePriority, t: t) : options.cueDistanceMeters
+            if !cueIssued[i] && d - cornerCutMeters(toward: m, route: r, input: input) <= cueLead {
                 cueIssued[i] = true
                 alertIssued[i] = true
-                if let text = narrative.cue(m, floorName: floorName(m.floorId)) {
+                for door in doorsPassedOver { cueIssued[door] = true; alertIssued[door] = true }
+                if let text = cueText {
                     if m.kind.isTurn { policy.submitHaptic(.turnCue) }
-                    // Doors rank as alerts: a door is met anyway; it must not delay or cut off the cue of
-                    // a turn or a ride a metre or two away, which it would as a cue.
-                    say(text, m.kind == .goThroughDoor ? .alert : .cue, t, about: m, variant: "cue")
+                    say(text, cuePriority, t, about: m, variant: "cue")
                     sayChained(after: i, route: r, t: t)
                 }
-            } else if !lookingAhead && !alertIssued[i] && d <= options.alertDistanceMeters
-                        && d > options.cueDistanceMeters + options.alertCueGapMeters {
-                alertIssued[i] = true
-                continuationDue = nil
-                if let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) {
-                    say(text, .alert, t, about: m, variant: "alert")
+            } else if !lookingAhead && !alertIssued[i], d > options.cueDistanceMeters + options.alertCueGapMeters,
+                      let alertDue = alertDueMeters(m, d: d, cueLead: cueLead, t: t), d <= alertDue.trigger {
+                let text = alertDue.text
+                // The alert must end (at the walking speed) a gap before its cue is due; it is brought
+                // forward from `alertDistanceMeters` when it is long. When it can no longer end in time (the
+                // maneuver came into view late), the cue would cut it off or follow it back to back: only
+                // the cue is said.
+                if options.phrasing.verbosity == .brief || alertDue.endBeforeMeters > cueLead + options.alertCueGapMeters - 1e-9 {
+                    alertIssued[i] = true
+                    continuationDue = nil
+                    if options.phrasing.verbosity != .brief { say(text, .alert, t, about: m, variant: "alert") }
                 }
             }
-            guard cueIssued[i], !isRide(m) else { break }
+            if !cueIssued[i] && m.kind == .goThroughDoor && !lookingAhead {
+                doorsPassedOver.append(i)
+            } else {
+                guard cueIssued[i], !isRide(m) else { break }
+            }
             lookingAhead = true
             i += 1
         }
-        // Post-maneuver continuation on a long leg.
+        // Post-maneuver continuation on a long leg (detailed: after every turn or door, unless the next
+        // maneuver is only steps away; brief: never).
         if let c = continuationDue, c + 1 < r.maneuvers.count {
             let m = r.maneuvers[c]
             let next = r.maneuvers[c + 1]
             let remaining = next.distanceFromStartMeters - s
-            if remaining <= options.alertDistanceMeters + options.continuationMarginMeters {
+            let shortest = options.phrasing.verbosity == .detailed
+                ? options.cueDistanceMeters + 2 * options.continuationMarginMeters
+                : options.alertDistanceMeters + options.continuationMarginMeters
+            if options.phrasing.verbosity == .brief || remaining <= shortest {
                 continuationDue = nil
             } else if s >= m.distanceFromStartMeters + options.continuationMarginMeters {
                 continuationDue = nil
-                say(narrative.continuation(distanceMeters: remaining), .information, t)
+                let text = narrative.continuation(distanceMeters: remaining)
+                say(mergedWithNext(text, remainingMeters: remaining, next: c + 1, route: r), .information, t)
             }
         }
     }
 
     private func floorName(_ id: String) -> String { graph.building.floor(id: id)?.name ?? id }
+
+    /// Walking speed used to schedule cues, m/s: progress along the route over the last
+    /// `schedulingSpeedWindowSeconds` (at least 0.5 s of it), at least `nominalWalkingSpeedMetersPerSecond`
+    /// (a traveler who stopped, or just stepped out of an elevator, is about to walk at a normal pace: a
+    /// cue scheduled for standing still would end after the turn) and at most the cap.
+    private func schedulingSpeed() -> Double {
+        var v = 0.0
+        if let last = progressHistory.last, let first = progressHistory.first, last.t - first.t >= 0.5 {
+            v = (last.s - first.s) / (last.t - first.t)
+        } else {
+            // Just after a route was adopted: the speed of the estimate itself.
+            v = speedMetersPerSecond()
+        }
+        return min(options.maximumSchedulingSpeedMetersPerSecond, max(options.nominalWalkingSpeedMetersPerSecond, v))
+    }
+
+    private func recordProgress(t: Double) {
+        progressHistory.append((t, progressMeters))
+        while let first = progressHistory.first, t - first.t > options.schedulingSpeedWindowSeconds + 1e-9 {
+            progressHistory.removeFirst()
+        }
+    }
+
+    /// How far before its control point a cue `text` of `priority` is issued so that it ends
+    /// `cueEndMarginMeters` before it: margin + slack + speed x (wait for speech it may not cut off +
+    /// its duration), at least `cueDistanceMeters`.
+    private func cueLeadMeters(_ text: String?, priority: AnnouncementPriority, t: Double) -> Double {
+        guard let text else { return options.cueDistanceMeters }
+        let wait = policy.earliestStart(priority: priority, t: t) - t
+        let lead = options.cueEndMarginMeters + options.cueSchedulingSlackMeters
+            + schedulingSpeed() * (wait + policy.estimatedDurationSeconds(text))
+        return max(options.cueDistanceMeters, lead)
+    }
+
+    /// Scheduling of the early alert of maneuver `m`, `d` meters ahead: its text, the distance at which it
+    /// is due (`alertDistanceMeters`, or earlier so that it ends `alertCueGapMeters` before the cue's
+    /// `cueLead`, plus the scheduling slack for the update step, at most `alertDistanceMeters + maximumAlertAdvanceMeters`) and the distance left when it
+    /// would end if said now. Nil for maneuvers without an alert.
+    private func alertDueMeters(_ m: Maneuver, d: Double, cueLead: Double, t: Double)
+        -> (text: String, trigger: Double, endBeforeMeters: Double)? {
+        guard let text = narrative.alert(m, distanceMeters: d, destinationName: destinationName) else { return nil }
+        let v = schedulingSpeed()
+        let lasts = v * (policy.earliestStart(priority: .alert, t: t) - t + policy.estimatedDurationSeconds(text))
+        let trigger = min(options.alertDistanceMeters + options.maximumAlertAdvanceMeters,
+                          max(options.alertDistanceMeters, cueLead + options.alertCueGapMeters + lasts
+                                + options.cueSchedulingSlackMeters))
+        return (text, trigger, d - lasts)
+    }
+
+    /// `text` (a route start or "Continue N meters" that names the distance to maneuver `next`), merged
+    /// with the maneuver's "Then ..." phrase when its early alert would otherwise follow with less than
+    /// `mergeGapSeconds` of silence (the alert would only repeat the distance): "Go straight ahead, 10
+    /// meters. Then turn right." The alert is then not said. Unchanged for arrival, brief verbosity, or
+    /// when the alert comes later.
+    private func mergedWithNext(_ text: String, remainingMeters: Double, next: Int, route r: Route) -> String {
+        guard options.phrasing.verbosity != .brief, next < r.maneuvers.count, !alertIssued[next],
+              remainingMeters > options.alertDistanceMeters,
+              let then = narrative.then(r.maneuvers[next]) else { return text }
+        let v = schedulingSpeed()
+        let alertDueAfterSeconds = (remainingMeters - options.alertDistanceMeters) / v
+        guard alertDueAfterSeconds < policy.estimatedDurationSeconds(text) + options.mergeGapSeconds else { return text }
+        alertIssued[next] = true
+        return text + " " + then
+    }
 
     /// How far the traveler has cut the corner of turn `m`: their offset from the route segment leading
     /// into the turn toward its inside (left of the segment for a left turn), meters, 0 when on the outside,

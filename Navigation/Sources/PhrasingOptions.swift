@@ -23,11 +23,13 @@ public enum DirectionStyle: String, Sendable, CaseIterable, Codable {
 
 /// How much is said.
 public enum Verbosity: String, Sendable, CaseIterable, Codable {
-    /// Maneuver cues and arrival only.
+    /// The route start, maneuver cues, rides, arrival and corrections only: no early alerts, no
+    /// "Continue N meters".
     case brief
-    /// Cues, early alerts and continuations (the default).
+    /// Cues, early alerts and continuations on long legs (the default).
     case normal
-    /// Everything in `normal` plus landmarks passed and the distance after each maneuver.
+    /// Everything in `normal` plus the distance after every turn or door ("Continue N meters" unless the
+    /// next maneuver is within 4.75 m). Landmarks passed are not said yet.
     case detailed
 }
 
@@ -35,8 +37,9 @@ public enum Verbosity: String, Sendable, CaseIterable, Codable {
 public struct PhrasingOptions: Sendable, Equatable, Codable {
     /// Spoken distance unit.
     public var distanceUnit: DistanceUnit
-    /// Stride length used for `DistanceUnit.steps`, meters per step (calibrated from the walker's own
-    /// stride when known; 0.7 m is a typical adult walking stride).
+    /// Stride length used for `DistanceUnit.steps`, meters per step: the walker's own, measured (distance
+    /// walked / steps counted; the phone has no step cadence from VIO, so it is a setting); 0.7 m, a
+    /// typical adult walking stride, when unknown.
     public var strideMeters: Double
     /// Direction wording.
     public var directionStyle: DirectionStyle

@@ -176,3 +176,54 @@ final class NavigationScoreTests: XCTestCase {
         XCTAssertNoThrow(try WalkEvaluator.checkTruthFloors(walk([Point2(5, 7), Point2(10, 7)]), building: office))
     }
 }
+
+/// The cue-timing figure of issue 17: does a "now" cue end 0.5 m before its control point?
+final class NowCueTimingTests: XCTestCase {
+    /// A 90-degree left at (20, 0) walked at 1 m/s from (0, 0), cue "Turn left now." said `cueMetersBefore`
+    /// before the corner (t = 20 - that).
+    func score(cueMetersBefore: Double, text: String = "Turn left now.") -> NavigationScore {
+        // Truth at 1 m/s, 10 Hz, along the two legs.
+        var truth: [TruthRecord] = []
+        for i in 0...350 {
+            let s = Double(i) / 10
+            truth.append(TruthRecord(t: s, x: min(s, 20), y: max(0, s - 20), floorId: "1", headingRad: s < 20 ? 0 : .pi / 2))
+        }
+        let nodes = [Point2(0, 0), Point2(20, 0), Point2(20, 15)].enumerated().map {
+            GraphNode(id: "n\($0.offset)", kind: .control, floorId: "1", position: $0.element)
+        }
+        let building = Building(id: "test", name: "Test", floors: [Floor(id: "1", name: "F1", elevationMeters: 0, walls: [])],
+                                graph: NavigationGraph(nodes: nodes, edges: [GraphEdge(from: "n0", to: "n1"),
+                                                                            GraphEdge(from: "n1", to: "n2")]))
+        return NavigationScore(announcements: [(t: 20 - cueMetersBefore, text: text)], truth: TruthTrack(truth),
+                               building: building, destination: nil, convergenceT: 0)
+    }
+
+    func testEndOfTheCueIsMeasuredWithTheDurationModel() throws {
+        let lasts = NavigationScore.speechTiming.durationSeconds("Turn left now.")  // 1.15 s = 1.15 m at 1 m/s
+        XCTAssertEqual(lasts, 1.15, accuracy: 0.01)
+        // The paper's 0.75 m: the cue ends 0.4 m after the corner.
+        let late = score(cueMetersBefore: 0.75)
+        XCTAssertEqual(late.cueDistancesBeforeMeters.count, 1)
+        XCTAssertEqual(try XCTUnwrap(late.nowCueEndBeforeMeters?.first), 0.75 - lasts, accuracy: 0.12)
+        XCTAssertEqual(AggregateScore([walkScore(late)]).nowCuesEndingInTimeShare, 0)
+        // Timed to end 0.8 m before: counted in time.
+        let early = score(cueMetersBefore: 0.8 + lasts)
+        XCTAssertEqual(try XCTUnwrap(early.nowCueEndBeforeMeters?.first), 0.8, accuracy: 0.12)
+        XCTAssertEqual(AggregateScore([walkScore(early), walkScore(late)]).nowCuesEndingInTimeShare, 0.5)
+        XCTAssertEqual(AggregateScore([walkScore(early), walkScore(late)]).nowCues, 2)
+        // A chained "Then turn left." is a cue but not a "now" cue: not in the figure.
+        XCTAssertEqual(score(cueMetersBefore: 2, text: "Then turn left.").nowCueEndBeforeMeters, [])
+    }
+
+    func testMergedRouteStartIsACueForItsFirstTurnOnly() {
+        XCTAssertEqual(NavigationScore.cueDirection("Turn left, then go 10 meters. Then turn right."), "left")
+        XCTAssertNil(NavigationScore.cueDirection("Go straight ahead, 10 meters. Then turn left."))
+        XCTAssertTrue(NavigationScore.isNowCue("Turn right now, toward 3 o'clock."))
+        XCTAssertFalse(NavigationScore.isNowCue("Then turn right."))
+    }
+
+    private func walkScore(_ n: NavigationScore) -> WalkScore {
+        WalkScore(name: "w", localization: LocalizationScore(trace: [], truth: TruthTrack([])), navigation: n, frames: 0,
+                  durationSeconds: 0, unsureGuidance: nil)
+    }
+}

@@ -11,10 +11,23 @@ final class AnnouncementPolicyTests: XCTestCase {
         XCTAssertEqual(TimedGuidanceEvent(t: 1, event: .haptic(.wrongWay)).description, "1.00 s  haptic wrongWay")
     }
 
-    func testDurationFromWordCount() {
+    func testDurationFromSpeechTimingModel() {
         let p = AnnouncementPolicy()
-        XCTAssertEqual(p.estimatedDurationSeconds("In 8 meters, turn left."), 5 / 2.5, accuracy: 1e-12)
-        XCTAssertEqual(p.estimatedDurationSeconds("Go"), 0.5, "minimum utterance")
+        // "In 8 meters, turn left.": 6 syllables (in, eight, me-ters, turn, left), one comma, final stop.
+        XCTAssertEqual(p.estimatedDurationSeconds("In 8 meters, turn left."), 0.398 + 6 * 0.1686 + 0.291 + 0.250,
+                       accuracy: 1e-9)
+        XCTAssertEqual(p.estimatedDurationSeconds(""), 0.5, "minimum utterance")
+    }
+
+    func testEarliestStartWaitsOnlyForSpeechItCannotCutOff() {
+        let p = AnnouncementPolicy()
+        p.submit("In 8 meters, turn right.", priority: .alert, t: 0)
+        XCTAssertEqual(texts(p.flush(t: 0)), ["In 8 meters, turn right."])
+        let end = p.speakingUntil
+        XCTAssertGreaterThan(end, 1.5)
+        XCTAssertEqual(p.earliestStart(priority: .cue, t: 0.5), 0.5, "a cue interrupts an alert")
+        XCTAssertEqual(p.earliestStart(priority: .alert, t: 0.5), end, "an alert waits for the alert")
+        XCTAssertEqual(p.earliestStart(priority: .alert, t: end + 0.1), end + 0.1, "silence: now")
     }
 
     func testSafetyAndCueInterruptInformationWaits() {
@@ -73,12 +86,14 @@ final class AnnouncementPolicyTests: XCTestCase {
 
     func testInformationSpacing() {
         let p = AnnouncementPolicy()
-        p.submit("Continue 10 meters.", priority: .information, t: 0)  // 3 words: 1.2 s
+        p.submit("Continue 10 meters.", priority: .information, t: 0)
         p.submit("Go straight ahead, 5 meters.", priority: .information, t: 0)
         XCTAssertEqual(texts(p.flush(t: 0)), ["Continue 10 meters."])
-        XCTAssertEqual(texts(p.flush(t: 1.3)), [], "speech ended at 1.2 s but 1.5 s spacing applies")
-        XCTAssertEqual(texts(p.flush(t: 2.6)), [])
-        XCTAssertEqual(texts(p.flush(t: 2.7)), ["Go straight ahead, 5 meters."])
+        let end = p.speakingUntil
+        XCTAssertEqual(end, p.estimatedDurationSeconds("Continue 10 meters."), accuracy: 1e-12)
+        XCTAssertEqual(texts(p.flush(t: end + 0.1)), [], "speech ended but 1.5 s spacing applies")
+        XCTAssertEqual(texts(p.flush(t: end + 1.45)), [])
+        XCTAssertEqual(texts(p.flush(t: end + 1.55)), ["Go straight ahead, 5 meters."])
     }
 
     func testStalenessPerPriority() {
@@ -89,9 +104,10 @@ final class AnnouncementPolicyTests: XCTestCase {
         // Alert waits; at 4.0 it is 3.9 s old: still fresh.
         XCTAssertEqual(texts(p.flush(t: 4.0)), ["In 8 meters, turn left."])
         p.submit("Ten more words to keep the speaker busy for four seconds.", priority: .cue, t: 4.1)
-        XCTAssertEqual(texts(p.flush(t: 4.1)).count, 1)  // cue interrupts the alert, speaking until 8.1
+        XCTAssertEqual(texts(p.flush(t: 4.1)).count, 1)  // cue interrupts the alert
         p.submit("In 6 meters, turn right.", priority: .alert, t: 4.2)
-        XCTAssertEqual(texts(p.flush(t: 8.2)), [], "alert older than 4 s dropped")
+        XCTAssertLessThan(p.speakingUntil, 8.3, "the cue is over by then")
+        XCTAssertEqual(texts(p.flush(t: 8.3)), [], "alert older than 4 s dropped")
     }
 
     func testRepeatSuppressionUnlessRequested() {

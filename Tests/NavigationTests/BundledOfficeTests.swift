@@ -22,8 +22,11 @@ func walkSteps(along route: Route) -> [WalkStep] {
 }
 
 /// Walks `nav` from `start` along the route it adopts and checks the cue rules:
-/// - every turn and ride with a cue of its own gets exactly one, spoken 0.5-1.5 m before its point (or,
-///   right after a landing closer than 0.5 m, on arrival at the landing);
+/// - every turn with a cue of its own gets exactly one, timed to END at least 0.5 m before its point at the
+///   walking speed (1.2 m/s), and started at most a frame (0.12 m) later than that needs, or as soon as the
+///   previous maneuver allows when it is closer;
+/// - every ride gets its cue 0.5-1.5 m before its point (or, right after a landing closer than 0.5 m, on
+///   arrival at the landing);
 /// - a maneuver announced with the previous one ("Then turn left.") is said once, before its point;
 /// - door cues rank as alerts and may be dropped when a turn or ride phrase occupies the speech channel,
 ///   but are never said more than 0.5 m past the door;
@@ -46,7 +49,12 @@ func walkRouteCheckingCues(_ nav: Navigator, start: Point2, floorId: String, fil
         let chained = m.announcedWithPrevious
         guard let text = chained ? nav.narrative.then(m) : nav.narrative.cue(m, floorName: "") else { continue }
         let previous = k > 0 ? route.maneuvers[k - 1].distanceFromStartMeters : 0
-        let lo = chained ? previous - 1.5 : previous - 1e-9
+        // A turn cue may come before a door just ahead of the turn (the door's cue is then dropped), not
+        // before the turn or ride before it.
+        let previousTurnOrRide = route.maneuvers[..<k].last { $0.kind.isTurn || $0.kind == .takeElevator
+            || $0.kind == .takeStairs || $0.kind == .continue }?.distanceFromStartMeters ?? 0
+        let lo = chained ? previous - 1.5 : m.kind.isTurn ? max(previousTurnOrRide, m.distanceFromStartMeters - 4) - 1e-9
+            : previous - 1e-9
         let said = w.records.filter { r in
             r.progressMeters >= lo && r.progressMeters <= m.distanceFromStartMeters + 0.5
                 && r.events.contains { $0.spokenText == text }
@@ -61,6 +69,13 @@ func walkRouteCheckingCues(_ nav: Navigator, start: Point2, floorId: String, fil
             let before = m.distanceFromStartMeters - r.progressMeters
             if chained || m.kind == .goThroughDoor {
                 XCTAssertGreaterThanOrEqual(before, chained ? 0 : -0.5, "said after the point: " + what, file: file, line: line)
+            } else if m.kind.isTurn {
+                let lead = nav.options.cueEndMarginMeters + nav.options.cueSchedulingSlackMeters
+                    + 1.2 * nav.policy.estimatedDurationSeconds(text)
+                let end = before - 1.2 * nav.policy.estimatedDurationSeconds(text)
+                XCTAssertGreaterThanOrEqual(end, min(0.5, m.distanceFromStartMeters - previousTurnOrRide - 1.2
+                    * nav.policy.estimatedDurationSeconds(text) - 1e-6), "ends late: " + what, file: file, line: line)
+                XCTAssertLessThanOrEqual(before, lead + 0.12 + 1e-6, "early: " + what, file: file, line: line)
             } else {
                 XCTAssertGreaterThanOrEqual(before, min(0.5, m.distanceFromStartMeters - previous - 1e-6), "late: " + what,
                                             file: file, line: line)

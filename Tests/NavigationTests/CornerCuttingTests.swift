@@ -24,17 +24,21 @@ final class CornerCuttingTests: XCTestCase {
         let cue = try XCTUnwrap(w.records.first { $0.events.contains { $0.spokenText == "Turn left now." } }, "\(w.spoken)")
         // Before the point of the diagonal nearest the corner (x = 18.5), by at least 0.3 m of walking.
         XCTAssertLessThan(cue.input.positionInMap.x, 18.5 - 0.3 / 2.0.squareRoot(), "cue at \(cue.input.positionInMap)")
-        XCTAssertGreaterThan(cue.input.positionInMap.x, 17.5, "not earlier than the cut's reach")
+        // Not before the traveler leaves the corridor's line at x = 17 (on the line the cue is due at 17.8).
+        XCTAssertGreaterThan(cue.input.positionInMap.x, 17.0, "not earlier than the cut's reach")
         XCTAssertEqual(w.spoken.filter { $0.contains("now") }, ["Turn left now."])
     }
 
-    func testTravelerOnTheCentreLineStillGetsTheCueAtThreeQuartersOfAMeter() throws {
+    func testTravelerOnTheCentreLineGetsTheCueTimedToEndHalfAMeterBeforeTheTurn() throws {
         let b = building([("a", Point2(x: 0, y: 0)), ("b", Point2(x: 20, y: 0)), ("c", Point2(x: 20, y: 15))])
         let nav = try Navigator(building: b, destinationId: "c")
         var w = Walker(start: Point2(x: 2, y: 0), floorId: "1")
         w.run(nav, [.walk(to: Point2(x: 20, y: 0)), .walk(to: Point2(x: 20, y: 14.5))])
         let cue = try XCTUnwrap(w.records.first { $0.events.contains { $0.spokenText == "Turn left now." } })
-        XCTAssertEqual(cue.input.positionInMap.x, 19.25, accuracy: 0.13)
+        // Ends 0.5 m (+ 0.5 m slack) before the corner at 1.2 m/s: starts 1.0 + 1.2 x 1.15 s = 2.38 m before.
+        let lead = nav.options.cueEndMarginMeters + nav.options.cueSchedulingSlackMeters
+            + 1.2 * nav.policy.estimatedDurationSeconds("Turn left now.")
+        XCTAssertEqual(cue.input.positionInMap.x, 20 - lead, accuracy: 0.13)
     }
 
     func testStraightAheadDepartureDoesNotSwallowATurnJustAhead() throws {
@@ -45,8 +49,10 @@ final class CornerCuttingTests: XCTestCase {
         let nav = try Navigator(building: b, destinationId: "c")
         var w = Walker(start: Point2(x: 8.8, y: 0), floorId: "1")
         w.run(nav, [.wait(seconds: 0.1), .walk(to: Point2(x: 10, y: 0)), .walk(to: Point2(x: 10, y: 7.5))])
-        XCTAssertEqual(w.spoken.first, "Go straight ahead, 1 meter.", "\(w.spoken)")
-        XCTAssertTrue(w.spoken.contains("Turn left now."), "\(w.spoken)")
+        // 1.2 m before the turn its cue is due at once (it must end 0.5 m before the corner): the cue is
+        // the first instruction, with no "Go straight ahead, 1 meter." around it.
+        XCTAssertEqual(w.spoken.first, "Turn left now.", "\(w.spoken)")
+        XCTAssertFalse(w.spoken.contains { $0.hasPrefix("Go straight ahead") }, "\(w.spoken)")
         // Facing the new corridor already (the turn is behind the first phrase's direction): no cue.
         let nav2 = try Navigator(building: b, destinationId: "c")
         var w2 = Walker(start: Point2(x: 9.7, y: 0), floorId: "1", headingRad: .pi / 2)

@@ -27,8 +27,10 @@ final class NavigatorTests: XCTestCase {
         XCTAssertEqual(w.spoken, ["Start walking.", "Start walking."], "repeated every 15 s while not localized")
         XCTAssertEqual(w.records.filter { !$0.events.isEmpty }.map(\.input.t), [0, 15].map { Double($0) },
                        "nothing else in between")
-        w.run(nav, [.wait(seconds: 0.1)])
+        // Localized at 16 s: the route's first phrase waits for "Start walking." (15 s, 1.15 s long) to end.
+        w.run(nav, [.wait(seconds: 0.3)])
         XCTAssertEqual(w.spoken.last, "Go straight ahead, 10 meters.")
+        XCTAssertEqual(try XCTUnwrap(w.records.last { !$0.events.isEmpty }).input.t, 16.2, accuracy: 1e-9)
         XCTAssertNotNil(nav.currentRoute)
     }
 
@@ -72,7 +74,7 @@ final class NavigatorTests: XCTestCase {
         XCTAssertEqual(nav.routeCount, 1)
     }
 
-    func testCuesBetweenHalfAndOneAndAHalfMetersBeforeEachControlPoint() throws {
+    func testTurnCuesEndHalfAMeterBeforeEachControlPoint() throws {
         let nav = try Navigator(building: zigzag, destinationId: "e")
         var w = Walker(start: zigzag.nodePosition("a"), floorId: "1", headingRad: 0)
         w.run(nav, [.wait(seconds: 0.1)])
@@ -80,20 +82,24 @@ final class NavigatorTests: XCTestCase {
         XCTAssertEqual(kindsList(route.maneuvers), "depart,turnRight,turnLeft,turnRight,arrive")
         w.run(nav, route.points.dropFirst().map { .walk(to: $0.position) })
         XCTAssertTrue(nav.hasArrived)
-        // Every turn got its cue, at 0.5-1.5 m before the control point.
+        // Every turn got its cue, started so that at 1.2 m/s it ends 0.5 m (plus the 0.5 m slack) before the
+        // control point: "Turn left now." lasts 1.15 s, 1.38 m, so it starts 2.38 m before.
         let cueRecords = w.records.filter { r in r.events.contains { $0.spokenText?.hasSuffix(" now.") ?? false } }
         XCTAssertEqual(cueRecords.compactMap { $0.events.compactMap(\.spokenText).first }, ["Turn right now.", "Turn left now.", "Turn right now."])
         for r in cueRecords {
             let d = try XCTUnwrap(r.nextTurnDistanceMeters)
-            XCTAssertGreaterThanOrEqual(d, 0.5)
-            XCTAssertLessThanOrEqual(d, 1.5)
+            let text = try XCTUnwrap(r.events.compactMap(\.spokenText).first)
+            let lasts = 1.2 * nav.policy.estimatedDurationSeconds(text)
+            XCTAssertGreaterThanOrEqual(d - lasts, 0.5, "ends at least 0.5 m before the turn")
+            XCTAssertLessThanOrEqual(d - lasts, 0.5 + nav.options.cueSchedulingSlackMeters + 0.12,
+                                     "and not more than one update earlier")
         }
         XCTAssertEqual(w.haptics, [.turnCue, .turnCue, .turnCue, .arrived])
         XCTAssertEqual(w.spoken, [
             "Go straight ahead, 15 meters.",  // 16 m to b, rounded to 5 m above 10 m
             "In 8 meters, turn right.",
             "Turn right now.",
-            "In 3 meters, turn left.",  // b-c is 4 m: the next alert once 0.5 m past b
+            // b-c is 4 m: "In 3 meters, turn left." would run into the cue due 2.2 m before c: only the cue.
             "Turn left now.",
             "Continue 20 meters.",
             "In 8 meters, turn right.",
@@ -105,7 +111,8 @@ final class NavigatorTests: XCTestCase {
 
     func testNoisyEstimatesDoNotFlapOrRaiseFalseAlarms() throws {
         // Localizer noise of 0.3 m and 10 deg (seeded), walking the zigzag: one route, no corrections,
-        // every turn cued once, within 0.2-2 m of its control point (true position).
+        // every turn cued once, ending (true position, 1.2 m/s) before its control point and starting at
+        // most 4 m before it (2.4 m without noise; 0.3 m of position noise also moves the speed estimate).
         for seed in [1, 2, 3, 4, 5, 6, 7, 8, 9, 10] as [UInt64] {
             let nav = try Navigator(building: zigzag, destinationId: "e")
             var w = Walker(start: zigzag.nodePosition("a"), floorId: "1")
@@ -127,8 +134,9 @@ final class NavigatorTests: XCTestCase {
                 let k = w.records.firstIndex { $0.input.t == r.input.t }!
                 let truth = trueDistanceAlong(route, walkedUpdates: k)
                 let before = m.distanceFromStartMeters - truth
-                XCTAssertGreaterThanOrEqual(before, 0.2, "seed \(seed) \(m.kind)")
-                XCTAssertLessThanOrEqual(before, 2.0, "seed \(seed) \(m.kind)")
+                let text = r.events.compactMap(\.spokenText).first ?? ""
+                XCTAssertGreaterThanOrEqual(before - 1.2 * nav.policy.estimatedDurationSeconds(text), 0, "seed \(seed) \(m.kind)")
+                XCTAssertLessThanOrEqual(before, 4.0, "seed \(seed) \(m.kind)")
             }
         }
     }

@@ -46,8 +46,9 @@ public final class GuidanceSession {
     public private(set) var startId: String?
     /// Chosen destination place id.
     public private(set) var destinationId: String?
-    /// A short status line, shown and exposed to VoiceOver ("Locating. Keep walking.", "On route.").
-    public private(set) var statusText = "Choose a building"
+    /// A short status line, shown and exposed to VoiceOver ("Locating. Keep walking.", "On route."), from
+    /// the phrase book of `pipelineOptions.navigator.phrasing.language`.
+    public var statusText: String { phrases.phrase(statusKey) }
     /// The places of the chosen building, for the pickers.
     public private(set) var places: PlaceList?
 
@@ -57,11 +58,26 @@ public final class GuidanceSession {
     private var arrivedAtT: Double?
     /// Longest time the pipeline keeps running after arrival for the arrival phrase to be spoken, seconds.
     static let arrivalDrainSeconds = 5.0
-    /// Pipeline options used when guidance starts (detector, seeds...).
+    /// Pipeline options used when guidance starts (detector, seeds, the phrasing of guidance). Its phrasing
+    /// language also chooses the words of the status and the tracking prompts.
     public var pipelineOptions = PipelineOptions()
+    private var cachedPhrases: PhraseBook = .english
+    private var statusKey = "status.chooseBuilding"
+
+    /// The app's own words (status lines, tracking prompts, "Guidance stopped"): the phrase book of the
+    /// phrasing language (English when it has no file).
+    public var phrases: PhraseBook {
+        let language = pipelineOptions.navigator.phrasing.language
+        if cachedPhrases.language != language {
+            cachedPhrases = (try? PhraseBook.load(language: language)) ?? .english
+        }
+        return cachedPhrases
+    }
 
     /// Creates a session at the first step.
     public init() {}
+
+    private func setStatus(_ key: String) { statusKey = key }
 
     /// Chooses the building (from the bundled maps or a file opened from Files).
     public func selectBuilding(_ building: Building) {
@@ -71,7 +87,7 @@ public final class GuidanceSession {
         startId = nil
         destinationId = nil
         state = .choosingStart
-        statusText = "Choose where you are, or I don't know where I am"
+        setStatus("status.chooseStart")
     }
 
     /// Chooses the floor used when the start is unknown.
@@ -86,7 +102,7 @@ public final class GuidanceSession {
         startId = placeId
         if let placeId, let floor = building?.floor(ofPointOfInterest: placeId) { floorId = floor.id }
         state = .choosingDestination
-        statusText = "Choose a destination"
+        setStatus("status.chooseDestination")
     }
 
     /// Chooses the destination.
@@ -94,7 +110,7 @@ public final class GuidanceSession {
         guard state == .choosingDestination || state == .ready, building?.pointOfInterest(id: placeId) != nil else { return }
         destinationId = placeId
         state = .ready
-        statusText = "Ready. Press Start guidance."
+        setStatus("status.ready")
     }
 
     /// Starts guidance: builds the pipeline (localizer from the start prior, navigator to the destination).
@@ -107,10 +123,10 @@ public final class GuidanceSession {
         options.startPointOfInterestId = startId
         options.destinationId = destinationId
         pipeline = try WayfinderPipeline(building: building, options: options, imagesAvailable: true)
-        prompts = TrackingPromptPolicy()
+        prompts = TrackingPromptPolicy(phrases: phrases)
         wasLocalized = false
         state = .guiding
-        statusText = "Locating. Keep walking."
+        setStatus("status.locating")
         return [.startSensors]
     }
 
@@ -119,8 +135,8 @@ public final class GuidanceSession {
         guard pipeline != nil else { return [] }
         pipeline = nil
         state = destinationId == nil ? .choosingDestination : .ready
-        statusText = "Guidance stopped"
-        return [.stopSensors, .speak("Guidance stopped", interrupt: true)]
+        setStatus("status.stopped")
+        return [.stopSensors, .speak(statusText, interrupt: true)]
     }
 
     /// Forwards ARKit plane-anchor events to the pipeline while guiding (scored at the next frame).
@@ -147,11 +163,11 @@ public final class GuidanceSession {
         }
         if update.estimate.isLocalized != wasLocalized {
             wasLocalized = update.estimate.isLocalized
-            statusText = wasLocalized ? "On route" : "Not sure where you are. Keep walking."
+            setStatus(wasLocalized ? "status.onRoute" : "status.unsure")
         }
         if pipeline.hasArrived {
             state = .arrived
-            statusText = "Arrived"
+            setStatus("status.arrived")
             arrivedAtT = frame.t
             if commands.contains(where: { if case .speak = $0 { return true } else { return false } }) {
                 commands.append(.stopSensors)

@@ -1,5 +1,21 @@
 import Foundation
+import Navigation
 import SessionFormat
+
+/// A tracking condition worth telling the traveler about; its words are in the phrase book.
+public enum TrackingPrompt: String, Sendable, Equatable, CaseIterable {
+    /// The frame is nearly black: a finger or a pocket over the lens.
+    case covered
+    /// ARKit reports excessive motion.
+    case slowDown
+    /// Too few features (a blank wall, the floor) or limited for an unknown reason.
+    case pointAhead
+    /// Tracking is not available at all.
+    case lost
+
+    /// Phrase-book key (`Navigation/Locales/<language>.json`).
+    public var phraseKey: String { "tracking.\(rawValue)" }
+}
 
 /// Spoken prompts when ARKit tracking degrades ("Slow down", "Point the camera ahead", "The camera is
 /// covered"), rate-limited so they never become chatter: the same prompt at most every
@@ -13,30 +29,38 @@ public struct TrackingPromptPolicy: Sendable {
     /// Minimum time between any two prompts, seconds.
     public var minimumSpacingSeconds = 5.0
 
-    private var conditionSince: (prompt: String, t: Double)?
-    private var lastSpoken: [String: Double] = [:]
+    /// The words of the prompts.
+    public let phrases: PhraseBook
+    private var conditionSince: (prompt: TrackingPrompt, t: Double)?
+    private var lastSpoken: [TrackingPrompt: Double] = [:]
     private var lastAnyT = -Double.infinity
 
-    /// Creates the policy with default timings.
-    public init() {}
+    /// Creates the policy with default timings, speaking from `phrases` (default English).
+    public init(phrases: PhraseBook = .english) { self.phrases = phrases }
 
-    /// The prompt for a tracking state, or nil when tracking is fine. `meanLuma` (0...255) of the frame
+    /// The condition of a tracking state, or nil when tracking is fine. `meanLuma` (0...255) of the frame
     /// distinguishes a covered camera from a texture-less view.
-    public static func prompt(for state: TrackingState, reason: TrackingReason?, meanLuma: Double?) -> String? {
-        if let luma = meanLuma, luma < 8 { return "The camera is covered" }
+    public static func condition(for state: TrackingState, reason: TrackingReason?, meanLuma: Double?) -> TrackingPrompt? {
+        if let luma = meanLuma, luma < 8 { return .covered }
         switch (state, reason) {
         case (.normal, _): return nil
-        case (.limited, .excessiveMotion?): return "Slow down"
-        case (.limited, .insufficientFeatures?): return "Point the camera ahead"
+        case (.limited, .excessiveMotion?): return .slowDown
+        case (.limited, .insufficientFeatures?): return .pointAhead
         case (.limited, .initializing?), (.limited, .relocalizing?): return nil
-        case (.limited, nil): return "Point the camera ahead"
-        case (.notAvailable, _): return "Tracking lost. Point the camera ahead"
+        case (.limited, nil): return .pointAhead
+        case (.notAvailable, _): return .lost
         }
+    }
+
+    /// The prompt's words for a tracking state in `phrases` (default English), or nil when tracking is fine.
+    public static func prompt(for state: TrackingState, reason: TrackingReason?, meanLuma: Double?,
+                              phrases: PhraseBook = .english) -> String? {
+        condition(for: state, reason: reason, meanLuma: meanLuma).map { phrases.phrase($0.phraseKey) }
     }
 
     /// Feeds one frame's state; returns the text to speak now, if any.
     public mutating func update(t: Double, state: TrackingState, reason: TrackingReason?, meanLuma: Double? = nil) -> String? {
-        guard let prompt = Self.prompt(for: state, reason: reason, meanLuma: meanLuma) else {
+        guard let prompt = Self.condition(for: state, reason: reason, meanLuma: meanLuma) else {
             conditionSince = nil
             return nil
         }
@@ -45,6 +69,6 @@ public struct TrackingPromptPolicy: Sendable {
         guard t - lastAnyT >= minimumSpacingSeconds, t - (lastSpoken[prompt] ?? -.infinity) >= repeatIntervalSeconds else { return nil }
         lastSpoken[prompt] = t
         lastAnyT = t
-        return prompt
+        return phrases.phrase(prompt.phraseKey)
     }
 }
