@@ -122,7 +122,7 @@ enum ReplayCommand: Subcommand {
                 let audio = try WalkAudioRenderer.render(announcements: result.announcements, haptics: result.haptics,
                                                          startT: startT, endT: endT, synthesizer: synthesizer)
                 try WAVFile.write(audio, to: URL(fileURLWithPath: audioPath))
-                progress(String(format: "replay: audio written to %@ (%.1f s, %d utterances, %d haptics)", audioPath,
+                note(String(format: "replay: audio written to %@ (%.1f s, %d utterances, %d haptics)", audioPath,
                                 audio.durationSeconds, result.announcements.count, result.haptics.count))
             } catch let e as SpeechError {
                 throw CLIError.failure("--audio: \(e)")
@@ -198,7 +198,7 @@ func speakInRealTime(_ result: ReplayResult, startT: Double, synthesizer: Espeak
         let text = String(decoding: pipe.fileHandleForReading.readDataToEndOfFile(), as: UTF8.self)
         guard !warned, let line = text.split(separator: "\n").first else { return }
         warned = true
-        progress("warning: espeak-ng could not play the speech: \(line) (no sound device? --audio OUT.wav writes the walk's sound to a file)")
+        note("warning: espeak-ng could not play the speech: \(line) (no sound device? --audio OUT.wav writes the walk's sound to a file)")
     }
     for (t, item) in items {
         let wait = (t - startT) - Date().timeIntervalSince(clock)

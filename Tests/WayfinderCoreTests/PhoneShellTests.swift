@@ -276,6 +276,10 @@ final class PhoneShellTests: XCTestCase {
         XCTAssertEqual(r.cues(of: [.haptic("turnCue"), .speak(book.phrase("cue.turnLeft"), interrupt: true)]), [.turnLeft])
         XCTAssertEqual(r.cues(of: [.haptic("turnCue"), .speak(book.phrase("cue.sharpRight"), interrupt: true)]), [.sharpRight])
         XCTAssertEqual(r.cues(of: [.haptic("turnCue"), .speak("Continue 5 meters.", interrupt: false)]), [.turn])
+        // A clock-face cue ("Turn left now, toward 9 o'clock.") is the same cue.
+        XCTAssertEqual(r.cues(of: [.haptic("turnCue"),
+                                   .speak(book.phrase("cue.turnLeft", ["toward": ", toward 9 o'clock"]), interrupt: true)]),
+                       [.turnLeft])
         XCTAssertEqual(r.cues(of: [.haptic("offRoute"), .speak(book.phrase("safety.offRoute"), interrupt: true)]), [.offRoute])
     }
 

@@ -117,21 +117,50 @@ public enum HapticCue: String, Sendable, CaseIterable {
 /// text, exact) names the maneuver. Until the session's commands carry the maneuver kind itself, this is
 /// how the adapter tells left from right.
 public struct TurnCueResolver: Sendable {
-    private let kindByText: [String: ManeuverKind]
+    /// The literal pieces of each turn cue's template around its placeholders (`{toward}` for clock-face
+    /// directions), in order, with the maneuver they cue.
+    private let cueTemplates: [(pieces: [String], kind: ManeuverKind)]
 
     /// Builds the lookup from the phrase book the navigator speaks with.
     public init(phrases: PhraseBook) {
-        var map: [String: ManeuverKind] = [:]
+        var list: [(pieces: [String], kind: ManeuverKind)] = []
         for kind in ManeuverKind.allCases where kind.isTurn {
-            let key = "cue.\(kind.rawValue)"
-            if let template = phrases.templates[key] { map[template] = kind }
+            guard let template = phrases.templates["cue.\(kind.rawValue)"] else { continue }
+            list.append((Self.literalPieces(of: template), kind))
         }
-        kindByText = map
+        cueTemplates = list
+    }
+
+    /// `template` split at its `{name}` placeholders: "Turn left now{toward}." -> ["Turn left now", "."].
+    static func literalPieces(of template: String) -> [String] {
+        var pieces: [String] = [], current = "", inside = false
+        for ch in template {
+            if ch == "{" { inside = true; pieces.append(current); current = ""; continue }
+            if ch == "}" && inside { inside = false; continue }
+            if !inside { current.append(ch) }
+        }
+        pieces.append(current)
+        return pieces
+    }
+
+    /// Whether `text` is an instance of the template whose literal pieces are `pieces` (each placeholder
+    /// standing for any text, possibly empty).
+    static func matches(_ text: String, pieces: [String]) -> Bool {
+        guard let first = pieces.first, text.hasPrefix(first) else { return false }
+        var rest = text.dropFirst(first.count)
+        for (i, piece) in pieces.enumerated().dropFirst() {
+            if i == pieces.count - 1 { return rest.hasSuffix(piece) }
+            guard let r = rest.range(of: piece) else { return false }
+            rest = rest[r.upperBound...]
+        }
+        return rest.isEmpty
     }
 
     /// The turn that one of `texts` (the batch's spoken texts) cues, if any.
     public func turn(spokenIn texts: [String]) -> ManeuverKind? {
-        for text in texts { if let k = kindByText[text] { return k } }
+        for text in texts {
+            if let hit = cueTemplates.first(where: { Self.matches(text, pieces: $0.pieces) }) { return hit.kind }
+        }
         return nil
     }
 
