@@ -444,11 +444,19 @@ double ParticleFilter::tempering_exponent(float max_ll) {
     const size_t stride = std::max<size_t>(1, n / 8192);
     const float *w = p_.weight.data();
     const float *ll = log_likelihood_.data();
+    // The subsample's weights and log-likelihoods (relative to the best), gathered once for the bisection.
+    tempering_w_.clear();
+    tempering_d_.clear();
+    for (size_t i = 0; i < n; i += stride) {
+        tempering_w_.push_back(w[i]);
+        tempering_d_.push_back(ll[i] - max_ll);
+    }
+    const size_t m = tempering_w_.size();
     auto ess_fraction = [&](double beta) {
+        const float fb = static_cast<float>(beta);
         double s = 0, s2 = 0;
-        size_t m = 0;
-        for (size_t i = 0; i < n; i += stride, ++m) {
-            const double v = w[i] * std::exp(beta * (ll[i] - max_ll));
+        for (size_t k = 0; k < m; ++k) {
+            const double v = tempering_w_[k] * std::exp(beta * static_cast<double>(tempering_d_[k]));
             s += v;
             s2 += v * v;
         }
@@ -483,7 +491,7 @@ void ParticleFilter::resample(double inject_fraction) {
         // KLD-sampling (Fox 2003): k = bins occupied by a systematic draw of the current size.
         systematic_resample(p_.weight.data(), n, n, rng_.uniform(), indices_);
         const size_t k = count_occupied_bins(p_, indices_, static_cast<float>(vio_yaw_), static_cast<float>(opts_.kld_bin_m),
-                                             static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_);
+                                             static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_, kld_dense_, kld_seen_);
         target = std::clamp(kld_sample_count(k, opts_.kld_epsilon, opts_.kld_z), static_cast<size_t>(opts_.min_particles),
                             static_cast<size_t>(opts_.max_particles));
     }
@@ -521,13 +529,23 @@ void ParticleFilter::resample(double inject_fraction) {
         if (significant >= 2 || (significant == 1 && clusters[0].weight < 0.99)) {
             grouped = true;
             const int32_t groups = significant + 1;  // last group: the rest
-            group_members_.assign(groups, {});
+            // Members of each group in particle order, as one array sorted by group (counting sort, no
+            // per-group allocation).
+            group_start_.assign(static_cast<size_t>(groups) + 1, 0);
             std::vector<double> mass(groups, 0.0);
             for (size_t i = 0; i < n; ++i) {
                 const int32_t c = cluster_of[i];
                 const int32_t g = (c >= 0 && c < significant) ? c : significant;
-                group_members_[g].push_back(static_cast<uint32_t>(i));
+                ++group_start_[g + 1];
                 mass[g] += p_.weight[i];
+            }
+            for (int32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
+            group_members_.resize(n);
+            group_fill_.assign(group_start_.begin(), group_start_.end() - 1);
+            for (size_t i = 0; i < n; ++i) {
+                const int32_t c = cluster_of[i];
+                const int32_t g = (c >= 0 && c < significant) ? c : significant;
+                group_members_[group_fill_[g]++] = static_cast<uint32_t>(i);
             }
             double total = 0;
             int32_t nonempty = 0;
@@ -544,11 +562,13 @@ void ParticleFilter::resample(double inject_fraction) {
                                                             ((1.0 - share) * wg + share / nonempty)));
                 ng = std::clamp<size_t>(ng, 1, std::max<size_t>(1, remaining));
                 if (g == groups - 1 || out + ng > n_keep) ng = std::max<size_t>(1, remaining);
-                group_weights_.resize(group_members_[g].size());
-                for (size_t k = 0; k < group_members_[g].size(); ++k) group_weights_[k] = p_.weight[group_members_[g][k]];
+                const uint32_t *members = group_members_.data() + group_start_[g];
+                const size_t count = group_start_[g + 1] - group_start_[g];
+                group_weights_.resize(count);
+                for (size_t k = 0; k < count; ++k) group_weights_[k] = p_.weight[members[k]];
                 systematic_resample(group_weights_.data(), group_weights_.size(), ng, rng_.uniform(), indices_);
                 const float w = static_cast<float>(kept_mass * wg / static_cast<double>(ng));
-                for (uint32_t k : indices_) copy_particle(group_members_[g][k], w);
+                for (uint32_t k : indices_) copy_particle(members[k], w);
                 if (out >= n_keep) break;
             }
         }

@@ -126,6 +126,106 @@ uint32_t BinCounter::find(uint64_t key) const {
     return UINT32_MAX;
 }
 
+bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
+                       float inv_bin_yaw, int32_t yaw_bins, size_t max_box) {
+    ix_.resize(m);
+    iy_.resize(m);
+    ih_.resize(m);
+    box_.resize(m);
+    yaw_bins_ = yaw_bins;
+    nx_ = ny_ = nf_ = 0;
+    nh_ = yaw_bins;
+    if (m == 0) return true;
+    // BinCounter::key's arithmetic, branch-free so that it vectorises: floor(v) = trunc(v) - (trunc(v) > v),
+    // exact for |v| < 2^31. The key's range is |bin| < 2^21; beyond 2^20 bins, or for a non-finite value
+    // (the comparisons reject NaN), the caller falls back to the hash table.
+    constexpr float kLimit = 1048576.0f;
+    constexpr float kYawLimit = 1e4f;  // wrap_angle_f's documented range
+    int32_t ok = 1;
+    int32_t xmin = INT32_MAX, xmax = INT32_MIN, ymin = INT32_MAX, ymax = INT32_MIN;
+    int32_t fmin = INT32_MAX, fmax = INT32_MIN;
+    constexpr size_t kBlock = 256;
+    alignas(64) float vx[kBlock], vy[kBlock], hd[kBlock];
+    alignas(64) int32_t fl[kBlock];
+    for (size_t b = 0; b < m; b += kBlock) {
+        const size_t nb = std::min(kBlock, m - b);
+        if (idx) {
+            for (size_t k = 0; k < nb; ++k) {
+                const size_t i = idx[b + k];
+                vx[k] = p.x[i];
+                vy[k] = p.y[i];
+                hd[k] = p.yaw_offset[i];
+                fl[k] = p.floor[i];
+            }
+        } else {
+            for (size_t k = 0; k < nb; ++k) {
+                vx[k] = p.x[b + k];
+                vy[k] = p.y[b + k];
+                hd[k] = p.yaw_offset[b + k];
+                fl[k] = p.floor[b + k];
+            }
+        }
+        int32_t *ox = ix_.data() + b, *oy = iy_.data() + b, *oh = ih_.data() + b;
+        for (size_t k = 0; k < nb; ++k) {
+            const float x = vx[k] * inv_bin_m, y = vy[k] * inv_bin_m, a = vio_yaw + hd[k];
+            const bool in = (x > -kLimit) & (x < kLimit) & (y > -kLimit) & (y < kLimit) & (a > -kYawLimit) &
+                            (a < kYawLimit);
+            ok &= in ? 1 : 0;
+            const float sx = in ? x : 0.0f, sy = in ? y : 0.0f, sa = in ? a : 0.0f;
+            const int32_t tx = static_cast<int32_t>(sx), ty = static_cast<int32_t>(sy);
+            ox[k] = tx - (static_cast<float>(tx) > sx ? 1 : 0);
+            oy[k] = ty - (static_cast<float>(ty) > sy ? 1 : 0);
+            // wrap_angle_f(sa), with the rounding's sign select written as copysign (vectorises; same value).
+            const float t = sa * (1.0f / kTwoPi);
+            const float wrapped = sa - kTwoPi * static_cast<float>(static_cast<int32_t>(t + std::copysign(0.5f, t)));
+            int32_t ih = static_cast<int32_t>((wrapped + kPi) * inv_bin_yaw);
+            ih = ih >= yaw_bins ? ih - yaw_bins : ih;
+            oh[k] = ih < 0 ? 0 : ih;
+        }
+        for (size_t k = 0; k < nb; ++k) {
+            xmin = std::min(xmin, ox[k]);
+            xmax = std::max(xmax, ox[k]);
+            ymin = std::min(ymin, oy[k]);
+            ymax = std::max(ymax, oy[k]);
+            fmin = std::min(fmin, fl[k]);
+            fmax = std::max(fmax, fl[k]);
+        }
+    }
+    if (!ok) return false;
+    const int64_t nx = int64_t{xmax} - xmin + 1, ny = int64_t{ymax} - ymin + 1, nf = int64_t{fmax} - fmin + 1;
+    const int64_t nh = yaw_bins;
+    if (nx * ny > static_cast<int64_t>(max_box) || nx * ny * nf > static_cast<int64_t>(max_box) ||
+        nx * ny * nf * nh > static_cast<int64_t>(max_box)) {
+        return false;
+    }
+    nx_ = static_cast<int32_t>(nx);
+    ny_ = static_cast<int32_t>(ny);
+    nf_ = static_cast<int32_t>(nf);
+    const uint32_t ux = static_cast<uint32_t>(nx_), uy = static_cast<uint32_t>(ny_), uh = static_cast<uint32_t>(nh_);
+    for (size_t k = 0; k < m; ++k) {
+        const uint32_t f = static_cast<uint32_t>((idx ? p.floor[idx[k]] : p.floor[k]) - fmin);
+        box_[k] = ((f * uy + static_cast<uint32_t>(iy_[k] - ymin)) * ux + static_cast<uint32_t>(ix_[k] - xmin)) * uh +
+                  static_cast<uint32_t>(ih_[k]);
+    }
+    return true;
+}
+
+size_t count_occupied_bins(const ParticleSet &p, const std::vector<uint32_t> &indices, float vio_yaw, float bin_m,
+                           float bin_yaw_rad, BinCounter &bins, DenseBins &dense, std::vector<uint8_t> &seen) {
+    const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::ceil(2.0f * kPi / bin_yaw_rad)));
+    const float inv_m = 1.0f / bin_m, inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);
+    if (!dense.assign(p, indices.data(), indices.size(), vio_yaw, inv_m, inv_yaw, yaw_bins, 16 * indices.size() + 4096)) {
+        return count_occupied_bins(p, indices, vio_yaw, bin_m, bin_yaw_rad, bins);
+    }
+    seen.assign(dense.box_size(), 0);
+    size_t count = 0;
+    for (uint32_t b : dense.box_bin()) {
+        count += seen[b] ^ 1u;
+        seen[b] = 1;
+    }
+    return count;
+}
+
 size_t count_occupied_bins(const ParticleSet &p, const std::vector<uint32_t> &indices, float vio_yaw, float bin_m,
                            float bin_yaw_rad, BinCounter &bins) {
     const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::ceil(2.0f * kPi / bin_yaw_rad)));

@@ -197,7 +197,7 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
         const int32_t stride = f.nx;
         constexpr size_t kBlock = 512;
         alignas(64) float cs[kBlock], ss[kBlock], gx[kBlock], gy[kBlock], yl[kBlock], acc[kBlock], ll[kBlock];
-        alignas(64) int32_t cell[kBlock];
+        alignas(64) int32_t cell[kBlock], level[kBlock];
         for (size_t b = 0; b < n; b += kBlock) {
             const size_t m_n = std::min(kBlock, n - b);
             const float *yo = p.yaw_offset.data() + b, *scp = p.scale.data() + b, *xp = p.x.data() + b, *ypp = p.y.data() + b;
@@ -213,7 +213,11 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
             }
             for (size_t j = 0; j < count; ++j) {
                 const PlanePoints &pp = pts[j];
-                for (size_t i = 0; i < m_n; ++i) acc[i] = 0.0f;
+                // The plane's direction level in the map is the same for all its points: once per particle.
+                for (size_t i = 0; i < m_n; ++i) {
+                    acc[i] = 0.0f;
+                    level[i] = static_cast<int32_t>(pp.tangent_levels + yl[i]) & 127;
+                }
                 for (int32_t q = 0; q < pp.k; ++q) {
                     const float pe = pp.pe[q], pn = pp.pn[q];
                     for (size_t i = 0; i < m_n; ++i) {
@@ -222,9 +226,8 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
                         cell[i] = static_cast<int32_t>(fy) * stride + static_cast<int32_t>(fx);
                     }
                     for (size_t i = 0; i < m_n; ++i) {
-                        const int32_t plane_level = static_cast<int32_t>(pp.tangent_levels + yl[i]) & 127;
                         const int32_t cc = code[cell[i]];
-                        acc[i] += lp[(cc & ~127) | ((cc - plane_level) & 127)];
+                        acc[i] += lp[(cc & ~127) | ((cc - level[i]) & 127)];
                     }
                 }
                 for (size_t i = 0; i < m_n; ++i) ll[i] += pp.per_point * acc[i];
