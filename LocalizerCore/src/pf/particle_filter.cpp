@@ -453,7 +453,6 @@ double ParticleFilter::tempering_exponent(float max_ll) {
     }
     const size_t m = tempering_w_.size();
     auto ess_fraction = [&](double beta) {
-        const float fb = static_cast<float>(beta);
         double s = 0, s2 = 0;
         for (size_t k = 0; k < m; ++k) {
             const double v = tempering_w_[k] * std::exp(beta * static_cast<double>(tempering_d_[k]));
@@ -502,17 +501,14 @@ void ParticleFilter::resample(double inject_fraction) {
     if (map_.floors[inject_floor].walkable_cells.empty()) n_inject = 0;
     const size_t n_keep = target - n_inject;
     const double kept_mass = n_inject > 0 ? 1.0 - static_cast<double>(n_inject) / static_cast<double>(target) : 1.0;
-    scratch_.resize(target);
+    // The draws are collected first (source index and new weight), then each state array is gathered in its
+    // own loop (streams through memory instead of touching eight arrays per particle).
+    resample_src_.resize(target);
+    resample_w_.resize(target);
     size_t out = 0;
     auto copy_particle = [&](uint32_t i, float w) {
-        scratch_.x[out] = p_.x[i];
-        scratch_.y[out] = p_.y[i];
-        scratch_.yaw_offset[out] = p_.yaw_offset[i];
-        scratch_.scale[out] = p_.scale[i];
-        scratch_.floor[out] = p_.floor[i];
-        scratch_.evidence[out] = p_.evidence[i];
-        scratch_.compass_ll[out] = p_.compass_ll[i];
-        scratch_.weight[out] = w;
+        resample_src_[out] = i;
+        resample_w_[out] = w;
         ++out;
     };
     const double share = opts_.hypothesis_particle_share;
@@ -581,6 +577,20 @@ void ParticleFilter::resample(double inject_fraction) {
     const size_t kept = out;
     const size_t total_out = kept + n_inject;
     scratch_.resize(total_out);
+    {
+        const uint32_t *src = resample_src_.data();
+        auto gather = [&](const auto &from, auto &to) {
+            for (size_t k = 0; k < kept; ++k) to[k] = from[src[k]];
+        };
+        gather(p_.x, scratch_.x);
+        gather(p_.y, scratch_.y);
+        gather(p_.yaw_offset, scratch_.yaw_offset);
+        gather(p_.scale, scratch_.scale);
+        gather(p_.floor, scratch_.floor);
+        gather(p_.evidence, scratch_.evidence);
+        gather(p_.compass_ll, scratch_.compass_ll);
+        std::copy(resample_w_.begin(), resample_w_.begin() + static_cast<std::ptrdiff_t>(kept), scratch_.weight.begin());
+    }
     const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
     // Injected particles start with the worst evidence present: a fresh guess is not a proven hypothesis.
     float worst_evidence = 0;

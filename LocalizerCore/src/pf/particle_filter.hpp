@@ -126,6 +126,9 @@ private:
     std::vector<uint32_t> group_members_;
     std::vector<size_t> group_start_, group_fill_;
     std::vector<float> group_weights_;
+    /// Resampling draws: source particle and new weight of each kept particle.
+    std::vector<uint32_t> resample_src_;
+    std::vector<float> resample_w_;
     BinCounter kld_bins_;
     DenseBins kld_dense_;
     std::vector<uint8_t> kld_seen_;

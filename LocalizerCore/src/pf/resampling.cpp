@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "common/fast_math.hpp"
 
@@ -139,14 +140,26 @@ bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, floa
     // BinCounter::key's arithmetic, branch-free so that it vectorises: floor(v) = trunc(v) - (trunc(v) > v),
     // exact for |v| < 2^31. The key's range is |bin| < 2^21; beyond 2^20 bins, or for a non-finite value
     // (the comparisons reject NaN), the caller falls back to the hash table.
-    constexpr float kLimit = 1048576.0f;
-    constexpr float kYawLimit = 1e4f;  // wrap_angle_f's documented range
-    int32_t ok = 1;
+    // The range tests compare the magnitude bits (|v| < 2^20 bins, |heading| < 1e4 rad), and a value outside
+    // is zeroed by a mask before its conversion: integer operations only, so both GCC and Clang vectorise.
+    constexpr uint32_t kBinLimitBits = 0x49800000u;  // 2^20 as a float
+    constexpr uint32_t kYawLimitBits = 0x461c4000u;  // 1e4 as a float (wrap_angle_f's documented range)
+    uint32_t bad = 0;
     int32_t xmin = INT32_MAX, xmax = INT32_MIN, ymin = INT32_MAX, ymax = INT32_MIN;
     int32_t fmin = INT32_MAX, fmax = INT32_MIN;
     constexpr size_t kBlock = 256;
     alignas(64) float vx[kBlock], vy[kBlock], hd[kBlock];
     alignas(64) int32_t fl[kBlock];
+    auto bits_of = [](float v) {
+        uint32_t u;
+        std::memcpy(&u, &v, sizeof(u));
+        return u;
+    };
+    auto float_of = [](uint32_t u) {
+        float v;
+        std::memcpy(&v, &u, sizeof(v));
+        return v;
+    };
     for (size_t b = 0; b < m; b += kBlock) {
         const size_t nb = std::min(kBlock, m - b);
         if (idx) {
@@ -165,22 +178,24 @@ bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, floa
                 fl[k] = p.floor[b + k];
             }
         }
-        int32_t *ox = ix_.data() + b, *oy = iy_.data() + b, *oh = ih_.data() + b;
+        int32_t *__restrict ox = ix_.data() + b, *__restrict oy = iy_.data() + b, *__restrict oh = ih_.data() + b;
         for (size_t k = 0; k < nb; ++k) {
-            const float x = vx[k] * inv_bin_m, y = vy[k] * inv_bin_m, a = vio_yaw + hd[k];
-            const bool in = (x > -kLimit) & (x < kLimit) & (y > -kLimit) & (y < kLimit) & (a > -kYawLimit) &
-                            (a < kYawLimit);
-            ok &= in ? 1 : 0;
-            const float sx = in ? x : 0.0f, sy = in ? y : 0.0f, sa = in ? a : 0.0f;
+            const uint32_t bx = bits_of(vx[k] * inv_bin_m), by = bits_of(vy[k] * inv_bin_m), ba = bits_of(vio_yaw + hd[k]);
+            const uint32_t in = static_cast<uint32_t>((bx & 0x7fffffffu) < kBinLimitBits) &
+                                static_cast<uint32_t>((by & 0x7fffffffu) < kBinLimitBits) &
+                                static_cast<uint32_t>((ba & 0x7fffffffu) < kYawLimitBits);
+            bad += in ^ 1u;
+            const uint32_t mask = 0u - in;
+            const float sx = float_of(bx & mask), sy = float_of(by & mask), sa = float_of(ba & mask);
             const int32_t tx = static_cast<int32_t>(sx), ty = static_cast<int32_t>(sy);
-            ox[k] = tx - (static_cast<float>(tx) > sx ? 1 : 0);
-            oy[k] = ty - (static_cast<float>(ty) > sy ? 1 : 0);
-            // wrap_angle_f(sa), with the rounding's sign select written as copysign (vectorises; same value).
+            ox[k] = tx - static_cast<int32_t>(static_cast<float>(tx) > sx);
+            oy[k] = ty - static_cast<int32_t>(static_cast<float>(ty) > sy);
+            // wrap_angle_f(sa), with the rounding's sign select written as copysign (the same value).
             const float t = sa * (1.0f / kTwoPi);
             const float wrapped = sa - kTwoPi * static_cast<float>(static_cast<int32_t>(t + std::copysign(0.5f, t)));
             int32_t ih = static_cast<int32_t>((wrapped + kPi) * inv_bin_yaw);
-            ih = ih >= yaw_bins ? ih - yaw_bins : ih;
-            oh[k] = ih < 0 ? 0 : ih;
+            ih -= yaw_bins & -static_cast<int32_t>(ih >= yaw_bins);
+            oh[k] = ih & -static_cast<int32_t>(ih >= 0);
         }
         for (size_t k = 0; k < nb; ++k) {
             xmin = std::min(xmin, ox[k]);
@@ -191,7 +206,7 @@ bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, floa
             fmax = std::max(fmax, fl[k]);
         }
     }
-    if (!ok) return false;
+    if (bad != 0) return false;
     const int64_t nx = int64_t{xmax} - xmin + 1, ny = int64_t{ymax} - ymin + 1, nf = int64_t{fmax} - fmin + 1;
     const int64_t nh = yaw_bins;
     if (nx * ny > static_cast<int64_t>(max_box) || nx * ny * nf > static_cast<int64_t>(max_box) ||
