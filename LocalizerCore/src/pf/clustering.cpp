@@ -78,10 +78,18 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     const double threshold = max_cell >= params.min_cell_weight ? params.min_cell_weight : 0.0;
     parent_.resize(cells);
     for (size_t c = 0; c < cells; ++c) parent_[c] = static_cast<int32_t>(c);
-    auto join = [&](size_t c, uint32_t nid) {
-        if (nid == UINT32_MAX || cell_weight_[nid] < threshold) return;
-        const int32_t ra = find(static_cast<int32_t>(c)), rb = find(static_cast<int32_t>(nid));
-        if (ra != rb) parent_[std::max(ra, rb)] = std::min(ra, rb);
+    // Dense path: bins too light to join are removed from the box, so a neighbour test is one array read.
+    if (dense) {
+        for (size_t c = 0; c < cells; ++c) {
+            if (cell_weight_[c] < threshold) box_cell_[keys_[c]] = -1;
+        }
+    }
+    // Union of cell c (whose root `root` is kept up to date) with an active neighbour nid (smaller root wins).
+    auto join = [&](int32_t &root, uint32_t nid) {
+        const int32_t rb = find(static_cast<int32_t>(nid));
+        if (root == rb) return;
+        parent_[std::max(root, rb)] = std::min(root, rb);
+        root = std::min(root, rb);
     };
     // Each pair of neighbouring bins is visited once, from the bin whose offset to the other is "forward"
     // (dx, dy, dh lexicographically after 0, 0, 0): the partition is the same as visiting all 26.
@@ -91,6 +99,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             if (cell_weight_[c] < threshold) continue;
             int32_t ix, iy, ih, f;
             dense_.decode(static_cast<uint32_t>(keys_[c]), ix, iy, ih, f);
+            int32_t root = find(static_cast<int32_t>(c));
             const int64_t plane = static_cast<int64_t>(f) * ny;
             for (int dx = 0; dx <= 1; ++dx) {
                 for (int dy = -1; dy <= 1; ++dy) {
@@ -102,7 +111,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
                         if (dx == 0 && dy == 0 && dh <= 0) continue;
                         const int32_t h = (ih + dh + yaw_bins) % yaw_bins;
                         const int32_t id = box_cell_[static_cast<size_t>(base + h)];
-                        join(c, id < 0 ? UINT32_MAX : static_cast<uint32_t>(id));
+                        if (id >= 0) join(root, static_cast<uint32_t>(id));
                     }
                 }
             }
@@ -113,6 +122,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             if (cell_weight_[c] < threshold) continue;
             const uint64_t k = keys_[c];
             const uint64_t fl = k >> 52, ux = (k >> 30) & mask22, uy = (k >> 8) & mask22, ih = k & 0xff;
+            int32_t root = find(static_cast<int32_t>(c));
             for (int dx = 0; dx <= 1; ++dx) {
                 for (int dy = -1; dy <= 1; ++dy) {
                     if (dx == 0 && dy < 0) continue;
@@ -120,20 +130,37 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
                         if (dx == 0 && dy == 0 && dh <= 0) continue;
                         const int64_t h = (static_cast<int64_t>(ih) + dh + yaw_bins) % yaw_bins;
                         const uint64_t nk = (fl << 52) | ((ux + dx) << 30) | ((uy + dy) << 8) | static_cast<uint64_t>(h);
-                        join(c, bins_.find(nk));
+                        const uint32_t nid = bins_.find(nk);
+                        if (nid != UINT32_MAX && cell_weight_[nid] >= threshold) join(root, nid);
                     }
                 }
             }
         }
     }
-    // Clusters numbered in order of their first cell.
+    // Clusters numbered in order of their first cell, with their weights (sums of their cells'), then
+    // ranked heaviest first (ties: first cell first), so the particle pass below writes the final ranks.
     cluster_of_cell_.assign(cells, -1);
+    cluster_weight_.clear();
     int32_t cluster_count = 0;
     for (size_t c = 0; c < cells; ++c) {
         if (cell_weight_[c] < threshold) continue;
         const int32_t r = find(static_cast<int32_t>(c));
-        if (cluster_of_cell_[r] < 0) cluster_of_cell_[r] = cluster_count++;
+        if (cluster_of_cell_[r] < 0) {
+            cluster_of_cell_[r] = cluster_count++;
+            cluster_weight_.push_back(0.0);
+        }
         cluster_of_cell_[c] = cluster_of_cell_[r];
+        cluster_weight_[cluster_of_cell_[c]] += cell_weight_[c];
+    }
+    order_.resize(static_cast<size_t>(cluster_count));
+    for (size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<int32_t>(k);
+    std::sort(order_.begin(), order_.end(), [&](int32_t a, int32_t b) {
+        return cluster_weight_[a] != cluster_weight_[b] ? cluster_weight_[a] > cluster_weight_[b] : a < b;
+    });
+    rank_.resize(order_.size());
+    for (size_t k = 0; k < order_.size(); ++k) rank_[order_[k]] = static_cast<int32_t>(k);
+    for (size_t c = 0; c < cells; ++c) {
+        if (cluster_of_cell_[c] >= 0) cluster_of_cell_[c] = rank_[cluster_of_cell_[c]];
     }
     // Second pass: each cluster's weighted sums (weight, first and second moments of the position, resultant
     // of the yaw offsets, scale, evidence). Runs of consecutive particles in one cluster (the whole cloud
@@ -141,7 +168,6 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     acc_.assign(static_cast<size_t>(cluster_count), CellSums{});
     particle_cluster_.resize(n);
     int32_t *pc = particle_cluster_.data();
-    for (size_t i = 0; i < n; ++i) pc[i] = cluster_of_cell_[cell_of_[i]];
     constexpr size_t kBlock = 256;
     alignas(64) float sn[kBlock], cs[kBlock];
     CellSums run;
@@ -169,7 +195,8 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
         for (size_t k = 0; k < nb; ++k) {
             const size_t i = b + k;
-            const int32_t cl = pc[i];
+            const int32_t cl = cluster_of_cell_[cell_of_[i]];
+            pc[i] = cl;
             if (cl < 0) continue;
             if (cl != run_cluster) {
                 flush();
@@ -225,20 +252,6 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             s.heading_std = kPiD;
         }
     }
-    // Sort heaviest first and remap the per-particle cluster ids to the sorted order.
-    order_.resize(clusters_.size());
-    for (size_t k = 0; k < order_.size(); ++k) order_[k] = static_cast<int32_t>(k);
-    std::sort(order_.begin(), order_.end(), [&](int32_t a, int32_t b) {
-        return clusters_[a].weight != clusters_[b].weight ? clusters_[a].weight > clusters_[b].weight : a < b;
-    });
-    rank_.resize(order_.size());
-    sorted_.resize(order_.size());
-    for (size_t k = 0; k < order_.size(); ++k) {
-        rank_[order_[k]] = static_cast<int32_t>(k);
-        sorted_[k] = clusters_[order_[k]];
-    }
-    clusters_.swap(sorted_);
-    for (size_t i = 0; i < n; ++i) pc[i] = pc[i] < 0 ? -1 : rank_[pc[i]];
     return clusters_;
 }
 

@@ -67,7 +67,7 @@ private:
     std::vector<double> cell_weight_;
     std::vector<CellSums> acc_;
     std::vector<int32_t> order_, rank_;
-    std::vector<ClusterSummary> sorted_;
+    std::vector<double> cluster_weight_;
     std::vector<int32_t> parent_;
     std::vector<int32_t> cluster_of_cell_;
     std::vector<ClusterSummary> clusters_;
