@@ -387,11 +387,21 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         float *w = p_.weight.data();
         const float *ll = log_likelihood_.data();
         const float fb = static_cast<float>(beta);
-        for (size_t i = 0; i < n; ++i) {
-            const float d = ll[i] - max_ll;
-            s_full += w[i] * std::exp(d);
-            w[i] *= std::exp(fb * d);
-            s += w[i];
+        if (fb == 1.0f) {
+            // Untempered: exp(beta d) is exp(d), one exponential per particle.
+            for (size_t i = 0; i < n; ++i) {
+                const float e = std::exp(ll[i] - max_ll);
+                s_full += w[i] * e;
+                w[i] *= e;
+                s += w[i];
+            }
+        } else {
+            for (size_t i = 0; i < n; ++i) {
+                const float d = ll[i] - max_ll;
+                s_full += w[i] * std::exp(d);
+                w[i] *= std::exp(fb * d);
+                s += w[i];
+            }
         }
         if (s > 0 && std::isfinite(s) && std::isfinite(max_ll)) {
             normalize(s);
