@@ -12,7 +12,7 @@ enum SimulateCommand: Subcommand {
                               [--orientation portrait|landscape] [--rate HZ] [--detector-rate HZ]
                               [--images] [--image-rate HZ] [--floor-only-start | --known-start]
                               [--tracking-loss T] [--tracking-loss-duration S] [--vio-reset T] [--wrong-turn]
-                              [--north-offset DEG] [--scenario FILE] [--overwrite]
+                              [--north-offset DEG] [--tour-minutes M] [--scenario FILE] [--overwrite]
 
     Simulates a person walking the shortest route from A to B (point-of-interest ids or names) with a phone held
     camera-forward, and writes the bundle (format v1: session.json, frames.jsonl, observations.jsonl,
@@ -30,6 +30,7 @@ enum SimulateCommand: Subcommand {
       --vio-reset T        full VIO reset at T seconds (new world origin and yaw)
       --wrong-turn         take a wrong branch at one junction, then turn around
       --north-offset DEG   compass reading when facing map north (default: drawn from the seed)
+      --tour-minutes M     a long tour: walk A to B and back, again and again, for at least M minutes
       --overwrite          replace an existing bundle at BUNDLE
     Exit codes: 0 ok, 1 bad input (map, places, scenario), 2 usage.
     """
@@ -77,6 +78,7 @@ enum SimulateCommand: Subcommand {
         if let t = try arguments.doubleOption("vio-reset") { scenario.vioResetAt = t }
         if arguments.flag("wrong-turn") { scenario.wrongTurn = true }
         if let n = try arguments.doubleOption("north-offset") { scenario.mapNorthOffsetDeg = n }
+        if let m = try arguments.doubleOption("tour-minutes") { scenario.tourMinutes = m }
         let overwrite = arguments.flag("overwrite")
         var output = try arguments.option("output")
         var rest = try arguments.positionals()

@@ -64,25 +64,32 @@ public struct SimulationScenario: Codable, Sendable, Equatable {
     /// place and must recover. Implies a known start. nil (the default): session.json names `from` when
     /// `startKnown`, nothing otherwise.
     public var declaredStart: String?
+    /// A long tour instead of one walk: when set, the walker goes from `from` to `to`, turns around, walks back,
+    /// and so on (the route chained with its reverse, a stop and turn at each end) until at least this many
+    /// minutes of walking are planned at the fastest preferred speed. For long-replay measurements
+    /// (docs/localizer.md, "Speed"). nil (the default): one walk.
+    public var tourMinutes: Double?
 
     /// Creates a scenario; every optional setting has its documented default.
     public init(name: String, description: String? = nil, map: String = "office", from: String, to: String, seed: UInt64,
                 carry: CarryMode = .handheld, orientation: PhoneOrientation = .portrait, startKnown: Bool = false,
                 trackingLossAt: Double? = nil, trackingLossDurationSeconds: Double = 4, vioResetAt: Double? = nil,
                 wrongTurn: Bool = false, rateHz: Double = 30, detectorRateHz: Double = 10, images: Bool = false,
-                imageRateHz: Double = 2, mapNorthOffsetDeg: Double? = nil, declaredStart: String? = nil) {
+                imageRateHz: Double = 2, mapNorthOffsetDeg: Double? = nil, declaredStart: String? = nil,
+                tourMinutes: Double? = nil) {
         self.name = name; self.description = description; self.map = map; self.from = from; self.to = to; self.seed = seed
         self.carry = carry; self.orientation = orientation; self.startKnown = startKnown
         self.trackingLossAt = trackingLossAt; self.trackingLossDurationSeconds = trackingLossDurationSeconds
         self.vioResetAt = vioResetAt; self.wrongTurn = wrongTurn; self.rateHz = rateHz; self.detectorRateHz = detectorRateHz
         self.images = images; self.imageRateHz = imageRateHz; self.mapNorthOffsetDeg = mapNorthOffsetDeg
         self.declaredStart = declaredStart
+        self.tourMinutes = tourMinutes
     }
 
     private enum CodingKeys: String, CodingKey {
         case name, description, map, from, to, seed, carry, orientation, startKnown, trackingLossAt
         case trackingLossDurationSeconds, vioResetAt, wrongTurn, rateHz, detectorRateHz, images, imageRateHz
-        case mapNorthOffsetDeg, declaredStart
+        case mapNorthOffsetDeg, declaredStart, tourMinutes
     }
 
     /// Decodes, filling absent optional keys with their defaults.
@@ -107,6 +114,7 @@ public struct SimulationScenario: Codable, Sendable, Equatable {
         imageRateHz = try c.decodeIfPresent(Double.self, forKey: .imageRateHz) ?? 2
         mapNorthOffsetDeg = try c.decodeIfPresent(Double.self, forKey: .mapNorthOffsetDeg)
         declaredStart = try c.decodeIfPresent(String.self, forKey: .declaredStart)
+        tourMinutes = try c.decodeIfPresent(Double.self, forKey: .tourMinutes)
     }
 
     /// Checks the settings' ranges; throws `SimulationError.invalidScenario` naming the first bad one.
@@ -123,6 +131,10 @@ public struct SimulationScenario: Codable, Sendable, Equatable {
         if let n = mapNorthOffsetDeg, !n.isFinite { throw bad("mapNorthOffsetDeg must be finite") }
         guard !from.isEmpty, !to.isEmpty else { throw bad("from and to must be non-empty") }
         if let d = declaredStart, d.isEmpty { throw bad("declaredStart must be non-empty when given") }
+        if let m = tourMinutes {
+            guard m.isFinite, m > 0, m <= 180 else { throw bad("tourMinutes must be in (0, 180], got \(m)") }
+            guard !wrongTurn else { throw bad("tourMinutes cannot be combined with wrongTurn") }
+        }
     }
 
     /// Loads a scenario file (JSON); errors name the file.

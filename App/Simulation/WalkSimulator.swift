@@ -153,6 +153,10 @@ public enum WalkSimulator {
                                                   geometry: geometry, parameters: parameters.walker, rng: &routeRng)
             waypoints = wps; wrongTurnNode = node
         }
+        if let minutes = scenario.tourMinutes {
+            waypoints = tourWaypoints(route: route, nodes: nodes, minutes: minutes,
+                                      fastestSpeed: parameters.walker.preferredSpeedRange.upperBound)
+        }
         var walkerRng = SeededRandom(seed: scenario.seed, stream: RandomStream.walker.rawValue)
         let segments = try WalkPathBuilder(building: building, geometry: geometry, parameters: parameters.walker)
             .build(waypoints: waypoints, rng: &walkerRng)
@@ -284,6 +288,25 @@ public enum WalkSimulator {
         walk.planes = PlaneSimulator(parameters: parameters.planes, floors: floorsById, geometry: geometry)
             .run(states: states, vio: vio, mapToVIOYaw: thetas, scale: events.scale, resetTime: events.resetTime, rng: &planeRng)
         return walk
+    }
+
+    /// The route chained with its reverse (out, back, out, ...), a turn-around (cusp) at each end, long enough
+    /// that walking it at `fastestSpeed` takes at least `minutes` (so any drawn preferred speed takes longer).
+    static func tourWaypoints(route: [Int], nodes: [GraphNode], minutes: Double, fastestSpeed: Double) -> [WalkPathBuilder.Waypoint] {
+        var length = 0.0
+        for (a, b) in zip(route, route.dropFirst()) where nodes[a].floorId == nodes[b].floorId {
+            length += hypot(nodes[b].position.x - nodes[a].position.x, nodes[b].position.y - nodes[a].position.y)
+        }
+        let legs = max(1, Int((minutes * 60 * fastestSpeed / max(length, 1)).rounded(.up)))
+        var out: [WalkPathBuilder.Waypoint] = []
+        for leg in 0..<legs {
+            let order = leg % 2 == 0 ? route : Array(route.reversed())
+            for (k, n) in order.enumerated() where leg == 0 || k > 0 {
+                out.append(.init(floorId: nodes[n].floorId, position: nodes[n].position,
+                                 cusp: k == order.count - 1 && leg < legs - 1, nodeIndex: n))
+            }
+        }
+        return out
     }
 
     /// Throws when any step between consecutive truth positions on one floor crosses a wall.

@@ -15,10 +15,15 @@
 // Counters: ns_per_particle (per update), bytes_per_particle (state arrays incl. the resampling copy).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <cmath>
+#include <deque>
+#include <map>
 #include <memory>
 #include <random>
+#include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include "bench_support.hpp"
@@ -195,6 +200,67 @@ void BM_FilterUpdateSigns(benchmark::State &state) {
     set_counters(state, n, 2 * ParticleSet::kBytesPerParticle + sizeof(float) + sizeof(uint32_t));
 }
 
+// Clustering of the spread-out cloud (the estimate and the hypothesis-preserving resampling each run it).
+void BM_ClusterSpread(benchmark::State &state) {
+    const size_t n = static_cast<size_t>(state.range(0));
+    const ParticleSet p = uniform_particles(n, 7);
+    ClusterParams cp;
+    cp.dense_bins = state.range(1) != 0;
+    ParticleClusterer c;
+    for (auto _ : state) benchmark::DoNotOptimize(c.run(p, 0.3f, cp).size());
+    set_counters(state, n, 0);
+}
+
+/// Shipped defaults (App/Core/PipelineOptions: 100k particles, KLD-sampling up to 100k, recovery on).
+wf_localizer_options full_step_options(size_t n) {
+    auto o = bench_options();
+    o.particle_count = static_cast<int32_t>(n);
+    o.max_particles = static_cast<int32_t>(n);
+    return o;
+}
+
+/// Four ARKit planes around the camera at the VIO origin, in the office's corridor geometry: walls 2 m left
+/// and right, one 3 m ahead, one oblique (anchor ids from first_id).
+std::vector<wf_plane_observation> full_step_planes(uint64_t first_id) {
+    return {{first_id, 0.5, 2.0, -kPiD / 2, 3.0}, {first_id + 1, 1.0, -2.0, kPiD / 2, 2.5},
+            {first_id + 2, 3.0, 0.2, kPiD, 1.5}, {first_id + 3, 2.0, 2.0, -2.3, 1.0}};
+}
+
+/// A filter right after a floor-only start (spread-out cloud), one VIO sample seen and the wall fields of the
+/// plane model built, so the measured step does only per-frame work.
+std::unique_ptr<ParticleFilter> full_step_prototype(size_t n) {
+    auto pf = std::make_unique<ParticleFilter>(office_map(), full_step_options(n), 5);
+    pf->init_floor_only(0);
+    pf->predict({0, 0, 0, 0.3, WF_VIO_TRACKING_NORMAL});
+    const wf_plane_observation narrow{1, 0.5, 2.0, -kPiD / 2, 0.01};  // too narrow: builds the fields only
+    pf->update_planes(&narrow, 1, 0);
+    return pf;
+}
+
+// One full frame of the filter on the spread-out cloud: predict (4 cm, 0.6 deg), update_signs (2 sightings,
+// with resampling), update_planes (4 planes, resampling when due) and the estimate read (clustering).
+void BM_FilterFullStep(benchmark::State &state) {
+    const size_t n = static_cast<size_t>(state.range(0));
+    const auto proto = full_step_prototype(n);
+    auto pf = std::make_unique<ParticleFilter>(*proto);
+    const wf_sign_observation z[2] = {{0, 6.0, 0.1, 0.9}, {0, 9.5, -0.2, 0.9}};
+    const auto planes = full_step_planes(100);
+    size_t resamplings = 0, iterations = 0;
+    for (auto _ : state) {
+        state.PauseTiming();
+        *pf = *proto;  // every step starts from the spread-out cloud (the costly case)
+        state.ResumeTiming();
+        pf->predict({1.0 / 30, 0.04, 0, 0.31, WF_VIO_TRACKING_NORMAL});
+        pf->update_signs(z, 2, 1.0 / 30);
+        pf->update_planes(planes.data(), planes.size(), 1.0 / 30);
+        benchmark::DoNotOptimize(pf->estimate());
+        resamplings += pf->resample_count();
+        ++iterations;
+    }
+    state.counters["resamplings"] = static_cast<double>(resamplings) / static_cast<double>(std::max<size_t>(1, iterations));
+    set_counters(state, n, 2 * ParticleSet::kBytesPerParticle + sizeof(float) + sizeof(uint32_t));
+}
+
 // ---------------------------------------------------------------------------------------------- baseline
 
 struct AosParticle {
@@ -250,70 +316,245 @@ std::vector<AosParticle> aos_particles(size_t n, uint64_t seed) {
     return a;
 }
 
-void BM_BaselineMotionUpdate(benchmark::State &state) {
-    const size_t n = static_cast<size_t>(state.range(0));
-    std::vector<AosParticle> p = aos_particles(n, 1);
-    static const Raster raster;
-    std::mt19937 gen(2);
-    const double sigma = 0.15 * std::sqrt(0.04);
-    std::normal_distribution<double> noise_x(0.0, sigma), noise_y(0.0, sigma);
-    double sign = 1;
-    for (auto _ : state) {
-        const double de = 0.04 * sign, dn = 0;
-        sign = -sign;
+/// The straightforward motion update: array of structs, std::mt19937 + std::normal_distribution (2 samples),
+/// std::cos / std::sin, a wall test by marching a 5 cm raster.
+struct BaselineMotion {
+    std::mt19937 gen{2};
+    std::normal_distribution<double> noise_x{0.0, 0.15 * std::sqrt(0.04)}, noise_y{0.0, 0.15 * std::sqrt(0.04)};
+    void step(std::vector<AosParticle> &p, const Raster &raster, double de, double dn) {
         for (AosParticle &q : p) {
             const double c = std::cos(q.yaw_offset), s = std::sin(q.yaw_offset);
             const double nx = q.x + q.scale * (c * de - s * dn) + noise_x(gen);
             const double ny = q.y + q.scale * (s * de + c * dn) + noise_y(gen);
-            if (raster.blocked(q.x, q.y, nx, ny)) q.weight *= 1.0;  // same no-denormal rule as above
+            if (raster.blocked(q.x, q.y, nx, ny)) q.weight *= 1.0;  // same no-denormal rule as BM_MotionUpdate
             q.x = nx;
             q.y = ny;
         }
+    }
+};
+
+const Raster &baseline_raster() {
+    static const Raster raster;
+    return raster;
+}
+
+void BM_BaselineMotionUpdate(benchmark::State &state) {
+    const size_t n = static_cast<size_t>(state.range(0));
+    std::vector<AosParticle> p = aos_particles(n, 1);
+    BaselineMotion motion;
+    double sign = 1;
+    for (auto _ : state) {
+        motion.step(p, baseline_raster(), 0.04 * sign, 0);
+        sign = -sign;
         benchmark::DoNotOptimize(p.data());
     }
     set_counters(state, n, sizeof(AosParticle));
 }
 
-void BM_BaselineSignUpdate(benchmark::State &state) {
-    const size_t n = static_cast<size_t>(state.range(0));
-    std::vector<AosParticle> p = aos_particles(n, 3);
-    const FloorData &f = office_map().floors[0];
-    // One byte per sign per cell (what a straightforward implementation stores).
-    static const std::vector<std::vector<uint8_t>> vis = [&f] {
+/// One byte per sign per cell (what a straightforward implementation stores).
+const std::vector<std::vector<uint8_t>> &baseline_visibility() {
+    static const std::vector<std::vector<uint8_t>> vis = [] {
+        const FloorData &f = office_map().floors[0];
         std::vector<std::vector<uint8_t>> v(f.signs.size(), std::vector<uint8_t>(static_cast<size_t>(f.grid.cell_count())));
         for (size_t j = 0; j < f.signs.size(); ++j) {
             for (int64_t c = 0; c < f.grid.cell_count(); ++c) v[j][c] = (f.visibility[c * f.words_per_cell] >> j) & 1u;
         }
         return v;
     }();
+    return vis;
+}
+
+/// The straightforward sign update (2 sightings, kind exit): array of structs, double, per-sign byte
+/// visibility rasters, std::atan2 / std::exp / std::log per candidate sign; weights multiplied by L.
+void baseline_sign_update(std::vector<AosParticle> &p, double vio_yaw) {
+    const FloorData &f = office_map().floors[0];
+    const std::vector<std::vector<uint8_t>> &vis = baseline_visibility();
     const double obs_r[2] = {6.0, 9.5}, obs_b[2] = {0.1, -0.2};
-    const double vio_yaw = 0.3, half_fov = 0.5 * 48 * kPiD / 180, sb = 3 * kPiD / 180, pc = 0.1;
+    const double half_fov = 0.5 * 48 * kPiD / 180, sb = 3 * kPiD / 180, pc = 0.1;
     const double u = 1.0 / (12.0 * 2 * half_fov);
-    for (auto _ : state) {
-        for (AosParticle &q : p) {
-            const int c = f.grid.index(static_cast<float>(q.x), static_cast<float>(q.y));
-            double ll = 0;
-            for (int o = 0; o < 2; ++o) {
-                double mix = 0;
-                int nvis = 0;
-                for (size_t j = 0; j < f.signs.size(); ++j) {
-                    if (c < 0 || !vis[j][c]) continue;
-                    const double dx = f.signs.x[j] - q.x, dy = f.signs.y[j] - q.y;
-                    const double b = std::remainder(std::atan2(dy, dx) - (vio_yaw + q.yaw_offset), 2 * kPiD);
-                    if (std::fabs(b) > half_fov) continue;
-                    const double r = std::sqrt(dx * dx + dy * dy);
-                    const double sr = 0.1 + 0.12 * r;
-                    const double er = (obs_r[o] - r) / sr, eb = std::remainder(obs_b[o] - b, 2 * kPiD) / sb;
-                    mix += std::exp(-0.5 * (er * er + eb * eb)) / (2 * kPiD * sr * sb);
-                    ++nvis;
-                }
-                ll += std::log(pc * u + (nvis ? (1 - pc) * mix / nvis : 0.0));
+    for (AosParticle &q : p) {
+        const int c = f.grid.index(static_cast<float>(q.x), static_cast<float>(q.y));
+        double ll = 0;
+        for (int o = 0; o < 2; ++o) {
+            double mix = 0;
+            int nvis = 0;
+            for (size_t j = 0; j < f.signs.size(); ++j) {
+                if (c < 0 || !vis[j][c]) continue;
+                const double dx = f.signs.x[j] - q.x, dy = f.signs.y[j] - q.y;
+                const double b = std::remainder(std::atan2(dy, dx) - (vio_yaw + q.yaw_offset), 2 * kPiD);
+                if (std::fabs(b) > half_fov) continue;
+                const double r = std::sqrt(dx * dx + dy * dy);
+                const double sr = 0.1 + 0.12 * r;
+                const double er = (obs_r[o] - r) / sr, eb = std::remainder(obs_b[o] - b, 2 * kPiD) / sb;
+                mix += std::exp(-0.5 * (er * er + eb * eb)) / (2 * kPiD * sr * sb);
+                ++nvis;
             }
-            q.weight *= std::exp(ll);
+            ll += std::log(pc * u + (nvis ? (1 - pc) * mix / nvis : 0.0));
         }
+        q.weight *= std::exp(ll);
+    }
+}
+
+void BM_BaselineSignUpdate(benchmark::State &state) {
+    const size_t n = static_cast<size_t>(state.range(0));
+    std::vector<AosParticle> p = aos_particles(n, 3);
+    for (auto _ : state) {
+        baseline_sign_update(p, 0.3);
         benchmark::DoNotOptimize(p.data());
     }
-    set_counters(state, n, sizeof(AosParticle) + f.signs.size() * 0);  // raster bytes are per map, not per particle
+    set_counters(state, n, sizeof(AosParticle));
+}
+
+/// A cluster of the straightforward clustering: member particles and weighted statistics.
+struct BaselineCluster {
+    std::vector<size_t> members;
+    double weight = 0, x = 0, y = 0, cov_xx = 0, cov_xy = 0, cov_yy = 0, heading = 0;
+};
+
+/// The straightforward clustering: particles binned (1 m, 45 deg) in a std::map of member lists, bins with
+/// >= 1e-4 of the weight flood-filled over their 26 neighbours (breadth-first, std::set of visited bins),
+/// then two passes per cluster for the weighted mean, covariance and circular mean heading (std::atan2,
+/// std::cos / std::sin). Sorted heaviest first.
+std::vector<BaselineCluster> baseline_cluster(const std::vector<AosParticle> &p, double vio_yaw) {
+    using Key = std::tuple<int, int, int, int>;
+    std::map<Key, std::vector<size_t>> bins;
+    for (size_t i = 0; i < p.size(); ++i) {
+        const double h = std::remainder(vio_yaw + p[i].yaw_offset, 2 * kPiD) + kPiD;
+        const int ih = std::min(7, static_cast<int>(h / (2 * kPiD / 8)));
+        bins[Key{p[i].floor, static_cast<int>(std::floor(p[i].x)), static_cast<int>(std::floor(p[i].y)), ih}].push_back(i);
+    }
+    auto bin_weight = [&](const std::vector<size_t> &m) {
+        double w = 0;
+        for (size_t i : m) w += p[i].weight;
+        return w;
+    };
+    std::set<Key> visited;
+    std::vector<BaselineCluster> clusters;
+    for (const auto &entry : bins) {
+        if (visited.count(entry.first) || bin_weight(entry.second) < 1e-4) continue;
+        BaselineCluster c;
+        std::deque<Key> queue{entry.first};
+        visited.insert(entry.first);
+        while (!queue.empty()) {
+            const Key k = queue.front();
+            queue.pop_front();
+            const std::vector<size_t> &m = bins.at(k);
+            c.members.insert(c.members.end(), m.begin(), m.end());
+            for (int dx = -1; dx <= 1; ++dx) {
+                for (int dy = -1; dy <= 1; ++dy) {
+                    for (int dh = -1; dh <= 1; ++dh) {
+                        const Key nk{std::get<0>(k), std::get<1>(k) + dx, std::get<2>(k) + dy, (std::get<3>(k) + dh + 8) % 8};
+                        auto it = bins.find(nk);
+                        if (it == bins.end() || visited.count(nk) || bin_weight(it->second) < 1e-4) continue;
+                        visited.insert(nk);
+                        queue.push_back(nk);
+                    }
+                }
+            }
+        }
+        double sx = 0, sy = 0, hc = 0, hs = 0;
+        for (size_t i : c.members) {
+            c.weight += p[i].weight;
+            sx += p[i].weight * p[i].x;
+            sy += p[i].weight * p[i].y;
+            hc += p[i].weight * std::cos(vio_yaw + p[i].yaw_offset);
+            hs += p[i].weight * std::sin(vio_yaw + p[i].yaw_offset);
+        }
+        if (c.weight > 0) {
+            c.x = sx / c.weight;
+            c.y = sy / c.weight;
+            c.heading = std::atan2(hs, hc);
+            for (size_t i : c.members) {
+                const double w = p[i].weight / c.weight, dx = p[i].x - c.x, dy = p[i].y - c.y;
+                c.cov_xx += w * dx * dx;
+                c.cov_xy += w * dx * dy;
+                c.cov_yy += w * dy * dy;
+            }
+        }
+        clusters.push_back(std::move(c));
+    }
+    std::sort(clusters.begin(), clusters.end(), [](const BaselineCluster &a, const BaselineCluster &b) { return a.weight > b.weight; });
+    return clusters;
+}
+
+/// Normalises the weights; returns the effective sample size.
+double baseline_normalize(std::vector<AosParticle> &p) {
+    double s = 0;
+    for (const AosParticle &q : p) s += q.weight;
+    double s2 = 0;
+    for (AosParticle &q : p) {
+        q.weight = s > 0 ? q.weight / s : 1.0 / p.size();
+        s2 += q.weight * q.weight;
+    }
+    return 1.0 / s2;
+}
+
+/// The straightforward hypothesis-preserving resampling: cluster, then a systematic draw within each
+/// cluster holding >= 1 % of the weight (half the particles shared equally, half by weight) and one for the
+/// rest, into a new array of structs.
+void baseline_resample(std::vector<AosParticle> &p, double vio_yaw, std::mt19937 &gen) {
+    const std::vector<BaselineCluster> clusters = baseline_cluster(p, vio_yaw);
+    std::vector<std::vector<size_t>> groups;
+    std::vector<char> grouped(p.size(), 0);
+    for (const BaselineCluster &c : clusters) {
+        if (c.weight < 0.01) break;
+        groups.push_back(c.members);
+        for (size_t i : c.members) grouped[i] = 1;
+    }
+    groups.emplace_back();
+    for (size_t i = 0; i < p.size(); ++i) {
+        if (!grouped[i]) groups.back().push_back(i);
+    }
+    std::uniform_real_distribution<double> uni(0.0, 1.0);
+    std::vector<AosParticle> out;
+    out.reserve(p.size());
+    const size_t n = p.size();
+    for (size_t g = 0; g < groups.size(); ++g) {
+        double wg = 0;
+        for (size_t i : groups[g]) wg += p[i].weight;
+        if (!(wg > 0)) continue;
+        size_t ng = static_cast<size_t>(std::lround(n * (0.5 * wg + 0.5 / groups.size())));
+        if (g + 1 == groups.size() || out.size() + ng > n) ng = n - out.size();
+        const double step = wg / std::max<size_t>(1, ng);
+        double target = uni(gen) * step, cum = 0;
+        size_t k = 0;
+        for (size_t d = 0; d < ng; ++d) {
+            while (k + 1 < groups[g].size() && cum + p[groups[g][k]].weight < target) cum += p[groups[g][k++]].weight;
+            AosParticle q = p[groups[g][k]];
+            q.weight = wg / ng;
+            out.push_back(q);
+            target += step;
+        }
+    }
+    p.swap(out);
+}
+
+// The straightforward full frame: BaselineMotion, baseline_sign_update, normalisation and the clustered
+// resampling when the ESS is below N/2, the plain plane likelihood (bench_support.hpp), normalisation and
+// resampling when due, and the estimate's clustering.
+void BM_BaselineFullStep(benchmark::State &state) {
+    const size_t n = static_cast<size_t>(state.range(0));
+    const std::vector<AosParticle> proto = aos_particles(n, 5);
+    const auto planes = full_step_planes(100);
+    const PlaneModelParams prm;
+    const WallIndex &walls = office_map().floors[0].walls;
+    std::vector<AosParticle> p;
+    for (auto _ : state) {
+        state.PauseTiming();
+        p = proto;
+        BaselineMotion motion;
+        std::mt19937 gen(9);
+        state.ResumeTiming();
+        motion.step(p, baseline_raster(), 0.04, 0);
+        baseline_sign_update(p, 0.31);
+        if (baseline_normalize(p) < 0.5 * n) baseline_resample(p, 0.31, gen);
+        for (AosParticle &q : p) {
+            q.weight *= std::exp(bench::baseline_plane_log_likelihood(q.x, q.y, q.yaw_offset, q.scale, planes, walls, prm));
+        }
+        if (baseline_normalize(p) < 0.5 * n) baseline_resample(p, 0.31, gen);
+        benchmark::DoNotOptimize(baseline_cluster(p, 0.31).size());
+    }
+    set_counters(state, n, sizeof(AosParticle));
 }
 
 }  // namespace
@@ -324,5 +565,9 @@ BENCHMARK(BM_SignUpdate)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kM
 BENCHMARK(BM_BaselineSignUpdate)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FilterPredict)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond);
 BENCHMARK(BM_FilterUpdateSigns)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchmark::kMicrosecond)->Iterations(20);
+
+BENCHMARK(BM_ClusterSpread)->Args({100000, 1})->Args({100000, 0})->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_FilterFullStep)->Arg(100000)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_BaselineFullStep)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 BENCHMARK_MAIN();

@@ -110,40 +110,8 @@ void BM_PlaneLikelihoodBaseline(benchmark::State &state) {
     std::vector<float> ll(n);
     for (auto _ : state) {
         for (size_t i = 0; i < n; ++i) {
-            const double c = std::cos(p.yaw_offset[i]), s = std::sin(p.yaw_offset[i]);
-            double total = 0;
-            for (const wf_plane_observation &o : obs) {
-                const double tx = std::cos(o.normal_yaw_rad + kPiD / 2), ty = std::sin(o.normal_yaw_rad + kPiD / 2);
-                const int k = std::clamp(static_cast<int>(std::floor(o.width_m / prm.point_spacing_m)) + 1, 2, prm.max_points);
-                double acc = 0;
-                for (int q = 0; q < k; ++q) {
-                    const double u = (q / double(k - 1) - 0.5) * o.width_m * (1 - 1.0 / k);
-                    const double ve = o.center_east_m + u * tx, vn = o.center_north_m + u * ty;
-                    const float mx = static_cast<float>(p.x[i] + p.scale[i] * (c * ve - s * vn));
-                    const float my = static_cast<float>(p.y[i] + p.scale[i] * (s * ve + c * vn));
-                    const float d = walls.distance_to_nearest(mx, my, prm.max_distance_m);
-                    double hit = 0;
-                    if (d < prm.max_distance_m) {
-                        // Direction of the nearest wall: scan the segments.
-                        double best = 1e9, dir = 0;
-                        for (size_t w = 0; w < walls.segment_count(); ++w) {
-                            float ax, ay, bx, by;
-                            walls.segment(w, ax, ay, bx, by);
-                            const double ex = bx - ax, ey = by - ay;
-                            double t = ((mx - ax) * ex + (my - ay) * ey) / (ex * ex + ey * ey);
-                            t = std::clamp(t, 0.0, 1.0);
-                            const double dd = std::hypot(ax + t * ex - mx, ay + t * ey - my);
-                            if (dd < best) { best = dd; dir = std::atan2(ey, ex); }
-                        }
-                        const double delta = std::fabs(wrap_angle(2 * (o.normal_yaw_rad + kPiD / 2 + p.yaw_offset[i] - dir))) / 2;
-                        hit = std::exp(-d * d / (2.0 * prm.sigma_distance_m * prm.sigma_distance_m) -
-                                       delta * delta / (2.0 * prm.sigma_angle_rad * prm.sigma_angle_rad));
-                    }
-                    acc += std::log(prm.z_hit * hit + prm.z_rand);
-                }
-                total += prm.weight * acc / k;
-            }
-            ll[i] = static_cast<float>(total);
+            ll[i] = static_cast<float>(
+                bench::baseline_plane_log_likelihood(p.x[i], p.y[i], p.yaw_offset[i], p.scale[i], obs, walls, prm));
         }
         benchmark::DoNotOptimize(ll.data());
     }

@@ -35,6 +35,9 @@ struct ClusterParams {
     /// Bins lighter than this do not join clusters (a thin trail of near-dead particles must not merge two
     /// hypotheses).
     float min_cell_weight = 1e-4f;
+    /// Bin with DenseBins when the cloud's box of bins is small (same clusters as the hash table, faster);
+    /// false forces the hash table (tests compare the two).
+    bool dense_bins = true;
 };
 
 class ParticleClusterer {
@@ -47,11 +50,24 @@ public:
     const std::vector<int32_t> &particle_clusters() const { return particle_cluster_; }
 
 private:
+    /// Weighted sums over the particles of one cluster.
+    struct CellSums {
+        double w = 0, wx = 0, wy = 0, wxx = 0, wxy = 0, wyy = 0, oc = 0, os = 0, sc = 0, ev = 0;
+        int16_t floor = 0;
+        size_t count = 0;
+    };
     int32_t find(int32_t a);
     BinCounter bins_;
+    DenseBins dense_;
+    /// Dense path: cell id of each box bin (-1: empty).
+    std::vector<int32_t> box_cell_;
+    /// Per cell: its hash key, or its box bin on the dense path.
     std::vector<uint64_t> keys_;
     std::vector<uint32_t> cell_of_;
     std::vector<double> cell_weight_;
+    std::vector<CellSums> acc_;
+    std::vector<int32_t> order_, rank_;
+    std::vector<double> cluster_weight_;
     std::vector<int32_t> parent_;
     std::vector<int32_t> cluster_of_cell_;
     std::vector<ClusterSummary> clusters_;

@@ -394,11 +394,21 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         float *w = p_.weight.data();
         const float *ll = log_likelihood_.data();
         const float fb = static_cast<float>(beta);
-        for (size_t i = 0; i < n; ++i) {
-            const float d = ll[i] - max_ll;
-            s_full += w[i] * std::exp(d);
-            w[i] *= std::exp(fb * d);
-            s += w[i];
+        if (fb == 1.0f) {
+            // Untempered: exp(beta d) is exp(d), one exponential per particle.
+            for (size_t i = 0; i < n; ++i) {
+                const float e = std::exp(ll[i] - max_ll);
+                s_full += w[i] * e;
+                w[i] *= e;
+                s += w[i];
+            }
+        } else {
+            for (size_t i = 0; i < n; ++i) {
+                const float d = ll[i] - max_ll;
+                s_full += w[i] * std::exp(d);
+                w[i] *= std::exp(fb * d);
+                s += w[i];
+            }
         }
         if (s > 0 && std::isfinite(s) && std::isfinite(max_ll)) {
             normalize(s);
@@ -455,11 +465,18 @@ double ParticleFilter::tempering_exponent(float max_ll) {
     const size_t stride = std::max<size_t>(1, n / 8192);
     const float *w = p_.weight.data();
     const float *ll = log_likelihood_.data();
+    // The subsample's weights and log-likelihoods (relative to the best), gathered once for the bisection.
+    tempering_w_.clear();
+    tempering_d_.clear();
+    for (size_t i = 0; i < n; i += stride) {
+        tempering_w_.push_back(w[i]);
+        tempering_d_.push_back(ll[i] - max_ll);
+    }
+    const size_t m = tempering_w_.size();
     auto ess_fraction = [&](double beta) {
         double s = 0, s2 = 0;
-        size_t m = 0;
-        for (size_t i = 0; i < n; i += stride, ++m) {
-            const double v = w[i] * std::exp(beta * (ll[i] - max_ll));
+        for (size_t k = 0; k < m; ++k) {
+            const double v = tempering_w_[k] * std::exp(beta * static_cast<double>(tempering_d_[k]));
             s += v;
             s2 += v * v;
         }
@@ -494,7 +511,7 @@ void ParticleFilter::resample(double inject_fraction) {
         // KLD-sampling (Fox 2003): k = bins occupied by a systematic draw of the current size.
         systematic_resample(p_.weight.data(), n, n, rng_.uniform(), indices_);
         const size_t k = count_occupied_bins(p_, indices_, static_cast<float>(vio_yaw_), static_cast<float>(opts_.kld_bin_m),
-                                             static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_);
+                                             static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_, kld_dense_, kld_seen_);
         target = std::clamp(kld_sample_count(k, opts_.kld_epsilon, opts_.kld_z), static_cast<size_t>(opts_.min_particles),
                             static_cast<size_t>(opts_.max_particles));
     }
@@ -505,17 +522,14 @@ void ParticleFilter::resample(double inject_fraction) {
     if (map_.floors[inject_floor].walkable_cells.empty()) n_inject = 0;
     const size_t n_keep = target - n_inject;
     const double kept_mass = n_inject > 0 ? 1.0 - static_cast<double>(n_inject) / static_cast<double>(target) : 1.0;
-    scratch_.resize(target);
+    // The draws are collected first (source index and new weight), then each state array is gathered in its
+    // own loop (streams through memory instead of touching eight arrays per particle).
+    resample_src_.resize(target);
+    resample_w_.resize(target);
     size_t out = 0;
     auto copy_particle = [&](uint32_t i, float w) {
-        scratch_.x[out] = p_.x[i];
-        scratch_.y[out] = p_.y[i];
-        scratch_.yaw_offset[out] = p_.yaw_offset[i];
-        scratch_.scale[out] = p_.scale[i];
-        scratch_.floor[out] = p_.floor[i];
-        scratch_.evidence[out] = p_.evidence[i];
-        scratch_.compass_ll[out] = p_.compass_ll[i];
-        scratch_.weight[out] = w;
+        resample_src_[out] = i;
+        resample_w_[out] = w;
         ++out;
     };
     const double share = opts_.hypothesis_particle_share;
@@ -532,13 +546,23 @@ void ParticleFilter::resample(double inject_fraction) {
         if (significant >= 2 || (significant == 1 && clusters[0].weight < 0.99)) {
             grouped = true;
             const int32_t groups = significant + 1;  // last group: the rest
-            group_members_.assign(groups, {});
+            // Members of each group in particle order, as one array sorted by group (counting sort, no
+            // per-group allocation).
+            group_start_.assign(static_cast<size_t>(groups) + 1, 0);
             std::vector<double> mass(groups, 0.0);
             for (size_t i = 0; i < n; ++i) {
                 const int32_t c = cluster_of[i];
                 const int32_t g = (c >= 0 && c < significant) ? c : significant;
-                group_members_[g].push_back(static_cast<uint32_t>(i));
+                ++group_start_[g + 1];
                 mass[g] += p_.weight[i];
+            }
+            for (int32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
+            group_members_.resize(n);
+            group_fill_.assign(group_start_.begin(), group_start_.end() - 1);
+            for (size_t i = 0; i < n; ++i) {
+                const int32_t c = cluster_of[i];
+                const int32_t g = (c >= 0 && c < significant) ? c : significant;
+                group_members_[group_fill_[g]++] = static_cast<uint32_t>(i);
             }
             double total = 0;
             int32_t nonempty = 0;
@@ -555,11 +579,13 @@ void ParticleFilter::resample(double inject_fraction) {
                                                             ((1.0 - share) * wg + share / nonempty)));
                 ng = std::clamp<size_t>(ng, 1, std::max<size_t>(1, remaining));
                 if (g == groups - 1 || out + ng > n_keep) ng = std::max<size_t>(1, remaining);
-                group_weights_.resize(group_members_[g].size());
-                for (size_t k = 0; k < group_members_[g].size(); ++k) group_weights_[k] = p_.weight[group_members_[g][k]];
+                const uint32_t *members = group_members_.data() + group_start_[g];
+                const size_t count = group_start_[g + 1] - group_start_[g];
+                group_weights_.resize(count);
+                for (size_t k = 0; k < count; ++k) group_weights_[k] = p_.weight[members[k]];
                 systematic_resample(group_weights_.data(), group_weights_.size(), ng, rng_.uniform(), indices_);
                 const float w = static_cast<float>(kept_mass * wg / static_cast<double>(ng));
-                for (uint32_t k : indices_) copy_particle(group_members_[g][k], w);
+                for (uint32_t k : indices_) copy_particle(members[k], w);
                 if (out >= n_keep) break;
             }
         }
@@ -572,6 +598,20 @@ void ParticleFilter::resample(double inject_fraction) {
     const size_t kept = out;
     const size_t total_out = kept + n_inject;
     scratch_.resize(total_out);
+    {
+        const uint32_t *src = resample_src_.data();
+        auto gather = [&](const auto &from, auto &to) {
+            for (size_t k = 0; k < kept; ++k) to[k] = from[src[k]];
+        };
+        gather(p_.x, scratch_.x);
+        gather(p_.y, scratch_.y);
+        gather(p_.yaw_offset, scratch_.yaw_offset);
+        gather(p_.scale, scratch_.scale);
+        gather(p_.floor, scratch_.floor);
+        gather(p_.evidence, scratch_.evidence);
+        gather(p_.compass_ll, scratch_.compass_ll);
+        std::copy(resample_w_.begin(), resample_w_.begin() + static_cast<std::ptrdiff_t>(kept), scratch_.weight.begin());
+    }
     const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
     // Injected particles start with the worst evidence present: a fresh guess is not a proven hypothesis.
     float worst_evidence = 0;

@@ -131,11 +131,20 @@ private:
     MotionNoiseAccumulator motion_acc_;
     ParticleSet p_, scratch_;
     std::vector<float> log_likelihood_;
+    std::vector<float> tempering_w_, tempering_d_;  // tempering_exponent's subsample
     std::vector<PreparedSighting> last_sightings_;  // sightings of the update being resampled
     std::vector<uint32_t> indices_;
-    std::vector<std::vector<uint32_t>> group_members_;
+    /// Hypothesis-preserving resampling: particle indices grouped by cluster (group g is
+    /// group_members_[group_start_[g] .. group_start_[g + 1])).
+    std::vector<uint32_t> group_members_;
+    std::vector<size_t> group_start_, group_fill_;
     std::vector<float> group_weights_;
+    /// Resampling draws: source particle and new weight of each kept particle.
+    std::vector<uint32_t> resample_src_;
+    std::vector<float> resample_w_;
     BinCounter kld_bins_;
+    DenseBins kld_dense_;
+    std::vector<uint8_t> kld_seen_;
     ParticleClusterer clusterer_;
     PlaneModelState planes_;
     std::string error_;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "common/fast_math.hpp"
 
@@ -124,6 +125,120 @@ uint32_t BinCounter::find(uint64_t key) const {
         h = (h + 1) & mask_;
     }
     return UINT32_MAX;
+}
+
+bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
+                       float inv_bin_yaw, int32_t yaw_bins, size_t max_box) {
+    ix_.resize(m);
+    iy_.resize(m);
+    ih_.resize(m);
+    box_.resize(m);
+    yaw_bins_ = yaw_bins;
+    nx_ = ny_ = nf_ = 0;
+    nh_ = yaw_bins;
+    if (m == 0) return true;
+    // BinCounter::key's arithmetic, branch-free so that it vectorises: floor(v) = trunc(v) - (trunc(v) > v),
+    // exact for |v| < 2^31. The key's range is |bin| < 2^21; beyond 2^20 bins, or for a non-finite value
+    // (the comparisons reject NaN), the caller falls back to the hash table.
+    // The range tests compare the magnitude bits (|v| < 2^20 bins, |heading| < 1e4 rad), and a value outside
+    // is zeroed by a mask before its conversion: integer operations only, so both GCC and Clang vectorise.
+    constexpr uint32_t kBinLimitBits = 0x49800000u;  // 2^20 as a float
+    constexpr uint32_t kYawLimitBits = 0x461c4000u;  // 1e4 as a float (wrap_angle_f's documented range)
+    uint32_t bad = 0;
+    int32_t xmin = INT32_MAX, xmax = INT32_MIN, ymin = INT32_MAX, ymax = INT32_MIN;
+    int32_t fmin = INT32_MAX, fmax = INT32_MIN;
+    constexpr size_t kBlock = 256;
+    alignas(64) float vx[kBlock], vy[kBlock], hd[kBlock];
+    alignas(64) int32_t fl[kBlock];
+    auto bits_of = [](float v) {
+        uint32_t u;
+        std::memcpy(&u, &v, sizeof(u));
+        return u;
+    };
+    auto float_of = [](uint32_t u) {
+        float v;
+        std::memcpy(&v, &u, sizeof(v));
+        return v;
+    };
+    for (size_t b = 0; b < m; b += kBlock) {
+        const size_t nb = std::min(kBlock, m - b);
+        if (idx) {
+            for (size_t k = 0; k < nb; ++k) {
+                const size_t i = idx[b + k];
+                vx[k] = p.x[i];
+                vy[k] = p.y[i];
+                hd[k] = p.yaw_offset[i];
+                fl[k] = p.floor[i];
+            }
+        } else {
+            for (size_t k = 0; k < nb; ++k) {
+                vx[k] = p.x[b + k];
+                vy[k] = p.y[b + k];
+                hd[k] = p.yaw_offset[b + k];
+                fl[k] = p.floor[b + k];
+            }
+        }
+        int32_t *__restrict ox = ix_.data() + b, *__restrict oy = iy_.data() + b, *__restrict oh = ih_.data() + b;
+        for (size_t k = 0; k < nb; ++k) {
+            const uint32_t bx = bits_of(vx[k] * inv_bin_m), by = bits_of(vy[k] * inv_bin_m), ba = bits_of(vio_yaw + hd[k]);
+            const uint32_t in = static_cast<uint32_t>((bx & 0x7fffffffu) < kBinLimitBits) &
+                                static_cast<uint32_t>((by & 0x7fffffffu) < kBinLimitBits) &
+                                static_cast<uint32_t>((ba & 0x7fffffffu) < kYawLimitBits);
+            bad += in ^ 1u;
+            const uint32_t mask = 0u - in;
+            const float sx = float_of(bx & mask), sy = float_of(by & mask), sa = float_of(ba & mask);
+            const int32_t tx = static_cast<int32_t>(sx), ty = static_cast<int32_t>(sy);
+            ox[k] = tx - static_cast<int32_t>(static_cast<float>(tx) > sx);
+            oy[k] = ty - static_cast<int32_t>(static_cast<float>(ty) > sy);
+            // wrap_angle_f(sa), with the rounding's sign select written as copysign (the same value).
+            const float t = sa * (1.0f / kTwoPi);
+            const float wrapped = sa - kTwoPi * static_cast<float>(static_cast<int32_t>(t + std::copysign(0.5f, t)));
+            int32_t ih = static_cast<int32_t>((wrapped + kPi) * inv_bin_yaw);
+            ih -= yaw_bins & -static_cast<int32_t>(ih >= yaw_bins);
+            oh[k] = ih & -static_cast<int32_t>(ih >= 0);
+        }
+        for (size_t k = 0; k < nb; ++k) {
+            xmin = std::min(xmin, ox[k]);
+            xmax = std::max(xmax, ox[k]);
+            ymin = std::min(ymin, oy[k]);
+            ymax = std::max(ymax, oy[k]);
+            fmin = std::min(fmin, fl[k]);
+            fmax = std::max(fmax, fl[k]);
+        }
+    }
+    if (bad != 0) return false;
+    const int64_t nx = int64_t{xmax} - xmin + 1, ny = int64_t{ymax} - ymin + 1, nf = int64_t{fmax} - fmin + 1;
+    const int64_t nh = yaw_bins;
+    if (nx * ny > static_cast<int64_t>(max_box) || nx * ny * nf > static_cast<int64_t>(max_box) ||
+        nx * ny * nf * nh > static_cast<int64_t>(max_box)) {
+        return false;
+    }
+    nx_ = static_cast<int32_t>(nx);
+    ny_ = static_cast<int32_t>(ny);
+    nf_ = static_cast<int32_t>(nf);
+    const uint32_t ux = static_cast<uint32_t>(nx_), uy = static_cast<uint32_t>(ny_), uh = static_cast<uint32_t>(nh_);
+    for (size_t k = 0; k < m; ++k) {
+        const uint32_t f = static_cast<uint32_t>((idx ? p.floor[idx[k]] : p.floor[k]) - fmin);
+        box_[k] = ((f * uy + static_cast<uint32_t>(iy_[k] - ymin)) * ux + static_cast<uint32_t>(ix_[k] - xmin)) * uh +
+                  static_cast<uint32_t>(ih_[k]);
+    }
+    return true;
+}
+
+size_t count_occupied_bins(const ParticleSet &p, const std::vector<uint32_t> &indices, float vio_yaw, float bin_m,
+                           float bin_yaw_rad, BinCounter &bins, DenseBins &dense, std::vector<uint8_t> &seen) {
+    const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::ceil(2.0f * kPi / bin_yaw_rad)));
+    const float inv_m = 1.0f / bin_m, inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);
+    if (!dense.assign(p, indices.data(), indices.size(), vio_yaw, inv_m, inv_yaw, yaw_bins, 16 * indices.size() + 4096)) {
+        return count_occupied_bins(p, indices, vio_yaw, bin_m, bin_yaw_rad, bins);
+    }
+    seen.assign(dense.box_size(), 0);
+    size_t count = 0;
+    for (uint32_t b : dense.box_bin()) {
+        count += seen[b] ^ 1u;
+        seen[b] = 1;
+    }
+    return count;
 }
 
 size_t count_occupied_bins(const ParticleSet &p, const std::vector<uint32_t> &indices, float vio_yaw, float bin_m,

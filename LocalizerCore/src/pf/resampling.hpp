@@ -47,8 +47,48 @@ private:
     size_t mask_ = 0, count_ = 0;
 };
 
+/// Dense numbering of the bins of BinCounter::key (the same bins: floor, floor(x / bin_m), floor(y / bin_m),
+/// heading bin) over the box of bins the particles occupy, so that per-particle binning is a vectorised index
+/// computation and one array read instead of a hash probe (the hash table of a spread-out cloud is larger
+/// than the cache). Used by the clustering and by KLD-sampling; when the box would be too large (particles
+/// far apart) or a coordinate is non-finite or beyond the key's range, `assign` refuses and the caller keeps
+/// the hash table.
+class DenseBins {
+public:
+    /// Computes the box bin of particles idx[0..m) (of 0..m-1 when idx is null), with heading
+    /// vio_yaw + yaw offset. Returns false when a particle is non-finite or beyond the key range, or when the
+    /// box holds more than max_box bins.
+    bool assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
+                float inv_bin_yaw, int32_t yaw_bins, size_t max_box);
+    /// Box bin of item k of the last assign, in [0, box_size()).
+    const std::vector<uint32_t> &box_bin() const { return box_; }
+    size_t box_size() const { return static_cast<size_t>(nf_) * ny_ * nx_ * nh_; }
+    /// Box coordinates of box bin b: column, row, heading bin, floor (relative to the box).
+    void decode(uint32_t b, int32_t &ix, int32_t &iy, int32_t &ih, int32_t &f) const {
+        ih = static_cast<int32_t>(b % static_cast<uint32_t>(nh_));
+        uint32_t r = b / static_cast<uint32_t>(nh_);
+        ix = static_cast<int32_t>(r % static_cast<uint32_t>(nx_));
+        r /= static_cast<uint32_t>(nx_);
+        iy = static_cast<int32_t>(r % static_cast<uint32_t>(ny_));
+        f = static_cast<int32_t>(r / static_cast<uint32_t>(ny_));
+    }
+    int32_t nx() const { return nx_; }
+    int32_t ny() const { return ny_; }
+    int32_t nh() const { return nh_; }
+
+private:
+    std::vector<int32_t> ix_, iy_, ih_;
+    std::vector<uint32_t> box_;
+    int32_t nx_ = 0, ny_ = 0, nh_ = 1, nf_ = 0, yaw_bins_ = 1;
+};
+
 /// Number of KLD bins occupied by the particles listed in `indices` (heading = vio_yaw + yaw offset).
 size_t count_occupied_bins(const ParticleSet &p, const std::vector<uint32_t> &indices, float vio_yaw, float bin_m,
                            float bin_yaw_rad, BinCounter &bins);
+
+/// The same count with dense bins when the box of occupied bins is small (at most 16 bins per listed
+/// particle), else with the hash table; `dense` and `seen` are reused between calls.
+size_t count_occupied_bins(const ParticleSet &p, const std::vector<uint32_t> &indices, float vio_yaw, float bin_m,
+                           float bin_yaw_rad, BinCounter &bins, DenseBins &dense, std::vector<uint8_t> &seen);
 
 }  // namespace wf::loc

@@ -197,10 +197,32 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
         const int32_t stride = f.nx;
         constexpr size_t kBlock = 512;
         alignas(64) float cs[kBlock], ss[kBlock], gx[kBlock], gy[kBlock], yl[kBlock], acc[kBlock], ll[kBlock];
-        alignas(64) int32_t cell[kBlock];
-        for (size_t b = 0; b < n; b += kBlock) {
-            const size_t m_n = std::min(kBlock, n - b);
-            const float *yo = p.yaw_offset.data() + b, *scp = p.scale.data() + b, *xp = p.x.data() + b, *ypp = p.y.data() + b;
+        alignas(64) int32_t cell[kBlock], level[kBlock];
+        // Resampling leaves identical copies of a particle next to each other (and the plane update often
+        // follows a sign update's resampling before any motion): each run of identical particles is scored
+        // once, with the same arithmetic, and its value given to every copy.
+        thread_local std::vector<uint32_t> first_of_run;
+        thread_local std::vector<float> run_ll;
+        first_of_run.clear();
+        const float *px = p.x.data(), *py = p.y.data(), *pyaw = p.yaw_offset.data(), *psc = p.scale.data();
+        first_of_run.push_back(0);
+        for (size_t i = 1; i < n; ++i) {
+            if (px[i] != px[i - 1] || py[i] != py[i - 1] || pyaw[i] != pyaw[i - 1] || psc[i] != psc[i - 1]) {
+                first_of_run.push_back(static_cast<uint32_t>(i));
+            }
+        }
+        const size_t runs = first_of_run.size();
+        run_ll.resize(runs);
+        alignas(64) float yo[kBlock], scp[kBlock], xp[kBlock], ypp[kBlock];
+        for (size_t b = 0; b < runs; b += kBlock) {
+            const size_t m_n = std::min(kBlock, runs - b);
+            for (size_t i = 0; i < m_n; ++i) {
+                const uint32_t src = first_of_run[b + i];
+                yo[i] = pyaw[src];
+                scp[i] = psc[src];
+                xp[i] = px[src];
+                ypp[i] = py[src];
+            }
             for (size_t i = 0; i < m_n; ++i) {
                 float sn, cn;
                 fast_sincos(yo[i], sn, cn);
@@ -213,7 +235,11 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
             }
             for (size_t j = 0; j < count; ++j) {
                 const PlanePoints &pp = pts[j];
-                for (size_t i = 0; i < m_n; ++i) acc[i] = 0.0f;
+                // The plane's direction level in the map is the same for all its points: once per particle.
+                for (size_t i = 0; i < m_n; ++i) {
+                    acc[i] = 0.0f;
+                    level[i] = static_cast<int32_t>(pp.tangent_levels + yl[i]) & 127;
+                }
                 for (int32_t q = 0; q < pp.k; ++q) {
                     const float pe = pp.pe[q], pn = pp.pn[q];
                     for (size_t i = 0; i < m_n; ++i) {
@@ -222,18 +248,19 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
                         cell[i] = static_cast<int32_t>(fy) * stride + static_cast<int32_t>(fx);
                     }
                     for (size_t i = 0; i < m_n; ++i) {
-                        const int32_t plane_level = static_cast<int32_t>(pp.tangent_levels + yl[i]) & 127;
                         const int32_t cc = code[cell[i]];
-                        acc[i] += lp[(cc & ~127) | ((cc - plane_level) & 127)];
+                        acc[i] += lp[(cc & ~127) | ((cc - level[i]) & 127)];
                     }
                 }
                 for (size_t i = 0; i < m_n; ++i) ll[i] += pp.per_point * acc[i];
             }
-            float *out = log_likelihood + b;
-            for (size_t i = 0; i < m_n; ++i) {
-                out[i] += ll[i];
-                max_ll = std::max(max_ll, out[i]);
-            }
+            std::copy(ll, ll + m_n, run_ll.begin() + static_cast<std::ptrdiff_t>(b));
+        }
+        size_t r = 0;
+        for (size_t i = 0; i < n; ++i) {
+            r += (r + 1 < runs && first_of_run[r + 1] == i) ? 1 : 0;
+            log_likelihood[i] += run_ll[r];
+            max_ll = std::max(max_ll, log_likelihood[i]);
         }
         return max_ll;
     }

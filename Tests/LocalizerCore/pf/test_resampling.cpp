@@ -109,3 +109,29 @@ TEST(Resampling, BinCounterDenseIds) {
     EXPECT_EQ(b.find(555), 457u);
     EXPECT_EQ(b.find(99999), UINT32_MAX);
 }
+
+// The dense count of occupied KLD bins equals the hash table's, for clouds of growing spread (negative
+// coordinates, headings across +-pi, duplicate indices as systematic resampling leaves them), and a cloud
+// too spread out for the dense box falls back to the hash count.
+TEST(Resampling, DenseOccupiedBinsMatchHashTable) {
+    Rng rng(9);
+    BinCounter bins;
+    DenseBins dense;
+    std::vector<uint8_t> seen;
+    for (float spread : {0.2f, 2.0f, 20.0f, 5000.0f}) {
+        ParticleSet p;
+        p.resize(4000);
+        std::vector<uint32_t> idx;
+        for (size_t i = 0; i < p.size(); ++i) {
+            p.x[i] = spread * rng.normal() - 3.0f;
+            p.y[i] = spread * rng.normal() + 1.0f;
+            p.yaw_offset[i] = static_cast<float>(rng.uniform(-3.2, 3.2));
+            p.floor[i] = static_cast<int16_t>(i % 3 == 0 ? 1 : 0);
+            idx.push_back(static_cast<uint32_t>(i));
+            if (i % 5 == 0) idx.push_back(static_cast<uint32_t>(i));
+        }
+        const size_t expected = count_occupied_bins(p, idx, 0.4f, 0.5f, 0.1745f, bins);
+        EXPECT_EQ(count_occupied_bins(p, idx, 0.4f, 0.5f, 0.1745f, bins, dense, seen), expected) << "spread " << spread;
+        EXPECT_GT(expected, 10u);
+    }
+}

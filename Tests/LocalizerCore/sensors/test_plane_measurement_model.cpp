@@ -127,6 +127,30 @@ TEST(PlaneMeasurementModel, MixedFloorsAgreeWithTheOneFloorPath) {
     EXPECT_GT(a[0], a[1]);
 }
 
+// Runs of identical particles (resampling copies) are scored once: every copy gets exactly the value the
+// particle gets on its own, and runs broken by one differing field are scored apart.
+TEST(PlaneMeasurementModel, IdenticalCopiesScoreExactlyAsAlone) {
+    auto world = wf::test::corridor_world();
+    const auto o = wf::test::default_options();
+    const auto map = wf::test::build_map(world, o);
+    const std::vector<std::array<float, 3>> poses = {{10, 1, 0}, {10, 1.4f, 0.1f}, {4, 0.7f, 1.2f}, {15, 1.2f, kPiF}};
+    std::vector<std::array<float, 3>> copies;
+    for (size_t k = 0; k < poses.size(); ++k) {
+        for (size_t c = 0; c <= k; ++c) copies.push_back(poses[k]);  // runs of 1, 2, 3 and 4 copies
+    }
+    copies.push_back(poses[0]);  // the first pose again, after a different one: a run of its own
+    ParticleSet p = particles(copies);
+    p.scale[2] = 1.3f;  // breaks the second run into two (the scale differs)
+    const std::vector<wf_plane_observation> obs = {plane(1, 0, 1, -kPiF / 2, 3), plane(2, 1, -1, kPiF / 2, 1.2)};
+    const auto all = log_likelihoods(map, p, obs);
+    for (size_t i = 0; i < copies.size(); ++i) {
+        ParticleSet alone = particles({copies[i]});
+        alone.scale[0] = p.scale[i];
+        EXPECT_EQ(all[i], log_likelihoods(map, alone, obs)[0]) << "particle " << i;
+    }
+    EXPECT_NE(all[1], all[2]);  // the scale matters, so the broken run really was scored twice
+}
+
 TEST(PlaneMeasurementModel, ScaleAndYawOffsetMapThePlane) {
     // VIO is rotated by +90 degrees from the map (yaw offset -pi/2) and 10 % short (scale 1.1): a plane that
     // lies 0.909 m to the VIO west is 1 m to the map north, on the wall.
