@@ -156,17 +156,22 @@ float ParticleFilter::sample_yaw_offset() {
     return static_cast<float>(rng_.uniform(-kPiD, kPiD));
 }
 
+int32_t ParticleFilter::random_sign_of_kind(const FloorData &f, int32_t kind) {
+    // Reservoir choice: each sign of the kind with equal probability, one pass, no allocation.
+    int32_t chosen = -1;
+    uint32_t seen = 0;
+    for (size_t j = 0; j < f.signs.size(); ++j) {
+        if (f.signs.kind[j] != kind) continue;
+        if (rng_.below(++seen) == 0) chosen = static_cast<int32_t>(j);
+    }
+    return chosen;
+}
+
 bool ParticleFilter::sample_from_sighting(int16_t floor, float &x, float &y, float &yaw_offset) {
     if (last_sightings_.empty()) return false;
     const FloorData &f = map_.floors[floor];
     const PreparedSighting &z = last_sightings_[rng_.below(static_cast<uint32_t>(last_sightings_.size()))];
-    // A random sign of the sighted kind on this floor (reservoir choice).
-    int32_t chosen = -1;
-    uint32_t seen = 0;
-    for (size_t j = 0; j < f.signs.size(); ++j) {
-        if (f.signs.kind[j] != z.kind) continue;
-        if (rng_.below(++seen) == 0) chosen = static_cast<int32_t>(j);
-    }
+    const int32_t chosen = random_sign_of_kind(f, z.kind);
     if (chosen < 0) return false;
     const double sx = f.signs.x[chosen], sy = f.signs.y[chosen];
     const double facing = std::atan2(f.signs.facing_y[chosen], f.signs.facing_x[chosen]);

@@ -112,6 +112,8 @@ private:
     /// One rival pose for draw_corroboration_rivals: a heading from the compass prior, then the position from
     /// which a random sign of a current sighting's kind appears at its bearing and range (visible, walkable).
     bool sample_rival_pose(int16_t floor, float &x, float &y, float &yaw_offset);
+    /// A random sign of `kind` on floor `f` (each equally likely), or -1 when the floor has none.
+    int32_t random_sign_of_kind(const FloorData &f, int32_t kind);
     /// Arms (or disarms) the corroboration requirement for the next lock.
     void arm_corroboration(bool on) {
         awaiting_corroboration_ = on;

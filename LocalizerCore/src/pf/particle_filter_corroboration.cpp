@@ -27,12 +27,7 @@ bool ParticleFilter::sample_rival_pose(int16_t floor, float &x, float &y, float 
     const FloorData &f = map_.floors[floor];
     for (int attempt = 0; attempt < 16; ++attempt) {
         const PreparedSighting &z = last_sightings_[rng_.below(static_cast<uint32_t>(last_sightings_.size()))];
-        int32_t chosen = -1;
-        uint32_t seen = 0;
-        for (size_t j = 0; j < f.signs.size(); ++j) {
-            if (f.signs.kind[j] != z.kind) continue;
-            if (rng_.below(++seen) == 0) chosen = static_cast<int32_t>(j);
-        }
+        const int32_t chosen = random_sign_of_kind(f, z.kind);
         if (chosen < 0) return false;
         // The heading from the compass prior (a uniform share when the field may be disturbed, see
         // sample_yaw_offset); the camera then stands where the sign appears at the sighting's bearing and range:
