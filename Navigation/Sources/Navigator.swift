@@ -167,6 +167,8 @@ public final class Navigator {
 
     /// The route being followed, nil before localization or when there is no route.
     public private(set) var currentRoute: Route?
+    /// The route's first instruction is still to be said (composed when the channel is free, see `adopt`).
+    private var departurePending = false
     /// True once arrival was announced; later updates produce nothing.
     public private(set) var hasArrived = false
     /// Maneuvers of the current route (empty before there is one).
@@ -319,6 +321,7 @@ public final class Navigator {
         guard currentRoute != nil else { return emit(t) }
         if checkArrival(input: input) { return emit(t) }
         recordProgress(t: t)
+        announceDepartureWhenChannelFree(input: input)
         announceManeuvers(input: input)
         return emit(t)
     }
@@ -420,6 +423,21 @@ public final class Navigator {
         // been within the distance once.
         offRouteLatched = distanceFromRouteMeters > options.offRouteDistanceMeters
 
+        // The first instruction says a distance: it is composed when it can be spoken (the channel may still
+        // be playing the exploratory advice for 3-4 s), never queued with a distance that is stale by then
+        // ("Go straight ahead, 8 meters." said 3.4 s late, 4 m before the turn).
+        departurePending = true
+        announceDepartureWhenChannelFree(input: input)
+    }
+
+    /// Speaks the route's first instruction once the speech channel is free for it (see `adopt`): the
+    /// direction of the route relative to the heading and the distance to the next maneuver, from the
+    /// traveler's progress at that moment. Dropped when a maneuver's cue has already been issued.
+    private func announceDepartureWhenChannelFree(input: NavigationInput) {
+        guard departurePending, let route = currentRoute else { return }
+        if cueIssued.dropFirst().contains(true) { departurePending = false; return }
+        guard policy.earliestStart(priority: .alert, t: input.t) <= input.t + 1e-9 else { return }
+        departurePending = false
         // First instruction: direction of the route relative to the heading, distance to the next maneuver.
         let ahead = route.point(atDistance: progressMeters + options.lookAheadMeters, fromSegment: 0).point
         let here = route.point(atDistance: progressMeters, fromSegment: 0).point
@@ -453,12 +471,16 @@ public final class Navigator {
         let toNext = next.distanceFromStartMeters - progressMeters
         // Facing along the route with a turn so close that its cue is due at once: the cue is the first
         // instruction ("Go straight ahead, 1 meter." before or after "Turn left now." only confuses).
+        // So is a turn whose cue would be due before this instruction ended (at the walking speed): the cue
+        // would cut it off.
+        let text = narrative.depart(orientation, distanceMeters: toNext, relativeBearingRad: relativeBearingRad)
+        let departWalkMeters = schedulingSpeed() * policy.estimatedDurationSeconds(text)
         let cueDueAtOnce = orientation == .ahead && next.kind.isTurn && first < route.maneuvers.count
             && toNext <= cueLeadMeters(narrative.cue(next, floorName: floorName(next.floorId)), priority: .cue, t: input.t)
+                + departWalkMeters
         if !cueDueAtOnce && (next.kind != .arrive || toNext > options.arrivalRadiusMeters) {
             // Alert rank: it must precede the alert of the next maneuver, which it makes redundant when
             // that one is already within the alert distance ("Turn left, then go 5 meters." then the cue).
-            let text = narrative.depart(orientation, distanceMeters: toNext, relativeBearingRad: relativeBearingRad)
             say(mergedWithNext(text, remainingMeters: toNext, next: min(first, route.maneuvers.count - 1), route: route),
                 .alert, input.t)
             if first < route.maneuvers.count && toNext <= options.alertDistanceMeters { alertIssued[first] = true }
@@ -703,7 +725,7 @@ public final class Navigator {
             let m = r.maneuvers[i]
             let d = m.distanceFromStartMeters - s
             if m.kind == .arrive {
-                if !lookingAhead, !alertIssued[i], d > options.arrivalRadiusMeters + options.alertCueGapMeters,
+                if !lookingAhead, !departurePending, !alertIssued[i], d > options.arrivalRadiusMeters + options.alertCueGapMeters,
                    d <= options.alertDistanceMeters {
                     alertIssued[i] = true
                     if options.phrasing.verbosity != .brief,
@@ -730,7 +752,7 @@ public final class Navigator {
                     say(text, cuePriority, t, about: m, variant: "cue")
                     sayChained(after: i, route: r, t: t)
                 }
-            } else if !lookingAhead && !alertIssued[i], d > options.cueDistanceMeters + options.alertCueGapMeters,
+            } else if !lookingAhead && !departurePending && !alertIssued[i], d > options.cueDistanceMeters + options.alertCueGapMeters,
                       let alertDue = alertDueMeters(m, d: d, cueLead: cueLead, t: t), d <= alertDue.trigger {
                 let text = alertDue.text
                 // The alert must end (at the walking speed) a gap before its cue is due; it is brought

@@ -90,8 +90,11 @@ final class ReplaySpeechTests: XCTestCase {
                                   "--clock-face"], timeoutSeconds: 240)
         XCTAssertEqual(styled.exitCode, 0, "\(styled)")
         XCTAssertTrue(styled.stdout.contains("Turn right now, toward 3 o'clock."), "\(styled)")
-        XCTAssertTrue(styled.stdout.contains(" feet"), "\(styled)")
+        // The sample walk's only distance phrase (the route start) is now left out: the first turn's cue is due
+        // before it could end. Feet in the words are checked through the navigator (PhrasingAndTimingTests);
+        // here no meter may slip through.
         XCTAssertFalse(styled.stdout.contains(" meters"), "\(styled)")
+        XCTAssertFalse(styled.stdout.contains(" meter."), "\(styled)")
         let spanish = try CLI.run(["replay", CLI.sampleBundlePath, "--map", CLI.officeMapPath, "--seed", "1", "--language", "es",
                                    "--verbosity", "brief"], timeoutSeconds: 240)
         XCTAssertEqual(spanish.exitCode, 0, "\(spanish)")

@@ -34,6 +34,29 @@ final class NavigatorTests: XCTestCase {
         XCTAssertNotNil(nav.currentRoute)
     }
 
+    func testFirstInstructionIsComposedWhenItCanBeSpokenNotWhenQueued() throws {
+        // 20 m corridor; "Start walking." (about 1.2 s) is playing when the traveler is localized at 0.1 s. The
+        // route's first phrase waits for it, and gives the distance from where the traveler is when it is said
+        // (walking east at 1.2 m/s), not from where they were when the route was adopted.
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a--------------------b").build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var spoken: [(t: Double, text: String, x: Double)] = []
+        for k in 0..<40 {
+            let t = Double(k) / 10, x = 3 + 1.2 * t
+            let events = nav.update(NavigationInput(t: t, positionInMap: Point2(x: x, y: 0), floorId: "1", headingRad: 0,
+                                                    isLocalized: k > 0))
+            spoken += events.compactMap(\.spokenText).map { (t, $0, x) }
+        }
+        XCTAssertEqual(spoken.first?.text, "Start walking.")
+        let depart = try XCTUnwrap(spoken.first { $0.text.hasPrefix("Go straight ahead") })
+        XCTAssertGreaterThan(depart.t, 1.0, "it waited for the channel")
+        // Said at x = 3 + 1.2 t, 21 - x meters from b (at x 21), rounded to 5 m from 10 m up: at adoption (x 3.12,
+        // 17.9 m) it was "20 meters"; by the time it is said (x 4.4, 16.6 m) it is 15.
+        let remaining = 21 - depart.x
+        XCTAssertEqual(depart.text, "Go straight ahead, \(Navigation.PhraseBook.roundedDistanceMeters(remaining)) meters.")
+        XCTAssertNotEqual(depart.text, "Go straight ahead, 20 meters.")
+    }
+
     func testFirstInstructionIsRelativeToTheHeading() throws {
         let b = FloorPlanFixture(gridMeters: 1).floor("1", map: """
             a--------------------b
