@@ -143,7 +143,8 @@ public struct DisambiguationPlanner: Sendable {
         let live = usable.filter { $0.weight >= options.minimumLiveWeight }
         // Safety is checked under every compact hypothesis the localizer reports, however light: it reports the
         // light ones only while they are unrefuted rivals (the true place after a wrong named start starts light).
-        let guarded = usable.filter { $0.weight >= options.minimumGuardedWeight }
+        // (Never fewer than the live ones, whatever the two options are set to.)
+        let guarded = usable.filter { $0.weight >= min(options.minimumGuardedWeight, options.minimumLiveWeight) }
         let total = live.reduce(0) { $0 + $1.weight }
         guard !live.isEmpty, total > 0, total >= options.minimumCoverage - 1e-12 else {
             return DisambiguationAdvice(action: nil, safeWalkMeters: 0, informationNats: 0, distinguishingMeters: nil)
@@ -151,7 +152,7 @@ public struct DisambiguationPlanner: Sendable {
         var best: (advice: DisambiguationAdvice, utility: Double)?
         var fallback: DisambiguationAdvice?
         for action in ExploratoryAction.allCases {
-            let walk = safeWalkMeters(action, guarded.isEmpty ? live : guarded)
+            let walk = safeWalkMeters(action, guarded)
             guard walk >= options.minimumWalkMeters else { continue }
             let (gain, at) = informationGain(action, live, walkMeters: walk, total: total)
             let advice = DisambiguationAdvice(action: action, safeWalkMeters: walk, informationNats: gain,

@@ -203,7 +203,7 @@ void ParticleFilter::reset_filter_state() {
     compass_.reset();
     arm_corroboration(false);
     was_localized_ = false;
-    has_sighting_t_ = false;
+    last_sighting_t_ = -std::numeric_limits<double>::infinity();
     estimate_dirty_ = true;
     dominant_members_valid_ = false;
     // A compass prior given before the first VIO yaw is applied at the next predict.
@@ -389,7 +389,6 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         if (!z.empty()) {
             accumulate_evidence(log_likelihood_.data(), max_ll, t);
             last_sighting_t_ = t;
-            has_sighting_t_ = true;
         }
         const double beta = tempering_exponent(max_ll);
         last_beta_ = beta;
@@ -916,7 +915,7 @@ void ParticleFilter::compute_estimate() {
     // next sighting have been refuted or have won. A lock lost to the redraw after a floor ride is only unsure.)
     if (localized && !was_localized_) {
         arm_corroboration(false);
-    } else if (!localized && was_localized_ && has_sighting_t_ && t_last_ - last_sighting_t_ <= 1.0) {
+    } else if (!localized && was_localized_ && t_last_ - last_sighting_t_ <= 1.0) {
         arm_corroboration(opts_.start_point_doubt_share > 0);
     }
     was_localized_ = localized;

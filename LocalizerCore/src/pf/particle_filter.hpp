@@ -6,6 +6,7 @@
 #pragma once
 
 #include <cstdint>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -181,9 +182,8 @@ private:
     bool corroboration_candidates_drawn_ = false;
     /// The flag at the previous estimate (a lock break re-arms the corroboration).
     bool was_localized_ = false;
-    /// Time of the last sign update with sightings, seconds (valid when has_sighting_t_).
-    double last_sighting_t_ = 0;
-    bool has_sighting_t_ = false;
+    /// Time of the last sign update with sightings, seconds (-infinity before the first).
+    double last_sighting_t_ = -std::numeric_limits<double>::infinity();
     wf_localizer_estimate estimate_{};
     std::vector<wf_localizer_hypothesis> hypotheses_;
     std::vector<uint32_t> dominant_members_;

@@ -112,37 +112,37 @@ final class CDetector {
 
     func detect(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
                 rollRad: Double) throws -> DetectionOutcome {
-        var observations = [wf_detector_observation](repeating: wf_detector_observation(), count: CDetector.capacity)
-        var count = 0
-        let status: Int32 = CDetector.withFrame(image: image, intrinsics: intrinsics, pitchRad: pitchRad,
-                                                rollRad: rollRad) { frame in
-            observations.withUnsafeMutableBufferPointer { out in
-                wf_detector_detect(handle, &frame, out.baseAddress, out.count, &count)
-            }
-        }
-        if status < 0 {
-            throw CDetector.error(status: status, message: String(cString: wf_detector_last_error(handle)))
-        }
-        let warning = status > 0 ? String(cString: wf_detector_last_error(handle)) : nil
-        return DetectionOutcome(detections: observations.prefix(count).map(CDetector.detection), warning: warning)
+        let (found, warning) = try call(image: image, intrinsics: intrinsics, pitchRad: pitchRad, rollRad: rollRad,
+                                        empty: wf_detector_observation(), wf_detector_detect)
+        return DetectionOutcome(detections: found.map(CDetector.detection), warning: warning)
     }
 
     /// One wf_detector_sense call: the frame's ranged sightings, and the warning of a skipped frame.
     func sense(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
                rollRad: Double) throws -> (signs: [SensedSign], warning: String?) {
-        var sightings = [wf_sign_sighting](repeating: wf_sign_sighting(), count: CDetector.capacity)
+        let (found, warning) = try call(image: image, intrinsics: intrinsics, pitchRad: pitchRad, rollRad: rollRad,
+                                        empty: wf_sign_sighting(), wf_detector_sense)
+        return (found.map(CDetector.sensed), warning)
+    }
+
+    /// One per-frame C call (`wf_detector_detect` or `wf_detector_sense`) into a buffer of `capacity` results:
+    /// the results written, and the warning when the status is positive (a skipped frame). A negative status
+    /// throws the detector's error.
+    private func call<T>(image: ImageBuffer, intrinsics: (Double, Double, Double, Double), pitchRad: Double,
+                         rollRad: Double, empty: T,
+                         _ fn: (OpaquePointer?, UnsafePointer<wf_frame>?, UnsafeMutablePointer<T>?, Int,
+                                UnsafeMutablePointer<Int>?) -> Int32) throws -> ([T], String?) {
+        var results = [T](repeating: empty, count: CDetector.capacity)
         var count = 0
         let status: Int32 = CDetector.withFrame(image: image, intrinsics: intrinsics, pitchRad: pitchRad,
                                                 rollRad: rollRad) { frame in
-            sightings.withUnsafeMutableBufferPointer { out in
-                wf_detector_sense(handle, &frame, out.baseAddress, out.count, &count)
-            }
+            results.withUnsafeMutableBufferPointer { out in fn(handle, &frame, out.baseAddress, out.count, &count) }
         }
         if status < 0 {
             throw CDetector.error(status: status, message: String(cString: wf_detector_last_error(handle)))
         }
         let warning = status > 0 ? String(cString: wf_detector_last_error(handle)) : nil
-        return (sightings.prefix(count).map(CDetector.sensed), warning)
+        return (Array(results.prefix(count)), warning)
     }
 
     private static func sensed(_ g: wf_sign_sighting) -> SensedSign {
