@@ -49,6 +49,8 @@ func loadMap(_ spec: String) throws -> Building {
 /// that lists them with their ids and floors, never a silent pick; so is a name no place has.
 func resolvePlace(_ key: String, flag: String, in building: Building, mapSpec: String) throws -> String {
     for floor in building.floors where floor.pointOfInterest(id: key) != nil { return key }
+    // A route-graph node id (as the committed scenario definitions name their start and end).
+    if building.node(id: key) != nil { return key }
     func nameKey(_ s: String) -> String { s.trimmingCharacters(in: .whitespacesAndNewlines).lowercased() }
     let named = building.floors.flatMap { floor in
         floor.pointsOfInterest.filter { nameKey($0.name) == nameKey(key) }.map { (poi: $0, floor: floor) }

@@ -14,8 +14,8 @@ enum SimulateCommand: Subcommand {
                               [--tracking-loss T] [--tracking-loss-duration S] [--vio-reset T] [--wrong-turn]
                               [--north-offset DEG] [--tour-minutes M] [--scenario FILE] [--overwrite]
 
-    Simulates a person walking the shortest route from A to B (point-of-interest ids or names) with a phone held
-    camera-forward, and writes the bundle (format v1: session.json, frames.jsonl, observations.jsonl,
+    Simulates a person walking the shortest route from A to B (point-of-interest ids or names, or route-graph
+    node ids as the committed scenarios use) with a phone held camera-forward, and writes the bundle (format v1: session.json, frames.jsonl, observations.jsonl,
     truth.jsonl, images/ with --images) to BUNDLE. The same arguments and seed give the same bundle.
       --map MAP            `office` (the default), `skeri:FLOOR` or a map-v1 JSON file (as for every command)
       --scenario FILE      start from a scenario definition (Tests/Scenarios/*.json); flags override it

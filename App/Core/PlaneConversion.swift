@@ -6,8 +6,22 @@ import SessionFormat
 /// (replayed from planes.jsonl or forwarded by the phone's ARSession delegate). Vertical planes only; every
 /// anchor is dropped when VIO resets (tracking unavailable, relocalizing or initializing again), because an
 /// anchor placed in the old world frame is not valid in the new one until ARKit updates it.
+///
+/// Anchors also belong to the floor they were seen on: ARKit keeps an anchor after the traveler rides an
+/// elevator or takes the stairs (and VIO often jumps during the ride), so a wall seen by the floor-4 elevator
+/// door would otherwise be scored against floor 3's walls over and over while the traveler waits there. Each
+/// anchor remembers the barometric altitude at its last add or update; it is not scored while the altitude now
+/// differs from that by more than `maxAltitudeChangeMeters` (half a storey: floors are at least 3 m apart, and
+/// the barometer's noise is a few decimetres). Without barometer readings nothing is held back.
 struct PlaneAnchorTable {
+    /// An anchor whose last add/update was at an altitude more than this from the current one is on another
+    /// floor and is not scored, meters.
+    static let maxAltitudeChangeMeters = 1.5
     private(set) var anchors: [String: PlaneRecord] = [:]
+    /// Barometric altitude (meters, relative to the session start) at each anchor's last add/update, when known.
+    private var altitudeAtUpdate: [String: Double] = [:]
+    /// The latest finite barometric altitude, meters (nil before the first reading).
+    private(set) var altitudeMeters: Double?
     /// True while the last frame was in a VIO reset state.
     private(set) var inReset = false
 
@@ -18,20 +32,33 @@ struct PlaneAnchorTable {
         case .add, .update:
             guard !inReset else { return }
             anchors[r.anchorId] = r
+            altitudeAtUpdate[r.anchorId] = altitudeMeters
         case .remove:
             anchors[r.anchorId] = nil
+            altitudeAtUpdate[r.anchorId] = nil
         }
+    }
+
+    /// Takes the frame's barometric altitude (relative to the session start, meters; non-finite ignored).
+    mutating func observe(altitudeMeters a: Double?) {
+        if let a, a.isFinite { altitudeMeters = a }
     }
 
     /// Follows the frame's tracking state: a reset state empties the table.
     mutating func observe(tracking: TrackingState, reason: TrackingReason?) {
         inReset = isVIOResetState(tracking, reason)
-        if inReset { anchors.removeAll() }
+        if inReset { anchors.removeAll(); altitudeAtUpdate.removeAll() }
     }
 
-    /// The anchors as localizer observations, sorted by anchor id (deterministic order).
+    /// True when the anchor was last seen on the current floor (or the altitude of either is unknown).
+    private func isOnCurrentFloor(_ anchorId: String) -> Bool {
+        guard let now = altitudeMeters, let then = altitudeAtUpdate[anchorId] else { return true }
+        return abs(now - then) <= Self.maxAltitudeChangeMeters
+    }
+
+    /// The anchors of the current floor as localizer observations, sorted by anchor id (deterministic order).
     var observations: [PlaneObservation] {
-        anchors.keys.sorted().compactMap { anchors[$0].flatMap(PlaneConversion.observation(of:)) }
+        anchors.keys.sorted().filter(isOnCurrentFloor).compactMap { anchors[$0].flatMap(PlaneConversion.observation(of:)) }
     }
 }
 

@@ -145,6 +145,7 @@ public final class WayfinderPipeline {
     private func updatePlanesIfDue(_ frame: PipelineFrame, warnings: inout [String]) {
         guard options.usePlanes else { return }
         planeTable.observe(tracking: frame.tracking, reason: frame.trackingReason)
+        planeTable.observe(altitudeMeters: frame.relativeAltitudeMeters)
         guard frame.cameraPose != nil, !planeTable.anchors.isEmpty,
               frame.t - lastPlaneUpdateT >= options.planeUpdateIntervalSeconds - 1e-9 else { return }
         lastPlaneUpdateT = frame.t

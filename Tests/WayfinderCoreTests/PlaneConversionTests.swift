@@ -73,6 +73,28 @@ final class PlaneConversionTests: XCTestCase {
         XCTAssertEqual(table.anchors.count, 1)
     }
 
+    /// An anchor seen on floor 4 is not scored after an elevator ride to floor 3 (the barometer reads 3.9 m
+    /// lower), is scored again when ARKit updates it there, and within the barometer's noise nothing changes.
+    /// Without readings, nothing is held back (old recordings).
+    func testAnchorsFromAnotherFloorAreNotScored() throws {
+        var table = PlaneAnchorTable()
+        let a = try XCTUnwrap(record())
+        var b = a; b.anchorId = "B"
+        table.observe(tracking: .normal, reason: nil)
+        table.apply(b)   // before any barometer reading: altitude unknown, always scored
+        table.observe(altitudeMeters: 0.1)
+        table.apply(a)
+        table.observe(altitudeMeters: -0.3)   // noise
+        XCTAssertEqual(table.observations.count, 2)
+        table.observe(altitudeMeters: -3.9)   // one floor down
+        XCTAssertEqual(table.observations.map(\.anchorId), [PlaneObservation.anchorId(for: "B")])
+        table.observe(altitudeMeters: .nan)   // ignored: the last finite reading stays
+        XCTAssertEqual(table.observations.count, 1)
+        table.apply(a)   // ARKit re-estimates it on this floor
+        XCTAssertEqual(table.observations.count, 2)
+        table.observe(altitudeMeters: 0.0)   // back up: now it belongs to the lower floor
+        XCTAssertEqual(table.observations.count, 1)
+    }
     /// The switch: with planes on, a plane the core rejects (non-finite) surfaces as a frame warning; with
     /// `usePlanes` off the pipeline does not even look at plane events.
     func testUsePlanesSwitch() throws {
