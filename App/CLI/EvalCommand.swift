@@ -9,7 +9,8 @@ enum EvalCommand: Subcommand {
     static let name = "eval"
     static let summary = "score replays against truth (localization and navigation), with a regression gate"
     static let usage = """
-    Usage: wayfinder eval BUNDLE... --map MAP [--json] [--explain] [--baseline FILE] [--write-baseline FILE] [--seed N]
+    Usage: wayfinder eval BUNDLE... --map MAP [--detector recorded|cascade|unet|auto] [--models DIR] [--json] [--explain]
+                          [--baseline FILE] [--write-baseline FILE] [--seed N]
            wayfinder eval --scenarios DIR [--skeri DIR] [--json] [--explain] [--baseline FILE] [--write-baseline FILE]
 
     Replays each bundle (which must have truth.jsonl) through the real pipeline and prints, per walk:

@@ -1,10 +1,15 @@
 import WayfinderCore
 
-/// The localizer's evidence switches shared by `replay` and `eval`: each evidence source can be turned off,
-/// and internal model parameters set by name, for studies (docs/benchmarks.md "Evidence sources").
+/// The localizer's evidence switches shared by `replay` and `eval`: where sign sightings come from, each
+/// evidence source can be turned off, and internal model parameters set by name, for studies
+/// (docs/benchmarks.md "Evidence sources", "End to end with the detectors").
 enum EvidenceSwitches {
     /// Usage lines for the subcommands that accept the switches.
     static let usage = """
+      --detector       where sign sightings come from: recorded, cascade, unet or auto (default: the detector
+                       on the images when any is present, a frame whose image is missing using its recorded
+                       observations; else the recorded observations)
+      --models DIR     detector models folder (default SignDetector/models)
       --no-compass     ignore the compass (no start prior, no compass evidence)
       --no-planes      ignore ARKit's vertical planes (planes.jsonl; simulated walls in --scenarios)
       --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
@@ -14,6 +19,13 @@ enum EvidenceSwitches {
     /// Removes the switches from `arguments` and applies them to `options`. Throws a usage error for a
     /// malformed `--param`.
     static func apply(_ arguments: inout ArgumentList, to options: inout PipelineOptions) throws {
+        if let d = try arguments.option("detector") {
+            guard let source = SightingSource(rawValue: d == "auto" ? "automatic" : d) else {
+                throw CLIError.usage("--detector must be recorded, cascade, unet or auto")
+            }
+            options.sightingSource = source
+        }
+        if let models = try arguments.option("models") { options.modelsDirectory = models }
         if arguments.flag("no-compass") { options.useCompass = false }
         if arguments.flag("no-planes") { options.usePlanes = false }
         while let assignment = try arguments.option("param") {

@@ -23,10 +23,6 @@ enum ReplayCommand: Subcommand {
       --to DEST        destination point-of-interest id or name (default: session.json's destination)
       --from START     start point-of-interest id or name (default: session.json's start; none = floor only)
       --floor FLOOR    start floor id when the start is unknown (default: session.json's floor)
-      --detector       where sign sightings come from (default auto: the detector on the images when any is
-                       present, a frame whose image is missing using its recorded observations; else the
-                       recorded observations)
-      --models DIR     detector models folder (default SignDetector/models)
       --seed N         particle filter seed (default 1)
       --trace FILE     write one JSON line per frame: t, x, y, floorId, headingRad, confidence, localized,
                        hypotheses, sightings, announcements, haptics; tracking and trackingPrompt when
@@ -59,14 +55,7 @@ enum ReplayCommand: Subcommand {
         try EvidenceSwitches.apply(&arguments, to: &pipeline)
         let to = try arguments.option("to"), from = try arguments.option("from")
         pipeline.floorId = try arguments.option("floor") ?? MapSpec.floor(of: mapPath)
-        pipeline.modelsDirectory = try arguments.option("models")
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
-        if let d = try arguments.option("detector") {
-            guard let source = SightingSource(rawValue: d == "auto" ? "automatic" : d) else {
-                throw CLIError.usage("--detector must be recorded, cascade, unet or auto")
-            }
-            pipeline.sightingSource = source
-        }
         let tracePath = try arguments.option("trace")
         let speak = arguments.flag("speak")
         let audioPath = try arguments.option("audio")

@@ -256,7 +256,9 @@ public enum WalkSimulator {
         }
 
         let startFloor = body.first?.floorId ?? start.floorId
-        let signHeight = building.floors.flatMap(\.signs).first?.heightMeters ?? 0.21
+        // The session records the Exit-sign face height of the building's catalogue (as WalkRecorder does).
+        let signHeight = building.signCatalogue.heightMeters(kind: SignKindSpec.defaultExit.kind)
+            ?? SignKindSpec.defaultExit.heightMeters
         var declaredStartId: String?
         if let declared = scenario.declaredStart {
             guard let poi = building.pointOfInterest(idOrName: declared) else {

@@ -100,6 +100,7 @@ final class CommandLineUsageTests: XCTestCase {
     func testBadChoicesAndUnknownOptionsExitTwo() throws {
         let bundle = CLI.sampleBundlePath, map = CLI.officeMapPath
         try assertUsageError(["replay", bundle, "--map", map, "--detector", "magic"], names: "--detector")
+        try assertUsageError(["eval", bundle, "--map", map, "--detector", "magic"], names: "--detector")
         try assertUsageError(["replay", bundle, "--map", map, "--bogus"], names: "--bogus")
         try assertUsageError(["range", "--input", "Tests/Fixtures/range/observations.csv", "--method", "guess"],
                              names: "--method")
