@@ -2,6 +2,7 @@ import Evaluation
 import Foundation
 import Maps
 import SessionFormat
+import Simulation
 import WayfinderCore
 
 /// `wayfinder eval`: replays walks and scores them against truth, with a regression gate.
@@ -11,7 +12,8 @@ enum EvalCommand: Subcommand {
     static let usage = """
     Usage: wayfinder eval BUNDLE... --map MAP [--detector recorded|cascade|unet|auto] [--models DIR] [--json] [--explain]
                           [--baseline FILE] [--write-baseline FILE] [--seed N]
-           wayfinder eval --scenarios DIR [--skeri DIR] [--json] [--explain] [--baseline FILE] [--write-baseline FILE]
+           wayfinder eval --scenarios DIR [--skeri DIR] [--survey-placards] [--json] [--explain] [--baseline FILE]
+                          [--write-baseline FILE]
 
     Replays each bundle (which must have truth.jsonl) through the real pipeline and prints, per walk:
     time and distance to first convergence, median/90th/95th percentile position error after convergence,
@@ -20,6 +22,8 @@ enum EvalCommand: Subcommand {
     distance at arrival; then the aggregate. --json prints JSON instead. --baseline fails (exit 1) when an
     aggregate figure is worse than the baseline by more than its tolerance; --write-baseline writes one.
     --scenarios simulates and scores every scenario definition (*.json) in DIR in memory.
+    --survey-placards adds a room-number placard beside every room-like place of the map before simulating and
+    replaying (a study of identifying signs: PlacardSurvey, docs/benchmarks.md "Placards").
     --explain prints to standard error, for every cue scored wrong and every turn scored missing, the true
     and estimated positions, the true turns and the phrases around it.
     True turns are found from truth.jsonl alone (a change of walking direction over a few meters, matched to
@@ -37,6 +41,8 @@ enum EvalCommand: Subcommand {
         let scenariosDir = try arguments.option("scenarios")
         let skeriDir = try arguments.option("skeri")
         let mapPath = try arguments.option("map")
+        let surveyPlacards = arguments.flag("survey-placards")
+        let adjustMap: (Building) -> Building = { surveyPlacards ? PlacardSurvey.addingPlacards(to: $0) : $0 }
         var pipeline = PipelineOptions()
         try EvidenceSwitches.apply(&arguments, to: &pipeline)
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
@@ -57,7 +63,7 @@ enum EvalCommand: Subcommand {
             do {
                 scores = try ScenarioRunner.scoreAll(directory: URL(fileURLWithPath: scenariosDir),
                                                      skeriDirectory: skeriDir.map { URL(fileURLWithPath: $0) },
-                                                     options: pipeline, progress: progress,
+                                                     options: pipeline, adjustMap: adjustMap, progress: progress,
                                                      inspect: { explainWalk($0, $1, $2, $3.truth) })
             } catch {
                 throw CLIError.failure("\(scenariosDir): \(error)")
@@ -65,7 +71,7 @@ enum EvalCommand: Subcommand {
         } else {
             guard !bundles.isEmpty else { throw CLIError.usage("give BUNDLE directories or --scenarios DIR") }
             guard let mapPath else { throw CLIError.usage("missing --map") }
-            let building = try loadMap(mapPath)
+            let building = adjustMap(try loadMap(mapPath))
             for path in bundles {
                 let bundle = try loadBundle(path)
                 progress("eval: \(path)")

@@ -71,7 +71,8 @@ final class SignSightingSource {
         frame.measuredObservations.compactMap { o -> SignSighting? in
             guard o.rangeMeters.isFinite, o.rangeMeters > 0, o.rangeMeters <= ObservationRecord.maximumRangeMeters,
                   o.bearingRad.isFinite else { return nil }
-            return SignSighting(kind: o.kind, rangeMeters: o.rangeMeters, bearingRad: o.bearingRad, score: o.score)
+            return SignSighting(kind: o.kind, rangeMeters: o.rangeMeters, bearingRad: o.bearingRad, score: o.score,
+                                text: o.text)
         }
     }
 }

@@ -22,9 +22,11 @@ public enum ScenarioRunner {
         return b
     }
 
-    /// Simulates and scores one scenario.
-    public static func score(_ scenario: SimulationScenario, sharedData: URL?, options: PipelineOptions) throws -> (WalkScore, ReplayResult, Building, SessionBundle) {
-        let building = try ScenarioMaps.load(scenario.map, sharedData: sharedData)
+    /// Simulates and scores one scenario. `adjustMap` changes the building before the walk (a study's extra
+    /// survey, e.g. `PlacardSurvey.addingPlacards`); the walk and the replay both see the adjusted map.
+    public static func score(_ scenario: SimulationScenario, sharedData: URL?, options: PipelineOptions,
+                             adjustMap: (Building) -> Building = { $0 }) throws -> (WalkScore, ReplayResult, Building, SessionBundle) {
+        let building = adjustMap(try ScenarioMaps.load(scenario.map, sharedData: sharedData))
         let walk = try WalkSimulator.simulate(building: building, scenario: scenario)
         let bundle = bundle(of: walk, name: scenario.name)
         let (score, result) = try WalkEvaluator.evaluate(name: scenario.name, bundle: bundle, building: building, options: options)
@@ -32,16 +34,18 @@ public enum ScenarioRunner {
     }
 
     /// Simulates and scores every scenario in `directory`. `skeriDirectory` is the folder that holds
-    /// `skeri_inavigate` (default ../shared/data). Progress lines go to `progress`; `inspect`, when given,
+    /// `skeri_inavigate` (default ../shared/data); `adjustMap` as for `score`. Progress lines go to `progress`; `inspect`, when given,
     /// sees each walk's score, replay, map and bundle as it is scored.
     public static func scoreAll(directory: URL, skeriDirectory: URL?, options: PipelineOptions,
+                                adjustMap: (Building) -> Building = { $0 },
                                 progress: (String) -> Void,
                                 inspect: ((WalkScore, ReplayResult, Building, SessionBundle) -> Void)? = nil) throws -> [WalkScore] {
         let scenarios = try loadScenarios(directory: directory)
         var scores: [WalkScore] = []
         for s in scenarios {
             let start = Date()
-            let (score, result, building, bundle) = try Self.score(s, sharedData: skeriDirectory, options: options)
+            let (score, result, building, bundle) = try Self.score(s, sharedData: skeriDirectory, options: options,
+                                                                   adjustMap: adjustMap)
             inspect?(score, result, building, bundle)
             progress(String(format: "scenario %@: %.1f s walk scored in %.1f s", s.name, score.durationSeconds, Date().timeIntervalSince(start)))
             scores.append(score)

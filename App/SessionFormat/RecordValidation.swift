@@ -127,7 +127,8 @@ extension ObservationRecord: BundleLineRecord {
     /// `t`.
     public var orderTime: Double? { t }
 
-    /// Checks: finite time; non-empty kind; range finite and > 0 m; bearing in [-pi, pi]; score in [0, 1].
+    /// Checks: finite time; non-empty kind; range finite and > 0 m; bearing in [-pi, pi]; score in [0, 1]; text,
+    /// landmarkId non-empty when present.
     public func validationProblem() -> String? {
         guard t.isFinite else { return "timestamp t is not a finite number" }
         if kind.isEmpty { return "kind is empty" }
@@ -140,6 +141,7 @@ extension ObservationRecord: BundleLineRecord {
         }
         guard score.isFinite, score >= 0, score <= 1 else { return "score \(score) is outside 0...1" }
         if let landmarkId, landmarkId.isEmpty { return "landmarkId is empty (omit it instead)" }
+        if let text, text.isEmpty { return "text is empty (omit it when the legend was not read)" }
         return nil
     }
 

@@ -102,11 +102,14 @@ public struct ObservationRecord: Codable, Hashable, Sendable {
     public var source: String?
     /// For imported generic landmarks: the landmark's id in the source data.
     public var landmarkId: String?
+    /// The legend read on the sign when it identifies one (a room-number placard's "402", as text recognition
+    /// read it); absent when not read. Matched to the map sign of this kind with this text.
+    public var text: String?
     /// Creates an observation record.
     public init(t: Double, kind: String, rangeMeters: Double, bearingRad: Double, score: Double, source: String? = nil,
-                landmarkId: String? = nil) {
+                landmarkId: String? = nil, text: String? = nil) {
         self.t = t; self.kind = kind; self.rangeMeters = rangeMeters; self.bearingRad = bearingRad; self.score = score
-        self.source = source; self.landmarkId = landmarkId
+        self.source = source; self.landmarkId = landmarkId; self.text = text
     }
 }
 

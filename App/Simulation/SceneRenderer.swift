@@ -56,7 +56,10 @@ struct SceneRenderer: Sendable {
         let geo = geometry[s.floorId] ?? FloorGeometry(walls: [])
         let camH = s.heightAboveFloorMeters
         let cam = s.position.asPoint
-        let quads: [SignQuad] = (floors[s.floorId]?.signs ?? []).compactMap { sign in
+        // Only Exit signs are drawn: the detectors know no other class yet (placards and pictograms are
+        // sighted through the simulator's recorded observations only).
+        let exitSigns = (floors[s.floorId]?.signs ?? []).filter { $0.kind == SignKindSpec.defaultExit.kind }
+        let quads: [SignQuad] = exitSigns.compactMap { sign in
             let n = hypot(sign.facing.x, sign.facing.y)
             guard n > 0 else { return nil }
             let nx = sign.facing.x / n, ny = sign.facing.y / n

@@ -38,8 +38,30 @@ struct SignObservationModel {
     let geometry: [String: FloorGeometry]
     /// Intrinsics used for the visibility test (the field of view only depends on their ratios).
     let intrinsics: CameraIntrinsics
+    /// The building's sign kinds: a kind's own recognition range and view angle (`SignKindSpec`) cap the
+    /// detector's, and its detection-probability curve is shrunk to that range (a placard read from 2.5 m).
+    let catalogue: SignCatalogue
     /// Default mounting height of a sign's bottom edge when the map has none, meters.
     static let defaultMountingHeightMeters = 2.3
+    /// Text recognition on a detected sign with an identifying legend (`Sign.text`): read right with this
+    /// probability, misread as another legend of its kind on the floor with `textMisreadProbability`, else not
+    /// read (the sighting carries no text). The share of room-number reads iOS's text recognizer gets right on
+    /// a placard seen square on within its range is a guess (no field data here); misreads of one digit are
+    /// the dangerous case and are kept in so the localizer's clutter share is exercised.
+    static let textReadProbability = 0.8
+    static let textMisreadProbability = 0.03
+
+    /// Recognition range of `sign`, meters: its kind's own (`SignKindSpec.maxRangeMeters`) capped by the
+    /// detector's.
+    func maxRangeMeters(of sign: Sign) -> Double {
+        min(parameters.maxRangeMeters, catalogue.spec(kind: sign.kind)?.maxRangeMeters ?? .infinity)
+    }
+
+    /// Largest view angle from the face normal at which `sign` is recognised, degrees (its kind's, capped by
+    /// the detector's).
+    func maxViewAngleDeg(of sign: Sign) -> Double {
+        min(parameters.maxViewAngleFromNormalDeg, catalogue.spec(kind: sign.kind)?.maxViewAngleDeg ?? .infinity)
+    }
 
     /// Pixel of a map-frame 3D point (x east, y north, z up) for a camera pose expressed with the map as the
     /// world (world x = map x, world y = up, world z = -map y); nil when behind the camera.
@@ -69,11 +91,11 @@ struct SignObservationModel {
         for sign in floor.signs {
             let dx = sign.position.x - s.position.x, dy = sign.position.y - s.position.y
             let r = hypot(dx, dy)
-            guard r >= parameters.minRangeMeters, r <= parameters.maxRangeMeters else { continue }
+            guard r >= parameters.minRangeMeters, r <= maxRangeMeters(of: sign) else { continue }
             // cos of the angle between the face normal and the sign-to-camera direction (-dx, -dy) / r.
             let facingLength = max(1e-9, hypot(sign.facing.x, sign.facing.y))
             let cosView = -(sign.facing.x * dx + sign.facing.y * dy) / (r * facingLength)
-            if (sign.doubleSided ? abs(cosView) : cosView) < cos(radians(parameters.maxViewAngleFromNormalDeg)) { continue }
+            if (sign.doubleSided ? abs(cosView) : cosView) < cos(radians(maxViewAngleDeg(of: sign))) { continue }
             let mount = sign.mountingHeightMeters ?? Self.defaultMountingHeightMeters
             guard let px = Self.project((sign.position.x, sign.position.y, mount + sign.heightMeters / 2), pose: pose, intrinsics: k),
                   px.u >= mu, px.u <= Double(k.width) - mu, px.v >= mv, px.v <= Double(k.height) - mv else { continue }
@@ -92,7 +114,8 @@ struct SignObservationModel {
         var out: [(ObservationRecord, ObservationTruth)] = []
         let blur = abs(s.yawRateRadPerSecond) > radians(p.motionBlurTurnRateDegPerSecond) ? 0.5 : 1.0
         for (sign, r, b) in visibleSigns(from: s) {
-            let pd = p.detectionProbability(rangeMeters: r) * blur
+            // A kind recognised from closer has the detector's curve shrunk to its range.
+            let pd = p.detectionProbability(rangeMeters: r * p.maxRangeMeters / maxRangeMeters(of: sign)) * blur
             // Draw all three numbers whether detected or not, so streams stay aligned.
             let u = rng.uniform(), zr = rng.normal(), zb = rng.normal(), zs = rng.normal()
             let detected = u < pd
@@ -101,8 +124,19 @@ struct SignObservationModel {
             let range = r * exp(p.rangeLogSigma * zr)
             let bearing = wrapAngle(b + radians(p.bearingSigmaDeg) * zb)
             let score = max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs))
+            // Text recognition, only for identifying legends (so the streams of maps without any are unchanged).
+            var text: String? = nil
+            if let legend = sign.text {
+                let ut = rng.uniform(), pick = rng.uniform()
+                if ut < Self.textReadProbability {
+                    text = legend
+                } else if ut < Self.textReadProbability + Self.textMisreadProbability {
+                    let others = (floors[s.floorId]?.signs ?? []).filter { $0.kind == sign.kind && $0.text != nil && $0.text != legend }
+                    if !others.isEmpty { text = others[min(others.count - 1, Int(pick * Double(others.count)))].text }
+                }
+            }
             out.append((ObservationRecord(t: s.t, kind: sign.kind, rangeMeters: range, bearingRad: bearing, score: score,
-                                          source: "simulated"),
+                                          source: "simulated", text: text),
                         ObservationTruth(signId: sign.id, trueRangeMeters: r, trueBearingRad: b)))
         }
         let fpDraw = fpRng.uniform(), fr = fpRng.uniform(1, p.maxRangeMeters), fb = fpRng.uniform(-1, 1), fs = fpRng.uniform(0.3, 0.7)

@@ -241,7 +241,7 @@ public enum WalkSimulator {
 
         // Observations on processed frames.
         let obsModel = SignObservationModel(parameters: parameters.detector, floors: floorsById, geometry: geometry,
-                                            intrinsics: intrinsics)
+                                            intrinsics: intrinsics, catalogue: building.signCatalogue)
         var detRng = SeededRandom(seed: scenario.seed, stream: RandomStream.detector.rawValue)
         var fpRng = SeededRandom(seed: scenario.seed, stream: RandomStream.falsePositives.rawValue)
         var observations: [ObservationRecord] = [], obsTruth: [ObservationTruth] = [], visible: [VisibleSign] = []

@@ -43,7 +43,7 @@ enum LocalizerBridge {
         func updateSigns(_ sightings: [SignSighting], kindIds: [String: Int32], t: Double) throws {
             // Kinds the map does not have get id -1, which the core ignores.
             let obs = sightings.map {
-                wf_sign_observation(kind: kindIds[$0.kind] ?? -1, range_m: $0.rangeMeters, bearing_rad: $0.bearingRad,
+                wf_sign_observation(kind: kindIds[$0.identityKey] ?? -1, range_m: $0.rangeMeters, bearing_rad: $0.bearingRad,
                                     score: $0.score)
             }
             let status = obs.withUnsafeBufferPointer { wf_localizer_update_signs(raw, $0.baseAddress, $0.count, t) }
@@ -176,6 +176,7 @@ enum LocalizerBridge {
                        seed: UInt64) throws -> Handle {
         var opts = try cOptions(options)
         let floors = building.floors
+        let catalogue = building.signCatalogue
         // Per-floor flat arrays, kept alive until wf_localizer_create returns (it copies them).
         var walls: [[Float]] = []
         var signs: [[wf_localizer_sign]] = []
@@ -183,10 +184,14 @@ enum LocalizerBridge {
         var seeds: [[Float]] = []
         for f in floors {
             walls.append(f.walls.flatMap { [Float($0.from.x), Float($0.from.y), Float($0.to.x), Float($0.to.y)] })
-            signs.append(f.signs.map {
-                wf_localizer_sign(kind: kindIds[$0.kind] ?? 0, x: Float($0.position.x), y: Float($0.position.y),
-                                  facing_x: Float($0.facing.x), facing_y: Float($0.facing.y),
-                                  double_sided: $0.doubleSided ? 1 : 0)
+            signs.append(f.signs.map { sign in
+                // The kind's own recognition limits (0 = the options').
+                let spec = catalogue.spec(kind: sign.kind)
+                return wf_localizer_sign(kind: kindIds[sign.identityKey] ?? 0, x: Float(sign.position.x), y: Float(sign.position.y),
+                                         facing_x: Float(sign.facing.x), facing_y: Float(sign.facing.y),
+                                         double_sided: sign.doubleSided ? 1 : 0,
+                                         max_range_m: Float(spec?.maxRangeMeters ?? 0),
+                                         max_view_angle_rad: Float((spec?.maxViewAngleDeg ?? 0) * .pi / 180))
             })
             let nodes = building.graph.nodes.filter { $0.floorId == f.id }
             seeds.append(nodes.flatMap { [Float($0.position.x), Float($0.position.y)] })

@@ -15,10 +15,34 @@ public struct SignSighting: Sendable {
     public var bearingRad: Double
     /// Detector confidence in [0, 1]; a low score makes the sighting count more like clutter.
     public var score: Double
+    /// The legend read on the sign when it identifies one (a placard's room number, as text recognition read
+    /// it); nil when not read or not identifying. A read legend is matched only to the map's sign of this kind
+    /// with this `Sign.text`; an unread placard only to placards without a surveyed text (else it is ignored).
+    public var text: String?
     /// Creates a sighting.
-    public init(kind: String, rangeMeters: Double, bearingRad: Double, score: Double) {
+    public init(kind: String, rangeMeters: Double, bearingRad: Double, score: Double, text: String? = nil) {
         self.kind = kind; self.rangeMeters = rangeMeters; self.bearingRad = bearingRad; self.score = score
+        self.text = text
     }
+
+    /// The key the localizer matches this sighting by (`SignIdentity`).
+    var identityKey: String { SignIdentity.key(kind: kind, text: text) }
+}
+
+/// How sightings are matched to map signs: by kind, and by the legend where it identifies the sign. Each
+/// distinct key is one kind id of the C core, so a read room number "402" is a kind of its own with one sign,
+/// and the core needs no notion of text.
+enum SignIdentity {
+    /// `kind` alone, or `kind#text` for an identifying legend.
+    static func key(kind: String, text: String?) -> String {
+        guard let text else { return kind }
+        return kind + "#" + text
+    }
+}
+
+extension Sign {
+    /// The key sightings of this sign are matched by (`SignIdentity`).
+    var identityKey: String { SignIdentity.key(kind: kind, text: text) }
 }
 
 /// ARKit tracking state of a frame (`ARCamera.TrackingState`).

@@ -22,7 +22,7 @@ public final class ParticleLocalizer {
         var byId: [String: Int32] = [:]
         for (i, f) in building.floors.enumerated() { byId[f.id] = Int32(i) }
         floorIndexById = byId
-        let kinds = Set(building.floors.flatMap { $0.signs.map(\.kind) }).sorted()
+        let kinds = Set(building.floors.flatMap { $0.signs.map(\.identityKey) }).sorted()
         var kindIds: [String: Int32] = [:]
         for (i, k) in kinds.enumerated() { kindIds[k] = Int32(i) }
         self.kindIds = kindIds

@@ -77,6 +77,13 @@ typedef struct wf_localizer_sign {
     float facing_x, facing_y;
     /** Nonzero when readable from both sides (facing is then ignored). */
     int32_t double_sided;
+    /** Farthest horizontal range at which this sign is recognised, meters; 0 = options.max_sign_range_m.
+     *  Each kind has its own (docs/map-format.md "signKinds": a room-number placard is read from 2.5 m, an
+     *  Exit sign found from 12 m); the smaller of the two is used. A zero-initialised sign keeps the options'. */
+    float max_range_m;
+    /** Largest angle between the face normal and the line of sight at which it is recognised, radians; 0 =
+     *  options.max_view_angle_from_normal_rad; the smaller of the two is used (text is read only facing it). */
+    float max_view_angle_rad;
 } wf_localizer_sign;
 
 /** One floor of the map. Every array may be NULL when its count is 0. */

@@ -187,7 +187,9 @@ enum MapDocumentDecoder {
             let spec = SignKindSpec(kind: try k.string("kind"), heightMeters: try k.number("heightMeters"),
                                     widthMeters: try k.number("widthMeters"), faceColor: try k.optionalString("faceColor"),
                                     legendColor: try k.optionalString("legendColor"),
-                                    doubleSided: try k.bool("doubleSided", default: false))
+                                    doubleSided: try k.bool("doubleSided", default: false),
+                                    maxRangeMeters: try k.optionalNumber("maxRangeMeters"),
+                                    maxViewAngleDeg: try k.optionalNumber("maxViewAngleDeg"))
             try k.rejectUnknownMembers()
             return spec
         }
@@ -227,6 +229,7 @@ enum MapDocumentDecoder {
                             mountingHeightMeters: try s.optionalNumber("mountingHeightMeters"),
                             doubleSided: try s.bool("doubleSided", default: false))
             sign.positionAdjustmentMeters = try s.optionalNumber("positionAdjustmentMeters")
+            sign.text = try s.optionalString("text")
             if let t = try s.optionalString("placement") {
                 guard let pl = SignPlacement(rawValue: t) else {
                     throw PathError(path: "\(p).placement", reason: "unknown sign placement \"\(t)\" (expected wall or projecting)")

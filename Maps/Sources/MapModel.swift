@@ -140,6 +140,10 @@ public struct Sign: Codable, Hashable, Sendable {
     /// How the sign is mounted: flat on a wall (the default) or projecting into the corridor (flag mount,
     /// ceiling-hung). Sets how far from a wall `MapValidator` lets `position` be.
     public var placement: SignPlacement = .wall
+    /// The sign's legend when it identifies the sign, e.g. a room-number placard's "402"; nil for signs that
+    /// look alike (Exit signs, pictograms). Unique per kind on a floor (`MapValidator`): a sighting that reads
+    /// it can only be this sign, so the localizer matches it to this sign alone.
+    public var text: String? = nil
     /// Creates a sign.
     public init(id: String, kind: String, position: Point2, facing: Point2, widthMeters: Double, heightMeters: Double,
                 mountingHeightMeters: Double? = nil, doubleSided: Bool = false) {
@@ -257,7 +261,7 @@ extension Floor {
 }
 
 extension Sign {
-    /// Decodes a sign; `doubleSided` defaults to false and `placement` to `.wall`.
+    /// Decodes a sign; `doubleSided` defaults to false, `placement` to `.wall`, `text` to nil.
     public init(from decoder: Decoder) throws {
         let c = try decoder.container(keyedBy: CodingKeys.self)
         self.init(id: try c.decode(String.self, forKey: .id), kind: try c.decode(String.self, forKey: .kind),
@@ -267,6 +271,7 @@ extension Sign {
                   doubleSided: try c.decodeIfPresent(Bool.self, forKey: .doubleSided) ?? false)
         positionAdjustmentMeters = try c.decodeIfPresent(Double.self, forKey: .positionAdjustmentMeters)
         placement = try c.decodeIfPresent(SignPlacement.self, forKey: .placement) ?? .wall
+        text = try c.decodeIfPresent(String.self, forKey: .text)
     }
 }
 

@@ -33,6 +33,8 @@ public enum MapValidator {
     public static let maximumFloorCount = 32_767
     /// Most distinct sign kinds a building may have (the localizer core's limit on kind ids).
     public static let maximumSignKindCount = 4_096
+    /// Longest sign text (an identifying legend such as a room number), characters.
+    public static let maximumSignTextLength = 40
     /// Longest accepted identifier (building, floor, door, sign, point of interest, node), in characters.
     public static let maximumIdentifierLength = 64
     /// The characters an identifier may use: ASCII letters, digits and `.` `_` `:` `-` (docs/map-format.md,
@@ -127,6 +129,12 @@ public enum MapValidator {
                     throw fail("\(kp).\(key)", "sign face size must be in (0, \(fmt(maximumSignSizeMeters))] m, got \(fmt(v))")
                 }
             }
+            if let r = k.maxRangeMeters {
+                try checkNumber(r, kp + ".maxRangeMeters", range: 0.1...100, what: "recognition range (meters)")
+            }
+            if let a = k.maxViewAngleDeg {
+                try checkNumber(a, kp + ".maxViewAngleDeg", range: 1...90, what: "recognition view angle (degrees)")
+            }
             byKind[k.kind] = (k, i)
         }
         guard byKind.count <= maximumSignKindCount else {
@@ -182,6 +190,7 @@ public enum MapValidator {
                 try checkNumber(d.widthMeters, dp + ".widthMeters", range: 0...maximumDoorWidthMeters, what: "door width (meters)")
             }
             var signIds: [String: Int] = [:]
+            var signTexts: [String: Int] = [:]   // kind NUL text -> sign index
             for (si, s) in f.signs.enumerated() {
                 let sp = "\(fp).signs[\(si)]"
                 try checkId(s.id, sp + ".id")
@@ -212,6 +221,16 @@ public enum MapValidator {
                         || abs(spec.widthMeters - s.widthMeters) > signSizeToleranceMeters {
                         throw fail(sp, "sign \"\(s.id)\" is \(fmt(s.widthMeters)) x \(fmt(s.heightMeters)) m but $.signKinds gives kind \"\(s.kind)\" \(fmt(spec.widthMeters)) x \(fmt(spec.heightMeters)) m (contradictory sizes)")
                     }
+                }
+                if let text = s.text {
+                    let trimmed = text.trimmingCharacters(in: .whitespacesAndNewlines)
+                    guard !trimmed.isEmpty, trimmed == text, text.count <= maximumSignTextLength else {
+                        throw fail(sp + ".text", "sign text must be 1 to \(maximumSignTextLength) characters without surrounding spaces (the legend as read, e.g. \"402\"), got \"\(text)\"")
+                    }
+                    if let first = signTexts[s.kind + "\u{0}" + text] {
+                        throw fail(sp + ".text", "sign text \"\(text)\" of kind \"\(s.kind)\" is also on \(fp).signs[\(first)]: a legend that identifies a sign must be unique on its floor")
+                    }
+                    signTexts[s.kind + "\u{0}" + text] = si
                 }
                 if let h = s.mountingHeightMeters {
                     try checkNumber(h, sp + ".mountingHeightMeters", range: 0...maximumMountingHeightMeters, what: "mounting height (meters)")

@@ -17,22 +17,34 @@ public struct SignKindSpec: Codable, Hashable, Sendable {
     public var legendColor: String?
     /// Whether signs of this kind have a face on both sides (hung across a corridor).
     public var doubleSided: Bool
+    /// Farthest horizontal range at which the detector recognises this kind, meters; nil = the localizer's
+    /// default (12 m, what the Exit-sign detectors reach). Small legends are recognised from closer: a
+    /// room-number placard's 25 mm digits are about 20 px tall at 2 m on an iPhone's 1920 x 1440 frame, what
+    /// text recognition needs, so such a kind states about 2.5 m.
+    public var maxRangeMeters: Double?
+    /// Largest angle between the face normal and the line of sight at which the kind is recognised, degrees;
+    /// nil = the localizer's default (80). Text is read only fairly square on (about 50).
+    public var maxViewAngleDeg: Double?
 
     /// Creates a catalogue entry.
     public init(kind: String, heightMeters: Double, widthMeters: Double, faceColor: String? = nil,
-                legendColor: String? = nil, doubleSided: Bool = false) {
+                legendColor: String? = nil, doubleSided: Bool = false, maxRangeMeters: Double? = nil,
+                maxViewAngleDeg: Double? = nil) {
         self.kind = kind; self.heightMeters = heightMeters; self.widthMeters = widthMeters
         self.faceColor = faceColor; self.legendColor = legendColor; self.doubleSided = doubleSided
+        self.maxRangeMeters = maxRangeMeters; self.maxViewAngleDeg = maxViewAngleDeg
     }
 
-    /// Decodes an entry; `doubleSided` defaults to false.
+    /// Decodes an entry; `doubleSided` defaults to false, the recognition limits to nil.
     public init(from decoder: Decoder) throws {
         let c = try decoder.container(keyedBy: CodingKeys.self)
         self.init(kind: try c.decode(String.self, forKey: .kind), heightMeters: try c.decode(Double.self, forKey: .heightMeters),
                   widthMeters: try c.decode(Double.self, forKey: .widthMeters),
                   faceColor: try c.decodeIfPresent(String.self, forKey: .faceColor),
                   legendColor: try c.decodeIfPresent(String.self, forKey: .legendColor),
-                  doubleSided: try c.decodeIfPresent(Bool.self, forKey: .doubleSided) ?? false)
+                  doubleSided: try c.decodeIfPresent(Bool.self, forKey: .doubleSided) ?? false,
+                  maxRangeMeters: try c.decodeIfPresent(Double.self, forKey: .maxRangeMeters),
+                  maxViewAngleDeg: try c.decodeIfPresent(Double.self, forKey: .maxViewAngleDeg))
     }
 
     /// The Exit sign of the project's buildings (the Smith-Kettlewell signs measured for the paper, and the

@@ -85,4 +85,52 @@ final class SignCatalogueTests: XCTestCase {
         try assertRejects(damage: { $0.signKinds = [SignKindSpec(kind: "", heightMeters: 0.21, widthMeters: 0.3)] },
                           path: "$.signKinds[0].kind", reason: "sign kind must not be empty")
     }
+
+    /// Identifying legends (`Sign.text`) and a kind's own recognition limits: they round-trip, and a bad one
+    /// is refused naming the field.
+    func testSignTextAndRecognitionLimits() throws {
+        var b = MapFixtures.building()
+        b.floors[1].signs[0].text = "402"
+        b.signKinds = nil
+        let loaded = try MapLoader.load(data: try MapWriter.encode(b), fileName: "text.json")
+        XCTAssertEqual(loaded.floors[1].signs[0].text, "402")
+        XCTAssertNil(loaded.floors[0].signs.first?.text)
+        XCTAssertFalse(try MapFixtures.text().contains("\"text\""), "absent text is not written")
+
+        let placard = SignKindSpec(kind: "placard", heightMeters: 0.15, widthMeters: 0.15, maxRangeMeters: 2.5, maxViewAngleDeg: 50)
+        var withKinds = MapFixtures.building()
+        withKinds.floors[1].signs[0].widthMeters = 0.3
+        withKinds.floors[1].signs[0].heightMeters = 0.21
+        withKinds.signKinds = [.defaultExit, placard]
+        let again = try MapLoader.load(data: try MapWriter.encode(withKinds), fileName: "kinds.json")
+        XCTAssertEqual(again.signCatalogue.spec(kind: "placard")?.maxRangeMeters, 2.5)
+        XCTAssertEqual(again.signCatalogue.spec(kind: "placard")?.maxViewAngleDeg, 50)
+        XCTAssertNil(again.signCatalogue.spec(kind: "exit")?.maxRangeMeters)
+
+        try assertRejects(damage: { $0.floors[1].signs[0].text = "" }, path: "$.floors[1].signs[0].text",
+                          reason: "sign text must be 1 to 40 characters")
+        try assertRejects(damage: { $0.floors[1].signs[0].text = " 402" }, path: "$.floors[1].signs[0].text",
+                          reason: "without surrounding spaces")
+        try assertRejects(damage: { b in
+            var twin = b.floors[1].signs[0]
+            twin.id = "twin"
+            twin.text = "402"
+            b.floors[1].signs[0].text = "402"
+            b.floors[1].signs.append(twin)
+        }, path: "$.floors[1].signs[1].text", reason: "is also on $.floors[1].signs[0]")
+        try assertRejects(damage: { b in
+            b.floors[1].signs[0].widthMeters = 0.3
+            b.floors[1].signs[0].heightMeters = 0.21
+            var bad = placard
+            bad.maxRangeMeters = 0
+            b.signKinds = [.defaultExit, bad]
+        }, path: "$.signKinds[1].maxRangeMeters", reason: "recognition range (meters)")
+        try assertRejects(damage: { b in
+            b.floors[1].signs[0].widthMeters = 0.3
+            b.floors[1].signs[0].heightMeters = 0.21
+            var bad = placard
+            bad.maxViewAngleDeg = 120
+            b.signKinds = [.defaultExit, bad]
+        }, path: "$.signKinds[1].maxViewAngleDeg", reason: "recognition view angle (degrees)")
+    }
 }

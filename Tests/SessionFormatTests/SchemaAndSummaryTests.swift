@@ -31,7 +31,7 @@ final class SchemaAndSummaryTests: XCTestCase {
                   minimal: FrameRecord(t: 0, cameraToWorld: sampleFrame(0).cameraToWorld, intrinsics: .iPhone8Full))
         try check("observation",
                   full: ObservationRecord(t: 0, kind: "landmark", rangeMeters: 1, bearingRad: 0, score: 1, source: "imported",
-                                          landmarkId: "306"),
+                                          landmarkId: "306", text: "402"),
                   minimal: ObservationRecord(t: 0, kind: "exit", rangeMeters: 1, bearingRad: 0, score: 1))
         try check("truth", full: TruthRecord(t: 0, x: 1, y: 2, floorId: "4", headingRad: 0),
                   minimal: TruthRecord(t: 0, x: 1, y: 2, floorId: "4", headingRad: 0))

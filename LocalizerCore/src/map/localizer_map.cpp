@@ -39,7 +39,7 @@ float FloorData::distance_to_link(float x, float y) const {
     return best;
 }
 
-void compute_visibility(FloorData &f, float max_range_m, float max_view_angle_from_normal_rad) {
+void compute_visibility(FloorData &f, float max_range_all_m, float max_view_angle_from_normal_rad) {
     const size_t n = f.signs.size();
     f.words_per_cell = static_cast<int32_t>((n + 63) / 64);
     f.visibility.assign(static_cast<size_t>(f.grid.cell_count()) * f.words_per_cell, 0);
@@ -49,8 +49,13 @@ void compute_visibility(FloorData &f, float max_range_m, float max_view_angle_fr
     // does not hide it, and stop 1 cm short.
     constexpr float kFaceOffset = 0.05f;
     // Seen more obliquely than max_view_angle_from_normal_rad (wf_localizer.h), a sign is not predicted visible.
-    const float cos_max_view = std::cos(max_view_angle_from_normal_rad);
     for (size_t j = 0; j < n; ++j) {
+        // The sign's own limits (its kind's: a placard is read from closer and more squarely), when it has them.
+        const float own_r = j < f.signs.own_max_range_m.size() ? f.signs.own_max_range_m[j] : 0.0f;
+        const float own_a = j < f.signs.own_max_view_angle_rad.size() ? f.signs.own_max_view_angle_rad[j] : 0.0f;
+        const float max_range_m = own_r > 0.0f ? std::min(own_r, max_range_all_m) : max_range_all_m;
+        const float cos_max_view = std::cos(own_a > 0.0f ? std::min(own_a, max_view_angle_from_normal_rad)
+                                                         : max_view_angle_from_normal_rad);
         const float sx = f.signs.x[j], sy = f.signs.y[j];
         const float fx = f.signs.facing_x[j], fy = f.signs.facing_y[j];
         const bool both = f.signs.double_sided[j] != 0;
@@ -192,6 +197,11 @@ int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options 
                         " outside [0, kind_count=" + std::to_string(map.kind_count) + ")";
                 return WF_LOC_ERR_INVALID_MAP;
             }
+            if (!std::isfinite(s.max_range_m) || s.max_range_m < 0 || !std::isfinite(s.max_view_angle_rad) ||
+                s.max_view_angle_rad < 0) {
+                error = where + "sign " + std::to_string(i) + " has a negative or non-finite max range or view angle";
+                return WF_LOC_ERR_INVALID_MAP;
+            }
             grow(s.x, s.y);
         }
         for (size_t i = 0; i < src.link_point_count; ++i) {
@@ -240,6 +250,8 @@ int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options 
             f.signs.facing_x.push_back(nx);
             f.signs.facing_y.push_back(ny);
             f.signs.double_sided.push_back(both ? 1 : 0);
+            f.signs.own_max_range_m.push_back(s.max_range_m);
+            f.signs.own_max_view_angle_rad.push_back(s.max_view_angle_rad);
         }
         compute_visibility(f, static_cast<float>(opts.max_sign_range_m), static_cast<float>(opts.max_view_angle_from_normal_rad));
         f.kind_masks.assign(static_cast<size_t>(map.kind_count) * f.words_per_cell, 0);

@@ -24,6 +24,10 @@ struct SignTable {
     std::vector<int32_t> kind;
     std::vector<float> x, y, facing_x, facing_y;
     std::vector<uint8_t> double_sided;
+    /// Per sign, its own recognition limits from the map (wf_localizer_sign): farthest range, meters, and largest
+    /// view angle from the face normal, radians; 0 (or absent: tables built by hand in tests) = none, the
+    /// options' limits apply. compute_visibility uses the smaller of the sign's and the options'.
+    std::vector<float> own_max_range_m, own_max_view_angle_rad;
     size_t size() const { return kind.size(); }
 };
 
@@ -65,7 +69,8 @@ struct LocalizerMap {
 int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options &opts, LocalizerMap &out,
                         std::string &error);
 
-/// Recomputes the visibility bits of one floor for the given range (used by build and by tests).
+/// Recomputes the visibility bits of one floor for the given range and view angle, each capped per sign by
+/// the sign's own limits (SignTable::own_*) (used by build and by tests).
 void compute_visibility(FloorData &floor, float max_range_m, float max_view_angle_from_normal_rad);
 
 }  // namespace wf::loc

@@ -78,6 +78,34 @@ TEST(LocalizerMap, VisibilityRangeLimit) {
     EXPECT_FALSE(visible(m.floors[0], 12.6f, 1, 0));
 }
 
+// A sign's own limits (its kind's, from the map's catalogue) cap the options': a room-number placard read
+// from at most 2.5 m and 50 degrees off its normal, beside an Exit sign with none of its own.
+TEST(LocalizerMap, PerSignRangeAndViewAngleLimits) {
+    wf::test::World w;
+    wf::test::FloorSpec f;
+    f.box(0, 0, 40, 6).seed(1, 3);
+    f.sign(wf::test::kExit, 0, 3, 1, 0);   // 0: Exit sign, options' limits (12 m, 80 degrees)
+    f.signs.push_back({wf::test::kExit, 0, 1, 1, 0, false, 2.5f, static_cast<float>(50 * wf::test::kPi / 180)});  // 1
+    w.floors.push_back(f);
+    auto o = defaults();
+    o.max_sign_range_m = 12;
+    LocalizerMap m;
+    std::string err;
+    ASSERT_EQ(build_localizer_map(w.map(), o, m, err), WF_LOC_OK) << err;
+    const FloorData &fd = m.floors[0];
+    EXPECT_TRUE(visible(fd, 2, 1, 1));      // 2 m, square on
+    EXPECT_FALSE(visible(fd, 3, 1, 1));     // 3 m: beyond the placard's 2.5 m
+    EXPECT_TRUE(visible(fd, 3, 1, 0));      // the Exit sign is
+    EXPECT_TRUE(visible(fd, 1.2f, 2.2f, 1));   // 45 degrees off the normal, 1.7 m
+    EXPECT_FALSE(visible(fd, 0.8f, 2.6f, 1));  // 63 degrees
+    EXPECT_TRUE(visible(fd, 0.8f, 4.6f, 0));   // 63 degrees: within the Exit sign's 80
+    EXPECT_TRUE(visible(fd, 11.5f, 3, 0));
+    // A negative or non-finite limit is refused with the sign named.
+    w.floors[0].signs[1].max_range_m = -1;
+    EXPECT_EQ(build_localizer_map(w.map(), o, m, err), WF_LOC_ERR_INVALID_MAP);
+    EXPECT_NE(err.find("sign 1"), std::string::npos) << err;
+}
+
 TEST(LocalizerMap, WalkableFloodFillStaysInsideAndKeepsClearance) {
     wf::test::World w;
     wf::test::FloorSpec f;

@@ -27,6 +27,8 @@ struct SignSpec {
     int32_t kind;
     float x, y, facing_x, facing_y;
     bool double_sided = false;
+    /// The sign's own recognition limits (wf_localizer_sign), 0 = the options'.
+    float max_range_m = 0, max_view_angle_rad = 0;
 };
 
 struct FloorSpec {
@@ -66,7 +68,8 @@ struct World {
         c_signs_.resize(floors.size());
         for (size_t f = 0; f < floors.size(); ++f) {
             for (const SignSpec &s : floors[f].signs) {
-                c_signs_[f].push_back({s.kind, s.x, s.y, s.facing_x, s.facing_y, s.double_sided ? 1 : 0});
+                c_signs_[f].push_back({s.kind, s.x, s.y, s.facing_x, s.facing_y, s.double_sided ? 1 : 0, s.max_range_m,
+                                       s.max_view_angle_rad});
             }
         }
         for (size_t f = 0; f < floors.size(); ++f) {
