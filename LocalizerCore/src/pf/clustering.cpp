@@ -165,6 +165,15 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     // Second pass: each cluster's weighted sums (weight, first and second moments of the position, resultant
     // of the yaw offsets, scale, evidence). Runs of consecutive particles in one cluster (the whole cloud
     // once it has converged) are summed in registers; the sines and cosines come vectorised per block.
+    // Clusters that are not summarised (summary_min_weight, weights_only) sum only the weight and the count,
+    // along the same runs, so their weights are the same values either way.
+    summarised_.assign(static_cast<size_t>(cluster_count), 0);
+    if (!params.weights_only) {
+        for (int32_t k = 0; k < cluster_count; ++k) {
+            summarised_[static_cast<size_t>(rank_[k])] = k == order_.front() || cluster_weight_[k] >= params.summary_min_weight;
+        }
+    }
+    const bool any_summary = !params.weights_only;
     acc_.assign(static_cast<size_t>(cluster_count), CellSums{});
     particle_cluster_.resize(n);
     int32_t *pc = particle_cluster_.data();
@@ -172,27 +181,33 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     alignas(64) float sn[kBlock], cs[kBlock];
     CellSums run;
     int32_t run_cluster = -1;
+    bool run_full = false;
     auto flush = [&] {
         if (run_cluster < 0) return;
         CellSums &a = acc_[run_cluster];
         a.w += run.w;
-        a.wx += run.wx;
-        a.wy += run.wy;
-        a.wxx += run.wxx;
-        a.wxy += run.wxy;
-        a.wyy += run.wyy;
-        a.oc += run.oc;
-        a.os += run.os;
-        a.sc += run.sc;
-        a.ev += run.ev;
-        a.floor = run.floor;
         a.count += run.count;
+        if (run_full) {
+            a.wx += run.wx;
+            a.wy += run.wy;
+            a.wxx += run.wxx;
+            a.wxy += run.wxy;
+            a.wyy += run.wyy;
+            a.oc += run.oc;
+            a.os += run.os;
+            a.sc += run.sc;
+            a.ev += run.ev;
+        }
+        a.floor = run.floor;
         run = CellSums{};
     };
+    const uint8_t *full = summarised_.data();
     for (size_t b = 0; b < n; b += kBlock) {
         const size_t nb = std::min(kBlock, n - b);
         const float *yo = p.yaw_offset.data() + b;
-        for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
+        if (any_summary) {
+            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
+        }
         for (size_t k = 0; k < nb; ++k) {
             const size_t i = b + k;
             const int32_t cl = cluster_of_cell_[cell_of_[i]];
@@ -201,10 +216,15 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             if (cl != run_cluster) {
                 flush();
                 run_cluster = cl;
+                run_full = full[cl] != 0;
             }
-            const double w = wp[i], x = p.x[i], y = p.y[i];
-            const double wx = w * x, wy = w * y;
+            const double w = wp[i];
             run.w += w;
+            run.floor = p.floor[i];
+            ++run.count;
+            if (!run_full) continue;
+            const double x = p.x[i], y = p.y[i];
+            const double wx = w * x, wy = w * y;
             run.wx += wx;
             run.wy += wy;
             run.wxx += wx * x;
@@ -219,8 +239,6 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             if (has_evidence) ev += p.evidence[i];
             if (has_compass) ev += p.compass_ll[i];
             run.ev += w * ev;
-            run.floor = p.floor[i];
-            ++run.count;
         }
     }
     flush();
@@ -232,7 +250,9 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         s.weight = a.w;
         s.floor = a.floor;
         s.particle_count = a.count;
-        if (a.w > 0) {
+        if (!full[k]) {
+            s.heading_std = kPiD;  // not summarised: weight, floor and count only
+        } else if (a.w > 0) {
             const double hc = cv * a.oc - sv * a.os, hs = sv * a.oc + cv * a.os;
             s.x = a.wx / a.w;
             s.y = a.wy / a.w;

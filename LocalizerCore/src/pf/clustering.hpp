@@ -38,6 +38,16 @@ struct ClusterParams {
     /// Bin with DenseBins when the cloud's box of bins is small (same clusters as the hash table, faster);
     /// false forces the hash table (tests compare the two).
     bool dense_bins = true;
+    /// Only the clusters whose (cell) weight is at least this get their moments (position, covariance,
+    /// heading, yaw offset, scale, evidence); lighter ones get only weight, floor and particle count, with the
+    /// moments left at their defaults. The heaviest cluster is always summarised. 0 (default): every cluster.
+    /// The weights, the partition and the order are the same whatever this is, and so are the summaries that
+    /// are computed (same particle order, same arithmetic): callers that read only the heavy clusters save the
+    /// per-particle sums of the light ones.
+    double summary_min_weight = 0;
+    /// True: no cluster gets its moments (the partition, the weights and the order only, e.g. for the
+    /// hypothesis-preserving resampling); the sines and cosines of the headings are skipped too.
+    bool weights_only = false;
 };
 
 class ParticleClusterer {
@@ -70,6 +80,8 @@ private:
     std::vector<double> cluster_weight_;
     std::vector<int32_t> parent_;
     std::vector<int32_t> cluster_of_cell_;
+    /// Per ranked cluster: 1 when its moments are summed (ClusterParams::summary_min_weight).
+    std::vector<uint8_t> summarised_;
     std::vector<ClusterSummary> clusters_;
     std::vector<int32_t> particle_cluster_;
 };
