@@ -15,6 +15,19 @@ int32_t ParticleClusterer::find(int32_t a) {
     return a;
 }
 
+void ParticleClusterer::carry_bins(const uint32_t *src, size_t count) {
+    carried_cell_.resize(count);
+    const size_t m = cell_of_.size();
+    for (size_t k = 0; k < count; ++k) {
+        if (src[k] >= m) {  // not a particle of the last run: bin afresh
+            carried_valid_ = false;
+            return;
+        }
+        carried_cell_[k] = cell_of_[src[k]];
+    }
+    carried_valid_ = true;
+}
+
 const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
                                                           const ClusterParams &params) {
     clusters_.clear();
@@ -24,53 +37,89 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::lround(2.0 * kPiD / params.yaw_bin_rad)));
     const float inv_m = 1.0f / params.cell_m;
     const float inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);
-    keys_.clear();
     cell_weight_.clear();
     cell_of_.resize(n);
     const bool has_evidence = p.evidence.size() == n;
     const bool has_compass = p.compass_ll.size() == n;
-    // Dense bins over the occupied box when it is small (the usual case: one building, at most 8 bins per
-    // particle), else the hash table. Both number the cells in order of first occurrence, so the clusters are
-    // the same either way.
-    const bool dense = params.dense_bins && dense_.assign(p, nullptr, n, vio_yaw, inv_m, inv_yaw, yaw_bins, 8 * n + 4096);
-    if (dense) {
-        box_cell_.assign(dense_.box_size(), -1);
-    } else {
-        bins_.clear(std::min<size_t>(n, 1 << 15));
-    }
-    // First pass: the cell of each particle and the cells' weights (small arrays, cache-resident).
-    uint64_t last_key = ~uint64_t{0};
-    uint32_t last_id = 0;
+    // Bins carried over from the last run through a resampling (carry_bins): the sources' cells, renumbered
+    // in order of first occurrence in the new set, exactly as binning the (unchanged) copies again would.
+    const bool reuse = carried_valid_ && carried_cell_.size() == n && last_vio_yaw_ == vio_yaw &&
+                       last_cell_m_ == params.cell_m && last_yaw_bin_rad_ == params.yaw_bin_rad &&
+                       last_dense_param_ == params.dense_bins;
+    carried_valid_ = false;
+    last_used_carried_ = reuse;
     const float *wp = p.weight.data();
-    if (dense) {
-        const uint32_t *box = dense_.box_bin().data();
+    bool dense = last_dense_;
+    if (reuse) {
+        old_keys_.swap(keys_);
+        keys_.clear();
+        remap_.assign(old_keys_.size(), -1);
         for (size_t i = 0; i < n; ++i) {
-            int32_t &slot = box_cell_[box[i]];
+            int32_t &slot = remap_[carried_cell_[i]];
             if (slot < 0) {
                 slot = static_cast<int32_t>(keys_.size());
-                keys_.push_back(box[i]);
+                keys_.push_back(old_keys_[carried_cell_[i]]);
                 cell_weight_.push_back(0.0);
             }
             cell_of_[i] = static_cast<uint32_t>(slot);
             cell_weight_[slot] += wp[i];
         }
+        if (dense) {
+            box_cell_.assign(dense_.box_size(), -1);
+            for (size_t c = 0; c < keys_.size(); ++c) box_cell_[keys_[c]] = static_cast<int32_t>(c);
+        } else {
+            bins_.clear(std::min<size_t>(n, 1 << 15));
+            for (uint64_t k : keys_) bins_.insert(k);
+        }
     } else {
-        for (size_t i = 0; i < n; ++i) {
-            // Resampling leaves copies of a particle next to each other, and a moved copy is usually still in
-            // the same bin: the last key is checked before the hash table.
-            const uint64_t key =
-                BinCounter::key(p.floor[i], p.x[i], p.y[i], vio_yaw + p.yaw_offset[i], inv_m, inv_yaw, yaw_bins);
-            const uint32_t id = key == last_key ? last_id : bins_.insert(key);
-            last_key = key;
-            last_id = id;
-            if (id == keys_.size()) {
-                keys_.push_back(key);
-                cell_weight_.push_back(0.0);
+        keys_.clear();
+        // Dense bins over the occupied box when it is small (the usual case: one building, at most 8 bins per
+        // particle), else the hash table. Both number the cells in order of first occurrence, so the clusters are
+        // the same either way.
+        dense = params.dense_bins && dense_.assign(p, nullptr, n, vio_yaw, inv_m, inv_yaw, yaw_bins, 8 * n + 4096);
+        if (dense) {
+            box_cell_.assign(dense_.box_size(), -1);
+        } else {
+            bins_.clear(std::min<size_t>(n, 1 << 15));
+        }
+        // First pass: the cell of each particle and the cells' weights (small arrays, cache-resident).
+        uint64_t last_key = ~uint64_t{0};
+        uint32_t last_id = 0;
+        if (dense) {
+            const uint32_t *box = dense_.box_bin().data();
+            for (size_t i = 0; i < n; ++i) {
+                int32_t &slot = box_cell_[box[i]];
+                if (slot < 0) {
+                    slot = static_cast<int32_t>(keys_.size());
+                    keys_.push_back(box[i]);
+                    cell_weight_.push_back(0.0);
+                }
+                cell_of_[i] = static_cast<uint32_t>(slot);
+                cell_weight_[slot] += wp[i];
             }
-            cell_of_[i] = id;
-            cell_weight_[id] += wp[i];
+        } else {
+            for (size_t i = 0; i < n; ++i) {
+                // Resampling leaves copies of a particle next to each other, and a moved copy is usually still in
+                // the same bin: the last key is checked before the hash table.
+                const uint64_t key =
+                    BinCounter::key(p.floor[i], p.x[i], p.y[i], vio_yaw + p.yaw_offset[i], inv_m, inv_yaw, yaw_bins);
+                const uint32_t id = key == last_key ? last_id : bins_.insert(key);
+                last_key = key;
+                last_id = id;
+                if (id == keys_.size()) {
+                    keys_.push_back(key);
+                    cell_weight_.push_back(0.0);
+                }
+                cell_of_[i] = id;
+                cell_weight_[id] += wp[i];
+            }
         }
     }
+    last_dense_ = dense;
+    last_vio_yaw_ = vio_yaw;
+    last_cell_m_ = params.cell_m;
+    last_yaw_bin_rad_ = params.yaw_bin_rad;
+    last_dense_param_ = params.dense_bins;
     const size_t cells = keys_.size();
     double max_cell = 0;
     for (double w : cell_weight_) max_cell = std::max(max_cell, w);

@@ -59,6 +59,17 @@ public:
     /// For each particle of the last run: index into the sorted clusters, or -1 (bin too light to join).
     const std::vector<int32_t> &particle_clusters() const { return particle_cluster_; }
 
+    /// After a resampling of the last run's particle set: particle k of the new set (k < count) is an
+    /// unchanged copy of particle src[k] of that set. The next run, when it gets `count` particles, the same
+    /// VIO yaw and the same bin parameters, takes each particle's bin from its source instead of binning it
+    /// again: the same bins, numbered in the same order (first occurrence), so the same clusters and sums.
+    /// The caller must call forget_carried_bins() as soon as any particle moves (motion, floor change, a new
+    /// VIO yaw, injection, init); the next run consumes the carried bins either way.
+    void carry_bins(const uint32_t *src, size_t count);
+    void forget_carried_bins() { carried_valid_ = false; }
+    /// Whether the last run took its bins from carry_bins (tests, diagnostics).
+    bool last_run_used_carried_bins() const { return last_used_carried_; }
+
 private:
     /// Weighted sums over the particles of one cluster.
     struct CellSums {
@@ -80,6 +91,14 @@ private:
     std::vector<double> cluster_weight_;
     std::vector<int32_t> parent_;
     std::vector<int32_t> cluster_of_cell_;
+    /// carry_bins: each new particle's cell in the last run's numbering, and what that run was binned with.
+    std::vector<uint32_t> carried_cell_;
+    std::vector<int32_t> remap_;
+    std::vector<uint64_t> old_keys_;
+    bool carried_valid_ = false, last_used_carried_ = false;
+    bool last_dense_ = false;
+    float last_vio_yaw_ = 0, last_cell_m_ = 0, last_yaw_bin_rad_ = 0;
+    bool last_dense_param_ = true;
     /// Per ranked cluster: 1 when its moments are summed (ClusterParams::summary_min_weight).
     std::vector<uint8_t> summarised_;
     std::vector<ClusterSummary> clusters_;

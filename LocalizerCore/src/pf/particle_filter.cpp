@@ -196,6 +196,7 @@ bool ParticleFilter::sample_from_sighting(int16_t floor, float &x, float &y, flo
 
 void ParticleFilter::reset_filter_state() {
     initialized_ = true;
+    clusterer_.forget_carried_bins();
     w_slow_ = w_fast_ = 0;
     has_evidence_t_ = false;
     motion_acc_.clear();
@@ -356,6 +357,7 @@ int ParticleFilter::predict(const wf_vio_sample &s) {
         return fail(WF_LOC_ERR_INVALID_ARGUMENT, "VIO tracking state " + std::to_string(s.tracking) + " is unknown");
     }
     t_last_ = s.t;
+    clusterer_.forget_carried_bins();  // the particles move or the VIO yaw turns
     const VioDelta d = tracker_.push(s);
     if (tracker_.has_yaw()) vio_yaw_ = wrap_angle(tracker_.last_yaw());
     if (!initialized_) return WF_LOC_OK;
@@ -574,8 +576,9 @@ void ParticleFilter::resample(double inject_fraction) {
         ++out;
     };
     const double share = opts_.hypothesis_particle_share;
-    bool grouped = false;
+    bool grouped = false, clustered = false;
     if (share > 0) {
+        clustered = true;
         // Groups = clusters holding >= 1 % of the weight, plus one group for every other particle.
         ClusterParams cp;
         cp.cell_m = static_cast<float>(opts_.cluster_cell_m);
@@ -674,6 +677,13 @@ void ParticleFilter::resample(double inject_fraction) {
         scratch_.compass_ll[k] = 0;
     }
     p_.swap(scratch_);
+    // The kept particles are unchanged copies of clustered ones: the estimate's clustering, when nothing
+    // moves before it, takes their bins from the sources (the same clusters, without binning them again).
+    if (clustered && n_inject == 0) {
+        clusterer_.carry_bins(resample_src_.data(), kept);
+    } else {
+        clusterer_.forget_carried_bins();
+    }
     double sum = 0;
     for (float w : p_.weight) sum += w;
     normalize(sum);
@@ -695,6 +705,7 @@ int ParticleFilter::update_altitude(double relative_altitude_m, double t) {
 
 void ParticleFilter::apply_floor_change(double delta_m) {
     dominant_members_valid_ = false;
+    clusterer_.forget_carried_bins();
     const double sum = wf::loc::apply_floor_change(p_, map_, delta_m, floor_params_, rng_,
                                                     [this] { return sample_yaw_offset(); });
     normalize(sum);
