@@ -660,7 +660,9 @@ void ParticleFilter::resample(double inject_fraction) {
     const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
     // Injected particles start with the worst evidence present: a fresh guess is not a proven hypothesis.
     float worst_evidence = 0;
-    for (float e : p_.evidence) worst_evidence = std::min(worst_evidence, e);
+    if (n_inject > 0) {
+        for (float e : p_.evidence) worst_evidence = std::min(worst_evidence, e);
+    }
     for (size_t k = kept; k < total_out; ++k) {
         // Augmented MCL: a random particle ("kidnapped traveler" recovery). Every other one is drawn from
         // the current sightings when there are some (sensor resetting, Lenser & Veloso 2000), the rest
