@@ -266,10 +266,10 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
                 flush();
                 run_cluster = cl;
                 run_full = full[cl] != 0;
+                run.floor = p.floor[i];  // a cluster lies on one floor (bins join only on their own floor)
             }
             const double w = wp[i];
             run.w += w;
-            run.floor = p.floor[i];
             ++run.count;
             if (!run_full) continue;
             const double x = p.x[i], y = p.y[i];
