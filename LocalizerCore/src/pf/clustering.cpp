@@ -15,6 +15,19 @@ int32_t ParticleClusterer::find(int32_t a) {
     return a;
 }
 
+void ParticleClusterer::carry_bins(const uint32_t *src, size_t count) {
+    carried_cell_.resize(count);
+    const size_t m = cell_of_.size();
+    for (size_t k = 0; k < count; ++k) {
+        if (src[k] >= m) {  // not a particle of the last run: bin afresh
+            carried_valid_ = false;
+            return;
+        }
+        carried_cell_[k] = cell_of_[src[k]];
+    }
+    carried_valid_ = true;
+}
+
 const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
                                                           const ClusterParams &params) {
     clusters_.clear();
@@ -24,53 +37,89 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::lround(2.0 * kPiD / params.yaw_bin_rad)));
     const float inv_m = 1.0f / params.cell_m;
     const float inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);
-    keys_.clear();
     cell_weight_.clear();
     cell_of_.resize(n);
     const bool has_evidence = p.evidence.size() == n;
     const bool has_compass = p.compass_ll.size() == n;
-    // Dense bins over the occupied box when it is small (the usual case: one building, at most 8 bins per
-    // particle), else the hash table. Both number the cells in order of first occurrence, so the clusters are
-    // the same either way.
-    const bool dense = params.dense_bins && dense_.assign(p, nullptr, n, vio_yaw, inv_m, inv_yaw, yaw_bins, 8 * n + 4096);
-    if (dense) {
-        box_cell_.assign(dense_.box_size(), -1);
-    } else {
-        bins_.clear(std::min<size_t>(n, 1 << 15));
-    }
-    // First pass: the cell of each particle and the cells' weights (small arrays, cache-resident).
-    uint64_t last_key = ~uint64_t{0};
-    uint32_t last_id = 0;
+    // Bins carried over from the last run through a resampling (carry_bins): the sources' cells, renumbered
+    // in order of first occurrence in the new set, exactly as binning the (unchanged) copies again would.
+    const bool reuse = carried_valid_ && carried_cell_.size() == n && last_vio_yaw_ == vio_yaw &&
+                       last_cell_m_ == params.cell_m && last_yaw_bin_rad_ == params.yaw_bin_rad &&
+                       last_dense_param_ == params.dense_bins;
+    carried_valid_ = false;
+    last_used_carried_ = reuse;
     const float *wp = p.weight.data();
-    if (dense) {
-        const uint32_t *box = dense_.box_bin().data();
+    bool dense = last_dense_;
+    if (reuse) {
+        old_keys_.swap(keys_);
+        keys_.clear();
+        remap_.assign(old_keys_.size(), -1);
         for (size_t i = 0; i < n; ++i) {
-            int32_t &slot = box_cell_[box[i]];
+            int32_t &slot = remap_[carried_cell_[i]];
             if (slot < 0) {
                 slot = static_cast<int32_t>(keys_.size());
-                keys_.push_back(box[i]);
+                keys_.push_back(old_keys_[carried_cell_[i]]);
                 cell_weight_.push_back(0.0);
             }
             cell_of_[i] = static_cast<uint32_t>(slot);
             cell_weight_[slot] += wp[i];
         }
+        if (dense) {
+            box_cell_.assign(dense_.box_size(), -1);
+            for (size_t c = 0; c < keys_.size(); ++c) box_cell_[keys_[c]] = static_cast<int32_t>(c);
+        } else {
+            bins_.clear(std::min<size_t>(n, 1 << 15));
+            for (uint64_t k : keys_) bins_.insert(k);
+        }
     } else {
-        for (size_t i = 0; i < n; ++i) {
-            // Resampling leaves copies of a particle next to each other, and a moved copy is usually still in
-            // the same bin: the last key is checked before the hash table.
-            const uint64_t key =
-                BinCounter::key(p.floor[i], p.x[i], p.y[i], vio_yaw + p.yaw_offset[i], inv_m, inv_yaw, yaw_bins);
-            const uint32_t id = key == last_key ? last_id : bins_.insert(key);
-            last_key = key;
-            last_id = id;
-            if (id == keys_.size()) {
-                keys_.push_back(key);
-                cell_weight_.push_back(0.0);
+        keys_.clear();
+        // Dense bins over the occupied box when it is small (the usual case: one building, at most 8 bins per
+        // particle), else the hash table. Both number the cells in order of first occurrence, so the clusters are
+        // the same either way.
+        dense = params.dense_bins && dense_.assign(p, nullptr, n, vio_yaw, inv_m, inv_yaw, yaw_bins, 8 * n + 4096);
+        if (dense) {
+            box_cell_.assign(dense_.box_size(), -1);
+        } else {
+            bins_.clear(std::min<size_t>(n, 1 << 15));
+        }
+        // First pass: the cell of each particle and the cells' weights (small arrays, cache-resident).
+        uint64_t last_key = ~uint64_t{0};
+        uint32_t last_id = 0;
+        if (dense) {
+            const uint32_t *box = dense_.box_bin().data();
+            for (size_t i = 0; i < n; ++i) {
+                int32_t &slot = box_cell_[box[i]];
+                if (slot < 0) {
+                    slot = static_cast<int32_t>(keys_.size());
+                    keys_.push_back(box[i]);
+                    cell_weight_.push_back(0.0);
+                }
+                cell_of_[i] = static_cast<uint32_t>(slot);
+                cell_weight_[slot] += wp[i];
             }
-            cell_of_[i] = id;
-            cell_weight_[id] += wp[i];
+        } else {
+            for (size_t i = 0; i < n; ++i) {
+                // Resampling leaves copies of a particle next to each other, and a moved copy is usually still in
+                // the same bin: the last key is checked before the hash table.
+                const uint64_t key =
+                    BinCounter::key(p.floor[i], p.x[i], p.y[i], vio_yaw + p.yaw_offset[i], inv_m, inv_yaw, yaw_bins);
+                const uint32_t id = key == last_key ? last_id : bins_.insert(key);
+                last_key = key;
+                last_id = id;
+                if (id == keys_.size()) {
+                    keys_.push_back(key);
+                    cell_weight_.push_back(0.0);
+                }
+                cell_of_[i] = id;
+                cell_weight_[id] += wp[i];
+            }
         }
     }
+    last_dense_ = dense;
+    last_vio_yaw_ = vio_yaw;
+    last_cell_m_ = params.cell_m;
+    last_yaw_bin_rad_ = params.yaw_bin_rad;
+    last_dense_param_ = params.dense_bins;
     const size_t cells = keys_.size();
     double max_cell = 0;
     for (double w : cell_weight_) max_cell = std::max(max_cell, w);
@@ -165,6 +214,15 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     // Second pass: each cluster's weighted sums (weight, first and second moments of the position, resultant
     // of the yaw offsets, scale, evidence). Runs of consecutive particles in one cluster (the whole cloud
     // once it has converged) are summed in registers; the sines and cosines come vectorised per block.
+    // Clusters that are not summarised (summary_min_weight, weights_only) sum only the weight and the count,
+    // along the same runs, so their weights are the same values either way.
+    summarised_.assign(static_cast<size_t>(cluster_count), 0);
+    if (!params.weights_only) {
+        for (int32_t k = 0; k < cluster_count; ++k) {
+            summarised_[static_cast<size_t>(rank_[k])] = k == order_.front() || cluster_weight_[k] >= params.summary_min_weight;
+        }
+    }
+    const bool any_summary = !params.weights_only;
     acc_.assign(static_cast<size_t>(cluster_count), CellSums{});
     particle_cluster_.resize(n);
     int32_t *pc = particle_cluster_.data();
@@ -172,27 +230,33 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
     alignas(64) float sn[kBlock], cs[kBlock];
     CellSums run;
     int32_t run_cluster = -1;
+    bool run_full = false;
     auto flush = [&] {
         if (run_cluster < 0) return;
         CellSums &a = acc_[run_cluster];
         a.w += run.w;
-        a.wx += run.wx;
-        a.wy += run.wy;
-        a.wxx += run.wxx;
-        a.wxy += run.wxy;
-        a.wyy += run.wyy;
-        a.oc += run.oc;
-        a.os += run.os;
-        a.sc += run.sc;
-        a.ev += run.ev;
-        a.floor = run.floor;
         a.count += run.count;
+        if (run_full) {
+            a.wx += run.wx;
+            a.wy += run.wy;
+            a.wxx += run.wxx;
+            a.wxy += run.wxy;
+            a.wyy += run.wyy;
+            a.oc += run.oc;
+            a.os += run.os;
+            a.sc += run.sc;
+            a.ev += run.ev;
+        }
+        a.floor = run.floor;
         run = CellSums{};
     };
+    const uint8_t *full = summarised_.data();
     for (size_t b = 0; b < n; b += kBlock) {
         const size_t nb = std::min(kBlock, n - b);
         const float *yo = p.yaw_offset.data() + b;
-        for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
+        if (any_summary) {
+            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
+        }
         for (size_t k = 0; k < nb; ++k) {
             const size_t i = b + k;
             const int32_t cl = cluster_of_cell_[cell_of_[i]];
@@ -201,10 +265,15 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             if (cl != run_cluster) {
                 flush();
                 run_cluster = cl;
+                run_full = full[cl] != 0;
+                run.floor = p.floor[i];  // a cluster lies on one floor (bins join only on their own floor)
             }
-            const double w = wp[i], x = p.x[i], y = p.y[i];
-            const double wx = w * x, wy = w * y;
+            const double w = wp[i];
             run.w += w;
+            ++run.count;
+            if (!run_full) continue;
+            const double x = p.x[i], y = p.y[i];
+            const double wx = w * x, wy = w * y;
             run.wx += wx;
             run.wy += wy;
             run.wxx += wx * x;
@@ -219,8 +288,6 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
             if (has_evidence) ev += p.evidence[i];
             if (has_compass) ev += p.compass_ll[i];
             run.ev += w * ev;
-            run.floor = p.floor[i];
-            ++run.count;
         }
     }
     flush();
@@ -232,7 +299,9 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
         s.weight = a.w;
         s.floor = a.floor;
         s.particle_count = a.count;
-        if (a.w > 0) {
+        if (!full[k]) {
+            s.heading_std = kPiD;  // not summarised: weight, floor and count only
+        } else if (a.w > 0) {
             const double hc = cv * a.oc - sv * a.os, hs = sv * a.oc + cv * a.os;
             s.x = a.wx / a.w;
             s.y = a.wy / a.w;

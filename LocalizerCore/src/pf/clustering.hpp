@@ -38,6 +38,16 @@ struct ClusterParams {
     /// Bin with DenseBins when the cloud's box of bins is small (same clusters as the hash table, faster);
     /// false forces the hash table (tests compare the two).
     bool dense_bins = true;
+    /// Only the clusters whose (cell) weight is at least this get their moments (position, covariance,
+    /// heading, yaw offset, scale, evidence); lighter ones get only weight, floor and particle count, with the
+    /// moments left at their defaults. The heaviest cluster is always summarised. 0 (default): every cluster.
+    /// The weights, the partition and the order are the same whatever this is, and so are the summaries that
+    /// are computed (same particle order, same arithmetic): callers that read only the heavy clusters save the
+    /// per-particle sums of the light ones.
+    double summary_min_weight = 0;
+    /// True: no cluster gets its moments (the partition, the weights and the order only, e.g. for the
+    /// hypothesis-preserving resampling); the sines and cosines of the headings are skipped too.
+    bool weights_only = false;
 };
 
 class ParticleClusterer {
@@ -48,6 +58,17 @@ public:
 
     /// For each particle of the last run: index into the sorted clusters, or -1 (bin too light to join).
     const std::vector<int32_t> &particle_clusters() const { return particle_cluster_; }
+
+    /// After a resampling of the last run's particle set: particle k of the new set (k < count) is an
+    /// unchanged copy of particle src[k] of that set. The next run, when it gets `count` particles, the same
+    /// VIO yaw and the same bin parameters, takes each particle's bin from its source instead of binning it
+    /// again: the same bins, numbered in the same order (first occurrence), so the same clusters and sums.
+    /// The caller must call forget_carried_bins() as soon as any particle moves (motion, floor change, a new
+    /// VIO yaw, injection, init); the next run consumes the carried bins either way.
+    void carry_bins(const uint32_t *src, size_t count);
+    void forget_carried_bins() { carried_valid_ = false; }
+    /// Whether the last run took its bins from carry_bins (tests, diagnostics).
+    bool last_run_used_carried_bins() const { return last_used_carried_; }
 
 private:
     /// Weighted sums over the particles of one cluster.
@@ -70,6 +91,16 @@ private:
     std::vector<double> cluster_weight_;
     std::vector<int32_t> parent_;
     std::vector<int32_t> cluster_of_cell_;
+    /// carry_bins: each new particle's cell in the last run's numbering, and what that run was binned with.
+    std::vector<uint32_t> carried_cell_;
+    std::vector<int32_t> remap_;
+    std::vector<uint64_t> old_keys_;
+    bool carried_valid_ = false, last_used_carried_ = false;
+    bool last_dense_ = false;
+    float last_vio_yaw_ = 0, last_cell_m_ = 0, last_yaw_bin_rad_ = 0;
+    bool last_dense_param_ = true;
+    /// Per ranked cluster: 1 when its moments are summed (ClusterParams::summary_min_weight).
+    std::vector<uint8_t> summarised_;
     std::vector<ClusterSummary> clusters_;
     std::vector<int32_t> particle_cluster_;
 };

@@ -196,6 +196,7 @@ bool ParticleFilter::sample_from_sighting(int16_t floor, float &x, float &y, flo
 
 void ParticleFilter::reset_filter_state() {
     initialized_ = true;
+    clusterer_.forget_carried_bins();
     w_slow_ = w_fast_ = 0;
     has_evidence_t_ = false;
     motion_acc_.clear();
@@ -356,6 +357,7 @@ int ParticleFilter::predict(const wf_vio_sample &s) {
         return fail(WF_LOC_ERR_INVALID_ARGUMENT, "VIO tracking state " + std::to_string(s.tracking) + " is unknown");
     }
     t_last_ = s.t;
+    clusterer_.forget_carried_bins();  // the particles move or the VIO yaw turns
     const VioDelta d = tracker_.push(s);
     if (tracker_.has_yaw()) vio_yaw_ = wrap_angle(tracker_.last_yaw());
     if (!initialized_) return WF_LOC_OK;
@@ -398,19 +400,32 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         float *w = p_.weight.data();
         const float *ll = log_likelihood_.data();
         const float fb = static_cast<float>(beta);
+        // Most particles of a spread-out cloud see no sign and share one log-likelihood, and resampled copies
+        // sit next to each other: the exponential of the previous particle is reused when its value repeats
+        // (the same value, computed once).
         if (fb == 1.0f) {
             // Untempered: exp(beta d) is exp(d), one exponential per particle.
+            float last_ll = std::numeric_limits<float>::quiet_NaN(), e = 0.0f;
             for (size_t i = 0; i < n; ++i) {
-                const float e = std::exp(ll[i] - max_ll);
+                if (!(ll[i] == last_ll)) {
+                    last_ll = ll[i];
+                    e = std::exp(ll[i] - max_ll);
+                }
                 s_full += w[i] * e;
                 w[i] *= e;
                 s += w[i];
             }
         } else {
+            float last_d = std::numeric_limits<float>::quiet_NaN(), e_full = 0.0f, e_beta = 0.0f;
             for (size_t i = 0; i < n; ++i) {
                 const float d = ll[i] - max_ll;
-                s_full += w[i] * std::exp(d);
-                w[i] *= std::exp(fb * d);
+                if (!(d == last_d)) {
+                    last_d = d;
+                    e_full = std::exp(d);
+                    e_beta = std::exp(fb * d);
+                }
+                s_full += w[i] * e_full;
+                w[i] *= e_beta;
                 s += w[i];
             }
         }
@@ -479,8 +494,15 @@ double ParticleFilter::tempering_exponent(float max_ll) {
     const size_t m = tempering_w_.size();
     auto ess_fraction = [&](double beta) {
         double s = 0, s2 = 0;
+        // Repeated log-likelihoods (no sign in view, resampled copies) reuse the previous exponential.
+        float last_d = std::numeric_limits<float>::quiet_NaN();
+        double e = 0;
         for (size_t k = 0; k < m; ++k) {
-            const double v = tempering_w_[k] * std::exp(beta * static_cast<double>(tempering_d_[k]));
+            if (!(tempering_d_[k] == last_d)) {
+                last_d = tempering_d_[k];
+                e = std::exp(beta * static_cast<double>(last_d));
+            }
+            const double v = tempering_w_[k] * e;
             s += v;
             s2 += v * v;
         }
@@ -512,12 +534,29 @@ void ParticleFilter::resample(double inject_fraction) {
     const size_t n = p_.size();
     size_t target = static_cast<size_t>(opts_.particle_count);
     if (opts_.adaptive_particle_count) {
-        // KLD-sampling (Fox 2003): k = bins occupied by a systematic draw of the current size.
-        systematic_resample(p_.weight.data(), n, n, rng_.uniform(), indices_);
-        const size_t k = count_occupied_bins(p_, indices_, static_cast<float>(vio_yaw_), static_cast<float>(opts_.kld_bin_m),
-                                             static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_, kld_dense_, kld_seen_);
-        target = std::clamp(kld_sample_count(k, opts_.kld_epsilon, opts_.kld_z), static_cast<size_t>(opts_.min_particles),
-                            static_cast<size_t>(opts_.max_particles));
+        // KLD-sampling (Fox 2003): k = bins occupied by a systematic draw of the current size. A spread-out
+        // cloud occupies far more bins than the bound needs to reach max_particles: the first draws are
+        // counted alone, and when they already occupy enough bins (kld_bins_reaching) the count is
+        // max_particles whatever the rest occupy (the same result as counting them all).
+        const double u0 = rng_.uniform();
+        const auto count_bins = [&] {
+            return count_occupied_bins(p_, indices_, static_cast<float>(vio_yaw_), static_cast<float>(opts_.kld_bin_m),
+                                       static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_, kld_dense_, kld_seen_);
+        };
+        const size_t max_n = static_cast<size_t>(opts_.max_particles);
+        const size_t k_enough = kld_bins_reaching(max_n, opts_.kld_epsilon, opts_.kld_z);
+        bool at_max = false;
+        if (k_enough != SIZE_MAX && 4 * k_enough < n) {
+            systematic_resample(p_.weight.data(), n, n, u0, indices_, 2 * k_enough);
+            at_max = count_bins() >= k_enough;
+        }
+        if (at_max) {
+            target = std::max(max_n, static_cast<size_t>(opts_.min_particles));  // std::clamp's value
+        } else {
+            systematic_resample(p_.weight.data(), n, n, u0, indices_);
+            target = std::clamp(kld_sample_count(count_bins(), opts_.kld_epsilon, opts_.kld_z),
+                                static_cast<size_t>(opts_.min_particles), max_n);
+        }
     }
     // Injection goes to the floor of the best hypothesis (the estimate's floor), else the init floor.
     const int16_t inject_floor =
@@ -537,12 +576,14 @@ void ParticleFilter::resample(double inject_fraction) {
         ++out;
     };
     const double share = opts_.hypothesis_particle_share;
-    bool grouped = false;
+    bool grouped = false, clustered = false;
     if (share > 0) {
+        clustered = true;
         // Groups = clusters holding >= 1 % of the weight, plus one group for every other particle.
         ClusterParams cp;
         cp.cell_m = static_cast<float>(opts_.cluster_cell_m);
         cp.yaw_bin_rad = static_cast<float>(opts_.cluster_yaw_bin_rad);
+        cp.weights_only = true;  // the groups need the partition and the weights only
         const std::vector<ClusterSummary> &clusters = clusterer_.run(p_, static_cast<float>(vio_yaw_), cp);
         const std::vector<int32_t> &cluster_of = clusterer_.particle_clusters();
         int32_t significant = 0;
@@ -619,7 +660,9 @@ void ParticleFilter::resample(double inject_fraction) {
     const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
     // Injected particles start with the worst evidence present: a fresh guess is not a proven hypothesis.
     float worst_evidence = 0;
-    for (float e : p_.evidence) worst_evidence = std::min(worst_evidence, e);
+    if (n_inject > 0) {
+        for (float e : p_.evidence) worst_evidence = std::min(worst_evidence, e);
+    }
     for (size_t k = kept; k < total_out; ++k) {
         // Augmented MCL: a random particle ("kidnapped traveler" recovery). Every other one is drawn from
         // the current sightings when there are some (sensor resetting, Lenser & Veloso 2000), the rest
@@ -636,6 +679,13 @@ void ParticleFilter::resample(double inject_fraction) {
         scratch_.compass_ll[k] = 0;
     }
     p_.swap(scratch_);
+    // The kept particles are unchanged copies of clustered ones: the estimate's clustering, when nothing
+    // moves before it, takes their bins from the sources (the same clusters, without binning them again).
+    if (clustered && n_inject == 0) {
+        clusterer_.carry_bins(resample_src_.data(), kept);
+    } else {
+        clusterer_.forget_carried_bins();
+    }
     double sum = 0;
     for (float w : p_.weight) sum += w;
     normalize(sum);
@@ -657,6 +707,7 @@ int ParticleFilter::update_altitude(double relative_altitude_m, double t) {
 
 void ParticleFilter::apply_floor_change(double delta_m) {
     dominant_members_valid_ = false;
+    clusterer_.forget_carried_bins();
     const double sum = wf::loc::apply_floor_change(p_, map_, delta_m, floor_params_, rng_,
                                                     [this] { return sample_yaw_offset(); });
     normalize(sum);
@@ -850,6 +901,10 @@ void ParticleFilter::compute_estimate() {
     ClusterParams cp;
     cp.cell_m = static_cast<float>(opts_.cluster_cell_m);
     cp.yaw_bin_rad = static_cast<float>(opts_.cluster_yaw_bin_rad);
+    // Only the dominant cluster and those holding >= rival_min_weight are read below (rivals, hypotheses;
+    // lighter ones count by weight only): the others are not summarised (half the threshold, so that a
+    // cluster whose particle sum reaches it is summarised whatever the summation order).
+    cp.summary_min_weight = 0.5 * opts_.rival_min_weight;
     const std::vector<ClusterSummary> &clusters = clusterer_.run(p_, static_cast<float>(vio_yaw_), cp);
     if (clusters.empty()) {
         estimate_ = e;

@@ -70,6 +70,8 @@ public:
 
     bool initialized() const { return initialized_; }
     const ParticleSet &particles() const { return p_; }
+    /// The clustering behind the estimate and the hypothesis-preserving resampling (tests, diagnostics).
+    const ParticleClusterer &clusterer() const { return clusterer_; }
     /// Heading of particle i = vio_yaw() + yaw_offset[i].
     float vio_yaw() const { return static_cast<float>(vio_yaw_); }
     const LocalizerMap &map() const { return map_; }

@@ -53,6 +53,7 @@ bool ParticleFilter::sample_rival_pose(int16_t floor, float &x, float &y, float 
 
 void ParticleFilter::draw_corroboration_rivals(double fraction) {
     corroboration_candidates_drawn_ = true;
+    clusterer_.forget_carried_bins();  // rivals replace particles
     const size_t n = p_.size();
     if (n == 0 || last_sightings_.empty() || !(fraction > 0)) return;
     fraction = std::min(fraction, 0.5);

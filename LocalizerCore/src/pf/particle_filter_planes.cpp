@@ -5,6 +5,7 @@
 // sharpen hypotheses that the signs and walls already support).
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <string>
 
 #include "pf/particle_filter.hpp"
@@ -37,8 +38,14 @@ int ParticleFilter::update_planes(const wf_plane_observation *obs, size_t count,
             const float fb = static_cast<float>(beta);
             float *w = p_.weight.data();
             double s = 0;
+            // Resampled copies sit next to each other with the same value: its exponential is reused.
+            float last_ll = std::numeric_limits<float>::quiet_NaN(), e = 0.0f;
             for (size_t i = 0; i < n; ++i) {
-                w[i] *= std::exp(fb * (ll[i] - max_ll));
+                if (!(ll[i] == last_ll)) {
+                    last_ll = ll[i];
+                    e = std::exp(fb * (ll[i] - max_ll));
+                }
+                w[i] *= e;
                 s += w[i];
             }
             normalize(s);

@@ -18,8 +18,10 @@ double effective_sample_size(const float *weights, size_t n) {
     return s * s / s2;  // = 1 / sum w^2 when the weights sum to 1
 }
 
-void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out) {
-    out.resize(n_out);
+void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out,
+                         size_t first) {
+    const size_t m = std::min(n_out, first);
+    out.resize(m);
     if (n == 0 || n_out == 0) {
         out.clear();
         return;
@@ -27,7 +29,7 @@ void systematic_resample(const float *weights, size_t n, size_t n_out, double u0
     double total = 0;
     for (size_t i = 0; i < n; ++i) total += weights[i];
     if (!(total > 0) || !std::isfinite(total)) {
-        for (size_t k = 0; k < n_out; ++k) out[k] = static_cast<uint32_t>((k * n) / n_out);
+        for (size_t k = 0; k < m; ++k) out[k] = static_cast<uint32_t>((k * n) / n_out);
         return;
     }
     // Pointers at (u0 + k) * total / n_out, k = 0..n_out-1, walked along the cumulative weights.
@@ -35,7 +37,7 @@ void systematic_resample(const float *weights, size_t n, size_t n_out, double u0
     double target = u0 * step;
     double cumulative = weights[0];
     size_t i = 0;
-    for (size_t k = 0; k < n_out; ++k) {
+    for (size_t k = 0; k < m; ++k) {
         while (target > cumulative && i + 1 < n) {
             ++i;
             cumulative += weights[i];
@@ -53,6 +55,20 @@ size_t kld_sample_count(size_t k, double epsilon, double z) {
     const double n = km1 / (2.0 * epsilon) * t * t * t;
     if (!(n < 1e12)) return static_cast<size_t>(1e12);
     return static_cast<size_t>(std::ceil(n));
+}
+
+size_t kld_bins_reaching(size_t count, double epsilon, double z) {
+    // Binary search on the non-decreasing part of the bound: k - 1 >= z^2 / 18 (derivative of
+    // (k-1)^(1/3) (1 - a + sqrt(a) z) in k - 1 is positive there; ceil and the cap keep it non-decreasing).
+    size_t lo = std::max<size_t>(2, static_cast<size_t>(std::ceil(z * z / 18.0)) + 1);
+    size_t hi = 64 * count + 64;
+    if (kld_sample_count(hi, epsilon, z) < count) return SIZE_MAX;
+    if (kld_sample_count(lo, epsilon, z) >= count) return lo;
+    while (hi - lo > 1) {  // invariant: f(lo) < count <= f(hi)
+        const size_t mid = lo + (hi - lo) / 2;
+        (kld_sample_count(mid, epsilon, z) >= count ? hi : lo) = mid;
+    }
+    return hi;
 }
 
 uint64_t BinCounter::key(int16_t floor, float x, float y, float heading_rad, float inv_bin_m, float inv_bin_yaw,

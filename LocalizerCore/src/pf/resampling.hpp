@@ -21,11 +21,20 @@ double effective_sample_size(const float *weights, size_t n);
 /// Systematic resampling: writes `n_out` source indices into `out` (sorted, proportional to the weights,
 /// each particle i drawn floor or ceil of n_out * w_i times). `u0` in [0, 1) is the single random offset.
 /// Weights need not be normalised; all-zero or non-finite sums fall back to uniform.
-void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out);
+/// With `first` < n_out only the first `first` of the n_out draws are written (`out` holds that many): the
+/// same values as the full draw's first entries, at a fraction of the cost.
+void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out,
+                         size_t first = SIZE_MAX);
 
 /// Fox 2003 eq. (12): n = (k-1)/(2 eps) * (1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) z)^3, for k occupied bins.
 /// Returns 1 for k <= 1.
 size_t kld_sample_count(size_t k, double epsilon, double z);
+
+/// The least number of occupied bins k from which kld_sample_count(k', epsilon, z) >= `count` for every
+/// k' >= k (the bound is non-decreasing in k once k - 1 >= z^2 / 18, where this search starts), or SIZE_MAX
+/// when no k up to 64 * count + 64 reaches it. KLD-sampling uses it to stop counting bins once the count is
+/// certain to be clamped to max_particles.
+size_t kld_bins_reaching(size_t count, double epsilon, double z);
 
 /// Histogram bins over (floor, x, y, heading) for KLD-sampling and clustering: a flat open-addressing set
 /// of 64-bit keys, reused between calls.

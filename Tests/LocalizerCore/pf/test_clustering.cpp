@@ -142,3 +142,143 @@ TEST(Clustering, CovarianceFarFromOrigin) {
     EXPECT_NEAR(std::sqrt(cl[0].cov_yy), 0.05, 0.004);
     EXPECT_NEAR(cl[0].cov_xy, 0.0, 2e-4);
 }
+
+namespace {
+// A cloud of blobs of very different weights (0.4 down to 0.0005) over a spread-out background of light
+// particles, with evidence, weights normalised to 1 (seed `seed`): many clusters, heavy and light.
+ParticleSet mixed_cloud(uint64_t seed) {
+    Rng rng(seed);
+    ParticleSet p;
+    const float blob_w[] = {0.4f, 0.2f, 0.1f, 0.05f, 0.01f, 0.003f, 0.0015f, 0.0005f};
+    for (int b = 0; b < 8; ++b) {
+        add_blob(p, rng, 1500, 3.0f + 5.0f * b, (b % 2) ? 4.0f : 24.0f, 0.7f * b, 0.3f, blob_w[b] / 1500);
+    }
+    const size_t first_spread = p.size();
+    p.resize(first_spread + 20000);
+    for (size_t i = first_spread; i < p.size(); ++i) {
+        p.x[i] = 40 * rng.uniform_float();
+        p.y[i] = 30 * rng.uniform_float();
+        p.yaw_offset[i] = static_cast<float>(rng.uniform(-3.14159, 3.14159));
+        p.scale[i] = 1.0f + 0.03f * rng.normal();
+        p.floor[i] = 0;
+        p.weight[i] = 0.2f * rng.uniform_float() / 20000;
+    }
+    double total = 0;
+    for (size_t i = 0; i < p.size(); ++i) {
+        p.evidence[i] = -rng.uniform_float();
+        p.compass_ll[i] = -0.1f * rng.uniform_float();
+        total += p.weight[i];
+    }
+    for (float &w : p.weight) w = static_cast<float>(w / total);
+    return p;
+}
+
+void expect_same_summary(const ClusterSummary &a, const ClusterSummary &b, size_t k) {
+    EXPECT_EQ(a.weight, b.weight) << "cluster " << k;
+    EXPECT_EQ(a.particle_count, b.particle_count) << "cluster " << k;
+    EXPECT_EQ(a.floor, b.floor) << "cluster " << k;
+    EXPECT_EQ(a.x, b.x) << "cluster " << k;
+    EXPECT_EQ(a.y, b.y) << "cluster " << k;
+    EXPECT_EQ(a.cov_xx, b.cov_xx) << "cluster " << k;
+    EXPECT_EQ(a.cov_xy, b.cov_xy) << "cluster " << k;
+    EXPECT_EQ(a.cov_yy, b.cov_yy) << "cluster " << k;
+    EXPECT_EQ(a.heading, b.heading) << "cluster " << k;
+    EXPECT_EQ(a.heading_std, b.heading_std) << "cluster " << k;
+    EXPECT_EQ(a.yaw_offset, b.yaw_offset) << "cluster " << k;
+    EXPECT_EQ(a.scale, b.scale) << "cluster " << k;
+    EXPECT_EQ(a.evidence, b.evidence) << "cluster " << k;
+}
+}  // namespace
+
+// Summarising only the clusters that are read (summary_min_weight) or none (weights_only, the resampling's
+// use) leaves the partition, the order and the weights exactly as a full run, and the summarised clusters'
+// moments exactly the same; the heaviest cluster is always summarised.
+TEST(Clustering, PartialSummariesMatchFullRun) {
+    const ParticleSet p = mixed_cloud(21);
+    ClusterParams full_params, partial_params, weights_params;
+    partial_params.summary_min_weight = 0.002;
+    weights_params.weights_only = true;
+    ParticleClusterer full, partial, weights;
+    const std::vector<ClusterSummary> a = full.run(p, 0.4f, full_params);
+    const std::vector<ClusterSummary> b = partial.run(p, 0.4f, partial_params);
+    const std::vector<ClusterSummary> c = weights.run(p, 0.4f, weights_params);
+    ASSERT_GT(a.size(), 3u);
+    ASSERT_EQ(a.size(), b.size());
+    ASSERT_EQ(a.size(), c.size());
+    EXPECT_EQ(full.particle_clusters(), partial.particle_clusters());
+    EXPECT_EQ(full.particle_clusters(), weights.particle_clusters());
+    size_t summarised = 0, skipped = 0;
+    for (size_t k = 0; k < a.size(); ++k) {
+        EXPECT_EQ(a[k].weight, b[k].weight) << "cluster " << k;
+        EXPECT_EQ(a[k].weight, c[k].weight) << "cluster " << k;
+        EXPECT_EQ(a[k].particle_count, c[k].particle_count) << "cluster " << k;
+        if (k == 0 || a[k].weight >= 0.002) {
+            expect_same_summary(a[k], b[k], k);
+            ++summarised;
+        } else if (a[k].weight < 0.001) {
+            EXPECT_EQ(b[k].x, 0.0) << "cluster " << k << " should not be summarised";
+            ++skipped;
+        }
+    }
+    EXPECT_GT(summarised, 0u);
+    EXPECT_GT(skipped, 0u);  // the threshold really skips some clusters in this cloud
+    EXPECT_EQ(c[0].x, 0.0);  // weights only: not even the heaviest
+}
+
+// carry_bins: after a resampling-like copy (sources repeated, some dropped, in sorted order), the next run
+// takes each copy's bin from its source and gives exactly the clusters of a fresh clusterer on the new set;
+// a new VIO yaw (particles' headings changed) or forget_carried_bins makes it bin afresh.
+TEST(Clustering, CarriedBinsMatchFreshRun) {
+    const ParticleSet p = mixed_cloud(22);
+    Rng rng(23);
+    for (const bool dense : {true, false}) {
+        ClusterParams params;
+        params.dense_bins = dense;
+        ParticleClusterer carried;
+        carried.run(p, 0.4f, params);
+        // Copies: each source 0, 1 or 2 times, then new weights (a later reweighting), normalised.
+        std::vector<uint32_t> src;
+        for (uint32_t i = 0; i < p.size(); ++i) {
+            const uint32_t copies = rng.below(3);
+            for (uint32_t c = 0; c < copies; ++c) src.push_back(i);
+        }
+        ParticleSet q;
+        q.resize(src.size());
+        double total = 0;
+        for (size_t k = 0; k < src.size(); ++k) {
+            const uint32_t i = src[k];
+            q.x[k] = p.x[i];
+            q.y[k] = p.y[i];
+            q.yaw_offset[k] = p.yaw_offset[i];
+            q.scale[k] = p.scale[i];
+            q.floor[k] = p.floor[i];
+            q.evidence[k] = p.evidence[i];
+            q.compass_ll[k] = p.compass_ll[i];
+            q.weight[k] = p.weight[i] * (0.5f + rng.uniform_float());
+            total += q.weight[k];
+        }
+        for (float &w : q.weight) w = static_cast<float>(w / total);
+        carried.carry_bins(src.data(), src.size());
+        const std::vector<ClusterSummary> a = carried.run(q, 0.4f, params);
+        EXPECT_TRUE(carried.last_run_used_carried_bins());
+        ParticleClusterer fresh;
+        const std::vector<ClusterSummary> b = fresh.run(q, 0.4f, params);
+        EXPECT_FALSE(fresh.last_run_used_carried_bins());
+        ASSERT_EQ(a.size(), b.size()) << (dense ? "dense" : "hash");
+        for (size_t k = 0; k < a.size(); ++k) expect_same_summary(a[k], b[k], k);
+        EXPECT_EQ(carried.particle_clusters(), fresh.particle_clusters());
+        // Consumed by that run: the next one bins afresh.
+        carried.run(q, 0.4f, params);
+        EXPECT_FALSE(carried.last_run_used_carried_bins());
+        // Another VIO yaw: the carried bins are stale and not used.
+        carried.run(p, 0.4f, params);
+        carried.carry_bins(src.data(), src.size());
+        carried.run(q, 0.9f, params);
+        EXPECT_FALSE(carried.last_run_used_carried_bins());
+        carried.run(p, 0.4f, params);
+        carried.carry_bins(src.data(), src.size());
+        carried.forget_carried_bins();
+        carried.run(q, 0.4f, params);
+        EXPECT_FALSE(carried.last_run_used_carried_bins());
+    }
+}

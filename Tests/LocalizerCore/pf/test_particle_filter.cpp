@@ -609,3 +609,35 @@ TEST(ParticleFilter, ZeroAreaFloorAndFloorWithoutSigns) {
     EXPECT_FALSE(e.localized);
     EXPECT_EQ(e.floor_index, 1);
 }
+
+// After a resampling with nothing moved since, the estimate's clustering takes the bins of the resampling's
+// clustering (ParticleClusterer::carry_bins): its dominant cluster must be exactly that of a fresh clustering of
+// the particles, at every frame of the L walk where it happened.
+TEST(ParticleFilter, EstimateAfterResamplingMatchesAFreshClustering) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    const auto frames = l_walk(world);
+    ParticleFilter pf(wf::test::build_map(world, o), o, 91);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    ClusterParams cp;
+    cp.cell_m = static_cast<float>(o.cluster_cell_m);
+    cp.yaw_bin_rad = static_cast<float>(o.cluster_yaw_bin_rad);
+    int checked = 0;
+    for (size_t k = 0; k < 150; ++k) {
+        pf.predict(frames[k].vio);
+        const size_t before = pf.resample_count();
+        pf.update_signs(frames[k].sightings.data(), frames[k].sightings.size(), frames[k].vio.t);
+        const wf_localizer_estimate e = pf.estimate();
+        if (pf.resample_count() == before || !pf.clusterer().last_run_used_carried_bins()) continue;
+        ParticleClusterer fresh;
+        const std::vector<ClusterSummary> &c = fresh.run(pf.particles(), pf.vio_yaw(), cp);
+        ASSERT_FALSE(c.empty());
+        EXPECT_EQ(e.x, c[0].x) << "frame " << k;
+        EXPECT_EQ(e.y, c[0].y) << "frame " << k;
+        EXPECT_EQ(e.dominant_weight, std::clamp(c[0].weight, 0.0, 1.0)) << "frame " << k;
+        EXPECT_EQ(e.cov_xx, c[0].cov_xx) << "frame " << k;
+        EXPECT_EQ(e.heading_std_rad, c[0].heading_std) << "frame " << k;
+        ++checked;
+    }
+    EXPECT_GT(checked, 3);  // the carried path was really taken
+}

@@ -135,3 +135,44 @@ TEST(Resampling, DenseOccupiedBinsMatchHashTable) {
         EXPECT_GT(expected, 10u);
     }
 }
+
+// The first draws of a systematic resampling (used by the KLD count's early stop) are exactly the first
+// entries of the full draw, for random and for all-zero weights.
+TEST(Resampling, SystematicPrefixIsTheFullDrawsStart) {
+    Rng rng(31);
+    std::vector<float> w(5000);
+    for (float &v : w) v = rng.uniform_float() * rng.uniform_float();
+    std::vector<uint32_t> full, prefix;
+    for (double u0 : {0.05, 0.5, 0.95}) {
+        systematic_resample(w.data(), w.size(), 7000, u0, full);
+        systematic_resample(w.data(), w.size(), 7000, u0, prefix, 1234);
+        ASSERT_EQ(prefix.size(), 1234u);
+        EXPECT_TRUE(std::equal(prefix.begin(), prefix.end(), full.begin()));
+    }
+    systematic_resample(w.data(), w.size(), 70, 0.5, prefix, 1000);  // first > n_out: the whole draw
+    EXPECT_EQ(prefix.size(), 70u);
+    const std::vector<float> zero(10, 0.0f);
+    systematic_resample(zero.data(), zero.size(), 20, 0.5, full);
+    systematic_resample(zero.data(), zero.size(), 20, 0.5, prefix, 7);
+    EXPECT_TRUE(std::equal(prefix.begin(), prefix.end(), full.begin()));
+}
+
+// kld_bins_reaching(count) is the least k whose KLD bound reaches `count`, and the bound stays there for
+// every larger k (checked up to 4x), for the shipped epsilon / z and for extreme ones.
+TEST(Resampling, KldBinsReachingIsTheThreshold) {
+    for (const auto &[eps, z] : {std::pair{0.05, 2.326}, std::pair{0.01, 0.0}, std::pair{0.5, 10.0}, std::pair{1.0, 3.0}}) {
+        for (size_t count : {size_t{2000}, size_t{100000}, size_t{1000000}}) {
+            const size_t k = kld_bins_reaching(count, eps, z);
+            ASSERT_NE(k, SIZE_MAX) << eps << " " << z;
+            EXPECT_GE(kld_sample_count(k, eps, z), count);
+            if (k > 2) EXPECT_LT(kld_sample_count(k - 1, eps, z), count) << eps << " " << z << " " << count;
+            for (size_t j = k; j < 4 * k; j += 1 + j / 97) {
+                ASSERT_GE(kld_sample_count(j, eps, z), count) << "k " << j << " eps " << eps << " z " << z;
+            }
+        }
+    }
+    // Shipped defaults: about 10^4 bins reach 100k particles (far fewer than a spread-out cloud occupies).
+    const size_t k = kld_bins_reaching(100000, 0.05, 2.326);
+    EXPECT_GT(k, 9000u);
+    EXPECT_LT(k, 11000u);
+}
