@@ -144,7 +144,8 @@ void usage() {
                  "               the detector's -0.15 rad; nan = every row)\n"
                  "  --times FILE  write the detection time of every frame and row as CSV (row, frame, true distance or -1, ms)\n"
                  "  --dump FILE  write every observation as CSV (row, frame, true distance or -1, matched, score, box,\n"
-                 "               median height and bottom edge, extent width, elevation of the box centre in rad)\n";
+                 "               median height and bottom edge, extent width, elevation of the box centre in rad, centre column,\n"
+                 "               top and bottom edge slopes, the unrolled -> raw affine map a00..a12)\n";
 }
 
 }  // namespace
@@ -265,7 +266,8 @@ int main(int argc, char** argv) {
     std::ofstream dump;
     if (!dumpPath.empty()) {
         dump.open(dumpPath);
-        dump << "row,frame,truth_m,matched,score,box_x,box_y,box_w,box_h,height_px,bottom_px,extent_px,elevation_rad\n";
+        dump << "row,frame,truth_m,matched,score,box_x,box_y,box_w,box_h,height_px,bottom_px,extent_px,elevation_rad,"
+                "center_px,top_slope,bottom_slope,a00,a01,a02,a10,a11,a12\n";
     }
     std::ofstream times;
     if (!timesPath.empty()) {
@@ -338,7 +340,10 @@ int main(int argc, char** argv) {
                         labels.pitchRad + std::atan((o.unrolled_cy - (o.box_y + 0.5 * o.box_height)) / o.unrolled_fy);
                     dump << r.id << "," << fi << "," << truth << "," << int(used[k]) << "," << o.score << "," << o.box_x << ","
                          << o.box_y << "," << o.box_width << "," << o.box_height << "," << o.median_height_px << ","
-                         << o.median_bottom_row_px << "," << o.extent_width_px << "," << elevation << "\n";
+                         << o.median_bottom_row_px << "," << o.extent_width_px << "," << elevation << ","
+                         << o.center_column_px << "," << o.top_edge_slope << "," << o.bottom_edge_slope;
+                    for (double a : o.unrolled_to_raw) dump << "," << a;
+                    dump << "\n";
                 }
             }
             const long unmatched = static_cast<long>(std::count(used.begin(), used.end(), false));

@@ -46,11 +46,13 @@ double medianOf(std::vector<double>& v) {
 struct RowSettings {
     int stripRows = 2, persistenceRows = 2, blurRows = 2;
     double minRiseLevels = 12, minRiseNoiseFactor = 4;
+    EdgeLocator locator = EdgeLocator::kGradientPeak;
 };
 
 /// The outermost significant, persistent rise of `d` (distance from the background colour, index 0 = outermost
-/// sample, the first `stripRows` samples are the background strip). Returns the index (fractional, between
-/// sample centres) where the rise crosses half-way from its foot to its top, or NaN.
+/// sample, the first `stripRows` samples are the background strip). Returns the edge's index (fractional, between
+/// sample centres; s.locator: the peak of the parabola through the three steps around the steepest one, or the
+/// point where the rise crosses half-way from its foot to its top), or NaN.
 ///
 /// A rise is found at a maximum of the step d[k + 1] - d[k] over +-blurRows (the edge's gradient peak) and followed both ways
 /// while the steps stay above a sixth of the peak, at most blurRows samples (the blur's half-width): a halo or a
@@ -90,6 +92,12 @@ double outermostRise(const std::vector<double>& d, double noise, const RowSettin
             k = b - 1;  // past this rise
             continue;
         }
+        if (s.locator == EdgeLocator::kGradientPeak) {
+            const double l = k > 0 ? step(k - 1) : 0.0, r = k + 2 < n ? step(k + 1) : 0.0;
+            const double den = l - 2 * peak + r;
+            const double delta = den < 0 ? std::clamp(0.5 * (l - r) / den, -0.5, 0.5) : 0.0;
+            return k + 0.5 + delta;
+        }
         for (int j = a + 1; j <= b; ++j) {
             if (d[j] >= half) return (j - 1) + (half - d[j - 1]) / std::max(1e-9, d[j] - d[j - 1]);
         }
@@ -121,6 +129,41 @@ void distanceProfile(const cv::Mat& light, int u, int firstRow, int step, int n,
     *noise = medianOf(strip);
 }
 
+/// Robust straight line v = slope (column - centre) + offset through (columns, values): slope = median of the slopes
+/// between entry i and i + n/2 (as measureSliceEdges takes them), offset = median of the residual intercepts.
+void robustLine(const std::vector<SliceEdges>& e, double centre, bool top, double* slope, double* offset) {
+    auto value = [&](const SliceEdges& x) { return top ? x.topEdgePx : x.bottomEdgePx; };
+    const size_t n = e.size(), half = n / 2;
+    std::vector<double> slopes;
+    for (size_t i = 0; i + half < n && half > 0; ++i) {
+        const double du = e[i + half].column - e[i].column;
+        if (std::abs(du) > 0) slopes.push_back((value(e[i + half]) - value(e[i])) / du);
+    }
+    *slope = slopes.empty() ? 0.0 : medianOf(slopes);
+    std::vector<double> offsets;
+    for (const SliceEdges& x : e) offsets.push_back(value(x) - *slope * (x.column - centre));
+    *offset = medianOf(offsets);
+}
+
+/// The slices whose top and bottom edges both lie within `tolerancePx` of robust straight lines through all of them:
+/// a face's edges are straight (a plane rectangle in perspective), so slices whose search caught a letter, a halo
+/// or the wall instead are outliers.
+std::vector<SliceEdges> straightEdgeInliers(const std::vector<SliceEdges>& e, double centre, double tolerancePx) {
+    if (e.size() < 3) return e;
+    double topSlope = 0, topOffset = 0, bottomSlope = 0, bottomOffset = 0;
+    robustLine(e, centre, true, &topSlope, &topOffset);
+    robustLine(e, centre, false, &bottomSlope, &bottomOffset);
+    std::vector<SliceEdges> kept;
+    for (const SliceEdges& x : e) {
+        const double dc = x.column - centre;
+        if (std::abs(x.topEdgePx - (topSlope * dc + topOffset)) <= tolerancePx &&
+            std::abs(x.bottomEdgePx - (bottomSlope * dc + bottomOffset)) <= tolerancePx) {
+            kept.push_back(x);
+        }
+    }
+    return kept;
+}
+
 struct RoughGeometry {
     double height = 0, top = 0, bottom = 0, centre = 0;
     int first = 0, last = -1;
@@ -143,7 +186,7 @@ cv::Rect faceEdgeSearchRect(const SliceMeasurement& rough, const FaceEdgeParams&
     const RoughGeometry g = roughGeometry(rough);
     const double margin = std::max(0.0, params.searchMarginFraction) * g.height;
     const double half = 0.5 * std::max(0.0, rough.extentWidthPx);
-    const double slopeRise = half * std::max(std::abs(rough.topEdgeSlope), std::abs(rough.bottomEdgeSlope));
+    const double slopeRise = half * std::max(0.0, params.maxEdgeSlope);
     const int x0 = g.first - 1, x1 = g.last + 1;
     const int y0 = static_cast<int>(std::floor(g.top - margin - slopeRise)) - 1;
     const int y1 = static_cast<int>(std::ceil(g.bottom + margin + slopeRise)) + 1;
@@ -179,6 +222,7 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
     s.blurRows = std::max(2, static_cast<int>(std::lround(params.blurFraction * g.height)));
     s.minRiseLevels = params.minRiseLevels;
     s.minRiseNoiseFactor = params.minRiseNoiseFactor;
+    s.locator = params.locator;
     const double margin = std::max(0.0, params.searchMarginFraction) * g.height;
 
     std::vector<SliceEdges> edges;
@@ -188,12 +232,13 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
     for (int column : columns) {
         const int u = column - roi.x;
         if (u < 0 || u >= roi.width) continue;
-        const double offset = column - g.centre;
-        const double top = g.top + rough.topEdgeSlope * offset, bottom = g.bottom + rough.bottomEdgeSlope * offset;
-        const double mid = 0.5 * (top + bottom);
-        // Top edge: rows from `margin` above the rough top edge down to the centre line (image rows).
-        const int topStart = static_cast<int>(std::ceil(top - margin)), topEnd = static_cast<int>(std::floor(mid));
-        const int bottomStart = static_cast<int>(std::floor(bottom + margin)), bottomEnd = static_cast<int>(std::ceil(mid));
+        // The rough edges' slopes are not used to place the search (a ragged mask's slopes can be far off, a box
+        // has none): the search is widened by the steepest slope a face's edge has in the unrolled image instead.
+        const double widen = margin + params.maxEdgeSlope * std::abs(column - g.centre);
+        const double top = g.top, bottom = g.bottom, mid = 0.5 * (top + bottom);
+        // Top edge: rows from `widen` above the rough top edge down to the centre line (image rows).
+        const int topStart = static_cast<int>(std::ceil(top - widen)), topEnd = static_cast<int>(std::floor(mid));
+        const int bottomStart = static_cast<int>(std::floor(bottom + widen)), bottomEnd = static_cast<int>(std::ceil(mid));
         if (topStart < roi.y || bottomStart > roi.y + roi.height - 1) continue;  // the search leaves the image
         const int nTop = topEnd - topStart + 1, nBottom = bottomStart - bottomEnd + 1;
         if (nTop < s.stripRows + 2 || nBottom < s.stripRows + 2) continue;
@@ -212,6 +257,7 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
         if (!(h >= params.minHeightRatio * g.height && h <= params.maxHeightRatio * g.height)) continue;
         edges.push_back(e);
     }
+    edges = straightEdgeInliers(edges, g.centre, std::max(params.straightnessMinPx, params.straightnessFraction * g.height));
     result.validSlices = static_cast<int>(edges.size());
     if (result.validSlices < std::max(3.0, params.minValidFraction * result.searchedSlices)) return result;
     SliceMeasurement refined = measureSliceEdges(edges, rough);
