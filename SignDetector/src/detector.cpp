@@ -122,7 +122,7 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
     }
     if (transfer == 1) r.faceEdges.transfer = PixelTransfer::kLinear;
     if (transfer == 2) r.faceEdges.transfer = PixelTransfer::kSrgb;
-    r.unet.faceEdges = r.faceEdges;
+    r.unet.faceEdges = maskFaceEdgeParams(r.faceEdges);
     r.rollSnapToleranceRad = std::max(0.0, opts.roll_snap_tolerance_rad);
     r.cascade.colourGate.enabled = opts.cascade_full_search == 0;
     if (opts.cascade_gate_min_contrast < 0 || !std::isfinite(opts.cascade_gate_min_contrast)) {

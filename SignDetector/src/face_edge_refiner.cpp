@@ -182,6 +182,13 @@ RoughGeometry roughGeometry(const SliceMeasurement& rough) {
 
 }  // namespace
 
+FaceEdgeParams maskFaceEdgeParams(FaceEdgeParams base) {
+    base.searchMarginFraction = 0.15;
+    base.minHeightRatio = 0.75;
+    base.maxHeightRatio = 1.3;
+    return base;
+}
+
 cv::Rect faceEdgeSearchRect(const SliceMeasurement& rough, const FaceEdgeParams& params) {
     const RoughGeometry g = roughGeometry(rough);
     const double margin = std::max(0.0, params.searchMarginFraction) * g.height;

@@ -44,8 +44,8 @@ struct UnetParams {
     /// Slicing of the fine mask.
     SliceParams slices;
     /// Face-edge refinement of an accepted sign's slices in the zoomed input (face_edge_refiner.hpp): the mask
-    /// gives the rough edges, the image the final ones. Verification uses the mask's measurement.
-    FaceEdgeParams faceEdges;
+    /// gives the rough edges, the image the final ones (maskFaceEdgeParams). Verification uses the mask's measurement.
+    FaceEdgeParams faceEdges = maskFaceEdgeParams();
 
     /// Coarse pass: the unrolled rows whose ray elevation, pitch + atan((cy' - v) / fy'), is below this are not
     /// run through the network (radians; needs the camera pitch, NaN = off, the whole frame). Exit signs hang
