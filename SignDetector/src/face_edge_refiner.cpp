@@ -247,6 +247,7 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
         const int topStart = static_cast<int>(std::ceil(top - widen)), topEnd = static_cast<int>(std::floor(mid));
         const int bottomStart = static_cast<int>(std::floor(bottom + widen)), bottomEnd = static_cast<int>(std::ceil(mid));
         if (topStart < roi.y || bottomStart > roi.y + roi.height - 1) continue;  // the search leaves the image
+        if (topEnd > roi.y + roi.height - 1 || bottomEnd < roi.y) continue;
         const int nTop = topEnd - topStart + 1, nBottom = bottomStart - bottomEnd + 1;
         if (nTop < s.stripRows + 2 || nBottom < s.stripRows + 2) continue;
         double noise = 0;

@@ -126,6 +126,12 @@ TEST(FaceEdgeRefiner, KeepsTheRoughMeasurementWithoutAnEdgeOrWhenOff) {
     EXPECT_FALSE(refineFaceEdges(img, SliceMeasurement{}, SliceParams{}, FaceEdgeParams{}).refined);
     // A box at the image border whose search would leave the image: kept, no crash.
     EXPECT_FALSE(refineFaceEdges(img, roughBox(0, 0, 30, 10), SliceParams{}, FaceEdgeParams{}).refined);
+    // Boxes partly or wholly outside the image, a degenerate one, a tiny image: kept, no out-of-bounds read.
+    for (const cv::Rect& r : {cv::Rect(10, -20, 30, 25), cv::Rect(40, 90, 30, 40), cv::Rect(-50, 30, 40, 20),
+                              cv::Rect(200, 200, 20, 10), cv::Rect(20, 30, 1, 1)}) {
+        EXPECT_FALSE(refineFaceEdges(img, measureBox(r), SliceParams{}, FaceEdgeParams{}).refined) << r;
+    }
+    EXPECT_FALSE(refineFaceEdges(cv::Mat(3, 3, CV_8UC3, cv::Scalar::all(9)), rough, SliceParams{}, FaceEdgeParams{}).refined);
 }
 
 TEST(FaceEdgeRefiner, SrgbTransferDecodesBeforeTakingTheMidpoint) {
