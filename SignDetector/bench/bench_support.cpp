@@ -144,7 +144,7 @@ void convertPixelFormat(PreparedFrame* p, wf_pixel_format format) {
 
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth, int minWindowHeight,
                                             double maxWindowFactor, double minElevationRad, bool fullSearch,
-                                            CascadeSearch search) {
+                                            CascadeSearch search, FaceEdgeOptions faceEdges) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_CASCADE;
@@ -155,6 +155,8 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     opts.cascade_min_window_height = minWindowHeight;
     opts.cascade_max_window_factor = maxWindowFactor;
     opts.cascade_full_search = fullSearch ? 1 : 0;
+    opts.face_edge_refinement = faceEdges.refinement;
+    opts.face_edge_transfer = faceEdges.transfer;
     if (search != CascadeSearch::Defaults) {
         opts.cascade_gate_min_margin_px = 24;
         opts.cascade_gate_component_window_fraction = -1;
@@ -173,12 +175,14 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     return d;
 }
 
-std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad) {
+std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad, FaceEdgeOptions faceEdges) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_UNET;
     opts.unet_path = path.c_str();
     opts.unet_coarse_min_elevation_rad = coarseMinElevationRad;
+    opts.face_edge_refinement = faceEdges.refinement;
+    opts.face_edge_transfer = faceEdges.transfer;
     if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
     return d;
 }

@@ -84,13 +84,21 @@ enum class CascadeSearch {
 /// least this elevation (radians).
 /// `minWindowWidth/Height` 0 = the cascade's training window. `fullSearch`: true = no colour gate (search the
 /// whole frame, as before the gate); false = the default colour gate. `search`: see CascadeSearch.
+/// `faceEdges`: wf_detector_options' face_edge_refinement and face_edge_transfer (0, 0 = defaults; -1 = the rough
+/// box, as before the refiner).
+struct FaceEdgeOptions {
+    int refinement = 0, transfer = 0;
+};
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
                                             double maxWindowFactor = 0, double minElevationRad = 0,
                                             bool fullSearch = false,
-                                            CascadeSearch search = CascadeSearch::Defaults);
+                                            CascadeSearch search = CascadeSearch::Defaults,
+                                            FaceEdgeOptions faceEdges = {});
 /// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
 /// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).
-std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0);
+/// `faceEdges` as for makeCascade (refinement -1 = the mask's own edges).
+std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0,
+                                         FaceEdgeOptions faceEdges = {});
 
 /// Runs a detector on a prepared frame; returns the status and fills `observations`.
 int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations);

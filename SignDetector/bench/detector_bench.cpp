@@ -219,6 +219,9 @@ public:
         ratio("unet_coarse_zoom/HR", "cascade_reference/VGA");
         ratio("unet_coarse_zoom/HR", "cascade_ours/VGA");
         ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_whole_frame/HR");
+        ratio("cascade_phone_bgra/VGA", "cascade_phone_bgra_no_edge_refinement/VGA");
+        ratio("cascade_phone_nv12/VGA", "cascade_phone_nv12_no_edge_refinement/VGA");
+        ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_no_edge_refinement/HR");
     }
 
 private:
@@ -247,9 +250,12 @@ int main(int argc, char** argv) {
     static const auto hrBgra = prepareAllAs(sources, {1920, 1440}, WF_PIXEL_BGRA8);
 
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
-    static std::unique_ptr<DetectorHandle> oursCascade, oursV4, oursV3, oursFull, refCascade, unet, unetWholeFrame;
+    static std::unique_ptr<DetectorHandle> oursCascade, oursRough, oursV4, oursV3, oursFull, refCascade, unet, unetRough,
+        unetWholeFrame;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
+        // The same search without face-edge refinement (the box's own height in every slice).
+        oursRough = makeCascade(ours, 0, 0, 0, 0, false, CascadeSearch::Defaults, FaceEdgeOptions{-1, 0});
         oursV4 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, CascadeSearch::WideGateRegions);
         oursV3 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, CascadeSearch::WideGateRegionsNoPrior);
         oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true, CascadeSearch::WideGateRegionsNoPrior);
@@ -262,6 +268,7 @@ int main(int argc, char** argv) {
                                   : fileExists(productModelsDir() + "/sign_unet.onnx") ? productModelsDir() + "/sign_unet.onnx"
                                                                                        : tinyUnetPath();
     unet = makeUnet(unetModel);
+    unetRough = makeUnet(unetModel, 0, FaceEdgeOptions{-1, 0});
     unetWholeFrame = makeUnet(unetModel, -2.0);
 
     std::printf("frames: %s\nour cascade: %s\nreference cascade: %s\nU-Net: %s\nOpenCV threads: %d\n\n",
@@ -287,6 +294,8 @@ int main(int argc, char** argv) {
         pipeline("cascade_ours_gray/VGA", oursCascade.get(), &vgaGray);
         pipeline("cascade_phone_nv12/VGA", oursCascade.get(), &vgaNv12);
         pipeline("cascade_phone_bgra/VGA", oursCascade.get(), &vgaBgra);
+        pipeline("cascade_phone_bgra_no_edge_refinement/VGA", oursRough.get(), &vgaBgra);
+        pipeline("cascade_phone_nv12_no_edge_refinement/VGA", oursRough.get(), &vgaNv12);
         pipeline("cascade_phone_nv12/HR", oursCascade.get(), &hrNv12);
         pipeline("cascade_phone_bgra/HR", oursCascade.get(), &hrBgra);
     }
@@ -300,6 +309,7 @@ int main(int argc, char** argv) {
     static const std::string unetModelPath = unetModel;
     if (unet && *unet) {
         pipeline("unet_coarse_zoom/HR", unet.get(), &hr);
+        pipeline("unet_coarse_zoom_no_edge_refinement/HR", unetRough.get(), &hr);
         pipeline("unet_coarse_zoom_whole_frame/HR", unetWholeFrame.get(), &hr);
         benchmark::RegisterBenchmark("unet_forward/224", runForward, &unetModelPath)->Unit(benchmark::kMillisecond);
     } else {

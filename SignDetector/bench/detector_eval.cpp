@@ -7,6 +7,7 @@
 //   cascade-hr   our cascade on 1920 x 1440 frames
 //   cascade-vga-full, cascade-hr-full   the same without the colour gate (whole-frame search)
 //   unet         U-Net multi-scale (models/sign_unet.onnx) on 1920 x 1440 frames
+//   any row + "-rough": without face-edge refinement; + "-srgb": the refiner reads pixels as sRGB
 //   reference    the reference app's cascade (../shared/.../exit_sign_cascade.xml) on 640 x 480, its settings
 // A row whose model is missing is reported as skipped. Prints Markdown: median percent range error per
 // true distance (2..9 m), missed signs per distance, precision / recall / false positives per 1000 sign-free
@@ -33,6 +34,7 @@
 #include <iostream>
 #include <map>
 #include <sstream>
+#include <tuple>
 
 using namespace wf::sign::bench;
 
@@ -132,6 +134,8 @@ void usage() {
     std::cerr << "usage: wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N]\n"
                  "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3,\n"
                  "                        cascade-vga-v4,cascade-hr-v4] [--threads N]\n"
+                 "  rows take a suffix: -rough = without face-edge refinement (the box's or mask's own edges),\n"
+                 "               -srgb = the refiner reads pixels as sRGB-encoded (e.g. cascade-vga-rough, unet-srgb)\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
                  "  --limit N   use the first N frames (after --every)\n"
                  "  --shift K   drop the first K columns and rows of every resized frame (moves every scan grid by K px;\n"
@@ -140,7 +144,8 @@ void usage() {
                  "               the detector's -0.15 rad; nan = every row)\n"
                  "  --times FILE  write the detection time of every frame and row as CSV (row, frame, true distance or -1, ms)\n"
                  "  --dump FILE  write every observation as CSV (row, frame, true distance or -1, matched, score, box,\n"
-                 "               median height and bottom edge, extent width, elevation of the box centre in rad)\n";
+                 "               median height and bottom edge, extent width, elevation of the box centre in rad, centre column,\n"
+                 "               top and bottom edge slopes, the unrolled -> raw affine map a00..a12)\n";
 }
 
 }  // namespace
@@ -201,6 +206,19 @@ int main(int argc, char** argv) {
         Row r;
         r.id = id;
         std::string model;
+        // Suffixes: -rough = without face-edge refinement (the box's or mask's own edges), -srgb = the refiner
+        // reads the pixels as sRGB-encoded.
+        FaceEdgeOptions faceEdges;
+        std::string faceEdgeTitle;
+        for (const auto& [tail, refinement, transfer, title] :
+             {std::tuple<std::string, int, int, std::string>{"-rough", -1, 0, ", no edge refinement"},
+              std::tuple<std::string, int, int, std::string>{"-srgb", 1, 2, ", edges refined (sRGB)"}}) {
+            if (id.size() > tail.size() && id.compare(id.size() - tail.size(), tail.size(), tail) == 0) {
+                id.resize(id.size() - tail.size());
+                faceEdges = FaceEdgeOptions{refinement, transfer};
+                faceEdgeTitle = title;
+            }
+        }
         if (id == "cascade-vga" || id == "cascade-hr" || id == "cascade-vga-full" || id == "cascade-hr-full" ||
             id == "cascade-vga-v3" || id == "cascade-hr-v3" || id == "cascade-vga-v4" || id == "cascade-hr-v4") {
             model = models + "/exit_sign_cascade.xml";
@@ -221,12 +239,13 @@ int main(int argc, char** argv) {
             if (fileExists(model)) r.detector = makeCascade(model, 0, 0, 0, rowLimit, full,
                                                                  full || v3 ? CascadeSearch::WideGateRegionsNoPrior
                                                                  : v4      ? CascadeSearch::WideGateRegions
-                                                                           : CascadeSearch::Defaults);
+                                                                           : CascadeSearch::Defaults,
+                                                                 faceEdges);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
             r.title = "U-Net multi-scale, 1920x1440";
-            if (fileExists(model)) r.detector = makeUnet(model);
+            if (fileExists(model)) r.detector = makeUnet(model, 0, faceEdges);
         } else if (id == "reference") {
             model = reference;
             r.size = cv::Size(640, 480);
@@ -237,6 +256,7 @@ int main(int argc, char** argv) {
             std::cerr << "wf_detector_eval: unknown row " << id << "\n";
             return 2;
         }
+        r.title += faceEdgeTitle;
         if (!r.detector) r.skipped = "model not found: " + model;
         else if (!*r.detector) r.skipped = r.detector->error;
         rows.push_back(std::move(r));
@@ -246,7 +266,8 @@ int main(int argc, char** argv) {
     std::ofstream dump;
     if (!dumpPath.empty()) {
         dump.open(dumpPath);
-        dump << "row,frame,truth_m,matched,score,box_x,box_y,box_w,box_h,height_px,bottom_px,extent_px,elevation_rad\n";
+        dump << "row,frame,truth_m,matched,score,box_x,box_y,box_w,box_h,height_px,bottom_px,extent_px,elevation_rad,"
+                "center_px,top_slope,bottom_slope,a00,a01,a02,a10,a11,a12\n";
     }
     std::ofstream times;
     if (!timesPath.empty()) {
@@ -319,7 +340,10 @@ int main(int argc, char** argv) {
                         labels.pitchRad + std::atan((o.unrolled_cy - (o.box_y + 0.5 * o.box_height)) / o.unrolled_fy);
                     dump << r.id << "," << fi << "," << truth << "," << int(used[k]) << "," << o.score << "," << o.box_x << ","
                          << o.box_y << "," << o.box_width << "," << o.box_height << "," << o.median_height_px << ","
-                         << o.median_bottom_row_px << "," << o.extent_width_px << "," << elevation << "\n";
+                         << o.median_bottom_row_px << "," << o.extent_width_px << "," << elevation << ","
+                         << o.center_column_px << "," << o.top_edge_slope << "," << o.bottom_edge_slope;
+                    for (double a : o.unrolled_to_raw) dump << "," << a;
+                    dump << "\n";
                 }
             }
             const long unmatched = static_cast<long>(std::count(used.begin(), used.end(), false));

@@ -269,6 +269,16 @@ typedef struct wf_detector_options {
      *  bottom edge 2.03 to about 2.6 m above the floor; phone 1.0 to 1.7 m). Min < max when both are set. */
     double cascade_sign_above_camera_min_m;
     double cascade_sign_above_camera_max_m;
+
+    /* Face-edge refinement (both detectors; docs/sign-detection.md "Face-edge refinement"). */
+    /** 0 = default: on; 1 = on; -1 = off. Per slice of each detection's rough box (cascade) or mask (U-Net), the
+     *  face's top and bottom edges are located in the image (the half-way crossing of the first persistent rise
+     *  of the colour distance from the wall), and the slices measured from them; without it a cascade slice has
+     *  the box's height. */
+    int face_edge_refinement;
+    /** How the refiner reads pixel values: 0 = default (linear), 1 = linear (proportional to light, as the
+     *  renderer writes them), 2 = sRGB-encoded (decoded to light first). */
+    int face_edge_transfer;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */

@@ -108,6 +108,21 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
     slices.bandFraction = opts.slice_band_fraction > 0 && opts.slice_band_fraction <= 1 ? opts.slice_band_fraction : 0.6;
     r.cascade.slices = slices;
     r.unet.slices = slices;
+    // Face-edge refinement (both detectors): on unless -1; the pixels' transfer curve.
+    const int refinement = opts.face_edge_refinement;
+    if (refinement < -1 || refinement > 1) {
+        *error = "face_edge_refinement must be -1 (off), 0 (default: on) or 1 (on), not " + std::to_string(refinement);
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.faceEdges.enabled = refinement >= 0;
+    const int transfer = opts.face_edge_transfer;
+    if (transfer < 0 || transfer > 2) {
+        *error = "face_edge_transfer must be 0 (default), 1 (linear) or 2 (sRGB), not " + std::to_string(transfer);
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    if (transfer == 1) r.faceEdges.transfer = PixelTransfer::kLinear;
+    if (transfer == 2) r.faceEdges.transfer = PixelTransfer::kSrgb;
+    r.unet.faceEdges = maskFaceEdgeParams(r.faceEdges);
     r.rollSnapToleranceRad = std::max(0.0, opts.roll_snap_tolerance_rad);
     r.cascade.colourGate.enabled = opts.cascade_full_search == 0;
     if (opts.cascade_gate_min_contrast < 0 || !std::isfinite(opts.cascade_gate_min_contrast)) {
@@ -274,6 +289,13 @@ FrameResult Detector::detect(const wf_frame& frame) {
                 detections = cascade_.detectInRegions(grayUnrolled, gate.regions, options_.cascade, lastRow, &geometry);
             }
             detections = suppressOverlaps(std::move(detections), 0.5);
+            // A box is a rough segmentation: its slices all have the box's height. The face's own edges, found in
+            // the image around each box, give the slices their heights (face_edge_refiner.hpp).
+            for (Detection& d : detections) {
+                const FaceEdgeResult edges = refineFaceEdgesInFrame(frame.image, unrolling, d.measurement,
+                                                                    options_.cascade.slices, options_.faceEdges);
+                if (edges.refined) d.measurement = edges.measurement;
+            }
         } else {
             detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet, frame.pitch_rad);
         }

@@ -3,6 +3,7 @@
 #pragma once
 
 #include "cascade_detector.hpp"
+#include "face_edge_refiner.hpp"
 #include "image_input.hpp"
 #include "sign_catalogue.hpp"
 #include "unet_detector.hpp"
@@ -25,6 +26,8 @@ struct ResolvedOptions {
     UnetParams unet;
     double minScore = 0;
     double rollSnapToleranceRad = 0;
+    /// Face-edge refinement of every detection (both detectors; the U-Net's copy is unet.faceEdges).
+    FaceEdgeParams faceEdges;
     /// Sign kinds and their face sizes (may be empty: then sense() fails).
     std::vector<SignKindSpec> catalogue;
 

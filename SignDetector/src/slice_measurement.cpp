@@ -17,7 +17,8 @@ double median(std::vector<double>& values) {
     return 0.5 * (lower + upper);
 }
 
-/// Columns to sample in [first, last] (inclusive pixel columns of the sign's extent).
+}  // namespace
+
 std::vector<int> sliceColumns(int first, int last, const SliceParams& params) {
     const double fraction = params.bandFraction > 0 && params.bandFraction <= 1 ? params.bandFraction : 0.6;
     const double centre = 0.5 * (first + last);
@@ -40,8 +41,6 @@ std::vector<int> sliceColumns(int first, int last, const SliceParams& params) {
     }
     return columns;
 }
-
-}  // namespace
 
 SliceMeasurement SliceMeasurement::mapped(double scale, cv::Point2d originEdge) const {
     SliceMeasurement m = *this;
@@ -117,6 +116,39 @@ SliceMeasurement measureMask(const cv::Mat& mask, const SliceParams& params) {
         }
         m.bottomEdgeSlope = median(bottomSlopes);
         m.topEdgeSlope = median(topSlopes);
+    }
+    return m;
+}
+
+SliceMeasurement measureSliceEdges(const std::vector<SliceEdges>& edges, const SliceMeasurement& base) {
+    SliceMeasurement m = base;
+    m.valid = false;
+    m.sliceCount = 0;
+    if (edges.empty()) return m;
+    std::vector<double> heights, bottoms;
+    for (const SliceEdges& e : edges) {
+        heights.push_back(e.bottomEdgePx - e.topEdgePx);
+        bottoms.push_back(e.bottomEdgePx);
+    }
+    m.valid = true;
+    m.sliceCount = static_cast<int>(edges.size());
+    m.medianHeightPx = median(heights);
+    m.medianBottomEdgePx = median(bottoms);
+    m.bottomEdgeSlope = 0;
+    m.topEdgeSlope = 0;
+    const size_t n = edges.size(), half = n / 2;
+    if (half > 0) {
+        std::vector<double> bottomSlopes, topSlopes;
+        for (size_t i = 0; i + half < n; ++i) {
+            const double du = edges[i + half].column - edges[i].column;
+            if (!(std::abs(du) > 0)) continue;
+            bottomSlopes.push_back((edges[i + half].bottomEdgePx - edges[i].bottomEdgePx) / du);
+            topSlopes.push_back((edges[i + half].topEdgePx - edges[i].topEdgePx) / du);
+        }
+        if (!bottomSlopes.empty()) {
+            m.bottomEdgeSlope = median(bottomSlopes);
+            m.topEdgeSlope = median(topSlopes);
+        }
     }
     return m;
 }

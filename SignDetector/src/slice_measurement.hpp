@@ -4,6 +4,8 @@
 
 #include <opencv2/core.hpp>
 
+#include <vector>
+
 namespace wf::sign {
 
 /// How slices are taken.
@@ -50,5 +52,19 @@ SliceMeasurement measureBox(const cv::Rect& box, const SliceParams& params = {})
 /// component). Per slice (column): top = first sign row, bottom = last sign row; columns without sign
 /// pixels are skipped. Medians over slices; the even-count median is the mean of the two middle values.
 SliceMeasurement measureMask(const cv::Mat& mask, const SliceParams& params = {});
+
+/// The columns slices sample across a sign whose extent covers pixel columns first .. last (inclusive): the
+/// centred band of params.bandFraction of the extent, every column or params.sliceCount evenly spaced ones.
+std::vector<int> sliceColumns(int first, int last, const SliceParams& params);
+
+/// One slice with sub-pixel edges (edge coordinates, pixels: top < bottom).
+struct SliceEdges {
+    double column = 0, topEdgePx = 0, bottomEdgePx = 0;
+};
+
+/// Measures slices given as edges (e.g. the face-edge refiner's): medians of the heights and bottom edges, and
+/// edge slopes as measureMask takes them (slices in column order; the slope between slice i and i + n/2). Centre
+/// column, extent and box are left as in `base` (valid and sliceCount are set). Invalid when `edges` is empty.
+SliceMeasurement measureSliceEdges(const std::vector<SliceEdges>& edges, const SliceMeasurement& base);
 
 }  // namespace wf::sign

@@ -420,6 +420,9 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         out->kindIndex = candidate.classIndex;
         out->score = meanProbability;
         out->measurement = inUnrolled;
+        // The mask's edges are learned from renders; the face's edges in the zoomed input are measured.
+        const FaceEdgeResult edges = refineFaceEdges(square, m, params.slices, params.faceEdges);
+        if (edges.refined) out->measurement = edges.measurement.mapped(scale, cv::Point2d(c0, r0));
         return true;
     }
     return false;

@@ -5,6 +5,7 @@
 #pragma once
 
 #include "detection.hpp"
+#include "face_edge_refiner.hpp"
 #include "unroll.hpp"
 
 #include <opencv2/dnn.hpp>
@@ -42,6 +43,9 @@ struct UnetParams {
     int maxCandidates = 8;
     /// Slicing of the fine mask.
     SliceParams slices;
+    /// Face-edge refinement of an accepted sign's slices in the zoomed input (face_edge_refiner.hpp): the mask
+    /// gives the rough edges, the image the final ones (maskFaceEdgeParams). Verification uses the mask's measurement.
+    FaceEdgeParams faceEdges = maskFaceEdgeParams();
 
     /// Coarse pass: the unrolled rows whose ray elevation, pitch + atan((cy' - v) / fy'), is below this are not
     /// run through the network (radians; needs the camera pitch, NaN = off, the whole frame). Exit signs hang

@@ -13,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <tuple>
 #include <vector>
 
 using namespace wf::sign;
@@ -269,4 +270,54 @@ TEST(Sense, CapacityTooSmallTruncatesToTheBest) {
     EXPECT_EQ(wf_detector_sense(d, &s.frame, nullptr, 0, &count), WF_STATUS_TRUNCATED);
     EXPECT_EQ(count, 0u);
     wf_detector_free(d);
+}
+
+TEST(Sense, FaceEdgeRefinementIsOnByDefaultSwitchableAndValidated) {
+    // The U-Net path on a 3 m sign: with the refiner (default) and without it (the mask's own edges) the range is
+    // within 3 %; the refined slices come from the image (heights differ from the mask's). Bad values are errors
+    // naming the option. (The refiner's accuracy and the too-tall box: test_face_edge_refiner.cpp.)
+    const Scene s = scene(3.0);
+    ASSERT_TRUE(s.truth.visible);
+    auto make = [&](int refinement, int transfer, int* status) {
+        wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+        opts.kind = WF_DETECTOR_UNET;
+        const std::string path = wf::sign::testing::tinyUnetPath();
+        opts.unet_path = path.c_str();
+        opts.catalogue = &kExit;
+        opts.catalogue_count = 1;
+        opts.face_edge_refinement = refinement;
+        opts.face_edge_transfer = transfer;
+        wf_detector* d = nullptr;
+        *status = wf_detector_create(&d, &opts);
+        return d;
+    };
+    double heights[2] = {0, 0};
+    for (int i = 0; i < 2; ++i) {
+        int status = 0;
+        wf_detector* d = make(i == 0 ? 0 : -1, 0, &status);
+        ASSERT_NE(d, nullptr) << wf_thread_last_error();
+        std::vector<wf_sign_sighting> sightings;
+        ASSERT_EQ(sense(d, s.frame, &sightings), WF_STATUS_OK) << wf_detector_last_error(d);
+        ASSERT_EQ(sightings.size(), 1u);
+        EXPECT_NEAR(sightings[0].range_m, 3.0, 0.03 * 3.0) << (i == 0 ? "refined" : "mask");
+        wf_detector_observation obs[4];
+        size_t count = 0;
+        ASSERT_EQ(wf_detector_detect(d, &s.frame, obs, 4, &count), WF_STATUS_OK);
+        ASSERT_EQ(count, 1u);
+        heights[i] = obs[0].median_height_px;
+        wf_detector_free(d);
+    }
+    EXPECT_NE(heights[0], heights[1]);
+    for (const auto& [refinement, transfer, field] :
+         {std::tuple<int, int, const char*>{2, 0, "face_edge_refinement"}, {-2, 0, "face_edge_refinement"},
+          {0, 3, "face_edge_transfer"}, {0, -1, "face_edge_transfer"}}) {
+        int status = 0;
+        EXPECT_EQ(make(refinement, transfer, &status), nullptr) << field;
+        EXPECT_EQ(status, WF_STATUS_INVALID_ARGUMENT) << field;
+        EXPECT_NE(std::string(wf_thread_last_error()).find(field), std::string::npos) << wf_thread_last_error();
+    }
+    int status = 0;
+    wf_detector* srgb = make(1, 2, &status);
+    EXPECT_EQ(status, WF_STATUS_OK) << wf_thread_last_error();
+    wf_detector_free(srgb);
 }

@@ -347,7 +347,20 @@ TEST(CApi, ReferenceCascadeFindsADrawnSignInAPortraitFrame) {
     EXPECT_NEAR(m[0] * uc + m[1] * vc + m[2], centre.x, 0.5 * obs[0].box_height);
     EXPECT_NEAR(m[3] * uc + m[4] * vc + m[5], centre.y, 0.5 * obs[0].box_width);
     EXPECT_STREQ(obs[0].kind, "exit");
+    // Face-edge refinement (default): the slices measure the drawn face (unrolled v = raw u for this portrait
+    // frame), not the box; without it every slice has the box's height and no slope.
+    const double faceHeight = 0.5 * ((truth.cornersRaw[3].x - truth.cornersRaw[0].x) + (truth.cornersRaw[2].x - truth.cornersRaw[1].x));
+    const double refinedHeight = obs[0].median_height_px;
+    EXPECT_NEAR(refinedHeight, faceHeight, 0.03 * faceHeight) << "box height " << obs[0].box_height;
+    wf_detector_free(d);
+    wf_detector_options rough = opts;
+    rough.face_edge_refinement = -1;
+    ASSERT_EQ(wf_detector_create(&d, &rough), WF_STATUS_OK) << wf_thread_last_error();
+    ASSERT_EQ(wf_detector_detect(d, &frame, obs, 8, &count), WF_STATUS_OK) << wf_detector_last_error(d);
+    ASSERT_GE(count, 1u);
     EXPECT_EQ(obs[0].bottom_edge_slope, 0.0);
+    EXPECT_EQ(obs[0].median_height_px, obs[0].box_height);
+    EXPECT_LT(std::abs(refinedHeight - faceHeight), std::abs(obs[0].median_height_px - faceHeight));
     wf_detector_free(d);
 
     // Searching only above -0.15 rad of elevation keeps the sign (0.3 m above the camera at 2.5 m).
