@@ -25,7 +25,8 @@ enum ReplayCommand: Subcommand {
       --floor FLOOR    start floor id when the start is unknown (default: session.json's floor)
       --seed N         particle filter seed (default 1)
       --trace FILE     write one JSON line per frame: t, x, y, floorId, headingRad, confidence, localized,
-                       hypotheses, sightings, announcements, haptics; tracking and trackingPrompt when
+                       hypotheses, sightings, announcements, haptics; sightingList (kind, rangeMeters,
+                       bearingRad, score, text) on frames with sightings; tracking and trackingPrompt when
                        tracking is not normal; while not localized also advice
                        (the exploratory instruction in force) and spokenAdvice (when one is said)
     \(EvidenceSwitches.usage)

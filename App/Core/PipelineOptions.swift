@@ -44,6 +44,19 @@ public struct PipelineOptions: Sendable {
         o.maxParticles = max(o.maxParticles, 100_000)
         return o
     }()
+    /// Sightings reported farther than this are not given to the localizer, meters. The localizer predicts
+    /// signs visible up to this range plus 3 range sigmas (`signHorizonMeters`; 16.6 m for 12 m): a detector
+    /// that sees far (the U-Net finds Exit signs 20 m away) measures a sign 14 m away inside the accepted
+    /// range, and with the prediction cut at the same 12 m only poses that put some other sign nearer could
+    /// explain it. On the end-to-end study that bias locked 4 of 6 walks on a mirror pose (docs/benchmarks.md,
+    /// "End to end with the detectors").
+    public var maximumSightingRangeMeters: Double = 12
+    /// Farthest range at which the localizer predicts a sign visible: `maximumSightingRangeMeters` plus 3
+    /// range sigmas of the localizer's range noise there, meters.
+    public var signHorizonMeters: Double {
+        let r = maximumSightingRangeMeters
+        return r + 3 * (localizer.rangeSigmaBaseMeters + localizer.rangeSigmaPerMeter * r)
+    }
     /// Spread of the compass prior on the camera heading, degrees (indoor magnetic disturbance: the
     /// simulator's field has a 15-degree standard deviation, clipped at 30). Used once, at the first frame with
     /// a compass reading, when the map knows its north (`Building.compassHeadingOfMapNorthDeg`); a fifth of the

@@ -38,6 +38,9 @@ public struct TraceRecord: Codable, Sendable, Equatable {
     public var tracking: String? = nil
     /// What the phone's `TrackingPromptPolicy` says on this frame ("Slow down", ...), if anything.
     public var trackingPrompt: String? = nil
+    /// The frame's sightings as the localizer got them (kind, range, bearing, score, legend read), when any:
+    /// what a detector saw, for checking it against truth; nil on frames without sightings.
+    public var sightingList: [TraceSighting]? = nil
 
     /// Creates a trace record.
     public init(t: Double, x: Double, y: Double, floorId: String, headingRad: Double, confidence: Double, localized: Bool,
@@ -46,6 +49,20 @@ public struct TraceRecord: Codable, Sendable, Equatable {
         self.confidence = confidence; self.localized = localized; self.hypotheses = hypotheses
         self.sightings = sightings; self.announcements = announcements; self.haptics = haptics
     }
+}
+
+/// One sighting in a trace line (`TraceRecord.sightingList`).
+public struct TraceSighting: Codable, Sendable, Equatable {
+    /// Sign kind, e.g. "exit".
+    public var kind: String
+    /// Range from the camera, meters.
+    public var rangeMeters: Double
+    /// Bearing from camera forward, radians, positive to the left.
+    public var bearingRad: Double
+    /// Detector score 0...1.
+    public var score: Double
+    /// The legend read, for identifying signs.
+    public var text: String?
 }
 
 /// A sign sighting drawn as a ray from the estimated camera position, for the trainer's picture.
@@ -272,6 +289,11 @@ public enum Replay {
                                             headingRad: e.headingRad, confidence: e.confidence, localized: e.isLocalized,
                                             hypotheses: e.hypothesisCount, sightings: update.sightings.count,
                                             announcements: spoken, haptics: haptics))
+            if !update.sightings.isEmpty {
+                result.trace[result.trace.count - 1].sightingList = update.sightings.map {
+                    TraceSighting(kind: $0.kind, rangeMeters: $0.rangeMeters, bearingRad: $0.bearingRad, score: $0.score, text: $0.text)
+                }
+            }
             if let advice = update.advice { result.trace[result.trace.count - 1].advice = advice.action?.rawValue ?? "unsure" }
             if let spokenAdvice = update.spokenAdvice?.action {
                 result.trace[result.trace.count - 1].spokenAdvice = spokenAdvice.rawValue

@@ -50,7 +50,9 @@ public final class WayfinderPipeline {
         guard let firstFloor = building.floors.first else { throw PipelineError.invalidConfiguration("the map has no floors") }
         var parameters = options.localizerParameters
         if !options.useCompass { parameters["compass.enabled"] = 0 }
-        localizer = try ParticleLocalizer(building: building, options: options.localizer, parameters: parameters,
+        var localizerOptions = options.localizer
+        localizerOptions.maxSignRangeMeters = max(localizerOptions.maxSignRangeMeters, options.signHorizonMeters)
+        localizer = try ParticleLocalizer(building: building, options: localizerOptions, parameters: parameters,
                                           seed: options.seed)
         if let start = options.startPointOfInterestId {
             guard let poi = building.pointOfInterest(idOrName: start) else {
@@ -99,7 +101,7 @@ public final class WayfinderPipeline {
             switch sightingSource.sightings(for: frame, pose: pose) {
             case .success(let result):
                 if let found = result {
-                    sightings = found
+                    sightings = found.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }
                     detectorRan = true
                     lastDetectionT = frame.t
                     localizer.update(sightings: sightings, t: frame.t)

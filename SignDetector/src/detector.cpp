@@ -366,6 +366,7 @@ FrameSightings Detector::sense(const wf_frame& frame) {
     out.message = std::move(detected.message);
     if (detected.status < 0) return out;
     for (const wf_detector_observation& o : detected.observations) {
+        if (!(o.median_height_px >= options_.minRangingHeightPx)) continue;  // too small to range
         const SignKindSpec* kind = findKind(options_.catalogue, o.kind);
         wf_sign_sighting sighting;
         if (kind != nullptr && sightingFromObservation(o, *kind, frame.pitch_rad, &sighting)) {

@@ -30,6 +30,13 @@ struct ResolvedOptions {
     FaceEdgeParams faceEdges;
     /// Sign kinds and their face sizes (may be empty: then sense() fails).
     std::vector<SignKindSpec> catalogue;
+    /// sense() reports no sighting for a face measured shorter than this, unrolled pixels: below it the range
+    /// from apparent height is not worth having. Each face edge is located to about half a pixel, and blur,
+    /// bloom and the mask's or box's margin add a pixel or more whatever the size, so a 6-px face (an Exit sign
+    /// 17 m away on a 640 x 480 frame) read 10 m on the end-to-end study (-40 %), while the localizer's range
+    /// model allows about 12 % + 0.1 m. 10 px keeps that error under about 10 %: Exit signs out to 11 m on a
+    /// VGA frame, 33 m on a 1920 x 1440 one (docs/sign-detection.md, "Smallest face ranged").
+    double minRangingHeightPx = 10;
 
     /// Copies `opts` (borrowed strings are copied) and applies defaults. Returns WF_STATUS_OK or an error code with
     /// `error` set.
