@@ -118,19 +118,18 @@ final class SignCatalogueTests: XCTestCase {
             b.floors[1].signs[0].text = "402"
             b.floors[1].signs.append(twin)
         }, path: "$.floors[1].signs[1].text", reason: "is also on $.floors[1].signs[0]")
-        try assertRejects(damage: { b in
-            b.floors[1].signs[0].widthMeters = 0.3
-            b.floors[1].signs[0].heightMeters = 0.21
-            var bad = placard
-            bad.maxRangeMeters = 0
-            b.signKinds = [.defaultExit, bad]
-        }, path: "$.signKinds[1].maxRangeMeters", reason: "recognition range (meters)")
-        try assertRejects(damage: { b in
-            b.floors[1].signs[0].widthMeters = 0.3
-            b.floors[1].signs[0].heightMeters = 0.21
-            var bad = placard
-            bad.maxViewAngleDeg = 120
-            b.signKinds = [.defaultExit, bad]
-        }, path: "$.signKinds[1].maxViewAngleDeg", reason: "recognition view angle (degrees)")
+        func withPlacardKind(_ change: @escaping (inout SignKindSpec) -> Void) -> (inout Building) -> Void {
+            { b in
+                b.floors[1].signs[0].widthMeters = 0.3
+                b.floors[1].signs[0].heightMeters = 0.21
+                var bad = placard
+                change(&bad)
+                b.signKinds = [.defaultExit, bad]
+            }
+        }
+        try assertRejects(damage: withPlacardKind { $0.maxRangeMeters = 0 }, path: "$.signKinds[1].maxRangeMeters",
+                          reason: "recognition range (meters)")
+        try assertRejects(damage: withPlacardKind { $0.maxViewAngleDeg = 120 }, path: "$.signKinds[1].maxViewAngleDeg",
+                          reason: "recognition view angle (degrees)")
     }
 }
