@@ -224,10 +224,18 @@ def dense_shutter_map(phone: PhoneCamera, R_render: np.ndarray, intr: dict, tau_
     nw, nh = int(math.ceil((W - 1) / step)) + 1, int(math.ceil((H - 1) / step)) + 1
     gu, gv = np.meshgrid(np.linspace(0, W - 1, nw), np.linspace(0, H - 1, nh))
     mu, mv = shutter_map(phone, R_render, intr, tau_s, (gu, gv))
-    iu = (np.arange(W, dtype=np.float32) * np.float32((nw - 1) / max(W - 1, 1)))[None, :].repeat(H, 0)
-    iv = (np.arange(H, dtype=np.float32) * np.float32((nh - 1) / max(H - 1, 1)))[:, None].repeat(W, 1)
-    fu = cv2.remap(mu, iu, iv, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
-    fv = cv2.remap(mv, iu, iv, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+    # separable bilinear interpolation (cv2.remap would quantize the positions to 1/32 pixel)
+    x = np.arange(W, dtype=np.float64) * ((nw - 1) / max(W - 1, 1))
+    y = np.arange(H, dtype=np.float64) * ((nh - 1) / max(H - 1, 1))
+    i0 = np.minimum(np.floor(x).astype(np.int64), nw - 2) if nw > 1 else np.zeros(W, np.int64)
+    j0 = np.minimum(np.floor(y).astype(np.int64), nh - 2) if nh > 1 else np.zeros(H, np.int64)
+    ax, ay = (x - i0)[None, :].astype(np.float32), (y - j0)[:, None].astype(np.float32)
+
+    def interp(m):
+        rows = m[:, i0] * (1 - ax) + m[:, np.minimum(i0 + 1, nw - 1)] * ax  # (nh, W)
+        return rows[j0] * (1 - ay) + rows[np.minimum(j0 + 1, nh - 1)] * ay
+
+    fu, fv = interp(mu), interp(mv)
     return fu, fv
 
 
