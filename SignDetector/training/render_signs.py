@@ -1218,8 +1218,8 @@ def main(argv=None) -> int:
     ap.add_argument("--split", choices=["train", "val", "test", "test_phone"], default="test",
                     help="test: the fixed classic test set; test_phone: the harder phone-style held-out set")
     ap.add_argument("--seed", type=int, default=1234)
-    ap.add_argument("--n-per-distance", type=int, default=40, help="test split: frames per distance 2..9 m")
-    ap.add_argument("--n-empty", type=int, default=200, help="sign-free frames")
+    ap.add_argument("--n-per-distance", type=int, default=None, help="test splits: frames per distance 2..9 m (test 40, test_phone 15)")
+    ap.add_argument("--n-empty", type=int, default=None, help="sign-free frames (default 200; test_phone 60)")
     ap.add_argument("--n", type=int, default=500, help="train/val split: frames with a sign")
     ap.add_argument("--resolution", choices=["raw", "vga", "portrait360", "mixed"], default=None,
                     help="raw 1920x1440, VGA 640x480, portrait360 360x640 upright, mixed (raw/vga alternating); "
@@ -1230,6 +1230,10 @@ def main(argv=None) -> int:
     if a.split == "test" and a.seed != 1234:
         print("warning: the fixed test set is --split test --seed 1234", file=sys.stderr)
     res = a.resolution or ("mixed" if a.split == "test_phone" else "raw")
+    if a.n_per_distance is None:
+        a.n_per_distance = 15 if a.split == "test_phone" else 40
+    if a.n_empty is None:
+        a.n_empty = 60 if a.split == "test_phone" else 200
     n = render_dataset(a.out, a.split, a.seed, a.n_per_distance, a.n_empty, a.n, res, jpeg=not a.png, style=a.style)
     print("wrote %d frames to %s" % (n, a.out))
     return 0
