@@ -255,6 +255,56 @@ def random_crops(x: torch.Tensor, y: torch.Tensor, size: int, g: torch.Generator
     return torch.stack(xs), torch.stack(ys)
 
 
+def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
+    """Warm start: copy the weights of an exported model (export_unet.py: BatchNorm folded into the
+    convolutions) into `model`. ONNX Conv / ConvTranspose nodes are matched in graph order with the
+    model's Conv2d / ConvTranspose2d modules in forward-call order (shapes checked); each folded
+    convolution's bias goes into the BatchNorm after it, which becomes the identity (mean 0, variance
+    1 - eps, scale 1) and must stay frozen (freeze_bn). Returns the number of layers copied."""
+    import onnx
+    from onnx import numpy_helper
+    m = onnx.load(onnx_path)
+    inits = {i.name: numpy_helper.to_array(i) for i in m.graph.initializer}
+    nodes = [n for n in m.graph.node if n.op_type in ("Conv", "ConvTranspose")]
+    order = []
+    hooks = [mod.register_forward_hook(lambda mod, i, o: order.append(mod)) for mod in model.modules()
+             if isinstance(mod, (nn.Conv2d, nn.ConvTranspose2d))]
+    was = model.training
+    model.eval()
+    with torch.no_grad():
+        model(torch.zeros(1, 3, 224, 224))
+    model.train(was)
+    for h in hooks:
+        h.remove()
+    if len(order) != len(nodes):
+        raise ValueError("init_from_onnx: %s has %d convolutions, the model %d" % (onnx_path, len(nodes), len(order)))
+    mods = list(model.modules())
+    bn_after = {id(mods[i]): mods[i + 1] for i in range(len(mods) - 1) if isinstance(mods[i + 1], nn.BatchNorm2d)}
+    with torch.no_grad():
+        for mod, node in zip(order, nodes):
+            w = torch.from_numpy(inits[node.input[1]].copy())
+            b = torch.from_numpy(inits[node.input[2]].copy()) if len(node.input) > 2 else None
+            if tuple(w.shape) != tuple(mod.weight.shape):
+                raise ValueError("init_from_onnx: %s weight %s, model %s" % (node.name, tuple(w.shape), tuple(mod.weight.shape)))
+            mod.weight.copy_(w)
+            bn = bn_after.get(id(mod))
+            if bn is not None:
+                bn.weight.fill_(1.0)
+                bn.bias.copy_(b if b is not None else torch.zeros_like(bn.bias))
+                bn.running_mean.zero_()
+                bn.running_var.fill_(1.0 - bn.eps)
+            elif mod.bias is not None and b is not None:
+                mod.bias.copy_(b)
+    return len(order)
+
+
+def freeze_bn(model: nn.Module) -> None:
+    """Keep every BatchNorm in inference mode (running statistics fixed) while the rest trains."""
+    for mod in model.modules():
+        if isinstance(mod, nn.BatchNorm2d):
+            mod.eval()
+
+
 def loss_fn(logits, y):
     """Cross-entropy + (1 - soft Dice of the exit class over the batch)."""
     ce = F.cross_entropy(logits, y)
@@ -309,7 +359,8 @@ def main(argv=None) -> int:
                          "minus --export-reserve minutes")
     ap.add_argument("--export-reserve", type=float, default=3.0)
     ap.add_argument("--export", default=None, help="after training, export ONNX + Core ML into this directory (export_unet.py)")
-    ap.add_argument("--recipe", choices=["ci60"], default=None,
+    ap.add_argument("--init-onnx", default=None, help="warm start from an exported model (init_from_onnx); BatchNorm frozen")
+    ap.add_argument("--recipe", choices=["ci60", "ft30"], default=None,
                     help="ci60: the documented 60-minute CPU recipe (render 3600 samples, half phone style, heavy "
                          "augmentation, train from scratch, export to OUT/export)")
     a = ap.parse_args(argv)
@@ -318,6 +369,15 @@ def main(argv=None) -> int:
         a.phone_frac, a.heavy_aug, a.workers, a.threads = 0.5, True, 2, 2
         if a.budget_minutes is None:
             a.budget_minutes = 60.0
+        if a.export is None:
+            a.export = os.path.join(a.out, "export")
+    if a.recipe == "ft30":  # fine-tune the committed model on the ci60 samples (same seed, same cache)
+        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3600, 240, 16, 128, 5e-4, 20
+        a.phone_frac, a.heavy_aug, a.workers, a.threads = 0.5, True, 2, 2
+        if a.init_onnx is None:
+            a.init_onnx = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "sign_unet.onnx")
+        if a.budget_minutes is None:
+            a.budget_minutes = 30.0
         if a.export is None:
             a.export = os.path.join(a.out, "export")
     torch.manual_seed(a.seed)
@@ -340,6 +400,8 @@ def main(argv=None) -> int:
     if a.resume:
         model.load_state_dict(torch.load(a.resume, map_location="cpu")["state_dict"])
         log("resumed weights from %s" % a.resume)
+    if a.init_onnx:
+        log("initialised %d layers from %s (BatchNorm frozen)" % (init_from_onnx(model, a.init_onnx), a.init_onnx))
     nparam = sum(p.numel() for p in model.parameters())
     log("model: %d parameters" % nparam)
     opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
@@ -378,6 +440,8 @@ def main(argv=None) -> int:
             x, y = augment(x, y, g)
             if a.heavy_aug:
                 x = heavy_augment(x, g)
+            if a.init_onnx:
+                freeze_bn(model)
             loss, ce, dice = loss_fn(model(x), y)
             opt.zero_grad()
             loss.backward()
