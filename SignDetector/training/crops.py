@@ -108,19 +108,42 @@ def letterbox(img: np.ndarray, size: int = 224, interp=cv2.INTER_AREA) -> Tuple[
     return out, (s, px, py)
 
 
-def coarse_sample(rng: np.random.Generator, with_sign: bool, size: int = 224) -> Tuple[np.ndarray, np.ndarray]:
-    """Whole unrolled frame letterboxed to size x size (image RGB uint8, mask uint8)."""
-    intr_raw = rs.RAW_INTRINSICS
+def phone_sensor(rng: np.random.Generator) -> dict:
+    """Sensor of a phone-style sample: 1920 x 1440 (50 %) or 640 x 480 at fx 534 px, the pixel
+    density of the 360 x 640 real test photos (50 %)."""
+    return rs.RAW_INTRINSICS.copy() if rng.random() < 0.5 else rs.scaled_intrinsics(640, 480)
+
+
+def _scene(rng: np.random.Generator, with_sign: bool, phone: bool):
+    """(T, signs, sensor intrinsics, PhoneCamera or None) of one sample's source frame."""
+    import phone_camera as pc
+    if not phone:
+        intr_raw = rs.RAW_INTRINSICS
+        if with_sign:
+            T, signs, _ = rs.sample_scene(rng, intr_raw)
+        else:
+            T, _ = rs.sample_empty(rng)
+            signs = []
+        return T, signs, intr_raw, None
+    intr_raw = phone_sensor(rng)
     if with_sign:
-        T, signs, _ = rs.sample_scene(rng, intr_raw)
+        T, signs, _ = rs.sample_scene(rng, intr_raw, phone=True)
     else:
-        T, _ = rs.sample_empty(rng)
+        T, _ = rs.sample_empty(rng, phone=True)
         signs = []
+    return T, signs, intr_raw, pc.sample_phone_camera(rng, T[:3, :3], intr_raw)
+
+
+def coarse_sample(rng: np.random.Generator, with_sign: bool, size: int = 224, phone: bool = False) -> Tuple[np.ndarray, np.ndarray]:
+    """Whole unrolled frame letterboxed to size x size (image RGB uint8, mask uint8).
+    phone: phone-style source frame (render_signs phone style, sensor from phone_sensor)."""
+    T, signs, intr_raw, ph = _scene(rng, with_sign, phone)
+    kw = dict(phone=ph) if ph is not None else {}
     intr_u = unrolled_intrinsics(intr_raw, T)
     s, nw, nh, px, py = letterbox_params(intr_u["width"], intr_u["height"], size)
     # render the letterboxed area at 2x then area-downsample (as a resize of the full frame would)
     img, mask, _ = render_view(rng, T, signs, intr_u, 0, 0, intr_u["width"], intr_u["height"], 2 * nw, 2 * nh,
-                               residual_roll=math.radians(rng.normal(0, 2)))
+                               residual_roll=math.radians(rng.normal(0, 2)), **kw)
     img = cv2.resize(img, (nw, nh), interpolation=cv2.INTER_AREA)
     mask = cv2.resize(mask, (nw, nh), interpolation=cv2.INTER_NEAREST)
     out = np.zeros((size, size, 3), np.uint8)
@@ -130,11 +153,12 @@ def coarse_sample(rng: np.random.Generator, with_sign: bool, size: int = 224) ->
     return out, outm
 
 
-def zoom_sample(rng: np.random.Generator, positive: bool, size: int = 224) -> Tuple[np.ndarray, np.ndarray]:
+def zoom_sample(rng: np.random.Generator, positive: bool, size: int = 224, phone: bool = False) -> Tuple[np.ndarray, np.ndarray]:
     """Square crop of the unrolled frame centred (with jitter) on a sign (positive) or on a
-    distractor / random spot (negative), side 2.5..5 x the object's width, resized to size."""
-    intr_raw = rs.RAW_INTRINSICS
-    T, signs, _ = rs.sample_scene(rng, intr_raw)
+    distractor / random spot (negative), side 2.5..5 x the object's width, resized to size.
+    phone: phone-style source frame."""
+    T, signs, intr_raw, ph = _scene(rng, True, phone)
+    kw = dict(phone=ph) if ph is not None else {}
     intr_u = unrolled_intrinsics(intr_raw, T)
     Tv = _virtual(T, 0.0)
     uv, w, h = sign_box_unrolled(Tv, intr_u, signs[0], T)
@@ -148,7 +172,7 @@ def zoom_sample(rng: np.random.Generator, positive: bool, size: int = 224) -> Tu
     side = k * max(w, 1.5 * h)
     c = uv.mean(axis=0) + rng.normal(0, 0.12, 2) * side
     img, mask, _ = render_view(rng, T, signs, intr_u, c[0] - side / 2, c[1] - side / 2, side, side, size, size,
-                               residual_roll=math.radians(rng.normal(0, 2)))
+                               residual_roll=math.radians(rng.normal(0, 2)), **kw)
     return img, mask
 
 

@@ -148,6 +148,9 @@ class Texture:
     alpha: np.ndarray
     emissive: float
     mask_class: int
+    #: phone style: self-emitted radiance (H,W,3), added on top of the shaded reflectance `rgb` and
+    #: not scaled by the scene's illuminance (LED letters, backlit panels, light fittings); None: none.
+    emission: Optional[np.ndarray] = None
 
 
 def _text_block(text: str, color, canvas_wh: Tuple[int, int], bg, thickness_frac=0.16, font=cv2.FONT_HERSHEY_SIMPLEX) -> np.ndarray:
@@ -167,9 +170,15 @@ def _text_block(text: str, color, canvas_wh: Tuple[int, int], bg, thickness_frac
     return cv2.resize(tmp, (W, H), interpolation=cv2.INTER_AREA)
 
 
-def make_us_exit_texture(rng: np.random.Generator, width_m: float, height_m: float, style: Optional[dict] = None) -> Tuple[Texture, dict]:
+def make_us_exit_texture(rng: np.random.Generator, width_m: float, height_m: float, style: Optional[dict] = None,
+                         phone: bool = False) -> Tuple[Texture, dict]:
     """US Exit sign face: 6 in (0.152 m) letters "EXIT", red or green, white or dark plate, optional
-    chevrons, lit or unlit. Returns the texture and the style chosen."""
+    chevrons, lit or unlit. Returns the texture and the style chosen.
+
+    phone: a lit face is an LED sign: the letters (behind a diffuser stencil) emit `led_radiance`
+    (3-10 x a white wall's radiance under the default corridor light, a luminance ratio of real LED
+    exit signs to lit corridor walls) with the spotty profile of the LEDs behind them, and reflect
+    the room light like the rest of the face."""
     st = dict(letter=rng.choice(["red", "red", "red", "green"]),
               plate=rng.choice(["white", "white", "dark", "aluminium"]),
               chevron=rng.choice(["none", "none", "left", "right", "both"]),
@@ -214,6 +223,8 @@ def make_us_exit_texture(rng: np.random.Generator, width_m: float, height_m: flo
         cv2.rectangle(img, (b, b), (W - 1 - b, H - 1 - b), col, b)
     rgb = img.astype(np.float32) / 255.0
     emissive = 0.0
+    if phone:
+        return _led_face(rng, rgb, img, plate, st), st
     if st["lit"]:
         # letters (and a white plate) emit light: brighter than the shaded scene, may saturate.
         gain = rng.uniform(1.1, 1.8)
@@ -224,8 +235,26 @@ def make_us_exit_texture(rng: np.random.Generator, width_m: float, height_m: flo
     return tex, st
 
 
-def make_iso_exit_texture(rng: np.random.Generator, width_m: float, height_m: float) -> Tuple[Texture, dict]:
-    """ISO 7010 E001-like green 'running man' emergency exit sign (approximated procedurally)."""
+def _led_face(rng: np.random.Generator, rgb: np.ndarray, img: np.ndarray, plate, st: dict) -> Texture:
+    """Phone style: LED-lit US face (see make_us_exit_texture); unlit faces only reflect."""
+    emission = None
+    if st["lit"]:
+        letters = (np.abs(img.astype(int) - np.array(plate)).sum(axis=2) > 60).astype(np.float32)
+        H, W = letters.shape
+        pitch = max(4, int(0.012 * TEX_PPM))  # LEDs about 12 mm apart behind the stencil
+        yy, xx = np.mgrid[0:H, 0:W]
+        ph = rng.uniform(0, pitch, 2)
+        spots = np.cos(np.pi * ((xx + ph[0]) % pitch - pitch / 2) / pitch) * np.cos(np.pi * ((yy + ph[1]) % pitch - pitch / 2) / pitch)
+        profile = (1.0 - rng.uniform(0.0, 0.35)) + rng.uniform(0.0, 0.35) * spots.astype(np.float32)
+        radiance = rng.uniform(3.0, 10.0)
+        emission = (rgb * letters[..., None] * (radiance * profile)[..., None]).astype(np.float32)
+        st["led_radiance"] = float(radiance)
+    return Texture(rgb=rgb, alpha=np.ones(rgb.shape[:2], np.float32), emissive=0.0, mask_class=1, emission=emission)
+
+
+def make_iso_exit_texture(rng: np.random.Generator, width_m: float, height_m: float, phone: bool = False) -> Tuple[Texture, dict]:
+    """ISO 7010 E001-like green 'running man' emergency exit sign (approximated procedurally).
+    phone: a lit face is a backlit panel emitting 1.2-2.5 x a white wall's radiance over the whole face."""
     W, H = int(round(width_m * TEX_PPM)), int(round(height_m * TEX_PPM))
     green = (int(rng.uniform(0, 30)), int(rng.uniform(120, 170)), int(rng.uniform(60, 100)))
     white = (245, 245, 240)
@@ -254,6 +283,9 @@ def make_iso_exit_texture(rng: np.random.Generator, width_m: float, height_m: fl
         img = img[:, ::-1].copy()
     lit = bool(rng.random() < 0.5)
     rgb = img.astype(np.float32) / 255.0
+    if phone:
+        em = (rgb * rng.uniform(1.2, 2.5)).astype(np.float32) if lit else None
+        return Texture(rgb=rgb, alpha=np.ones((H, W), np.float32), emissive=0.0, mask_class=1, emission=em), dict(kind="iso", lit=lit)
     if lit:
         rgb = rgb * rng.uniform(1.1, 1.5)
     return Texture(rgb=rgb, alpha=np.ones((H, W), np.float32), emissive=1.0 if lit else 0.0, mask_class=1), dict(kind="iso", lit=lit)
@@ -389,8 +421,14 @@ def _value_noise(rng: np.random.Generator, n: int = 64) -> np.ndarray:
     return (z - z.mean()) / (z.std() + 1e-6)
 
 
-def render_corridor(rng: np.random.Generator, cor: Corridor, R: np.ndarray, t: np.ndarray, intr: dict, downsample: int = 1) -> np.ndarray:
-    """Ray-cast the corridor for every pixel; returns linear RGB float32 (H, W, 3)."""
+def render_corridor(rng: np.random.Generator, cor: Corridor, R: np.ndarray, t: np.ndarray, intr: dict, downsample: int = 1,
+                    gloss: float = 0.0, return_floor: bool = False):
+    """Ray-cast the corridor for every pixel; returns linear RGB float32 (H, W, 3).
+
+    gloss (phone style): floor reflectance; floor pixels add `gloss` x the colour of the mirrored ray
+    (a second ray cast from the floor hit: reflections of the ceiling lights, walls and doors).
+    return_floor: also return the (H, W) float32 map of floor coverage (for reflections of signs).
+    """
     W, H = intr["width"], intr["height"]
     w, h = (W + downsample - 1) // downsample, (H + downsample - 1) // downsample
     us = (np.arange(w, dtype=np.float32) + 0.5) * downsample - 0.5
@@ -401,17 +439,6 @@ def render_corridor(rng: np.random.Generator, cor: Corridor, R: np.ndarray, t: n
     Rf = R.astype(np.float32)
     d = [Rf[i, 0] * x + Rf[i, 1] * y - Rf[i, 2] for i in range(3)]  # world ray components
     o = t.astype(np.float32)
-    big = np.float32(1e9)
-    tt = np.full((h, w), big, np.float32)
-    sid = np.zeros((h, w), np.int8)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        for s, (axis, plane) in enumerate([(1, 0.0), (1, cor.ceiling_m), (0, cor.x_left), (0, cor.x_right), (2, cor.z_end), (2, cor.z_back)]):
-            ti = (plane - o[axis]) / d[axis]
-            ok = (ti > 1e-4) & (ti < tt)
-            tt = np.where(ok, ti, tt)
-            sid = np.where(ok, s, sid).astype(np.int8)
-    tt = np.minimum(tt, 200.0)
-    P = [o[i] + tt * d[i] for i in range(3)]
     noise = _value_noise(rng)
     n = noise.shape[0]
 
@@ -420,49 +447,77 @@ def render_corridor(rng: np.random.Generator, cor: Corridor, R: np.ndarray, t: n
         ib = (np.floor(b * scale).astype(np.int64)) % n
         return noise[ia, ib]
 
-    img = np.zeros((h, w, 3), np.float32)
-    # floor: tiles + noise
-    m = sid == 0
-    if m.any():
-        a, b = P[0][m], P[2][m]
-        checker = ((np.floor(a / cor.tile_m) + np.floor(b / cor.tile_m)) % 2) * 2 - 1
-        grout = ((np.abs((a / cor.tile_m) - np.round(a / cor.tile_m)) < 0.02) | (np.abs((b / cor.tile_m) - np.round(b / cor.tile_m)) < 0.02))
-        shade = 1.0 + cor.tile_contrast * checker + 0.06 * tex(a, b, 20.0) - 0.15 * grout
-        img[m] = cor.floor_rgb[None, :] * shade[:, None]
-    # ceiling: tiles and light panels
-    m = sid == 1
-    if m.any():
-        a, b = P[0][m], P[2][m]
-        grid = ((np.abs(a / 0.6 - np.round(a / 0.6)) < 0.02) | (np.abs(b / 0.6 - np.round(b / 0.6)) < 0.02))
-        zc = (b - cor.light_phase_m) % cor.light_spacing_m
-        xm = 0.5 * (cor.x_left + cor.x_right)
-        light = (zc < 0.6) & (np.abs(a - xm) < 0.6)
-        shade = (1.0 - 0.2 * grid + 0.03 * tex(a, b, 10.0))[:, None] * cor.ceil_rgb[None, :]
-        shade[light] = cor.light_gain
-        img[m] = shade
-    # side walls with doors and baseboard
-    for s in (2, 3):
-        m = sid == s
-        if not m.any():
-            continue
-        yy, zz = P[1][m], P[2][m]
-        zd = (zz - cor.door_phase_m - (0.37 * cor.door_spacing_m if s == 3 else 0.0)) % cor.door_spacing_m
-        door = (zd < 0.9) & (yy < 2.1)
-        frame = ((zd < 0.97) & (yy < 2.17)) & ~door
-        shade = (1.0 + 0.03 * tex(yy, zz, 15.0))[:, None] * cor.wall_rgb[None, :]
-        shade[door] = cor.door_rgb * (1.0 + 0.05 * tex(yy[door], zz[door], 30.0))[:, None]
-        shade[frame] = cor.wall_rgb * 0.6
-        shade[yy < 0.1] *= 0.4
-        img[m] = shade * (0.85 if s == 2 else 0.95)
-    for s in (4, 5):
-        m = sid == s
+    def cast(o, d):
+        """Shade rays from origins o (3 scalars or 3 arrays) along d (3 arrays): (rgb, distance, surface id)."""
+        big = np.float32(1e9)
+        tt = np.full((h, w), big, np.float32)
+        sid = np.zeros((h, w), np.int8)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            for s, (axis, plane) in enumerate([(1, 0.0), (1, cor.ceiling_m), (0, cor.x_left), (0, cor.x_right), (2, cor.z_end), (2, cor.z_back)]):
+                ti = (plane - o[axis]) / d[axis]
+                ok = (ti > 1e-4) & (ti < tt)
+                tt = np.where(ok, ti, tt)
+                sid = np.where(ok, s, sid).astype(np.int8)
+        tt = np.minimum(tt, 200.0)
+        P = [o[i] + tt * d[i] for i in range(3)]
+        img = np.zeros((h, w, 3), np.float32)
+        # floor: tiles + noise
+        m = sid == 0
         if m.any():
-            img[m] = cor.end_rgb[None, :] * (1.0 + 0.03 * tex(P[0][m], P[1][m], 15.0))[:, None] * 0.9
+            a, b = P[0][m], P[2][m]
+            checker = ((np.floor(a / cor.tile_m) + np.floor(b / cor.tile_m)) % 2) * 2 - 1
+            grout = ((np.abs((a / cor.tile_m) - np.round(a / cor.tile_m)) < 0.02) | (np.abs((b / cor.tile_m) - np.round(b / cor.tile_m)) < 0.02))
+            shade = 1.0 + cor.tile_contrast * checker + 0.06 * tex(a, b, 20.0) - 0.15 * grout
+            img[m] = cor.floor_rgb[None, :] * shade[:, None]
+        # ceiling: tiles and light panels
+        m = sid == 1
+        if m.any():
+            a, b = P[0][m], P[2][m]
+            grid = ((np.abs(a / 0.6 - np.round(a / 0.6)) < 0.02) | (np.abs(b / 0.6 - np.round(b / 0.6)) < 0.02))
+            zc = (b - cor.light_phase_m) % cor.light_spacing_m
+            xm = 0.5 * (cor.x_left + cor.x_right)
+            light = (zc < 0.6) & (np.abs(a - xm) < 0.6)
+            shade = (1.0 - 0.2 * grid + 0.03 * tex(a, b, 10.0))[:, None] * cor.ceil_rgb[None, :]
+            shade[light] = cor.light_gain
+            img[m] = shade
+        # side walls with doors and baseboard
+        for s in (2, 3):
+            m = sid == s
+            if not m.any():
+                continue
+            yy, zz = P[1][m], P[2][m]
+            zd = (zz - cor.door_phase_m - (0.37 * cor.door_spacing_m if s == 3 else 0.0)) % cor.door_spacing_m
+            door = (zd < 0.9) & (yy < 2.1)
+            frame = ((zd < 0.97) & (yy < 2.17)) & ~door
+            shade = (1.0 + 0.03 * tex(yy, zz, 15.0))[:, None] * cor.wall_rgb[None, :]
+            shade[door] = cor.door_rgb * (1.0 + 0.05 * tex(yy[door], zz[door], 30.0))[:, None]
+            shade[frame] = cor.wall_rgb * 0.6
+            shade[yy < 0.1] *= 0.4
+            img[m] = shade * (0.85 if s == 2 else 0.95)
+        for s in (4, 5):
+            m = sid == s
+            if m.any():
+                img[m] = cor.end_rgb[None, :] * (1.0 + 0.03 * tex(P[0][m], P[1][m], 15.0))[:, None] * 0.9
+        return img, tt, sid, P
+
+    img, tt, sid, P = cast(o, d)
+    if gloss > 0:
+        # mirror ray from the floor hit: (dx, -dy, dz); only floor pixels use it
+        o2 = [P[0], np.full_like(P[1], 1e-3), P[2]]
+        img2, tt2, _, _ = cast(o2, [d[0], -d[1], d[2]])
+        light2 = 0.45 + 0.55 * np.exp(-(tt + tt2) / cor.falloff_m)
+        floor = (sid == 0)[..., None]
+        img = img + np.where(floor, gloss * img2 * light2[..., None] / (0.45 + 0.55 * np.exp(-tt / cor.falloff_m))[..., None], 0)
     # lighting falloff with distance and a mild vertical gradient
     light = 0.45 + 0.55 * np.exp(-tt / cor.falloff_m)
     img *= light[..., None]
     if downsample > 1:
         img = cv2.resize(img, (W, H), interpolation=cv2.INTER_LINEAR)
+    if return_floor:
+        fl = (sid == 0).astype(np.float32)
+        if downsample > 1:
+            fl = cv2.resize(fl, (W, H), interpolation=cv2.INTER_LINEAR)
+        return img, fl
     return img
 
 
@@ -516,10 +571,11 @@ def quad_corners_world(center: np.ndarray, normal: np.ndarray, width_m: float, h
 
 
 def paste_quad(img: np.ndarray, mask: Optional[np.ndarray], emissive_layer: np.ndarray, tex: Texture,
-               corners_uv: np.ndarray, light: float) -> bool:
+               corners_uv: np.ndarray, light: float, emission_scale: float = 1.0) -> bool:
     """Warp `tex` onto `img` at the projected corners (TL,TR,BR,BL). Updates `mask` with the
     texture's class where the quad covers more than half a pixel; adds emissive light to
-    `emissive_layer` for the bloom. Returns False if the quad is off-image."""
+    `emissive_layer` for the bloom. `tex.emission` (phone style) is added x `emission_scale`,
+    unshaded. Returns False if the quad is off-image."""
     H, W = img.shape[:2]
     x0, y0 = np.floor(corners_uv.min(axis=0)).astype(int) - 2
     x1, y1 = np.ceil(corners_uv.max(axis=0)).astype(int) + 2
@@ -531,11 +587,13 @@ def paste_quad(img: np.ndarray, mask: Optional[np.ndarray], emissive_layer: np.n
     proj_w = max(np.linalg.norm(corners_uv[1] - corners_uv[0]), np.linalg.norm(corners_uv[2] - corners_uv[3]), 1.0)
     proj_h = max(np.linalg.norm(corners_uv[3] - corners_uv[0]), np.linalg.norm(corners_uv[2] - corners_uv[1]), 1.0)
     sw, sh = min(1.0, 2.0 * proj_w / tw), min(1.0, 2.0 * proj_h / th)
-    rgb, alpha = tex.rgb, tex.alpha
+    rgb, alpha, em = tex.rgb, tex.alpha, tex.emission
     if sw < 1.0 or sh < 1.0:
         nw, nh = max(2, int(round(tw * sw))), max(2, int(round(th * sh)))
         rgb = cv2.resize(rgb, (nw, nh), interpolation=cv2.INTER_AREA)
         alpha = cv2.resize(alpha, (nw, nh), interpolation=cv2.INTER_AREA)
+        if em is not None:
+            em = cv2.resize(em, (nw, nh), interpolation=cv2.INTER_AREA)
         th, tw = nh, nw
     src = np.array([[0, 0], [tw, 0], [tw, th], [0, th]], np.float32)
     dst = (corners_uv - np.array([x0, y0])).astype(np.float32)
@@ -555,6 +613,12 @@ def paste_quad(img: np.ndarray, mask: Optional[np.ndarray], emissive_layer: np.n
     roi[:] = roi * (1 - wa[..., None]) + shaded * wa[..., None]
     if tex.emissive > 0:
         emissive_layer[y0:y1, x0:x1] += wr * wa[..., None]
+    if em is not None:
+        we = cv2.warpPerspective(cv2.copyMakeBorder(em, 1, 1, 1, 1, cv2.BORDER_REPLICATE), Hp, size, flags=cv2.INTER_LINEAR,
+                                 borderMode=cv2.BORDER_REPLICATE) * wa[..., None] * emission_scale
+        roi += we
+        if emissive_layer is not None:
+            emissive_layer[y0:y1, x0:x1] += we
     if mask is not None:
         mroi = mask[y0:y1, x0:x1]
         if tex.mask_class > 0:
@@ -570,7 +634,8 @@ def paste_quad(img: np.ndarray, mask: Optional[np.ndarray], emissive_layer: np.n
 
 def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec], rng: np.random.Generator,
                  n_distractors: Optional[int] = None, occlusion_prob: float = 0.15, degrade: bool = True,
-                 background: Optional[str] = None, degrade_scale: Optional[float] = None) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
+                 background: Optional[str] = None, degrade_scale: Optional[float] = None,
+                 phone=None) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
     """Render one frame.
 
     camera_to_world: 4x4 (rotation R, translation t; world y up, floor at y = 0).
@@ -581,8 +646,13 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
       (default: width / 1920), for crops rendered directly at a zoomed virtual camera.
     Returns (image uint8 RGB (H,W,3), mask uint8 (H,W) class index, sign labels as in labels.jsonl
     (cornersRaw, rangeMeters, bearingRad, heightMeters, widthMeters, kind, style)).
+    phone: a phone_camera.PhoneCamera: render in the phone style instead (LED faces, auto exposure,
+      rolling shutter, walking blur, glare, glossy floor, clutter; `degrade` and `degrade_scale` are
+      then unused and cornersRaw are where the corners appear in the rolling-shutter image).
     """
     T = np.asarray(camera_to_world, np.float64)
+    if phone is not None:
+        return _render_frame_phone(T, intr, signs_cam, rng, n_distractors, occlusion_prob, background, phone)
     R, t = T[:3, :3], T[:3, 3]
     W, H = intr["width"], intr["height"]
     signs_world = []
@@ -738,11 +808,222 @@ def degrade_image(img: np.ndarray, rng: np.random.Generator, scale: Optional[flo
 
 
 # --------------------------------------------------------------------------------------------------
+# Phone style (phone_camera.py): LED faces, auto exposure, rolling shutter, walking blur, glare,
+# glossy floors, detector-fooling clutter
+# --------------------------------------------------------------------------------------------------
+
+def make_fiducial_texture(rng: np.random.Generator) -> Tuple[Texture, float, float]:
+    """ArUco / AprilTag-like marker: black border around an n x n grid (n = 4..6) of random black and
+    white cells, inside a white quiet zone one cell wide; 0.1-0.3 m square."""
+    n = int(rng.integers(4, 7))
+    cells = n + 4  # quiet zone + border on each side
+    px = 12
+    side = rng.uniform(0.1, 0.3)
+    img = np.full((cells * px, cells * px, 3), 245, np.uint8)
+    img[px:-px, px:-px] = 15
+    bits = rng.random((n, n)) < 0.5
+    for i in range(n):
+        for j in range(n):
+            if bits[i, j]:
+                img[(i + 2) * px:(i + 3) * px, (j + 2) * px:(j + 3) * px] = 245
+    return Texture(rgb=img.astype(np.float32) / 255.0, alpha=np.ones(img.shape[:2], np.float32), emissive=0.0, mask_class=0), side, side
+
+
+def make_poster_texture(rng: np.random.Generator) -> Tuple[Texture, float, float]:
+    """A printed poster or notice: photo-like colour field, a headline in a saturated colour (often
+    red or green words that are not EXIT), text lines; 0.3-0.9 m wide."""
+    w, h = rng.uniform(0.3, 0.9), rng.uniform(0.4, 1.1)
+    W, H = int(w * 400), int(h * 400)
+    c0, c1 = rng.uniform(0, 1, 3), rng.uniform(0, 1, 3)
+    g = np.linspace(0, 1, H, dtype=np.float32)[:, None, None]
+    img = ((c0 * (1 - g) + c1 * g) * np.ones((1, W, 1), np.float32) * 255).astype(np.uint8)
+    for _ in range(int(rng.integers(2, 7))):
+        cv2.circle(img, (int(rng.integers(0, W)), int(rng.integers(0, H))), int(rng.integers(5, max(6, W // 3))),
+                   tuple(int(c) for c in rng.integers(0, 255, 3)), -1, cv2.LINE_AA)
+    words = DISTRACTOR_WORDS_RED + DISTRACTOR_WORDS_GREEN + ["EXHIBIT", "NEXT", "EXPO", "SALE"]
+    col = (int(rng.uniform(170, 235)), int(rng.uniform(0, 50)), int(rng.uniform(0, 50))) if rng.random() < 0.6 else \
+        (int(rng.uniform(0, 40)), int(rng.uniform(130, 200)), int(rng.uniform(50, 110)))
+    bg = (240, 240, 236)
+    th = int(H * rng.uniform(0.1, 0.2))
+    y0 = int(H * rng.uniform(0.03, 0.3))
+    img[y0:y0 + th, int(W * 0.05):int(W * 0.95)] = _text_block(str(rng.choice(words)), col, (int(W * 0.95) - int(W * 0.05), th), bg)
+    for k in range(int(rng.integers(2, 8))):
+        yy = int(H * 0.45) + k * max(4, H // 16)
+        if yy + 3 < H:
+            cv2.rectangle(img, (int(W * 0.08), yy), (int(W * rng.uniform(0.4, 0.92)), yy + max(2, H // 60)), (30, 30, 30), -1)
+    return Texture(rgb=img.astype(np.float32) / 255.0, alpha=np.ones((H, W), np.float32), emissive=0.0, mask_class=0), w, h
+
+
+def make_phone_distractor_texture(rng: np.random.Generator) -> Tuple[Texture, float, float]:
+    """Phone style clutter that fools detectors: fiducial markers, posters, bright light fittings
+    (self-luminous, 4-15 x a white wall), lit red/green signs that are not EXIT, door name plates,
+    or one of make_distractor_texture's objects."""
+    r = rng.random()
+    if r < 0.2:
+        return make_fiducial_texture(rng)
+    if r < 0.4:
+        return make_poster_texture(rng)
+    if r < 0.55:  # light fitting (wall sconce, downlight panel, emergency light)
+        w, h = rng.uniform(0.15, 1.2), rng.uniform(0.08, 0.3)
+        rgb = np.ones((8, 8, 3), np.float32) * np.array([1.0, rng.uniform(0.9, 1.0), rng.uniform(0.75, 1.0)], np.float32) * 0.9
+        em = rgb * rng.uniform(4.0, 15.0)
+        return Texture(rgb=rgb, alpha=np.ones((8, 8), np.float32), emissive=0.0, mask_class=0, emission=em), w, h
+    tex, w, h = make_distractor_texture(rng)
+    if tex.emissive > 0:  # lit text signs and lights: LED radiance instead of the classic gain
+        em = tex.rgb * rng.uniform(2.0, 8.0)
+        tex = Texture(rgb=np.clip(tex.rgb, 0, 1), alpha=tex.alpha, emissive=0.0, mask_class=0, emission=em.astype(np.float32))
+    return tex, w, h
+
+
+def _sign_label(s, cw, nw, R, t, uv, style) -> dict:
+    """labels.jsonl entry of a sign (see render_frame)."""
+    d_h = np.array([cw[0] - t[0], cw[2] - t[2]])
+    fwd = np.array([-R[0, 2], -R[2, 2]])
+    fwd /= np.linalg.norm(fwd) + 1e-12
+    cross = fwd[0] * d_h[1] - fwd[1] * d_h[0]
+    bearing = -math.atan2(cross, float(np.dot(fwd, d_h)))
+    return dict(kind=s.kind, cornersRaw=[[float(a), float(b)] for a, b in uv],
+                rangeMeters=float(np.linalg.norm(d_h)), bearingRad=float(bearing),
+                heightMeters=float(s.height_m), widthMeters=float(s.width_m),
+                centerHeightMeters=float(cw[1]), style={k: (v if isinstance(v, (bool, str)) else str(v)) for k, v in style.items()},
+                _uv=uv)
+
+
+def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec], rng: np.random.Generator,
+                        n_distractors: Optional[int], occlusion_prob: float, background: Optional[str], phone) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
+    """render_frame's phone style (see phone_camera.py for the image formation)."""
+    import phone_camera as pc
+    R, t = T[:3, :3], T[:3, 3]
+    W, H = intr["width"], intr["height"]
+    scale = intr["fx"] / RAW_INTRINSICS["fx"]  # output pixels per raw (1920-wide) pixel: PSF sizes are angles
+    sensor_scale = intr["fx"] / phone.sensor_intr["fx"]  # output pixels per sensor pixel
+    signs_world = []
+    for s in signs_cam:
+        signs_world.append((s, R @ np.asarray(s.center_cam, np.float64) + t, R @ np.asarray(s.normal_cam, np.float64)))
+    bg_kind = background or ("corridor" if rng.random() < 0.88 else "clutter")
+    ds = 2 if W * H > 1_000_000 else 1
+    illum = phone.illuminance
+    floor = None
+    if bg_kind == "corridor":
+        cor = sample_corridor(rng, [c for _, c, _ in signs_world], t)
+        cor.light_gain = float(rng.uniform(4.0, 15.0))  # light panels: far brighter than the walls they light
+        img, floor = render_corridor(rng, cor, R, t, intr, downsample=ds, gloss=phone.gloss, return_floor=True)
+    else:
+        cor = None
+        img = render_clutter(rng, W, H)
+    img = img * illum
+    mask = np.zeros((H, W), np.uint8)
+    emissive = np.zeros((H, W, 3), np.float32)
+    # textures first: glossy-floor reflections go under everything pasted later
+    faces = []
+    for s, cw, nw in signs_world:
+        if s.kind == "distractor":
+            tex, _, _ = make_phone_distractor_texture(rng)
+            style = dict(kind="distractor")
+        elif s.iso:
+            tex, style = make_iso_exit_texture(rng, s.width_m, s.height_m, phone=True)
+        else:
+            tex, style = make_us_exit_texture(rng, s.width_m, s.height_m, s.style, phone=True)
+        faces.append((s, cw, nw, tex, style))
+    if floor is not None and phone.gloss > 0:
+        refl = np.zeros_like(img)
+        dummy = np.zeros_like(img)
+        for s, cw, nw, tex, _ in faces:
+            cm = quad_corners_world(cw, nw, s.width_m, s.height_m) * np.array([1.0, -1.0, 1.0])  # mirrored in the floor
+            uvm, dm = project_points(cm, R, t, intr)
+            if (dm > 0.3).all() and np.isfinite(uvm).all():
+                paste_quad(refl, None, dummy, tex, uvm, light=illum, emission_scale=phone.led_gain_scale)
+        refl = cv2.GaussianBlur(refl, (0, 0), max(0.5, phone.gloss_blur_px * scale))
+        img += phone.gloss * refl * floor[..., None]
+    nd = int(rng.integers(0, 7)) if n_distractors is None else n_distractors
+    for _ in range(nd):
+        tex, dw, dh = make_phone_distractor_texture(rng)
+        dist = rng.uniform(1.0, 14.0)
+        ang = rng.uniform(-0.7, 0.7)
+        yaw = math.atan2(-R[0, 2], -R[2, 2])
+        hx, hz = -math.sin(yaw + ang), -math.cos(yaw + ang)
+        center = np.array([t[0] + dist * hx, rng.uniform(0.9, 2.7), t[2] + dist * hz])
+        if cor is not None and rng.random() < 0.6:
+            left = rng.random() < 0.5
+            center[0] = cor.x_left + 0.01 if left else cor.x_right - 0.01
+            normal = np.array([1.0, 0, 0]) if left else np.array([-1.0, 0, 0])
+            if (center[2] - t[2]) > -0.5:
+                continue
+        else:
+            normal = np.array([t[0] - center[0], 0, t[2] - center[2]])
+            normal = rot_y(rng.uniform(-0.9, 0.9)) @ (normal / (np.linalg.norm(normal) + 1e-9))
+        if tex.emission is not None and cor is not None and rng.random() < 0.5:
+            center[1] = cor.ceiling_m - 0.02
+        corners = quad_corners_world(center, normal, dw, dh)
+        uv, depth = project_points(corners, R, t, intr)
+        if (depth < 0.3).any() or not np.isfinite(uv).all() or np.dot(normal, t - center) <= 0:
+            continue
+        paste_quad(img, mask, emissive, tex, uv, light=illum * rng.uniform(0.7, 1.1), emission_scale=phone.led_gain_scale)
+    labels = []
+    for s, cw, nw, tex, style in faces:
+        corners = quad_corners_world(cw, nw, s.width_m, s.height_m)
+        uv, depth = project_points(corners, R, t, intr)
+        if (depth < 0.1).any():
+            continue
+        if rng.random() < 0.8:
+            hc = quad_corners_world(cw - 0.01 * nw / (np.linalg.norm(nw) + 1e-9), nw, s.width_m + 0.03, s.height_m + 0.03)
+            huv, hd = project_points(hc, R, t, intr)
+            if (hd > 0.1).all():
+                hcol = np.array(rng.choice([[0.92, 0.92, 0.9], [0.15, 0.15, 0.15], [0.7, 0.7, 0.72]]), np.float32)
+                htex = Texture(rgb=np.ones((8, 8, 3), np.float32) * hcol, alpha=np.ones((8, 8), np.float32), emissive=0.0, mask_class=0)
+                paste_quad(img, None, emissive, htex, huv, light=illum * 0.9)
+        paste_quad(img, mask, emissive, tex, uv, light=illum * rng.uniform(0.8, 1.1), emission_scale=phone.led_gain_scale)
+        if s.kind != "distractor":
+            labels.append(_sign_label(s, cw, nw, R, t, uv, style))
+    for lab in labels:  # partial occlusion (as render_frame)
+        if rng.random() < occlusion_prob:
+            uv = lab["_uv"]
+            bw, bh = uv[:, 0].max() - uv[:, 0].min(), uv[:, 1].max() - uv[:, 1].min()
+            side, frac = rng.integers(0, 4), rng.uniform(0.1, 0.35)
+            cx0, cy0 = uv[:, 0].min(), uv[:, 1].min()
+            rect = [(cx0 - bw, cy0 - bh, cx0 + frac * bw, cy0 + 2 * bh), (cx0 + (1 - frac) * bw, cy0 - bh, cx0 + 2 * bw, cy0 + 2 * bh),
+                    (cx0 - bw, cy0 - bh, cx0 + 2 * bw, cy0 + frac * bh), (cx0 - bw, cy0 + (1 - frac) * bh, cx0 + 2 * bw, cy0 + 2 * bh)][side]
+            p0 = (int(max(rect[0], 0)), int(max(rect[1], 0)))
+            p1 = (int(min(rect[2], W - 1)), int(min(rect[3], H - 1)))
+            cv2.rectangle(img, p0, p1, tuple(float(c) for c in rng.uniform(0.05, 0.8, 3) * illum), -1)
+            cv2.rectangle(mask, p0, p1, 0, -1)
+            lab["occluded"] = True
+    # image formation: AE on the radiance, rolling shutter + walking blur, glare, vignetting, clipping, noise
+    e = pc.auto_exposure(phone, img)
+    img, mask = pc.apply_motion(phone, R, intr, img, mask)
+    for lab in labels:
+        uv_rs = pc.rolling_shutter_points(phone, R, intr, lab.pop("_uv"))
+        lab["cornersRaw"] = [[float(a), float(b)] for a, b in uv_rs]
+    img = pc.glare(phone, img * e, scale)
+    xx = ((np.arange(W, dtype=np.float32) - W / 2) ** 2)[None, :]
+    yy = ((np.arange(H, dtype=np.float32) - H / 2) ** 2)[:, None]
+    img = img * (1 - rng.uniform(0, 0.3) * (xx + yy) / ((W / 2) ** 2 + (H / 2) ** 2))[..., None]
+    img = img * rng.uniform(0.93, 1.07, 3).astype(np.float32)  # white-balance error
+    img = pc.saturate(phone, img.astype(np.float32))
+    img = pc.sensor_noise(phone, rng, img, e / max(illum, 1e-3) * 0.5, sensor_scale)
+    out = (np.clip(img, 0, 1) * 255.0 + 0.5).astype(np.uint8)
+    if phone.jpeg_quality > 0 and sensor_scale > 0.7:
+        out = pc.jpeg_roundtrip(out, phone.jpeg_quality)
+    return out, mask, labels
+
+
+# --------------------------------------------------------------------------------------------------
 # Scene sampling
 # --------------------------------------------------------------------------------------------------
 
-def sample_camera(rng: np.random.Generator, test: bool = False) -> Tuple[float, float, float, float]:
-    """Random (pitch, roll, yaw, camera height) of a hand-held phone (radians, meters)."""
+def sample_camera(rng: np.random.Generator, test: bool = False, phone: bool = False, upright: bool = False) -> Tuple[float, float, float, float]:
+    """Random (pitch, roll, yaw, camera height) of a hand-held phone (radians, meters).
+
+    phone: pitch -10..35 degrees (a walker looking up at signs close by), roll N(0, 10 degrees)
+    about portrait (70 %) or landscape; upright: the image itself is an upright portrait frame
+    (e.g. 360 x 640), so roll is N(0, 8 degrees) about 0."""
+    if phone:
+        pitch = math.radians(rng.uniform(-10, 35))
+        if upright:
+            roll = math.radians(rng.normal(0, 8))
+        else:
+            roll = (-math.pi / 2 if rng.random() < 0.7 else 0.0) + math.radians(rng.normal(0, 10))
+        return pitch, roll, rng.uniform(-math.pi, math.pi), rng.uniform(1.1, 1.7)
     if rng.random() < 0.8:
         pitch = math.radians(rng.uniform(-5, 20))
     else:
@@ -755,12 +1036,16 @@ def sample_camera(rng: np.random.Generator, test: bool = False) -> Tuple[float, 
 
 
 def sample_scene(rng: np.random.Generator, intr: dict, distance_m: Optional[float] = None, test: bool = False,
-                 max_tries: int = 200) -> Tuple[np.ndarray, List[SignSpec], dict]:
+                 max_tries: int = 200, phone: bool = False, upright: bool = False) -> Tuple[np.ndarray, List[SignSpec], dict]:
     """Draw a camera pose and one Exit sign visible in the frame.
 
     distance_m: horizontal range to the sign centre (drawn in 1..12 m when None).
+    phone: the phone style's harder views: oblique faces up to +-65 degrees off axis, red or green
+      EXIT letters (50/50), ISO running-man faces (25 %), camera as sample_camera(phone=True).
     Returns (camera_to_world 4x4, [SignSpec in camera coordinates], info dict).
     """
+    if phone:
+        return _sample_scene_phone(rng, intr, distance_m, test, max_tries, upright)
     for _ in range(max_tries):
         pitch, roll, yaw, cam_h = sample_camera(rng, test)
         R = camera_rotation(yaw, pitch, roll)
@@ -793,16 +1078,54 @@ def sample_scene(rng: np.random.Generator, intr: dict, distance_m: Optional[floa
     raise RuntimeError("sample_scene: could not place a visible sign at %.1f m" % (distance_m or -1))
 
 
-def sample_empty(rng: np.random.Generator, test: bool = False) -> Tuple[np.ndarray, dict]:
+def _sample_scene_phone(rng, intr, distance_m, test, max_tries, upright):
+    """sample_scene(phone=True)."""
+    for _ in range(max_tries):
+        pitch, roll, yaw, cam_h = sample_camera(rng, test, phone=True, upright=upright)
+        R = camera_rotation(yaw, pitch, roll)
+        t = np.array([0.0, cam_h, 0.0])
+        Z = distance_m if distance_m is not None else float(np.exp(rng.uniform(math.log(1.0), math.log(12.0))))
+        iso = rng.random() < 0.25
+        if iso:
+            w_m, h_m = (0.30, 0.15) if rng.random() < 0.5 else (0.40, 0.20)
+            style = None
+        else:
+            w_m, h_m = 0.30, (0.21 if test else float(rng.uniform(0.19, 0.21)))
+            style = dict(letter="red" if rng.random() < 0.5 else "green")
+        bottom = rng.uniform(2.0, 2.5)
+        bearing = rng.uniform(-0.6, 0.6)
+        hdir = np.array([-math.sin(yaw + bearing), 0.0, -math.cos(yaw + bearing)])
+        center = t + Z * hdir
+        center[1] = bottom + h_m / 2
+        normal = rot_y(rng.uniform(-1.13, 1.13)) @ (-hdir)
+        corners = quad_corners_world(center, normal, w_m, h_m)
+        uv, depth = project_points(corners, R, t, intr)
+        margin = max(4, int(0.02 * intr["width"]))  # room for the rolling-shutter shift
+        if (depth < 0.3).any() or (uv[:, 0] < margin).any() or (uv[:, 1] < margin).any() or \
+                (uv[:, 0] > intr["width"] - 1 - margin).any() or (uv[:, 1] > intr["height"] - 1 - margin).any():
+            continue
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, t
+        spec = SignSpec(center_cam=R.T @ (center - t), normal_cam=R.T @ normal, width_m=w_m, height_m=h_m,
+                        kind="exit", style=style, iso=iso)
+        return T, [spec], dict(pitch=pitch, roll=roll, yaw=yaw)
+    raise RuntimeError("sample_scene: could not place a visible sign at %.1f m" % (distance_m or -1))
+
+
+def sample_empty(rng: np.random.Generator, test: bool = False, phone: bool = False, upright: bool = False) -> Tuple[np.ndarray, dict]:
     """Camera pose for a sign-free frame."""
-    pitch, roll, yaw, cam_h = sample_camera(rng, test)
+    pitch, roll, yaw, cam_h = sample_camera(rng, test, phone=phone, upright=upright) if phone else sample_camera(rng, test)
     T = np.eye(4)
     T[:3, :3] = camera_rotation(yaw, pitch, roll)
     T[:3, 3] = [0.0, cam_h, 0.0]
     return T, dict(pitch=pitch, roll=roll, yaw=yaw)
 
 
-SPLIT_CODES = {"train": 1, "val": 2, "test": 3}
+SPLIT_CODES = {"train": 1, "val": 2, "test": 3, "test_phone": 4}
+
+#: Low-resolution phone frames: upright portrait 360 x 640, a 16:9 video frame of the iPhone 8
+#: sensor (1920 x 1080 at fx 1602) rotated and scaled by 1/3: fx = fy = 534 px, as the real test photos.
+PORTRAIT360_INTRINSICS = dict(fx=534.0, fy=534.0, cx=180.0, cy=320.0, width=360, height=640)
 
 
 def frame_rng(seed: int, split: str, index: int) -> np.random.Generator:
@@ -810,43 +1133,79 @@ def frame_rng(seed: int, split: str, index: int) -> np.random.Generator:
     return np.random.default_rng([int(seed), SPLIT_CODES[split], int(index)])
 
 
+def frame_intrinsics(resolution: str, index: int) -> Tuple[dict, bool]:
+    """(intrinsics, upright) of frame `index` for a --resolution choice: "raw" 1920 x 1440, "vga"
+    640 x 480 (fx 534: the real photos' pixel density), "portrait360" 360 x 640 upright portrait,
+    "mixed" raw for even and vga for odd indices. upright: the image is an upright portrait frame
+    (roll about 0, rolling shutter across columns)."""
+    if resolution == "mixed":
+        resolution = "raw" if index % 2 == 0 else "vga"
+    if resolution == "raw":
+        return RAW_INTRINSICS.copy(), False
+    if resolution == "vga":
+        return scaled_intrinsics(640, 480), False
+    if resolution == "portrait360":
+        return PORTRAIT360_INTRINSICS.copy(), True
+    raise ValueError("render_signs: unknown resolution %r (raw, vga, portrait360, mixed)" % resolution)
+
+
 def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40, n_empty: int = 200,
-                   n_train: int = 0, resolution: str = "raw", jpeg: bool = True, verbose: bool = True) -> int:
+                   n_train: int = 0, resolution: str = "raw", jpeg: bool = True, verbose: bool = True,
+                   style: str = "classic") -> int:
     """Render a split into `out_dir` (images, masks, labels.jsonl). Returns the number of frames.
 
-    split "test": for each distance 2..9 m, `n_per_distance` frames with one US Exit sign (0.30 x
-    0.21 m), then `n_empty` sign-free frames. Other splits: `n_train` frames with a sign at 1..12 m
-    plus `n_empty` sign-free frames.
+    split "test" / "test_phone": for each distance 2..9 m, `n_per_distance` frames with one sign,
+    then `n_empty` sign-free frames. "test" is the fixed classic set (US Exit 0.30 x 0.21 m);
+    "test_phone" is the harder held-out set, always in the phone style (phone_camera.py: LED faces,
+    auto exposure, rolling shutter, walking blur, glare, glossy floors, clutter; red and green US
+    faces 0.30 x 0.21 m and ISO running-man faces; oblique views to 65 degrees). Other splits:
+    `n_train` frames with a sign at 1..12 m plus `n_empty` sign-free frames.
+    style: "classic" or "phone" (test_phone is always phone).
     """
-    intr = RAW_INTRINSICS.copy() if resolution == "raw" else scaled_intrinsics(640, 480)
+    import phone_camera as pc
     os.makedirs(out_dir, exist_ok=True)
     jobs = []
-    if split == "test":
+    if split in ("test", "test_phone"):
         for d in range(2, 10):
             jobs += [("sign", float(d))] * n_per_distance
     else:
         jobs += [("sign", None)] * n_train
     jobs += [("empty", None)] * n_empty
-    test = split == "test"
+    test = split in ("test", "test_phone")
+    if split == "test_phone":
+        style = "phone"
     with open(os.path.join(out_dir, "labels.jsonl"), "w") as f:
         for i, (kind, dist) in enumerate(jobs):
             rng = frame_rng(seed, split, i)
+            intr, upright = frame_intrinsics(resolution, i)
+            ph = style == "phone"
             if kind == "sign":
-                T, signs, info = sample_scene(rng, intr, dist, test=test)
+                T, signs, info = sample_scene(rng, intr, dist, test=test, phone=ph, upright=upright) if ph else \
+                    sample_scene(rng, intr, dist, test=test)
             else:
-                T, info = sample_empty(rng, test=test)
+                T, info = sample_empty(rng, test=test, phone=ph, upright=upright) if ph else sample_empty(rng, test=test)
                 signs = []
-            img, mask, labels = render_frame(T, intr, signs, rng, occlusion_prob=0.0 if test else 0.15)
+            phone = None
+            if ph:
+                phone = pc.sample_phone_camera(rng, T[:3, :3], intr, readout_axis="u" if upright else "v")
+                quality = phone.jpeg_quality
+                phone.jpeg_quality = 0  # compressed once, when written
+            img, mask, labels = render_frame(T, intr, signs, rng, occlusion_prob=0.0 if test else 0.15, phone=phone)
             name = "%06d" % (i + 1)
             ext = ".jpg" if jpeg else ".png"
             bgr = cv2.cvtColor(img, cv2.COLOR_RGB2BGR)
             if jpeg:
-                cv2.imwrite(os.path.join(out_dir, name + ext), bgr, [cv2.IMWRITE_JPEG_QUALITY, int(rng.integers(75, 96))])
+                cv2.imwrite(os.path.join(out_dir, name + ext), bgr,
+                            [cv2.IMWRITE_JPEG_QUALITY, int(quality) if ph else int(rng.integers(75, 96))])
             else:
                 cv2.imwrite(os.path.join(out_dir, name + ext), bgr)
             cv2.imwrite(os.path.join(out_dir, name + "_mask.png"), mask)
             rec = dict(image=name + ext, mask=name + "_mask.png", intrinsics=intr, pitchRad=info["pitch"], rollRad=info["roll"],
                        yawRad=info["yaw"], cameraToWorld=[float(x) for x in T.T.reshape(-1)], signs=labels)
+            if ph:
+                rec["phone"] = dict(exposureSeconds=phone.exposure_s, readoutSeconds=phone.readout_s * phone.readout_sign,
+                                    readoutAxis=phone.readout_axis, omegaWorldRadPerSecond=[float(x) for x in phone.omega_world_rad_s],
+                                    illuminance=phone.illuminance, gloss=phone.gloss, jpegQuality=int(quality))
             f.write(json.dumps(rec) + "\n")
             if verbose and (i + 1) % 50 == 0:
                 print("rendered %d/%d" % (i + 1, len(jobs)), file=sys.stderr, flush=True)
@@ -856,17 +1215,26 @@ def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", required=True, help="output directory")
-    ap.add_argument("--split", choices=["train", "val", "test"], default="test")
+    ap.add_argument("--split", choices=["train", "val", "test", "test_phone"], default="test",
+                    help="test: the fixed classic test set; test_phone: the harder phone-style held-out set")
     ap.add_argument("--seed", type=int, default=1234)
-    ap.add_argument("--n-per-distance", type=int, default=40, help="test split: frames per distance 2..9 m")
-    ap.add_argument("--n-empty", type=int, default=200, help="sign-free frames")
+    ap.add_argument("--n-per-distance", type=int, default=None, help="test splits: frames per distance 2..9 m (test 40, test_phone 15)")
+    ap.add_argument("--n-empty", type=int, default=None, help="sign-free frames (default 200; test_phone 60)")
     ap.add_argument("--n", type=int, default=500, help="train/val split: frames with a sign")
-    ap.add_argument("--resolution", choices=["raw", "vga"], default="raw", help="raw 1920x1440 or VGA 640x480")
+    ap.add_argument("--resolution", choices=["raw", "vga", "portrait360", "mixed"], default=None,
+                    help="raw 1920x1440, VGA 640x480, portrait360 360x640 upright, mixed (raw/vga alternating); "
+                         "default raw, mixed for test_phone")
+    ap.add_argument("--style", choices=["classic", "phone"], default="classic", help="image formation (test_phone: phone)")
     ap.add_argument("--png", action="store_true", help="write PNG images instead of JPEG")
     a = ap.parse_args(argv)
     if a.split == "test" and a.seed != 1234:
         print("warning: the fixed test set is --split test --seed 1234", file=sys.stderr)
-    n = render_dataset(a.out, a.split, a.seed, a.n_per_distance, a.n_empty, a.n, a.resolution, jpeg=not a.png)
+    res = a.resolution or ("mixed" if a.split == "test_phone" else "raw")
+    if a.n_per_distance is None:
+        a.n_per_distance = 15 if a.split == "test_phone" else 40
+    if a.n_empty is None:
+        a.n_empty = 60 if a.split == "test_phone" else 200
+    n = render_dataset(a.out, a.split, a.seed, a.n_per_distance, a.n_empty, a.n, res, jpeg=not a.png, style=a.style)
     print("wrote %d frames to %s" % (n, a.out))
     return 0
 

@@ -135,40 +135,61 @@ class SignUNet(nn.Module):
 # Data
 # --------------------------------------------------------------------------------------------------
 
-def render_samples(n: int, seed: int, split_code: int, log) -> tuple:
-    """n samples: 30 % coarse with a sign, 10 % coarse sign-free, 42 % zoomed on a sign, 18 % zoomed negatives."""
+def render_one(args) -> tuple:
+    """Sample i of (seed, split_code) (see render_samples): (image, mask, kind)."""
     import crops
+    seed, split_code, i, phone_frac = args
+    rng = np.random.default_rng([seed, split_code, i])
+    r = rng.random()
+    phone = phone_frac > 0 and rng.random() < phone_frac
+    if r < 0.30:
+        x, y = crops.coarse_sample(rng, True, phone=phone)
+        k = 0
+    elif r < 0.40:
+        x, y = crops.coarse_sample(rng, False, phone=phone)
+        k = 1
+    elif r < 0.82:
+        x, y = crops.zoom_sample(rng, True, phone=phone)
+        k = 2
+    else:
+        x, y = crops.zoom_sample(rng, False, phone=phone)
+        k = 3
+    return x, y, k
+
+
+def render_samples(n: int, seed: int, split_code: int, log, phone_frac: float = 0.0, workers: int = 1) -> tuple:
+    """n samples: 30 % coarse with a sign, 10 % coarse sign-free, 42 % zoomed on a sign, 18 % zoomed
+    negatives; each in the phone style with probability phone_frac (0 keeps the original samples:
+    the phone draw is skipped). Sample i uses generator (seed, split_code, i), so the set does not
+    depend on `workers`."""
     X = np.zeros((n, 224, 224, 3), np.uint8)
     Y = np.zeros((n, 224, 224), np.uint8)
     kinds = np.zeros(n, np.int8)
     t0 = time.time()
-    for i in range(n):
-        rng = np.random.default_rng([seed, split_code, i])
-        r = rng.random()
-        if r < 0.30:
-            X[i], Y[i] = crops.coarse_sample(rng, True)
-            kinds[i] = 0
-        elif r < 0.40:
-            X[i], Y[i] = crops.coarse_sample(rng, False)
-            kinds[i] = 1
-        elif r < 0.82:
-            X[i], Y[i] = crops.zoom_sample(rng, True)
-            kinds[i] = 2
-        else:
-            X[i], Y[i] = crops.zoom_sample(rng, False)
-            kinds[i] = 3
-        if (i + 1) % 250 == 0:
-            log("rendered %d/%d samples (%.0f s)" % (i + 1, n, time.time() - t0))
+    jobs = [(seed, split_code, i, phone_frac) for i in range(n)]
+    if workers > 1:
+        import multiprocessing as mp
+        with mp.get_context("fork").Pool(workers) as pool:
+            for i, (x, y, k) in enumerate(pool.imap(render_one, jobs, chunksize=8)):
+                X[i], Y[i], kinds[i] = x, y, k
+                if (i + 1) % 250 == 0:
+                    log("rendered %d/%d samples (%.0f s)" % (i + 1, n, time.time() - t0))
+    else:
+        for i, job in enumerate(jobs):
+            X[i], Y[i], kinds[i] = render_one(job)
+            if (i + 1) % 250 == 0:
+                log("rendered %d/%d samples (%.0f s)" % (i + 1, n, time.time() - t0))
     return X, Y, kinds
 
 
-def load_or_render(cache_dir: str, n: int, seed: int, split_code: int, log):
+def load_or_render(cache_dir: str, n: int, seed: int, split_code: int, log, phone_frac: float = 0.0, workers: int = 1):
     os.makedirs(cache_dir, exist_ok=True)
-    path = os.path.join(cache_dir, "unet_samples_seed%d_split%d_n%d.npz" % (seed, split_code, n))
+    tag = "" if phone_frac <= 0 else "_phone%02d" % int(round(100 * phone_frac))
+    path = os.path.join(cache_dir, "unet_samples_seed%d_split%d_n%d%s.npz" % (seed, split_code, n, tag))
     if os.path.exists(path):
         z = np.load(path)
         return z["X"], z["Y"], z["kinds"]
-    X, Y, kinds = render_samples(n, seed, split_code, log)
+    X, Y, kinds = render_samples(n, seed, split_code, log, phone_frac, workers)
     np.savez(path, X=X, Y=Y, kinds=kinds)
     return X, Y, kinds
 
@@ -182,6 +203,38 @@ def augment(x: torch.Tensor, y: torch.Tensor, g: torch.Generator):
     m = x.mean(dim=(1, 2, 3), keepdim=True)
     x = ((x - m) * c + m + b) * ch
     return x.clamp(0, 1), y
+
+
+def heavy_augment(x: torch.Tensor, g: torch.Generator) -> torch.Tensor:
+    """Camera-like augmentation on a float batch in [0,1] (on top of augment): gamma 0.6-1.6, per-sample
+    down- and up-sampling by 1-3x (low-resolution sources), Gaussian blur (defocus), Gaussian noise
+    (sigma 0-0.04), colour saturation 0.6-1.4; each with probability 0.3-0.5 per sample."""
+    n = x.shape[0]
+    out = []
+    for k in range(n):
+        xi = x[k:k + 1]
+        r = torch.rand(6, generator=g)
+        if r[0] < 0.5:
+            xi = xi.clamp(1e-4, 1).pow(float(math.exp((torch.rand(1, generator=g).item() - 0.5) * 2 * math.log(1.6))))
+        if r[1] < 0.3:
+            f = 1.0 + 2.0 * torch.rand(1, generator=g).item()
+            hw = xi.shape[-2:]
+            small = F.interpolate(xi, scale_factor=1.0 / f, mode="area")
+            xi = F.interpolate(small, size=hw, mode="bilinear", align_corners=False)
+        if r[2] < 0.3:
+            sig = 0.5 + 1.5 * torch.rand(1, generator=g).item()
+            ks = int(2 * math.ceil(2 * sig) + 1)
+            t = torch.arange(ks, dtype=torch.float32) - ks // 2
+            w = torch.exp(-t ** 2 / (2 * sig * sig))
+            w = (w / w.sum())
+            xi = F.conv2d(F.pad(xi, (ks // 2,) * 4, mode="replicate"), (w[None, :] * w[:, None]).expand(3, 1, ks, ks), groups=3)
+        if r[3] < 0.4:
+            xi = xi + torch.randn(xi.shape, generator=g) * (0.04 * torch.rand(1, generator=g).item())
+        if r[4] < 0.4:
+            gray = xi.mean(1, keepdim=True)
+            xi = gray + (xi - gray) * (0.6 + 0.8 * torch.rand(1, generator=g).item())
+        out.append(xi)
+    return torch.cat(out).clamp(0, 1)
 
 
 def random_crops(x: torch.Tensor, y: torch.Tensor, size: int, g: torch.Generator):
@@ -200,6 +253,56 @@ def random_crops(x: torch.Tensor, y: torch.Tensor, size: int, g: torch.Generator
         xs.append(x[k, :, y0:y0 + size, x0:x0 + size])
         ys.append(y[k, y0:y0 + size, x0:x0 + size])
     return torch.stack(xs), torch.stack(ys)
+
+
+def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
+    """Warm start: copy the weights of an exported model (export_unet.py: BatchNorm folded into the
+    convolutions) into `model`. ONNX Conv / ConvTranspose nodes are matched in graph order with the
+    model's Conv2d / ConvTranspose2d modules in forward-call order (shapes checked); each folded
+    convolution's bias goes into the BatchNorm after it, which becomes the identity (mean 0, variance
+    1 - eps, scale 1) and must stay frozen (freeze_bn). Returns the number of layers copied."""
+    import onnx
+    from onnx import numpy_helper
+    m = onnx.load(onnx_path)
+    inits = {i.name: numpy_helper.to_array(i) for i in m.graph.initializer}
+    nodes = [n for n in m.graph.node if n.op_type in ("Conv", "ConvTranspose")]
+    order = []
+    hooks = [mod.register_forward_hook(lambda mod, i, o: order.append(mod)) for mod in model.modules()
+             if isinstance(mod, (nn.Conv2d, nn.ConvTranspose2d))]
+    was = model.training
+    model.eval()
+    with torch.no_grad():
+        model(torch.zeros(1, 3, 224, 224))
+    model.train(was)
+    for h in hooks:
+        h.remove()
+    if len(order) != len(nodes):
+        raise ValueError("init_from_onnx: %s has %d convolutions, the model %d" % (onnx_path, len(nodes), len(order)))
+    mods = list(model.modules())
+    bn_after = {id(mods[i]): mods[i + 1] for i in range(len(mods) - 1) if isinstance(mods[i + 1], nn.BatchNorm2d)}
+    with torch.no_grad():
+        for mod, node in zip(order, nodes):
+            w = torch.from_numpy(inits[node.input[1]].copy())
+            b = torch.from_numpy(inits[node.input[2]].copy()) if len(node.input) > 2 else None
+            if tuple(w.shape) != tuple(mod.weight.shape):
+                raise ValueError("init_from_onnx: %s weight %s, model %s" % (node.name, tuple(w.shape), tuple(mod.weight.shape)))
+            mod.weight.copy_(w)
+            bn = bn_after.get(id(mod))
+            if bn is not None:
+                bn.weight.fill_(1.0)
+                bn.bias.copy_(b if b is not None else torch.zeros_like(bn.bias))
+                bn.running_mean.zero_()
+                bn.running_var.fill_(1.0 - bn.eps)
+            elif mod.bias is not None and b is not None:
+                mod.bias.copy_(b)
+    return len(order)
+
+
+def freeze_bn(model: nn.Module) -> None:
+    """Keep every BatchNorm in inference mode (running statistics fixed) while the rest trains."""
+    for mod in model.modules():
+        if isinstance(mod, nn.BatchNorm2d):
+            mod.eval()
 
 
 def loss_fn(logits, y):
@@ -248,7 +351,35 @@ def main(argv=None) -> int:
     ap.add_argument("--resume", default=None, help="start from the weights of this checkpoint (.pt)")
     ap.add_argument("--warmup", type=int, default=100, help="linear learning-rate warm-up steps")
     ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
+    ap.add_argument("--phone-frac", type=float, default=0.0, help="fraction of samples rendered in the phone style")
+    ap.add_argument("--heavy-aug", action="store_true", help="add heavy_augment (gamma, resolution, blur, noise, saturation)")
+    ap.add_argument("--workers", type=int, default=1, help="rendering processes")
+    ap.add_argument("--budget-minutes", type=float, default=None,
+                    help="total wall budget (rendering + training + export): training gets what rendering leaves, "
+                         "minus --export-reserve minutes")
+    ap.add_argument("--export-reserve", type=float, default=3.0)
+    ap.add_argument("--export", default=None, help="after training, export ONNX + Core ML into this directory (export_unet.py)")
+    ap.add_argument("--init-onnx", default=None, help="warm start from an exported model (init_from_onnx); BatchNorm frozen")
+    ap.add_argument("--recipe", choices=["ci60", "ft30"], default=None,
+                    help="ci60: the documented 60-minute CPU recipe (render 3600 samples, half phone style, heavy "
+                         "augmentation, train from scratch, export to OUT/export)")
     a = ap.parse_args(argv)
+    if a.recipe == "ci60":
+        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3600, 240, 16, 128, 3e-3, 100
+        a.phone_frac, a.heavy_aug, a.workers, a.threads = 0.5, True, 2, 2
+        if a.budget_minutes is None:
+            a.budget_minutes = 60.0
+        if a.export is None:
+            a.export = os.path.join(a.out, "export")
+    if a.recipe == "ft30":  # fine-tune the committed model on the ci60 samples (same seed, same cache)
+        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3600, 240, 16, 128, 5e-4, 20
+        a.phone_frac, a.heavy_aug, a.workers, a.threads = 0.5, True, 2, 2
+        if a.init_onnx is None:
+            a.init_onnx = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "sign_unet.onnx")
+        if a.budget_minutes is None:
+            a.budget_minutes = 30.0
+        if a.export is None:
+            a.export = os.path.join(a.out, "export")
     torch.manual_seed(a.seed)
     torch.set_num_threads(a.threads)
     os.makedirs(a.out, exist_ok=True)
@@ -261,19 +392,27 @@ def main(argv=None) -> int:
         logf.write(line + "\n")
         logf.flush()
 
-    Xtr, Ytr, Ktr = load_or_render(a.cache, a.n_train, a.seed, 1, log)
-    Xva, Yva, Kva = load_or_render(a.cache, a.n_val, a.seed, 2, log)
+    Xtr, Ytr, Ktr = load_or_render(a.cache, a.n_train, a.seed, 1, log, a.phone_frac, a.workers)
+    Xva, Yva, Kva = load_or_render(a.cache, a.n_val, a.seed, 2, log, a.phone_frac, a.workers)
     log("data: %d train, %d val (exit pixel fraction %.4f)" % (len(Xtr), len(Xva), float((Ytr == 1).mean())))
     t_data = time.time() - t0
     model = SignUNet(a.width)
     if a.resume:
         model.load_state_dict(torch.load(a.resume, map_location="cpu")["state_dict"])
         log("resumed weights from %s" % a.resume)
+    if a.init_onnx:
+        log("initialised %d layers from %s (BatchNorm frozen)" % (init_from_onnx(model, a.init_onnx), a.init_onnx))
     nparam = sum(p.numel() for p in model.parameters())
     log("model: %d parameters" % nparam)
     opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
     g = torch.Generator().manual_seed(a.seed)
     budget = a.minutes * 60.0
+    if a.budget_minutes is not None:
+        budget = a.budget_minutes * 60.0 - (time.time() - t0) - a.export_reserve * 60.0
+        if budget < 60:
+            log("error: rendering left %.0f s of the %.0f-minute budget" % (budget, a.budget_minutes))
+            return 1
+    log("training budget %.1f min" % (budget / 60.0))
     t_train0 = time.time()
     step = 0
     ema = None
@@ -299,6 +438,10 @@ def main(argv=None) -> int:
             if torch.rand(1, generator=g).item() < 0.5:  # horizontal flip (mirrored signs exist)
                 x, y = x.flip(3), y.flip(2)
             x, y = augment(x, y, g)
+            if a.heavy_aug:
+                x = heavy_augment(x, g)
+            if a.init_onnx:
+                freeze_bn(model)
             loss, ce, dice = loss_fn(model(x), y)
             opt.zero_grad()
             loss.backward()
@@ -317,6 +460,12 @@ def main(argv=None) -> int:
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)
     log("saved %s" % os.path.join(a.out, "sign_unet.pt"))
+    if a.export:
+        import export_unet
+        rc = export_unet.main(["--checkpoint", os.path.join(a.out, "sign_unet.pt"), "--out", a.export])
+        log("export to %s: %s; total wall time %.1f min" % (a.export, "ok" if rc == 0 else "failed (%d)" % rc, (time.time() - t0) / 60.0))
+        return rc
+    log("total wall time %.1f min" % ((time.time() - t0) / 60.0))
     return 0
 
 

@@ -1,0 +1,49 @@
+"""train_unet.py tools: the warm start from an exported ONNX model reproduces that model, heavy
+augmentation is deterministic per generator seed and keeps images in range, and rendered training
+samples do not depend on the number of rendering processes. Skipped without torch (training-time
+dependency)."""
+import os
+import sys
+
+import numpy as np
+import pytest
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+sys.path.insert(0, os.path.join(HERE, ".."))
+MODELS = os.path.join(HERE, "..", "..", "models")
+
+
+def test_init_from_onnx_reproduces_the_exported_model():
+    torch = pytest.importorskip("torch")
+    ort = pytest.importorskip("onnxruntime")
+    import export_unet
+    import train_unet as tu
+    m = tu.SignUNet(0.35)
+    assert tu.init_from_onnx(m, os.path.join(MODELS, "sign_unet.onnx")) == 68
+    m.train()
+    tu.freeze_bn(m)  # training mode elsewhere, BatchNorm frozen: still the exported function
+    x = export_unet.sample_inputs(2)
+    with torch.no_grad():
+        y = m(torch.from_numpy(x)).numpy()
+    s = ort.InferenceSession(os.path.join(MODELS, "sign_unet.onnx"), providers=["CPUExecutionProvider"])
+    ref = np.concatenate([s.run(None, {"image": x[i:i + 1]})[0] for i in range(len(x))])
+    assert np.abs(y - ref).max() < 1e-3
+
+
+def test_heavy_augment_is_seeded_and_in_range():
+    torch = pytest.importorskip("torch")
+    import train_unet as tu
+    x = torch.rand(4, 3, 64, 64, generator=torch.Generator().manual_seed(0))
+    a = tu.heavy_augment(x, torch.Generator().manual_seed(5))
+    b = tu.heavy_augment(x, torch.Generator().manual_seed(5))
+    c = tu.heavy_augment(x, torch.Generator().manual_seed(6))
+    assert torch.equal(a, b) and not torch.equal(a, c)
+    assert a.shape == x.shape and float(a.min()) >= 0.0 and float(a.max()) <= 1.0
+
+
+def test_rendered_samples_do_not_depend_on_workers():
+    pytest.importorskip("torch")
+    import train_unet as tu
+    X1, Y1, K1 = tu.render_samples(4, 11, 9, lambda m: None, phone_frac=0.5, workers=1)
+    X2, Y2, K2 = tu.render_samples(4, 11, 9, lambda m: None, phone_frac=0.5, workers=2)
+    assert np.array_equal(X1, X2) and np.array_equal(Y1, Y2) and np.array_equal(K1, K2)
