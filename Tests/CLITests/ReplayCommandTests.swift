@@ -84,8 +84,9 @@ final class ReplayCommandTests: XCTestCase {
         let documented: Set<String> = ["t", "x", "y", "floorId", "headingRad", "confidence", "localized", "hypotheses",
                                        "sightings", "announcements", "haptics"]
         // While not localized: the exploratory advice in force, and the action when one is spoken; while
-        // tracking is not normal: its state, and the phone's tracking prompt when one is said.
-        let optional: Set<String> = ["advice", "spokenAdvice", "tracking", "trackingPrompt"]
+        // tracking is not normal: its state, and the phone's tracking prompt when one is said; on frames with
+        // sightings, the list of them.
+        let optional: Set<String> = ["advice", "spokenAdvice", "tracking", "trackingPrompt", "sightingList"]
         var previousT = -Double.infinity
         var spoken = 0
         for (i, line) in r.traceLines.enumerated() {
@@ -94,6 +95,14 @@ final class ReplayCommandTests: XCTestCase {
             }
             XCTAssertEqual(Set(object.keys).subtracting(optional), documented, "trace line \(i + 1)")
             XCTAssertTrue(Set(object.keys).isSubset(of: documented.union(optional)), "trace line \(i + 1)")
+            // The list is there exactly when the frame had sightings, one entry per sighting.
+            let sightingCount = try XCTUnwrap(jsonNumber(object["sightings"]), "line \(i + 1)")
+            let list = object["sightingList"] as? [[String: Any]]
+            XCTAssertEqual(list?.count ?? 0, Int(sightingCount), "trace line \(i + 1)")
+            XCTAssertEqual(list == nil, sightingCount == 0, "trace line \(i + 1)")
+            for entry in list ?? [] {
+                XCTAssertTrue(Set(entry.keys).isSuperset(of: ["kind", "rangeMeters", "bearingRad", "score"]), "trace line \(i + 1)")
+            }
             let t = try XCTUnwrap(jsonNumber(object["t"]), "line \(i + 1)")
             XCTAssertGreaterThan(t, previousT, "trace time does not increase at line \(i + 1)")
             previousT = t
