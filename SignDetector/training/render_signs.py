@@ -715,47 +715,15 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
         uv, depth = project_points(corners, R, t, intr)
         if (depth < 0.1).any():
             continue
-        # housing (slightly larger box behind the face), not part of the mask
-        if rng.random() < 0.8:
-            hc = quad_corners_world(cw - 0.01 * nw / (np.linalg.norm(nw) + 1e-9), nw, s.width_m + 0.03, s.height_m + 0.03)
-            huv, hd = project_points(hc, R, t, intr)
-            if (hd > 0.1).all():
-                hcol = np.array(rng.choice([[0.92, 0.92, 0.9], [0.15, 0.15, 0.15], [0.7, 0.7, 0.72]]), np.float32)
-                htex = Texture(rgb=np.ones((8, 8, 3), np.float32) * hcol, alpha=np.ones((8, 8), np.float32), emissive=0.0, mask_class=0)
-                paste_quad(img, None, emissive, htex, huv, light=exposure * 0.9)
+        _paste_housing(img, emissive, rng, s, cw, nw, R, t, intr, light=exposure * 0.9)
         paste_quad(img, mask, emissive, tex, uv, light=exposure * rng.uniform(0.8, 1.1))
         if s.kind == "distractor":
             continue
-        d_h = np.array([cw[0] - t[0], cw[2] - t[2]])
-        fwd = np.array([-R[0, 2], -R[2, 2]])
-        fwd /= np.linalg.norm(fwd) + 1e-12
-        # bearing: angle from camera forward to the sign, positive to the left (CCW seen from above)
-        cross = fwd[0] * d_h[1] - fwd[1] * d_h[0]
-        bearing = -math.atan2(cross, float(np.dot(fwd, d_h)))
-        labels.append(dict(kind=s.kind, cornersRaw=[[float(a), float(b)] for a, b in uv],
-                           rangeMeters=float(np.linalg.norm(d_h)), bearingRad=float(bearing),
-                           heightMeters=float(s.height_m), widthMeters=float(s.width_m),
-                           centerHeightMeters=float(cw[1]), style={k: (v if isinstance(v, (bool, str)) else str(v)) for k, v in style.items()},
-                           _uv=uv))
+        labels.append(_sign_label(s, cw, nw, R, t, uv, style))
     # partial occlusion of signs by a foreground object (pillar, hanging fixture, person)
     for lab in labels:
         if rng.random() < occlusion_prob:
-            uv = lab["_uv"]
-            bw = uv[:, 0].max() - uv[:, 0].min()
-            bh = uv[:, 1].max() - uv[:, 1].min()
-            side = rng.integers(0, 4)
-            frac = rng.uniform(0.1, 0.35)
-            cx0, cy0 = uv[:, 0].min(), uv[:, 1].min()
-            if side == 0:
-                rect = (cx0 - bw, cy0 - bh, cx0 + frac * bw, cy0 + 2 * bh)
-            elif side == 1:
-                rect = (cx0 + (1 - frac) * bw, cy0 - bh, cx0 + 2 * bw, cy0 + 2 * bh)
-            elif side == 2:
-                rect = (cx0 - bw, cy0 - bh, cx0 + 2 * bw, cy0 + frac * bh)
-            else:
-                rect = (cx0 - bw, cy0 + (1 - frac) * bh, cx0 + 2 * bw, cy0 + 2 * bh)
-            p0 = (int(max(rect[0], 0)), int(max(rect[1], 0)))
-            p1 = (int(min(rect[2], W - 1)), int(min(rect[3], H - 1)))
+            p0, p1 = _occluder_rect(lab["_uv"], rng, W, H)
             col = tuple(float(c) for c in rng.uniform(0.05, 0.8, 3) * exposure)
             cv2.rectangle(img, p0, p1, col, -1)
             cv2.rectangle(mask, p0, p1, 0, -1)
@@ -875,11 +843,37 @@ def make_phone_distractor_texture(rng: np.random.Generator) -> Tuple[Texture, fl
     return tex, w, h
 
 
+def _paste_housing(img, emissive, rng, s, cw, nw, R, t, intr, light: float) -> None:
+    """With probability 0.8, the sign's housing: a box 1.5 cm larger on each side, 1 cm behind the face, in one
+    of three plain colours, lit by `light`; not part of the mask (both render paths, same draws)."""
+    if rng.random() < 0.8:
+        hc = quad_corners_world(cw - 0.01 * nw / (np.linalg.norm(nw) + 1e-9), nw, s.width_m + 0.03, s.height_m + 0.03)
+        huv, hd = project_points(hc, R, t, intr)
+        if (hd > 0.1).all():
+            hcol = np.array(rng.choice([[0.92, 0.92, 0.9], [0.15, 0.15, 0.15], [0.7, 0.7, 0.72]]), np.float32)
+            htex = Texture(rgb=np.ones((8, 8, 3), np.float32) * hcol, alpha=np.ones((8, 8), np.float32), emissive=0.0, mask_class=0)
+            paste_quad(img, None, emissive, htex, huv, light=light)
+
+
+def _occluder_rect(uv: np.ndarray, rng: np.random.Generator, W: int, H: int):
+    """Pixel corners (p0, p1) of a foreground object (pillar, fixture, person) covering 10-35 % of the sign whose
+    projected corners are `uv`, from a random side, clipped to the W x H image (both render paths, same draws)."""
+    bw, bh = uv[:, 0].max() - uv[:, 0].min(), uv[:, 1].max() - uv[:, 1].min()
+    side, frac = rng.integers(0, 4), rng.uniform(0.1, 0.35)
+    cx0, cy0 = uv[:, 0].min(), uv[:, 1].min()
+    rect = [(cx0 - bw, cy0 - bh, cx0 + frac * bw, cy0 + 2 * bh), (cx0 + (1 - frac) * bw, cy0 - bh, cx0 + 2 * bw, cy0 + 2 * bh),
+            (cx0 - bw, cy0 - bh, cx0 + 2 * bw, cy0 + frac * bh), (cx0 - bw, cy0 + (1 - frac) * bh, cx0 + 2 * bw, cy0 + 2 * bh)][side]
+    p0 = (int(max(rect[0], 0)), int(max(rect[1], 0)))
+    p1 = (int(min(rect[2], W - 1)), int(min(rect[3], H - 1)))
+    return p0, p1
+
+
 def _sign_label(s, cw, nw, R, t, uv, style) -> dict:
-    """labels.jsonl entry of a sign (see render_frame)."""
+    """labels.jsonl entry of a sign (both render paths)."""
     d_h = np.array([cw[0] - t[0], cw[2] - t[2]])
     fwd = np.array([-R[0, 2], -R[2, 2]])
     fwd /= np.linalg.norm(fwd) + 1e-12
+    # bearing: angle from camera forward to the sign, positive to the left (CCW seen from above)
     cross = fwd[0] * d_h[1] - fwd[1] * d_h[0]
     bearing = -math.atan2(cross, float(np.dot(fwd, d_h)))
     return dict(kind=s.kind, cornersRaw=[[float(a), float(b)] for a, b in uv],
@@ -965,26 +959,13 @@ def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec]
         uv, depth = project_points(corners, R, t, intr)
         if (depth < 0.1).any():
             continue
-        if rng.random() < 0.8:
-            hc = quad_corners_world(cw - 0.01 * nw / (np.linalg.norm(nw) + 1e-9), nw, s.width_m + 0.03, s.height_m + 0.03)
-            huv, hd = project_points(hc, R, t, intr)
-            if (hd > 0.1).all():
-                hcol = np.array(rng.choice([[0.92, 0.92, 0.9], [0.15, 0.15, 0.15], [0.7, 0.7, 0.72]]), np.float32)
-                htex = Texture(rgb=np.ones((8, 8, 3), np.float32) * hcol, alpha=np.ones((8, 8), np.float32), emissive=0.0, mask_class=0)
-                paste_quad(img, None, emissive, htex, huv, light=illum * 0.9)
+        _paste_housing(img, emissive, rng, s, cw, nw, R, t, intr, light=illum * 0.9)
         paste_quad(img, mask, emissive, tex, uv, light=illum * rng.uniform(0.8, 1.1), emission_scale=phone.led_gain_scale)
         if s.kind != "distractor":
             labels.append(_sign_label(s, cw, nw, R, t, uv, style))
     for lab in labels:  # partial occlusion (as render_frame)
         if rng.random() < occlusion_prob:
-            uv = lab["_uv"]
-            bw, bh = uv[:, 0].max() - uv[:, 0].min(), uv[:, 1].max() - uv[:, 1].min()
-            side, frac = rng.integers(0, 4), rng.uniform(0.1, 0.35)
-            cx0, cy0 = uv[:, 0].min(), uv[:, 1].min()
-            rect = [(cx0 - bw, cy0 - bh, cx0 + frac * bw, cy0 + 2 * bh), (cx0 + (1 - frac) * bw, cy0 - bh, cx0 + 2 * bw, cy0 + 2 * bh),
-                    (cx0 - bw, cy0 - bh, cx0 + 2 * bw, cy0 + frac * bh), (cx0 - bw, cy0 + (1 - frac) * bh, cx0 + 2 * bw, cy0 + 2 * bh)][side]
-            p0 = (int(max(rect[0], 0)), int(max(rect[1], 0)))
-            p1 = (int(min(rect[2], W - 1)), int(min(rect[3], H - 1)))
+            p0, p1 = _occluder_rect(lab["_uv"], rng, W, H)
             cv2.rectangle(img, p0, p1, tuple(float(c) for c in rng.uniform(0.05, 0.8, 3) * illum), -1)
             cv2.rectangle(mask, p0, p1, 0, -1)
             lab["occluded"] = True
