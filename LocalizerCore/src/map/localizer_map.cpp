@@ -51,8 +51,7 @@ void compute_visibility(FloorData &f, float max_range_all_m, float max_view_angl
     // Seen more obliquely than max_view_angle_from_normal_rad (wf_localizer.h), a sign is not predicted visible.
     for (size_t j = 0; j < n; ++j) {
         // The sign's own limits (its kind's: a placard is read from closer and more squarely), when it has them.
-        const float own_r = j < f.signs.own_max_range_m.size() ? f.signs.own_max_range_m[j] : 0.0f;
-        const float own_a = j < f.signs.own_max_view_angle_rad.size() ? f.signs.own_max_view_angle_rad[j] : 0.0f;
+        const float own_r = f.signs.own_max_range_m[j], own_a = f.signs.own_max_view_angle_rad[j];
         const float max_range_m = own_r > 0.0f ? std::min(own_r, max_range_all_m) : max_range_all_m;
         const float cos_max_view = std::cos(own_a > 0.0f ? std::min(own_a, max_view_angle_from_normal_rad)
                                                          : max_view_angle_from_normal_rad);

@@ -25,8 +25,8 @@ struct SignTable {
     std::vector<float> x, y, facing_x, facing_y;
     std::vector<uint8_t> double_sided;
     /// Per sign, its own recognition limits from the map (wf_localizer_sign): farthest range, meters, and largest
-    /// view angle from the face normal, radians; 0 (or absent: tables built by hand in tests) = none, the
-    /// options' limits apply. compute_visibility uses the smaller of the sign's and the options'.
+    /// view angle from the face normal, radians; 0 = none, the options' limits apply. One entry per sign, like
+    /// the other columns. compute_visibility uses the smaller of the sign's and the options'.
     std::vector<float> own_max_range_m, own_max_view_angle_rad;
     size_t size() const { return kind.size(); }
 };
