@@ -31,12 +31,13 @@ struct ResolvedOptions {
     /// Sign kinds and their face sizes (may be empty: then sense() fails).
     std::vector<SignKindSpec> catalogue;
     /// sense() reports no sighting for a face measured shorter than this, unrolled pixels: below it the range
-    /// from apparent height is not worth having. Each face edge is located to about half a pixel, and blur,
-    /// bloom and the mask's or box's margin add a pixel or more whatever the size, so a 6-px face (an Exit sign
-    /// 17 m away on a 640 x 480 frame) read 10 m on the end-to-end study (-40 %), while the localizer's range
-    /// model allows about 12 % + 0.1 m. 10 px keeps that error under about 10 %: Exit signs out to 11 m on a
-    /// VGA frame, 33 m on a 1920 x 1440 one (docs/sign-detection.md, "Smallest face ranged").
-    double minRangingHeightPx = 10;
+    /// from apparent height is not worth having. Each face edge is located to about half a pixel, but a face of
+    /// under about 9 px blends with what surrounds it (housing, bloom, a ceiling edge behind it) and its edges
+    /// are found outside the face: on the end-to-end study's 640 x 480 frames, Exit signs 13-17 m away (7-8.6 px)
+    /// were measured at about 12 px and read 9-10 m (-30 to -45 %), where the localizer's range model allows
+    /// about 12 % + 0.1 m; faces read at 13 px or more were within 25 % (docs/sign-detection.md, "Smallest face
+    /// ranged"). 13 px: Exit signs out to 8.6 m on a VGA frame, 26 m on a 1920 x 1440 one.
+    double minRangingHeightPx = 13;
 
     /// Copies `opts` (borrowed strings are copied) and applies defaults. Returns WF_STATUS_OK or an error code with
     /// `error` set.
