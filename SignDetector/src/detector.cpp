@@ -353,6 +353,15 @@ bool sightingFromObservation(const wf_detector_observation& o, const SignKindSpe
     return true;
 }
 
+bool faceTouchesFrameEdge(const wf_sign_sighting& sighting, int widthPx, int heightPx, double marginPx) {
+    for (int i = 0; i < 4; ++i) {
+        const double u = sighting.corners_raw_px[2 * i], v = sighting.corners_raw_px[2 * i + 1];
+        // Pixel centres run from 0 to width - 1; the negated tests also catch NaN.
+        if (!(u >= marginPx && v >= marginPx && u <= widthPx - 1 - marginPx && v <= heightPx - 1 - marginPx)) return true;
+    }
+    return false;
+}
+
 FrameSightings Detector::sense(const wf_frame& frame) {
     FrameSightings out;
     if (options_.catalogue.empty()) {
@@ -369,7 +378,8 @@ FrameSightings Detector::sense(const wf_frame& frame) {
         if (!(o.median_height_px >= options_.minRangingHeightPx)) continue;  // too small to range
         const SignKindSpec* kind = findKind(options_.catalogue, o.kind);
         wf_sign_sighting sighting;
-        if (kind != nullptr && sightingFromObservation(o, *kind, frame.pitch_rad, &sighting)) {
+        if (kind != nullptr && sightingFromObservation(o, *kind, frame.pitch_rad, &sighting) &&
+            !faceTouchesFrameEdge(sighting, frame.image.width, frame.image.height, options_.frameEdgeMarginPx)) {
             out.sightings.push_back(sighting);
         }
     }

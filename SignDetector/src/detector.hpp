@@ -38,6 +38,11 @@ struct ResolvedOptions {
     /// about 12 % + 0.1 m; faces read at 13 px or more were within 25 % (docs/sign-detection.md, "Smallest face
     /// ranged"). 13 px: Exit signs out to 8.6 m on a VGA frame, 26 m on a 1920 x 1440 one.
     double minRangingHeightPx = 13;
+    /// sense() reports no sighting for a face with a measured corner within this many raw pixels of the frame's
+    /// edge (or outside it): the frame cuts the face, so its apparent height and centre are not the sign's. A
+    /// sign 1.3 m away, cut by the top corner of a 640 x 480 frame, read 3.2 m on the end-to-end study and broke
+    /// a correct lock (conv-4-00 at 27 s).
+    double frameEdgeMarginPx = 2;
 
     /// Copies `opts` (borrowed strings are copied) and applies defaults. Returns WF_STATUS_OK or an error code with
     /// `error` set.
@@ -94,5 +99,9 @@ wf_detector_observation makeObservation(const Detection& detection, const Unroll
 /// pitch `pitchRad`. Returns false (no sighting) when the range estimator rejects the measurement.
 bool sightingFromObservation(const wf_detector_observation& o, const SignKindSpec& kind, double pitchRad,
                              wf_sign_sighting* out);
+
+/// True when one of the sighting's face corners (corners_raw_px) lies within `marginPx` of the edge of a
+/// `widthPx` x `heightPx` raw frame, outside it, or is not finite: the frame cuts the face.
+bool faceTouchesFrameEdge(const wf_sign_sighting& sighting, int widthPx, int heightPx, double marginPx);
 
 }  // namespace wf::sign

@@ -10,6 +10,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <string>
@@ -135,6 +136,66 @@ TEST(Sense, FacesTooSmallToRangeAreNotReported) {
         EXPECT_EQ(small, range > 26.0) << range << " m, " << obs[0].median_height_px << " px";
     }
     wf_detector_free(d);
+}
+
+// A face cut by the frame's edge is detected but not ranged (ResolvedOptions::frameEdgeMarginPx): its apparent
+// height is the visible part's. The frame is a crop about the image centre (so the principal point stays
+// central) whose edge cuts the sign, on the axis where the sign is farther from the centre.
+TEST(Sense, FacesCutByTheFrameEdgeAreNotReported) {
+    wf_detector* d = makeUnet({kExit});
+    ASSERT_NE(d, nullptr) << wf_thread_last_error();
+    Scene s = scene(3.0);
+    std::vector<wf_sign_sighting> whole;
+    ASSERT_EQ(sense(d, s.frame, &whole), WF_STATUS_OK);
+    ASSERT_EQ(whole.size(), 1u);
+    EXPECT_FALSE(faceTouchesFrameEdge(whole[0], s.rgb.cols, s.rgb.rows, 2.0));
+
+    double su = 0, sv = 0, minU = 1e9, maxU = -1e9, minV = 1e9, maxV = -1e9;
+    for (const auto& c : s.truth.cornersRaw) {
+        su += 0.25 * c.x;
+        sv += 0.25 * c.y;
+        minU = std::min(minU, double(c.x));
+        maxU = std::max(maxU, double(c.x));
+        minV = std::min(minV, double(c.y));
+        maxV = std::max(maxV, double(c.y));
+    }
+    const double cu = 0.5 * (s.rgb.cols - 1), cv = 0.5 * (s.rgb.rows - 1);
+    const bool alongU = std::abs(su - cu) / s.rgb.cols >= std::abs(sv - cv) / s.rgb.rows;
+    const double off = alongU ? std::abs(su - cu) : std::abs(sv - cv);
+    ASSERT_GT(off, 40.0) << "the sign is too near the centre to cut it this way";
+    // The crop's edge runs a fifth of the sign's extent past its centre: 70 % of the face stays in view.
+    const int half = int(std::lround(off + 0.2 * (alongU ? maxU - minU : maxV - minV)));
+    cv::Rect roi = alongU ? cv::Rect(int(cu) - half, 0, 2 * half, s.rgb.rows) : cv::Rect(0, int(cv) - half, s.rgb.cols, 2 * half);
+    cv::Mat crop = s.rgb(roi).clone();
+    wf_frame cut = s.frame;
+    cut.image = wf_image{crop.data, crop.cols, crop.rows, crop.step, WF_PIXEL_RGB8, nullptr, 0,
+                         crop.step * size_t(crop.rows), 0};
+    cut.intrinsics.cx -= roi.x;
+    cut.intrinsics.cy -= roi.y;
+    wf_detector_observation obs[4];
+    size_t count = 0;
+    ASSERT_EQ(wf_detector_detect(d, &cut, obs, 4, &count), WF_STATUS_OK) << wf_detector_last_error(d);
+    ASSERT_GE(count, 1u) << "the half sign is still detected";
+    std::vector<wf_sign_sighting> sightings;
+    ASSERT_EQ(sense(d, cut, &sightings), WF_STATUS_OK);
+    EXPECT_TRUE(sightings.empty()) << sightings.size() << " sighting(s), first at " << sightings[0].range_m << " m";
+    wf_detector_free(d);
+}
+
+TEST(Sense, FaceEdgeTestCoversEveryCornerAndNaN) {
+    wf_sign_sighting g{};
+    const double inside[8] = {10, 10, 50, 10, 50, 40, 10, 40};
+    std::copy(inside, inside + 8, g.corners_raw_px);
+    EXPECT_FALSE(faceTouchesFrameEdge(g, 100, 80, 2.0));
+    for (int k = 0; k < 8; ++k) {
+        wf_sign_sighting h = g;
+        h.corners_raw_px[k] = (k % 2 == 0) ? 98.5 : 78.5;  // within 2 px of the right or bottom edge
+        EXPECT_TRUE(faceTouchesFrameEdge(h, 100, 80, 2.0)) << k;
+        h.corners_raw_px[k] = 1.0;  // within 2 px of the left or top edge
+        EXPECT_TRUE(faceTouchesFrameEdge(h, 100, 80, 2.0)) << k;
+        h.corners_raw_px[k] = std::numeric_limits<double>::quiet_NaN();
+        EXPECT_TRUE(faceTouchesFrameEdge(h, 100, 80, 2.0)) << k;
+    }
 }
 
 TEST(Sense, RangeScalesWithTheCatalogueFaceHeight) {
