@@ -32,7 +32,7 @@ public final class ParticleLocalizer {
 
     /// Sets an internal model parameter by name ("compass.enabled", "compass.kappa", "compass.outlier_share",
     /// "compass.min_distance_m", "compass.max_nats", "compass.max_total_nats", "lock.rival_weight", "lock.rival_margin_nats",
-    /// "lock.jump_m"; docs/localizer.md). Throws `.invalidArgument` naming the known names or the range.
+    /// "lock.jump_m", "sign.negative_info_min_range_m"; docs/localizer.md). Throws `.invalidArgument` naming the known names or the range.
     public func setParameter(_ name: String, _ value: Double) throws { try handle.setParameter(name, value) }
 
     /// Reads an internal model parameter by name. Throws `.invalidArgument` for an unknown name.

@@ -835,13 +835,14 @@ constexpr NamedParameter kParameters[] = {
     {"lock.rival_weight", 0, 1},
     {"lock.rival_margin_nats", 0, 1e3},
     {"lock.jump_m", 0.1, 1e4},
+    {"sign.negative_info_min_range_m", 0, 1e3},
 };
 
 }  // namespace
 
 const char *ParticleFilter::parameter_names() {
     return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,compass.max_total_nats,"
-           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m";
+           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,sign.negative_info_min_range_m";
 }
 
 int ParticleFilter::set_parameter(const std::string &name, double value) {
@@ -867,6 +868,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.rival_weight") h.lock_rival_weight = value;
     else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
     else if (name == "lock.jump_m") h.lock_jump_m = value;
+    else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
     return WF_LOC_OK;
 }
 
@@ -882,6 +884,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.rival_weight") value = h.lock_rival_weight;
     else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
     else if (name == "lock.jump_m") value = h.lock_jump_m;
+    else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;
     else return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
     return WF_LOC_OK;
 }

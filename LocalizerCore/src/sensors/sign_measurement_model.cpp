@@ -70,7 +70,7 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
     const float inv_sb = 1.0f / m.bearing_sigma_rad;
     const float norm_b = 1.0f / (2.0f * kPi * m.bearing_sigma_rad);  // 1/sqrt(2pi) of range and of bearing
     const float u_clutter = 1.0f / (max_r * 2.0f * half_fov);
-    const float neg_r = m.negative_info_max_range_m;
+    const float neg_r = m.negative_info_max_range_m, neg_r_min = m.negative_info_min_range_m;
     const float neg_b = m.negative_info_fov_fraction * half_fov;
     const float log_miss = std::log(std::max(1e-6f, m.negative_info_miss_weight));
     const float ra = m.range_sigma_base_m, rb = m.range_sigma_per_meter;
@@ -220,7 +220,7 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
             }
             if (m.negative_information) {
                 for (int k = 0; k < nc; ++k) {
-                    if (cand_r[k] > neg_r || std::fabs(cand_b[k]) > neg_b) continue;
+                    if (cand_r[k] > neg_r || cand_r[k] < neg_r_min || std::fabs(cand_b[k]) > neg_b) continue;
                     const float sr3 = 3.0f * (ra + rb * cand_r[k]);
                     const float sb3 = 3.0f * m.bearing_sigma_rad;
                     bool matched = false;

@@ -10,8 +10,8 @@
 // s_r(r) = range_sigma_base_m + range_sigma_per_meter * r; u = 1 / (max_range * fov) is the density of a
 // false positive spread uniformly over the sensor's range x bearing space; p_clutter grows as the detector
 // score drops. Sightings of one frame are independent (product of likelihoods).
-// Negative information (optional): each sign predicted plainly visible (close, near the image centre) that
-// no sighting of its kind matches within 3 sigma multiplies the weight by negative_info_miss_weight.
+// Negative information (optional): each sign predicted plainly visible (close but not overhead, near the image
+// centre) that no sighting of its kind matches within 3 sigma multiplies the weight by negative_info_miss_weight.
 #pragma once
 
 #include <cstddef>
@@ -33,6 +33,11 @@ struct SignModelParams {
     float clutter_probability = 0.1f;
     bool negative_information = true;
     float negative_info_max_range_m = 5;
+    /// A sign nearer than this is not "plainly visible", meters: Exit signs hang about 1-1.3 m above a
+    /// camera held at chest height, so under about 2.5 m the face leaves the top of a portrait frame (vertical
+    /// half field of view about 0.54 rad) unless the camera pitches up, and a face the frame cuts is not
+    /// ranged (SignDetector's frameEdgeMarginPx). Internal parameter `sign.negative_info_min_range_m`.
+    float negative_info_min_range_m = 2.5f;
     float negative_info_fov_fraction = 0.6f;
     float negative_info_miss_weight = 0.8f;
 
