@@ -652,6 +652,9 @@ public final class Navigator {
         } else {
             side = ArrivalSide.classify(relativeBearingRad: v.angleRad - input.headingRad)
         }
+        // Whatever is still queued about the route (a turn cue or chained alert that came due with a late
+        // relock) is moot now, and would hold the arrival back until it is too old to say.
+        policy.discardPending(below: .safety)
         policy.submitHaptic(.arrived)
         say(narrative.arrival(side: side, behindDoor: destinationBehindDoor, destinationName: destinationName), .cue, input.t)
         hasArrived = true

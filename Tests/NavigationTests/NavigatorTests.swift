@@ -303,6 +303,51 @@ final class NavigatorTests: XCTestCase {
         XCTAssertEqual(after, [])
     }
 
+    /// What is said and felt (haptics in parentheses) on the walk a -> b -> c -> d of `map` (0.5 m grid) at
+    /// 1.2 m/s and 10 Hz, with the lock lost from 6 m before b to `relockPastB` meters past it.
+    func arrivalTimeline(map: String, relockPastB: Double) throws -> [String] {
+        let b = FloorPlanFixture(gridMeters: 0.5).floor("1", map: map).build()
+        let nav = try Navigator(building: b, destinationId: "d")
+        let path = ["a", "b", "c", "d"].map { b.nodePosition($0) }
+        var legStart = [0.0]
+        for i in 1..<path.count { legStart.append(legStart[i - 1] + hypot(path[i].x - path[i - 1].x, path[i].y - path[i - 1].y)) }
+        let atB = legStart[1], total = legStart[3]
+        var timeline: [String] = []
+        var k = 0
+        while true {
+            let t = Double(k) / 10, s = min(1.2 * t, total)
+            let i = min(max(legStart.lastIndex { $0 <= s } ?? 0, 0), path.count - 2)
+            let f = (s - legStart[i]) / (legStart[i + 1] - legStart[i])
+            let p = Point2(x: path[i].x + f * (path[i + 1].x - path[i].x), y: path[i].y + f * (path[i + 1].y - path[i].y))
+            let heading = atan2(path[i + 1].y - path[i].y, path[i + 1].x - path[i].x)
+            let lost = s > atB - 6 && s < atB + relockPastB
+            for e in nav.update(NavigationInput(t: t, positionInMap: p, floorId: "1", headingRad: heading, isLocalized: !lost)) {
+                if let text = e.spokenText { timeline.append(text) }
+                if case .haptic(let h) = e.event { timeline.append("(\(h.rawValue))") }
+            }
+            k += 1
+            if s >= total && t > 1.2 * total + 4 { break }
+        }
+        return timeline
+    }
+
+    func testArrivalIsSaidAndNoStaleTurnCueAfterIt() throws {
+        // Two right turns 1 m apart, 1 m before the destination d, and the lock lost for 5 s up to just past the
+        // first (b). On relocking one or both turn cues come due and "Arrived" follows within a second. The
+        // arrival must be heard (a cue older than 1.5 s is dropped, so it must not wait behind a moot turn cue)
+        // and nothing about a turn may be said after it. Before the fix: "Arrived" then "Then turn right." for
+        // a relock up to 0.4 m past b; from 0.5 m, "(arrived)" then "Turn right now." and no arrival at all
+        // (as on the end-to-end study's conv-2-01).
+        let map = "a-----------------b\n                  |\n                d-c"
+        for r in stride(from: 0.0, through: 0.9, by: 0.1) {
+            let timeline = try arrivalTimeline(map: map, relockPastB: r)
+            let arrived = try XCTUnwrap(timeline.lastIndex { $0.hasPrefix("Arrived.") }, "relock \(r) m past b: \(timeline)")
+            XCTAssertFalse(timeline[(arrived + 1)...].contains { $0.lowercased().contains("turn") }, "relock \(r): \(timeline)")
+            XCTAssertEqual(timeline.filter { $0 == "(arrived)" }.count, 1, "relock \(r): \(timeline)")
+            XCTAssertTrue(timeline.contains("Turn right now."), "relock \(r): \(timeline)")
+        }
+    }
+
     func testElevatorRideEndToEnd() throws {
         let b = FloorPlanFixture(gridMeters: 1)
             .floor("1", map: "a-------E")
