@@ -116,29 +116,34 @@ INSTANTIATE_TEST_SUITE_P(NegativeInformation, ConvergenceTest, ::testing::Values
 // the filter must keep two hypotheses and never claim to be localized (never confidently wrong). The two
 // weights drift apart by Monte Carlo noise (0.5/0.5 is the exact answer; a particle filter does not keep
 // it), so the guarantee rests on the rival never being refuted by the evidence, not on the weights.
+// Over 12 seeds: never localized in any; in at least 8 the two heaviest hypotheses are the truth and its mirror
+// image, the lighter with more than 5 % of the weight (in the others Monte Carlo noise has drained the mirror
+// below 5 % by the end of the walk; measured 9 of 12 with and without the overhead rule of negative
+// information, a different 3 each time).
 TEST(ParticleFilter, SymmetricCorridorStaysUnlocalized) {
-    auto world = wf::test::symmetric_world();
-    auto o = test_options();
-    ParticleFilter pf(wf::test::build_map(world, o), o, 3);
-    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
-    wf::test::WalkParams wp;
-    const auto frames = wf::test::make_walk(world.floors[0], {{15, 1}, {25, 1}, {5, 1}, {25, 1}, {12, 1}}, 0.0, wp);
-    const RunStats s = run(pf, frames);
-    EXPECT_EQ(s.localized_frames, 0);
-    EXPECT_FALSE(s.any_nan);
-    EXPECT_GE(s.last.hypothesis_count, 2);
-    // The two heaviest hypotheses are the truth and its mirror image.
-    ParticleClusterer c;
-    ClusterParams cp;
-    const auto &cl = c.run(pf.particles(), pf.vio_yaw(), cp);
-    ASSERT_GE(cl.size(), 2u);
-    const auto &t = frames.back();
-    const double d0 = std::hypot(cl[0].x - t.true_x, cl[0].y - t.true_y);
-    const double d0m = std::hypot(cl[0].x - (30 - t.true_x), cl[0].y - (2 - t.true_y));
-    const double d1 = std::hypot(cl[1].x - t.true_x, cl[1].y - t.true_y);
-    const double d1m = std::hypot(cl[1].x - (30 - t.true_x), cl[1].y - (2 - t.true_y));
-    EXPECT_LT(std::min(d0 + d1m, d0m + d1), 2.0);
-    EXPECT_GT(cl[1].weight, 0.05);
+    int both_alive = 0;
+    for (uint64_t seed = 1; seed <= 12; ++seed) {
+        auto world = wf::test::symmetric_world();
+        auto o = test_options();
+        ParticleFilter pf(wf::test::build_map(world, o), o, seed);
+        ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+        wf::test::WalkParams wp;
+        const auto frames = wf::test::make_walk(world.floors[0], {{15, 1}, {25, 1}, {5, 1}, {25, 1}, {12, 1}}, 0.0, wp);
+        const RunStats s = run(pf, frames);
+        EXPECT_EQ(s.localized_frames, 0) << "seed " << seed;
+        EXPECT_FALSE(s.any_nan) << "seed " << seed;
+        ParticleClusterer c;
+        ClusterParams cp;
+        const auto &cl = c.run(pf.particles(), pf.vio_yaw(), cp);
+        if (cl.size() < 2 || s.last.hypothesis_count < 2 || !(cl[1].weight > 0.05)) continue;
+        const auto &t = frames.back();
+        const double d0 = std::hypot(cl[0].x - t.true_x, cl[0].y - t.true_y);
+        const double d0m = std::hypot(cl[0].x - (30 - t.true_x), cl[0].y - (2 - t.true_y));
+        const double d1 = std::hypot(cl[1].x - t.true_x, cl[1].y - t.true_y);
+        const double d1m = std::hypot(cl[1].x - (30 - t.true_x), cl[1].y - (2 - t.true_y));
+        both_alive += std::min(d0 + d1m, d0m + d1) < 2.0 ? 1 : 0;
+    }
+    EXPECT_GE(both_alive, 8);
 }
 
 // The same symmetric corridor with a compass: the mirror hypothesis faces the other way, so the compass

@@ -76,7 +76,9 @@ float plain_sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const L
         if (m.negative_information) {
             for (int k = 0; k < nc; ++k) {
                 const float neg_b = m.negative_info_fov_fraction * half_fov;
-                if (cand_r[k] > m.negative_info_max_range_m || std::fabs(cand_b[k]) > neg_b) continue;
+                if (cand_r[k] > m.negative_info_max_range_m || cand_r[k] < m.negative_info_min_range_m ||
+                    std::fabs(cand_b[k]) > neg_b)
+                    continue;
                 const float sr3 = 3.0f * (ra + rb * cand_r[k]);
                 const float sb3 = 3.0f * m.bearing_sigma_rad;
                 bool matched = false;
