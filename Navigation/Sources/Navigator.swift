@@ -678,6 +678,14 @@ public final class Navigator {
         let t = input.t
         let u = polylinePosition
         let s = progressMeters
+        // At most one turn haptic per update: when a late relock brings two turn cues due at once, the second
+        // cue's speech waits for the first, and a second haptic felt with the first cue's words would give the
+        // first turn's side twice (the phone reads the side from the batch's speech).
+        var turnHapticSent = false
+        func turnHaptic() {
+            if !turnHapticSent { policy.submitHaptic(.turnCue) }
+            turnHapticSent = true
+        }
         // 1. Move past the maneuvers left behind (and say the landing phrase on reaching a landing).
         while nextManeuver < r.maneuvers.count {
             let i = nextManeuver
@@ -708,7 +716,7 @@ public final class Navigator {
                 cueIssued[i] = true
                 alertIssued[i] = true
                 if let text = narrative.cue(m, floorName: floorName(m.floorId)) {
-                    policy.submitHaptic(.turnCue)
+                    turnHaptic()
                     say(text, .cue, t, about: m, variant: "cue")
                 }
             }
@@ -751,7 +759,7 @@ public final class Navigator {
                 alertIssued[i] = true
                 for door in doorsPassedOver { cueIssued[door] = true; alertIssued[door] = true }
                 if let text = cueText {
-                    if m.kind.isTurn { policy.submitHaptic(.turnCue) }
+                    if m.kind.isTurn { turnHaptic() }
                     say(text, cuePriority, t, about: m, variant: "cue")
                     sayChained(after: i, route: r, t: t)
                 }

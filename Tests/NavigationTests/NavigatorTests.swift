@@ -348,6 +348,19 @@ final class NavigatorTests: XCTestCase {
         }
     }
 
+    func testTwoTurnCuesDueAtOnceGiveOneTurnHaptic() throws {
+        // Relocking 0.5-0.9 m past the first of two turns 1 m apart brings both turn cues due in one update;
+        // the phone reads a haptic's turn side from the batch's speech, so a second haptic would repeat the
+        // first turn's side. Before the fix: "(turnCue)", "(turnCue)", "Turn right now." in one batch.
+        let map = "a-----------------b\n                  |\n                d-c"
+        for r in stride(from: 0.5, through: 0.9, by: 0.1) {
+            let timeline = try arrivalTimeline(map: map, relockPastB: r)
+            XCTAssertFalse(zip(timeline, timeline.dropFirst()).contains { $0 == "(turnCue)" && $1 == "(turnCue)" },
+                           "relock \(r): \(timeline)")
+            XCTAssertEqual(timeline.filter { $0 == "(turnCue)" }.count, 1, "relock \(r): \(timeline)")
+        }
+    }
+
     func testElevatorRideEndToEnd() throws {
         let b = FloorPlanFixture(gridMeters: 1)
             .floor("1", map: "a-------E")
