@@ -35,8 +35,9 @@ struct ResolvedOptions {
     /// under about 9 px blends with what surrounds it (housing, bloom, a ceiling edge behind it) and its edges
     /// are found outside the face: on the end-to-end study's 640 x 480 frames, Exit signs 13-17 m away (7-8.6 px)
     /// were measured at about 12 px and read 9-10 m (-30 to -45 %), where the localizer's range model allows
-    /// about 12 % + 0.1 m; faces read at 13 px or more were within 25 % (docs/sign-detection.md, "Smallest face
-    /// ranged"). 13 px: Exit signs out to 8.6 m on a VGA frame, 26 m on a 1920 x 1440 one.
+    /// about 12 % + 0.1 m. Read against true range by measured height: at 10-12 px at least a tenth read 0.52-0.76
+    /// of the truth, at 13 px the tenth percentile was 0.74, from 14 px none fell below 0.75 (docs/benchmarks.md,
+    /// "Third stop"). 13 px: Exit signs out to 8.6 m on a VGA frame, 26 m on a 1920 x 1440 one.
     double minRangingHeightPx = 13;
     /// sense() reports no sighting for a face with a measured corner within this many raw pixels of the frame's
     /// edge (or outside it): the frame cuts the face, so its apparent height and centre are not the sign's. A

@@ -304,7 +304,9 @@ final class NavigatorTests: XCTestCase {
     }
 
     /// What is said and felt (haptics in parentheses) on the walk a -> b -> c -> d of `map` (0.5 m grid) at
-    /// 1.2 m/s and 10 Hz, with the lock lost from 6 m before b to `relockPastB` meters past it.
+    /// 1.2 m/s and 10 Hz, with the lock lost from 6 m before b to `relockPastB` meters past it. Written out
+    /// rather than with `Walker`: its legs end on their end points, so a relock 0.9 m past b would first be
+    /// localized at c itself, not just after the relock point.
     func arrivalTimeline(map: String, relockPastB: Double) throws -> [String] {
         let b = FloorPlanFixture(gridMeters: 0.5).floor("1", map: map).build()
         let nav = try Navigator(building: b, destinationId: "d")
@@ -316,7 +318,7 @@ final class NavigatorTests: XCTestCase {
         var k = 0
         while true {
             let t = Double(k) / 10, s = min(1.2 * t, total)
-            let i = min(max(legStart.lastIndex { $0 <= s } ?? 0, 0), path.count - 2)
+            let i = min(legStart.lastIndex { $0 <= s } ?? 0, path.count - 2)
             let f = (s - legStart[i]) / (legStart[i + 1] - legStart[i])
             let p = Point2(x: path[i].x + f * (path[i + 1].x - path[i].x), y: path[i].y + f * (path[i + 1].y - path[i].y))
             let heading = atan2(path[i + 1].y - path[i].y, path[i + 1].x - path[i].x)
