@@ -19,14 +19,16 @@ bool LocalizedHysteresis::update(const HysteresisInput &in) {
     last_y_ = in.y;
     last_floor_ = in.floor;
     if (localized_) {
-        const bool spread = in.std_m > p_.unlocalize_std_m;
+        const double std_m = in.core_std_m >= 0 ? in.core_std_m : in.std_m;
+        const double weight = in.core_weight >= 0 ? in.core_weight : in.dominant_weight;
+        const bool spread = std_m > p_.unlocalize_std_m;
         // The weight left the locked cluster. Kept only when it went to a heavy rival that explains the recent
         // evidence clearly worse (revived by injection); a rival that explains it as well, or weight diffused
         // over the floor (the sightings refuted the lock), drops the flag; below lock_min_weight it always drops.
         const bool heavy_rival = in.strongest_rival_evidence_margin > -1e299;
         const bool only_poor_rival = heavy_rival && in.strongest_rival_evidence_margin < -p_.lock_rival_margin_nats;
-        const bool weak = in.dominant_weight < p_.unlocalize_weight && !only_poor_rival;
-        const bool lost = in.dominant_weight < p_.lock_min_weight;
+        const bool weak = weight < p_.unlocalize_weight && !only_poor_rival;
+        const bool lost = weight < p_.lock_min_weight;
         if (spread || weak || lost || jumped) {
             localized_ = false;
             has_candidate_ = false;

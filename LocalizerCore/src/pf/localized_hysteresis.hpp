@@ -6,7 +6,10 @@
 // nats, is less than rival_refute_nats below the dominant's), all for localize_hold_s.
 //
 // Staying localized ("a steady lock"): once on, the flag drops only when the evidence refutes the estimate,
-// not when Monte Carlo noise or recovery injection shuffles the weights:
+// not when Monte Carlo noise or recovery injection shuffles the weights. The tests below read the dominant
+// cluster's core (its particles within lock_core_radius_m of its weighted median, pf/cluster_core) when the
+// filter supplies it: injected particles that join the cluster by connectivity far along the corridor are not
+// the locked pose, neither for its spread nor for its weight.
 //  - the dominant cluster spreads beyond unlocalize_std_m (e.g. a long tracking loss);
 //  - the dominant cluster is no longer the locked hypothesis (the estimate jumped more than `lock_jump_m`
 //    between two estimates: a rival overtook it);
@@ -33,6 +36,12 @@ struct LocalizedHysteresisParams {
     double lock_min_weight = 0.25;
     /// A jump of the estimate larger than this between two reads means another hypothesis took over, meters.
     double lock_jump_m = 3.0;
+    /// Radius of the locked cluster's core around its weighted median (pf/cluster_core), meters. While
+    /// localized, the spread and the weight tests look at the core: particles that recovery injection scatters
+    /// along the same corridor join the cluster but are not the locked pose. 3 x unlocalize_std_m, so a
+    /// cluster that really spreads still breaks the lock (a 2-D Gaussian of std 2.1 m keeps 97 % of its
+    /// weight and a core std above 2 m: test_cluster_core).
+    double lock_core_radius_m = 6.0;
 };
 
 /// What the flag looks at, from one clustering of the particles.
@@ -48,6 +57,9 @@ struct HysteresisInput {
     /// Largest (rival evidence - dominant evidence), nats, over rivals holding >= lock_rival_weight
     /// (-infinity when there is none).
     double strongest_rival_evidence_margin = -1e300;
+    /// The dominant cluster's core (pf/cluster_core, radius lock_core_radius_m): weight (0..1) and position
+    /// std (m). Read only while localized; negative: not computed (the whole cluster's figures are used).
+    double core_weight = -1, core_std_m = -1;
 };
 
 /// The flag's state machine. Value type; reset() on every init of the filter.

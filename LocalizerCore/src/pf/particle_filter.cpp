@@ -716,8 +716,45 @@ void ParticleFilter::apply_floor_change(double delta_m) {
     compute_estimate();
 }
 
+void ParticleFilter::set_pose_from_core(wf_localizer_estimate &e, const ClusterCore &core) const {
+    e.x = core.x;
+    e.y = core.y;
+    e.cov_xx = core.cov_xx;
+    e.cov_xy = core.cov_xy;
+    e.cov_yy = core.cov_yy;
+    e.yaw_offset_rad = std::atan2(core.yaw_sin_sum, core.yaw_cos_sum);
+    e.heading_rad = wrap_angle(vio_yaw_ + e.yaw_offset_rad);
+    const double rlen = std::min(1.0, std::hypot(core.yaw_cos_sum, core.yaw_sin_sum) / core.weight);
+    e.heading_std_rad = rlen > 1e-12 ? std::sqrt(std::max(0.0, -2.0 * std::log(rlen))) : kPiD;
+    e.position_std_m = core.position_std_m();
+    e.confidence = e.dominant_weight / (1.0 + e.position_std_m * e.position_std_m);
+}
+
 void ParticleFilter::follow_dominant_cluster() {
     estimate_dirty_ = false;
+    if (hysteresis_.localized()) {
+        // The locked pose is the cluster's core (as in compute_estimate).
+        const ClusterCore core =
+            cluster_core(p_, dominant_members_, hysteresis_.params().lock_core_radius_m, core_scratch_);
+        double w = 0;
+        for (uint32_t i : dominant_members_) w += p_.weight[i];
+        if (!(core.weight > 0) || !std::isfinite(core.x) || !std::isfinite(core.y)) {
+            compute_estimate();
+            return;
+        }
+        wf_localizer_estimate &e = estimate_;
+        e.t = t_last_;
+        e.dominant_weight = std::clamp(w, 0.0, 1.0);
+        set_pose_from_core(e, core);
+        if (!hypotheses_.empty()) {
+            hypotheses_.front().x = e.x;
+            hypotheses_.front().y = e.y;
+            hypotheses_.front().heading_rad = e.heading_rad;
+            hypotheses_.front().weight = e.dominant_weight;
+            hypotheses_.front().position_std_m = e.position_std_m;
+        }
+        return;
+    }
     double w = 0, sx = 0, sy = 0, oc = 0, os = 0;
     for (uint32_t i : dominant_members_) {
         const double wi = p_.weight[i];
@@ -835,6 +872,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.rival_weight", 0, 1},
     {"lock.rival_margin_nats", 0, 1e3},
     {"lock.jump_m", 0.1, 1e4},
+    {"lock.core_radius_m", 0.5, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
 };
 
@@ -842,7 +880,7 @@ constexpr NamedParameter kParameters[] = {
 
 const char *ParticleFilter::parameter_names() {
     return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,compass.max_total_nats,"
-           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,sign.negative_info_min_range_m";
+           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,lock.core_radius_m,sign.negative_info_min_range_m";
 }
 
 int ParticleFilter::set_parameter(const std::string &name, double value) {
@@ -868,6 +906,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.rival_weight") h.lock_rival_weight = value;
     else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
     else if (name == "lock.jump_m") h.lock_jump_m = value;
+    else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
     return WF_LOC_OK;
 }
@@ -884,6 +923,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.rival_weight") value = h.lock_rival_weight;
     else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
     else if (name == "lock.jump_m") value = h.lock_jump_m;
+    else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;
     else return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
     return WF_LOC_OK;
@@ -965,6 +1005,19 @@ void ParticleFilter::compute_estimate() {
     }
     if (awaiting_corroboration_ && !corroboration_candidates_drawn_) {
         hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, 1.0);
+    }
+    // While localized, the locked pose is the dominant cluster's core (pf/cluster_core): the flag's spread and
+    // weight tests and the reported pose read it, so particles injected along the same corridor neither move
+    // the estimate nor break the lock.
+    if (hysteresis_.localized() && dominant_members_valid_) {
+        const ClusterCore core = cluster_core(p_, dominant_members_, hp.lock_core_radius_m, core_scratch_);
+        if (core.weight > 0) {
+            hin.core_weight = core.weight;
+            hin.core_std_m = core.position_std_m();
+            hin.x = core.x;
+            hin.y = core.y;
+            set_pose_from_core(e, core);
+        }
     }
     const bool localized = hysteresis_.update(hin);
     // A new lock is corroborated. A lock that sightings break (within a second of one) must be earned again

@@ -13,6 +13,7 @@
 #include "common/rng.hpp"
 #include "map/localizer_map.hpp"
 #include "motion/vio_motion_model.hpp"
+#include "pf/cluster_core.hpp"
 #include "pf/clustering.hpp"
 #include "pf/particle_set.hpp"
 #include "pf/localized_hysteresis.hpp"
@@ -122,8 +123,12 @@ private:
         awaiting_corroboration_ = on;
         corroboration_candidates_drawn_ = false;
     }
-    /// Cheap estimate between two clusterings: the last dominant cluster's particles, re-averaged.
+    /// Cheap estimate between two clusterings: the last dominant cluster's particles, re-averaged (while
+    /// localized, its core's: pf/cluster_core).
     void follow_dominant_cluster();
+    /// Sets the pose part of `e` (position, covariance, heading, their spreads, confidence from e's dominant
+    /// weight) from the locked cluster's core.
+    void set_pose_from_core(wf_localizer_estimate &e, const ClusterCore &core) const;
     /// Longest time between two full clusterings of the estimate, seconds.
     static constexpr double kFullEstimateIntervalS = 0.2;
 
@@ -190,6 +195,8 @@ private:
     std::vector<wf_localizer_hypothesis> hypotheses_;
     std::vector<uint32_t> dominant_members_;
     bool dominant_members_valid_ = false;
+    /// cluster_core's histogram, reused.
+    std::vector<double> core_scratch_;
     double full_estimate_t_ = 0;
 };
 

@@ -88,3 +88,34 @@ TEST(LocalizedHysteresis, SpreadOrAJumpToAnotherHypothesisBreaksTheLock) {
     up.floor = 1;
     EXPECT_TRUE(c.update(up));
 }
+
+TEST(LocalizedHysteresis, WhileLockedTheCoreDecidesSpreadAndWeight) {
+    // Injected particles joined the locked cluster far along the corridor: the whole cluster reads 5.4 m of
+    // spread, its core 0.4 m and 0.8 of the weight. The lock holds.
+    LocalizedHysteresis h = locked();
+    HysteresisInput in = sure(2.0);
+    in.std_m = 5.4;
+    in.core_std_m = 0.4;
+    in.core_weight = 0.8;
+    EXPECT_TRUE(h.update(in));
+    // The core itself spreads: it breaks.
+    in.t = 2.1;
+    in.core_std_m = 2.3;
+    EXPECT_FALSE(h.update(in));
+    // Most of the cluster's weight is outside the core (the weight went elsewhere along the corridor): it
+    // breaks, as weight diffused over the floor does.
+    LocalizedHysteresis g = locked();
+    in = sure(2.0);
+    in.core_std_m = 0.4;
+    in.core_weight = 0.4;
+    EXPECT_FALSE(g.update(in));
+    // Becoming localized reads the whole cluster: a tight core with a far tail is not a lock.
+    LocalizedHysteresis f;
+    for (int k = 0; k <= 20; ++k) {
+        HysteresisInput c = sure(0.1 * k);
+        c.std_m = 3.0;
+        c.core_std_m = 0.3;
+        c.core_weight = 0.9;
+        EXPECT_FALSE(f.update(c));
+    }
+}

@@ -627,7 +627,7 @@ TEST(ParticleFilter, EstimateAfterResamplingMatchesAFreshClustering) {
     ClusterParams cp;
     cp.cell_m = static_cast<float>(o.cluster_cell_m);
     cp.yaw_bin_rad = static_cast<float>(o.cluster_yaw_bin_rad);
-    int checked = 0;
+    int checked = 0, checked_localized = 0;
     for (size_t k = 0; k < 150; ++k) {
         pf.predict(frames[k].vio);
         const size_t before = pf.resample_count();
@@ -637,12 +637,93 @@ TEST(ParticleFilter, EstimateAfterResamplingMatchesAFreshClustering) {
         ParticleClusterer fresh;
         const std::vector<ClusterSummary> &c = fresh.run(pf.particles(), pf.vio_yaw(), cp);
         ASSERT_FALSE(c.empty());
-        EXPECT_EQ(e.x, c[0].x) << "frame " << k;
-        EXPECT_EQ(e.y, c[0].y) << "frame " << k;
         EXPECT_EQ(e.dominant_weight, std::clamp(c[0].weight, 0.0, 1.0)) << "frame " << k;
-        EXPECT_EQ(e.cov_xx, c[0].cov_xx) << "frame " << k;
-        EXPECT_EQ(e.heading_std_rad, c[0].heading_std) << "frame " << k;
+        if (e.localized) {
+            // Localized: the pose is the dominant cluster's core (pf/cluster_core) over the fresh run's members.
+            std::vector<uint32_t> members;
+            for (size_t i = 0; i < fresh.particle_clusters().size(); ++i) {
+                if (fresh.particle_clusters()[i] == 0) members.push_back(static_cast<uint32_t>(i));
+            }
+            std::vector<double> scratch;
+            double radius_m = 0;
+            ASSERT_EQ(pf.get_parameter("lock.core_radius_m", radius_m), WF_LOC_OK);
+            const ClusterCore core = cluster_core(pf.particles(), members, radius_m, scratch);
+            EXPECT_EQ(e.x, core.x) << "frame " << k;
+            EXPECT_EQ(e.y, core.y) << "frame " << k;
+            EXPECT_EQ(e.cov_xx, core.cov_xx) << "frame " << k;
+            ++checked_localized;
+        } else {
+            EXPECT_EQ(e.x, c[0].x) << "frame " << k;
+            EXPECT_EQ(e.y, c[0].y) << "frame " << k;
+            EXPECT_EQ(e.cov_xx, c[0].cov_xx) << "frame " << k;
+            EXPECT_EQ(e.heading_std_rad, c[0].heading_std) << "frame " << k;
+        }
         ++checked;
     }
     EXPECT_GT(checked, 3);  // the carried path was really taken
+    EXPECT_GT(checked_localized, 0);
+    EXPECT_LT(checked_localized, checked);
+}
+
+// One misread far sign (a sighting that fits no pose near the lock) must not break a steady lock: recovery
+// injection scatters particles along the corridor, some join the locked cluster by connectivity, and its
+// whole-cluster spread jumps past unlocalize_std_m; the lock reads the cluster's core (pf/cluster_core).
+// Measured on the end-to-end study's conv-2-01 (U-Net): a 13.8 m sign read at 8.4 m broke a 0.95 lock for
+// 6.5 s. `lock.core_radius_m` = 1e4 (the whole cluster, the rule before) breaks the lock on 3 of these 6 walks
+// (up to 8 of the 30 frames after the outlier, errors up to 2.2 m): the check that the test exercises it.
+TEST(ParticleFilter, OneMisreadSightingDoesNotBreakTheLock) {
+    auto world = wf::test::l_world();
+    // Frames without the flag in the 3 s after the outlier, and the largest error then.
+    struct After {
+        int unlocalized = 0;
+        double max_error_m = 0;
+        size_t injected = 0;
+    };
+    auto walk_with_outlier = [&](uint64_t walk_seed, double core_radius_m) {
+        const auto frames = l_walk(world, walk_seed);
+        auto o = test_options();
+        // The slow recovery average starts at the floor-only cloud's poor fit and needs thousands of sightings
+        // to reach a lock's (alpha 0.001): on this 40 s walk it lags far behind the fast one and nothing would
+        // be injected. A faster slow average (settled within the walk, as on a long real walk) lets the
+        // outlier trigger the injection this test is about.
+        o.recovery_alpha_slow = 0.05;
+        ParticleFilter pf(wf::test::build_map(world, o), o, 5);
+        EXPECT_EQ(pf.set_parameter("lock.core_radius_m", core_radius_m), WF_LOC_OK);
+        EXPECT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+        After a;
+        int outlier_frame = -1, locked_frames = 0;
+        for (size_t k = 0; k < frames.size(); ++k) {
+            const WalkFrame &f = frames[k];
+            EXPECT_EQ(pf.predict(f.vio), WF_LOC_OK);
+            std::vector<wf_sign_observation> z = f.sightings;
+            // After 2 s of a steady lock, on a frame without sightings, one Exit sighting that nothing near the
+            // lock explains (5.5 m ahead, 0.15 rad to the right: the corridor has no sign there).
+            if (outlier_frame < 0 && locked_frames >= 20 && z.empty()) {
+                outlier_frame = static_cast<int>(k);
+                a.injected = pf.injected_count();
+                z.push_back({wf::test::kExit, 5.5, -0.15, 0.9});
+            }
+            EXPECT_EQ(pf.update_signs(z.data(), z.size(), f.vio.t), WF_LOC_OK);
+            const wf_localizer_estimate &e = pf.estimate();
+            locked_frames = e.localized ? locked_frames + 1 : 0;
+            if (outlier_frame >= 0 && static_cast<int>(k) <= outlier_frame + 30) {
+                a.unlocalized += e.localized ? 0 : 1;
+                a.max_error_m = std::max(a.max_error_m, position_error(e, f));
+            }
+            if (static_cast<int>(k) == outlier_frame + 30) a.injected = pf.injected_count() - a.injected;
+        }
+        EXPECT_GE(outlier_frame, 0) << "walk " << walk_seed << " never locked for 2 s";
+        return a;
+    };
+    int broken_before = 0, injected_walks = 0;
+    for (uint64_t seed = 1; seed <= 6; ++seed) {
+        const After core = walk_with_outlier(seed, 6.0);
+        injected_walks += core.injected > 0 ? 1 : 0;
+        EXPECT_EQ(core.unlocalized, 0) << "walk " << seed;
+        EXPECT_LT(core.max_error_m, 0.6) << "walk " << seed;
+        const After whole = walk_with_outlier(seed, 1e4);
+        broken_before += whole.unlocalized > 0 ? 1 : 0;
+    }
+    EXPECT_GE(injected_walks, 4) << "the outlier must trigger recovery injection (else the test shows nothing)";
+    EXPECT_GE(broken_before, 2) << "the whole-cluster rule should break some of these locks (else the test is moot)";
 }
