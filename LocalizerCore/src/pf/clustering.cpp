@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
@@ -28,7 +29,7 @@ void ParticleClusterer::carry_bins(const uint32_t *src, size_t count) {
     carried_valid_ = true;
 }
 
-const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
+WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
                                                           const ClusterParams &params) {
     clusters_.clear();
     particle_cluster_.clear();

@@ -5,6 +5,7 @@
 #include <cstring>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
@@ -143,7 +144,7 @@ uint32_t BinCounter::find(uint64_t key) const {
     return UINT32_MAX;
 }
 
-bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
+WF_SIMD_CLONES bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
                        float inv_bin_yaw, int32_t yaw_bins, size_t max_box) {
     ix_.resize(m);
     iy_.resize(m);

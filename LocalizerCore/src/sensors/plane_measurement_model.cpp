@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
@@ -147,7 +148,7 @@ PlaneLikelihoodTable build_plane_likelihood_table(const PlaneModelParams &m) {
     return t;
 }
 
-float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &fields,
+WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &fields,
                            const PlaneLikelihoodTable &table, const PlaneModelParams &m, const PreparedPlane *planes,
                            size_t count, float *log_likelihood) {
     const size_t n = p.size();

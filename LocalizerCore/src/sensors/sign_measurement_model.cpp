@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
@@ -45,7 +46,7 @@ namespace {
 constexpr int kMaxCandidates = 64;
 }
 
-float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
+WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
                           const PreparedSighting *sightings, size_t count, float *log_likelihood) {
     const size_t n = p.size();
     if (count == 0 && !m.negative_information) {
