@@ -591,24 +591,54 @@ void ParticleFilter::resample(double inject_fraction) {
         if (significant >= 2 || (significant == 1 && clusters[0].weight < 0.99)) {
             grouped = true;
             const int32_t groups = significant + 1;  // last group: the rest
-            // Members of each group in particle order, as one array sorted by group (counting sort, no
-            // per-group allocation).
             group_start_.assign(static_cast<size_t>(groups) + 1, 0);
-            std::vector<double> mass(groups, 0.0);
-            for (size_t i = 0; i < n; ++i) {
-                const int32_t c = cluster_of[i];
-                const int32_t g = (c >= 0 && c < significant) ? c : significant;
-                ++group_start_[g + 1];
-                mass[g] += p_.weight[i];
+            // Members of each group in particle order, as one array sorted by group (no per-group allocation).
+            // With few groups (the usual case: one or two hypotheses and the rest), one branch-free compaction
+            // pass per group over a byte of group per particle; with more, a counting sort. Either way the
+            // same array.
+            group_members_.resize(n + 1);  // + 1: a compaction pass writes one slot past its last member
+            uint32_t *members_out = group_members_.data();
+            if (groups <= kCompactionGroups) {
+                group_of_.resize(n);
+                uint8_t *gid = group_of_.data();
+                for (size_t i = 0; i < n; ++i) {
+                    const int32_t c = cluster_of[i];
+                    gid[i] = static_cast<uint8_t>((c >= 0 && c < significant) ? c : significant);
+                }
+                size_t pos = 0;
+                for (int32_t g = 0; g < groups; ++g) {
+                    const auto gg = static_cast<uint8_t>(g);
+                    for (size_t i = 0; i < n; ++i) {
+                        members_out[pos] = static_cast<uint32_t>(i);
+                        pos += gid[i] == gg ? 1 : 0;
+                    }
+                    group_start_[g + 1] = pos;
+                }
+            } else {
+                for (size_t i = 0; i < n; ++i) {
+                    const int32_t c = cluster_of[i];
+                    ++group_start_[((c >= 0 && c < significant) ? c : significant) + 1];
+                }
+                for (int32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
+                group_fill_.assign(group_start_.begin(), group_start_.end() - 1);
+                for (size_t i = 0; i < n; ++i) {
+                    const int32_t c = cluster_of[i];
+                    const int32_t g = (c >= 0 && c < significant) ? c : significant;
+                    members_out[group_fill_[g]++] = static_cast<uint32_t>(i);
+                }
             }
-            for (int32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
-            group_members_.resize(n);
-            group_fill_.assign(group_start_.begin(), group_start_.end() - 1);
-            for (size_t i = 0; i < n; ++i) {
-                const int32_t c = cluster_of[i];
-                const int32_t g = (c >= 0 && c < significant) ? c : significant;
-                group_members_[group_fill_[g]++] = static_cast<uint32_t>(i);
+            // The members' weights in group order, and each group's mass: their sum in particle order, which
+            // is also the total that the group's systematic resampling forms (so it is passed on, not summed
+            // again).
+            group_weights_.resize(n);
+            for (size_t k = 0; k < n; ++k) group_weights_[k] = p_.weight[members_out[k]];
+            group_mass_.assign(static_cast<size_t>(groups), 0.0);
+            for (int32_t g = 0; g < groups; ++g) {
+                double m = 0;
+                for (size_t k = group_start_[g]; k < group_start_[g + 1]; ++k) m += group_weights_[k];
+                group_mass_[g] = m;
             }
+            const double *mass = group_mass_.data();
             double total = 0;
             int32_t nonempty = 0;
             for (int32_t g = 0; g < groups; ++g) {
@@ -624,11 +654,10 @@ void ParticleFilter::resample(double inject_fraction) {
                                                             ((1.0 - share) * wg + share / nonempty)));
                 ng = std::clamp<size_t>(ng, 1, std::max<size_t>(1, remaining));
                 if (g == groups - 1 || out + ng > n_keep) ng = std::max<size_t>(1, remaining);
-                const uint32_t *members = group_members_.data() + group_start_[g];
+                const uint32_t *members = members_out + group_start_[g];
                 const size_t count = group_start_[g + 1] - group_start_[g];
-                group_weights_.resize(count);
-                for (size_t k = 0; k < count; ++k) group_weights_[k] = p_.weight[members[k]];
-                systematic_resample(group_weights_.data(), group_weights_.size(), ng, rng_.uniform(), indices_);
+                systematic_resample_with_total(group_weights_.data() + group_start_[g], count, ng, rng_.uniform(),
+                                               mass[g], indices_);
                 const float w = static_cast<float>(kept_mass * wg / static_cast<double>(ng));
                 for (uint32_t k : indices_) copy_particle(members[k], w);
                 if (out >= n_keep) break;

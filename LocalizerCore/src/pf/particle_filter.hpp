@@ -143,7 +143,12 @@ private:
     /// group_members_[group_start_[g] .. group_start_[g + 1])).
     std::vector<uint32_t> group_members_;
     std::vector<size_t> group_start_, group_fill_;
+    /// Weights of group_members_ (same order) and each group's mass (their sum in that order).
     std::vector<float> group_weights_;
+    std::vector<double> group_mass_;
+    /// Group of each particle, when there are at most kCompactionGroups groups (one compaction pass each).
+    std::vector<uint8_t> group_of_;
+    static constexpr int32_t kCompactionGroups = 4;
     /// Resampling draws: source particle and new weight of each kept particle.
     std::vector<uint32_t> resample_src_;
     std::vector<float> resample_w_;

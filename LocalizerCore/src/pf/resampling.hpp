@@ -26,6 +26,12 @@ double effective_sample_size(const float *weights, size_t n);
 void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out,
                          size_t first = SIZE_MAX);
 
+/// systematic_resample(weights, n, n_out, u0, out) for a caller that already holds `total`, the weights' sum
+/// formed as systematic_resample forms it (in double, in index order from 0): the same draws without the
+/// summing pass.
+void systematic_resample_with_total(const float *weights, size_t n, size_t n_out, double u0, double total,
+                                    std::vector<uint32_t> &out);
+
 /// Fox 2003 eq. (12): n = (k-1)/(2 eps) * (1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) z)^3, for k occupied bins.
 /// Returns 1 for k <= 1.
 size_t kld_sample_count(size_t k, double epsilon, double z);
