@@ -13,6 +13,25 @@ namespace {
 /// Direction levels (pi / 128 each) per radian.
 constexpr float kLevelsPerRad = static_cast<float>(WallField::kDirectionLevels) / kPi;
 
+/// std::max(init, v[0], ..., v[n - 1]) folded in eight independent lanes, then the lanes (no chain of
+/// dependent maxima through every particle). The same value as the sequential fold for values that hold no
+/// negative zero (every log-likelihood here is +0 or a sum of negative terms): std::max keeps its first
+/// argument against a NaN, so a NaN never enters either fold, and the maximum of the others does not depend on
+/// the order.
+float max_of(const float *v, size_t n, float init) {
+    constexpr size_t kLanes = 8;
+    float lane[kLanes];
+    for (float &l : lane) l = init;
+    size_t i = 0;
+    for (; i + kLanes <= n; i += kLanes) {
+        for (size_t k = 0; k < kLanes; ++k) lane[k] = std::max(lane[k], v[i + k]);
+    }
+    float m = init;
+    for (float l : lane) m = std::max(m, l);
+    for (; i < n; ++i) m = std::max(m, v[i]);
+    return m;
+}
+
 }  // namespace
 
 WallField build_wall_field(const WallIndex &walls, float cell_m, float max_distance_m) {
@@ -202,15 +221,18 @@ WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vecto
         // Resampling leaves identical copies of a particle next to each other (and the plane update often
         // follows a sign update's resampling before any motion): each run of identical particles is scored
         // once, with the same arithmetic, and its value given to every copy.
-        thread_local std::vector<uint32_t> first_of_run;
+        thread_local std::vector<uint32_t> first_of_run, run_of;
         thread_local std::vector<float> run_ll;
         first_of_run.clear();
+        run_of.resize(n);
         const float *px = p.x.data(), *py = p.y.data(), *pyaw = p.yaw_offset.data(), *psc = p.scale.data();
         first_of_run.push_back(0);
+        run_of[0] = 0;
         for (size_t i = 1; i < n; ++i) {
             if (px[i] != px[i - 1] || py[i] != py[i - 1] || pyaw[i] != pyaw[i - 1] || psc[i] != psc[i - 1]) {
                 first_of_run.push_back(static_cast<uint32_t>(i));
             }
+            run_of[i] = static_cast<uint32_t>(first_of_run.size() - 1);
         }
         const size_t runs = first_of_run.size();
         run_ll.resize(runs);
@@ -257,13 +279,9 @@ WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vecto
             }
             std::copy(ll, ll + m_n, run_ll.begin() + static_cast<std::ptrdiff_t>(b));
         }
-        size_t r = 0;
-        for (size_t i = 0; i < n; ++i) {
-            r += (r + 1 < runs && first_of_run[r + 1] == i) ? 1 : 0;
-            log_likelihood[i] += run_ll[r];
-            max_ll = std::max(max_ll, log_likelihood[i]);
-        }
-        return max_ll;
+        const uint32_t *run_index = run_of.data();
+        for (size_t i = 0; i < n; ++i) log_likelihood[i] += run_ll[run_index[i]];
+        return max_of(log_likelihood, n, max_ll);
     }
     for (size_t i = 0; i < n; ++i) {
         const int16_t fl = p.floor[i];

@@ -81,6 +81,7 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
     float cand_r[kMaxCandidates], cand_b[kMaxCandidates];
     int32_t cand_kind[kMaxCandidates];
     float max_ll = -INFINITY;
+    bool any_no_candidate = false;
     // log of the clutter term alone, per sighting: the likelihood of a particle that sees no sign of the
     // sighted kind (most particles of a spread-out cloud). Same float expressions as in the loop below, so a
     // particle without candidates gets exactly the value the loop would compute.
@@ -174,8 +175,10 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
                 uint32_t bits = near_b[j];
                 if (bits == 0) {
                     // No sign nearly in view: clutter only, and no negative information (as the loops below).
+                    // Its value joins the maximum once, after the loop (a repeated value: the same maximum, with
+                    // no dependency chain through every particle).
                     log_likelihood[i] = ll_no_candidate;
-                    max_ll = std::max(max_ll, ll_no_candidate);
+                    any_no_candidate = true;
                     continue;
                 }
                 while (bits) {
@@ -237,6 +240,9 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
             max_ll = std::max(max_ll, ll);
         }
     }
+    // Order-free: no log-likelihood here is NaN-sensitive (std::max keeps its first argument against a NaN, and
+    // max_ll never is one) or a negative zero (every sum starts at +0 and adds logs of positive values).
+    if (any_no_candidate) max_ll = std::max(max_ll, ll_no_candidate);
     return n ? max_ll : 0.0f;
 }
 
