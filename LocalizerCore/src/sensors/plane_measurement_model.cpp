@@ -18,6 +18,27 @@ constexpr float kLevelsPerRad = static_cast<float>(WallField::kDirectionLevels) 
 /// negative zero (every log-likelihood here is +0 or a sum of negative terms): std::max keeps its first
 /// argument against a NaN, so a NaN never enters either fold, and the maximum of the others does not depend on
 /// the order.
+/// Particles (runs) per block of the one-floor path, and plane points whose cells are computed together (the
+/// cells of point q of a block at cell + q * kBlock).
+constexpr size_t kBlock = 512;
+constexpr int32_t kPointChunk = 4;
+
+/// acc[i] += log_p of each of Q points of particle i (cells at cell[q * kBlock + i], plane direction level
+/// level[i]), in point order.
+template <int32_t Q>
+inline void add_lookups(const uint16_t *code, const float *lp, const int32_t *cell, const int32_t *level, float *acc,
+                        size_t m) {
+    for (size_t i = 0; i < m; ++i) {
+        float a = acc[i];
+        const int32_t lv = level[i];
+        for (int32_t q = 0; q < Q; ++q) {
+            const int32_t cc = code[cell[static_cast<size_t>(q) * kBlock + i]];
+            a += lp[(cc & ~127) | ((cc - lv) & 127)];
+        }
+        acc[i] = a;
+    }
+}
+
 float max_of(const float *v, size_t n, float init) {
     constexpr size_t kLanes = 8;
     float lane[kLanes];
@@ -215,9 +236,8 @@ WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vecto
         const uint16_t *code = f.code.data();
         const float fx_max = static_cast<float>(f.nx - 1), fy_max = static_cast<float>(f.ny - 1);
         const int32_t stride = f.nx;
-        constexpr size_t kBlock = 512;
         alignas(64) float cs[kBlock], ss[kBlock], gx[kBlock], gy[kBlock], yl[kBlock], acc[kBlock], ll[kBlock];
-        alignas(64) int32_t cell[kBlock], level[kBlock];
+        alignas(64) int32_t cell[kPointChunk * kBlock], level[kBlock];
         // Resampling leaves identical copies of a particle next to each other (and the plane update often
         // follows a sign update's resampling before any motion): each run of identical particles is scored
         // once, with the same arithmetic, and its value given to every copy.
@@ -263,16 +283,25 @@ WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vecto
                     acc[i] = 0.0f;
                     level[i] = static_cast<int32_t>(pp.tangent_levels + yl[i]) & 127;
                 }
-                for (int32_t q = 0; q < pp.k; ++q) {
-                    const float pe = pp.pe[q], pn = pp.pn[q];
-                    for (size_t i = 0; i < m_n; ++i) {
-                        const float fx = std::min(std::max(gx[i] + cs[i] * pe - ss[i] * pn, 0.0f), fx_max);
-                        const float fy = std::min(std::max(gy[i] + ss[i] * pe + cs[i] * pn, 0.0f), fy_max);
-                        cell[i] = static_cast<int32_t>(fy) * stride + static_cast<int32_t>(fx);
+                // Points in chunks of kPointChunk: the cells of each point (vectorised), then per particle the
+                // chunk's lookups, added in point order into a register (the same sums as point by point, with
+                // several independent lookups in flight per particle and one load and store of acc).
+                for (int32_t q0 = 0; q0 < pp.k; q0 += kPointChunk) {
+                    const int32_t qn = std::min(kPointChunk, pp.k - q0);
+                    for (int32_t q = 0; q < qn; ++q) {
+                        const float pe = pp.pe[q0 + q], pn = pp.pn[q0 + q];
+                        int32_t *const cq = cell + static_cast<size_t>(q) * kBlock;
+                        for (size_t i = 0; i < m_n; ++i) {
+                            const float fx = std::min(std::max(gx[i] + cs[i] * pe - ss[i] * pn, 0.0f), fx_max);
+                            const float fy = std::min(std::max(gy[i] + ss[i] * pe + cs[i] * pn, 0.0f), fy_max);
+                            cq[i] = static_cast<int32_t>(fy) * stride + static_cast<int32_t>(fx);
+                        }
                     }
-                    for (size_t i = 0; i < m_n; ++i) {
-                        const int32_t cc = code[cell[i]];
-                        acc[i] += lp[(cc & ~127) | ((cc - level[i]) & 127)];
+                    switch (qn) {
+                        case 4: add_lookups<4>(code, lp, cell, level, acc, m_n); break;
+                        case 3: add_lookups<3>(code, lp, cell, level, acc, m_n); break;
+                        case 2: add_lookups<2>(code, lp, cell, level, acc, m_n); break;
+                        default: add_lookups<1>(code, lp, cell, level, acc, m_n); break;
                     }
                 }
                 for (size_t i = 0; i < m_n; ++i) ll[i] += pp.per_point * acc[i];
