@@ -522,15 +522,16 @@ double ParticleFilter::tempering_exponent(float max_ll) {
 void ParticleFilter::maybe_resample(bool after_measurement) {
     const size_t n = p_.size();
     if (n == 0) return;
-    const double ess = effective_sample_size(p_.weight.data(), n);
+    double weight_sum = 0;
+    const double ess = effective_sample_size(p_.weight.data(), n, &weight_sum);
     double inject = 0;
     if (opts_.recovery && after_measurement && w_slow_ > 0) {
         inject = std::clamp(1.0 - w_fast_ / w_slow_, 0.0, opts_.recovery_max_fraction);
     }
-    if (ess < opts_.resample_ess_fraction * static_cast<double>(n) || inject > 0.01) resample(inject);
+    if (ess < opts_.resample_ess_fraction * static_cast<double>(n) || inject > 0.01) resample(inject, weight_sum);
 }
 
-void ParticleFilter::resample(double inject_fraction) {
+void ParticleFilter::resample(double inject_fraction, double weight_sum) {
     const size_t n = p_.size();
     size_t target = static_cast<size_t>(opts_.particle_count);
     if (opts_.adaptive_particle_count) {
@@ -547,13 +548,13 @@ void ParticleFilter::resample(double inject_fraction) {
         const size_t k_enough = kld_bins_reaching(max_n, opts_.kld_epsilon, opts_.kld_z);
         bool at_max = false;
         if (k_enough != SIZE_MAX && 4 * k_enough < n) {
-            systematic_resample(p_.weight.data(), n, n, u0, indices_, 2 * k_enough);
+            systematic_resample_with_total(p_.weight.data(), n, n, u0, weight_sum, indices_, 2 * k_enough);
             at_max = count_bins() >= k_enough;
         }
         if (at_max) {
             target = std::max(max_n, static_cast<size_t>(opts_.min_particles));  // std::clamp's value
         } else {
-            systematic_resample(p_.weight.data(), n, n, u0, indices_);
+            systematic_resample_with_total(p_.weight.data(), n, n, u0, weight_sum, indices_);
             target = std::clamp(kld_sample_count(count_bins(), opts_.kld_epsilon, opts_.kld_z),
                                 static_cast<size_t>(opts_.min_particles), max_n);
         }
@@ -665,7 +666,7 @@ void ParticleFilter::resample(double inject_fraction) {
         }
     }
     if (!grouped) {
-        systematic_resample(p_.weight.data(), n, n_keep, rng_.uniform(), indices_);
+        systematic_resample_with_total(p_.weight.data(), n, n_keep, rng_.uniform(), weight_sum, indices_);
         const float w = static_cast<float>(kept_mass / static_cast<double>(std::max<size_t>(1, n_keep)));
         for (uint32_t i : indices_) copy_particle(i, w);
     }

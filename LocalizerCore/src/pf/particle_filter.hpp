@@ -99,7 +99,9 @@ private:
     void reset_filter_state();
     void normalize(double sum);
     void maybe_resample(bool after_measurement);
-    void resample(double inject_fraction);
+    /// Resamples; `weight_sum` is the weights' sum in double in particle order (effective_sample_size's), the
+    /// total of the systematic draws over the whole set.
+    void resample(double inject_fraction, double weight_sum);
     void apply_compass_reweight();
     double tempering_exponent(float max_ll);
     void apply_floor_change(double delta_m);

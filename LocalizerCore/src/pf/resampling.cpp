@@ -9,12 +9,13 @@
 
 namespace wf::loc {
 
-double effective_sample_size(const float *weights, size_t n) {
+double effective_sample_size(const float *weights, size_t n, double *weight_sum) {
     double s = 0, s2 = 0;
     for (size_t i = 0; i < n; ++i) {
         s += weights[i];
         s2 += static_cast<double>(weights[i]) * weights[i];
     }
+    if (weight_sum) *weight_sum = s;
     if (!(s2 > 0) || !std::isfinite(s2)) return 0;
     return s * s / s2;  // = 1 / sum w^2 when the weights sum to 1
 }
@@ -59,12 +60,12 @@ void systematic_resample(const float *weights, size_t n, size_t n_out, double u0
 }
 
 void systematic_resample_with_total(const float *weights, size_t n, size_t n_out, double u0, double total,
-                                    std::vector<uint32_t> &out) {
+                                    std::vector<uint32_t> &out, size_t first) {
     if (n == 0 || n_out == 0) {
         out.clear();
         return;
     }
-    systematic_draws(weights, n, n_out, u0, total, n_out, out);
+    systematic_draws(weights, n, n_out, u0, total, std::min(n_out, first), out);
 }
 
 size_t kld_sample_count(size_t k, double epsilon, double z) {
