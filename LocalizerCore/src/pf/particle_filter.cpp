@@ -946,10 +946,14 @@ void ParticleFilter::compute_estimate() {
     const ClusterSummary &d = clusters.front();
     {
         const std::vector<int32_t> &cluster_of = clusterer_.particle_clusters();
-        dominant_members_.clear();
+        // Branch-free compaction (the members of a spread-out cloud's dominant cluster are scattered).
+        dominant_members_.resize(cluster_of.size() + 1);  // + 1: the pass writes one slot past the last member
+        size_t members = 0;
         for (size_t i = 0; i < cluster_of.size(); ++i) {
-            if (cluster_of[i] == 0) dominant_members_.push_back(static_cast<uint32_t>(i));
+            dominant_members_[members] = static_cast<uint32_t>(i);
+            members += cluster_of[i] == 0 ? 1 : 0;
         }
+        dominant_members_.resize(members);
         dominant_members_valid_ = !dominant_members_.empty() && cluster_of.size() == p_.size();
         full_estimate_t_ = t_last_;
     }

@@ -243,18 +243,19 @@ WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vecto
         // once, with the same arithmetic, and its value given to every copy.
         thread_local std::vector<uint32_t> first_of_run, run_of;
         thread_local std::vector<float> run_ll;
-        first_of_run.clear();
+        first_of_run.resize(n + 1);  // + 1: the branch-free scan writes one slot past the last run's start
         run_of.resize(n);
         const float *px = p.x.data(), *py = p.y.data(), *pyaw = p.yaw_offset.data(), *psc = p.scale.data();
-        first_of_run.push_back(0);
+        first_of_run[0] = 0;
         run_of[0] = 0;
+        size_t runs = 1;
         for (size_t i = 1; i < n; ++i) {
-            if (px[i] != px[i - 1] || py[i] != py[i - 1] || pyaw[i] != pyaw[i - 1] || psc[i] != psc[i - 1]) {
-                first_of_run.push_back(static_cast<uint32_t>(i));
-            }
-            run_of[i] = static_cast<uint32_t>(first_of_run.size() - 1);
+            const bool differs =
+                (px[i] != px[i - 1]) | (py[i] != py[i - 1]) | (pyaw[i] != pyaw[i - 1]) | (psc[i] != psc[i - 1]);
+            first_of_run[runs] = static_cast<uint32_t>(i);
+            runs += differs ? 1 : 0;
+            run_of[i] = static_cast<uint32_t>(runs - 1);
         }
-        const size_t runs = first_of_run.size();
         run_ll.resize(runs);
         alignas(64) float yo[kBlock], scp[kBlock], xp[kBlock], ypp[kBlock];
         for (size_t b = 0; b < runs; b += kBlock) {
