@@ -130,7 +130,7 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
     constexpr size_t kBlock = 512;
     float sin_b[kBlock], cos_b[kBlock];
     int32_t cell_b[kBlock];
-    uint32_t near_b[kBlock];
+    uint32_t near_b[kBlock], seeing_b[kBlock];
     const bool one_floor = map.floors.size() == 1;
     const bool sign_major = one_floor && map.floors[0].words_per_cell == 1 && map.floors[0].signs.size() <= 32;
     const float *const yaw_offsets = p.yaw_offset.data();
@@ -164,7 +164,22 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
                 }
             }
         }
-        for (size_t j = 0; j < nb; ++j) {
+        // Sign-major: a particle with no sign nearly in view gets the clutter-only value, with no negative
+        // information (as the loops below would give it); the value joins the maximum once, after the loop (a
+        // repeated value: the same maximum, with no dependency chain through every particle). The others are
+        // listed by a branch-free compaction (whether a particle sees a sign is unpredictable) and scored below.
+        size_t scored = nb;
+        if (sign_major) {
+            scored = 0;
+            for (size_t j = 0; j < nb; ++j) {
+                log_likelihood[b + j] = ll_no_candidate;
+                seeing_b[scored] = static_cast<uint32_t>(j);
+                scored += near_b[j] != 0 ? 1 : 0;
+            }
+            any_no_candidate |= scored < nb;
+        }
+        for (size_t t = 0; t < scored; ++t) {
+            const size_t j = sign_major ? seeing_b[t] : t;
             const size_t i = b + j;
             const float px = xs[i], py = ys[i];
             const int16_t f = p.floor[i];
@@ -173,14 +188,6 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
             int nc = 0;
             if (sign_major) {
                 uint32_t bits = near_b[j];
-                if (bits == 0) {
-                    // No sign nearly in view: clutter only, and no negative information (as the loops below).
-                    // Its value joins the maximum once, after the loop (a repeated value: the same maximum, with
-                    // no dependency chain through every particle).
-                    log_likelihood[i] = ll_no_candidate;
-                    any_no_candidate = true;
-                    continue;
-                }
                 while (bits) {
                     const int sj = __builtin_ctz(bits);
                     bits &= bits - 1;
