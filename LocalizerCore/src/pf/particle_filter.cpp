@@ -492,17 +492,27 @@ double ParticleFilter::tempering_exponent(float max_ll) {
         tempering_d_.push_back(ll[i] - max_ll);
     }
     const size_t m = tempering_w_.size();
+    // Repeated log-likelihoods (no sign in view, resampled copies) share one exponential per run of equal
+    // values: the runs are found once (a NaN is a run of its own), then each evaluation computes one
+    // exponential per run and sums without a branch per particle (the same values and sums as recomputing the
+    // exponential whenever the value changes).
+    tempering_run_of_.resize(m);
+    tempering_run_d_.clear();
+    for (size_t k = 0; k < m; ++k) {
+        if (k == 0 || !(tempering_d_[k] == tempering_d_[k - 1])) tempering_run_d_.push_back(tempering_d_[k]);
+        tempering_run_of_[k] = static_cast<uint32_t>(tempering_run_d_.size() - 1);
+    }
     auto ess_fraction = [&](double beta) {
+        tempering_run_e_.resize(tempering_run_d_.size());
+        for (size_t r = 0; r < tempering_run_d_.size(); ++r) {
+            tempering_run_e_[r] = std::exp(beta * static_cast<double>(tempering_run_d_[r]));
+        }
+        const double *e = tempering_run_e_.data();
+        const uint32_t *run = tempering_run_of_.data();
+        const float *tw = tempering_w_.data();
         double s = 0, s2 = 0;
-        // Repeated log-likelihoods (no sign in view, resampled copies) reuse the previous exponential.
-        float last_d = std::numeric_limits<float>::quiet_NaN();
-        double e = 0;
         for (size_t k = 0; k < m; ++k) {
-            if (!(tempering_d_[k] == last_d)) {
-                last_d = tempering_d_[k];
-                e = std::exp(beta * static_cast<double>(last_d));
-            }
-            const double v = tempering_w_[k] * e;
+            const double v = tw[k] * e[run[k]];
             s += v;
             s2 += v * v;
         }

@@ -139,6 +139,10 @@ private:
     ParticleSet p_, scratch_;
     std::vector<float> log_likelihood_;
     std::vector<float> tempering_w_, tempering_d_;  // tempering_exponent's subsample
+    /// Runs of equal values in tempering_d_: each element's run, each run's value and its exponential.
+    std::vector<uint32_t> tempering_run_of_;
+    std::vector<float> tempering_run_d_;
+    std::vector<double> tempering_run_e_;
     std::vector<PreparedSighting> last_sightings_;  // sightings of the update being resampled
     std::vector<uint32_t> indices_;
     /// Hypothesis-preserving resampling: particle indices grouped by cluster (group g is
