@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
@@ -87,7 +88,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
     return d;
 }
 
-double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &noise, const LocalizerMap &map,
+WF_SIMD_CLONES double apply_motion(ParticleSet &p, const VioDelta &delta, const MotionNoise &noise, const LocalizerMap &map,
                     Rng &rng, MotionNoiseAccumulator *acc) {
     const size_t n = p.size();
     float *const xs = p.x.data();

@@ -4,8 +4,20 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
+
+namespace {
+
+/// (h + bins) % bins for h in [-1, bins] (a heading bin and its neighbours, wrapped around): a compare and an
+/// add instead of an integer division, 13 times per active bin.
+inline int32_t wrap_bin(int32_t h, int32_t bins) {
+    if (h < 0) return h + bins;
+    return h >= bins ? h - bins : h;
+}
+
+}  // namespace
 
 int32_t ParticleClusterer::find(int32_t a) {
     while (parent_[a] != a) {
@@ -28,7 +40,7 @@ void ParticleClusterer::carry_bins(const uint32_t *src, size_t count) {
     carried_valid_ = true;
 }
 
-const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
+WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
                                                           const ClusterParams &params) {
     clusters_.clear();
     particle_cluster_.clear();
@@ -158,7 +170,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
                     const int64_t base = ((plane + jy) * nx + jx) * nh;
                     for (int dh = -1; dh <= 1; ++dh) {
                         if (dx == 0 && dy == 0 && dh <= 0) continue;
-                        const int32_t h = (ih + dh + yaw_bins) % yaw_bins;
+                        const int32_t h = wrap_bin(ih + dh, yaw_bins);
                         const int32_t id = box_cell_[static_cast<size_t>(base + h)];
                         if (id >= 0) join(root, static_cast<uint32_t>(id));
                     }
@@ -177,7 +189,7 @@ const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, 
                     if (dx == 0 && dy < 0) continue;
                     for (int dh = -1; dh <= 1; ++dh) {
                         if (dx == 0 && dy == 0 && dh <= 0) continue;
-                        const int64_t h = (static_cast<int64_t>(ih) + dh + yaw_bins) % yaw_bins;
+                        const int64_t h = wrap_bin(static_cast<int32_t>(ih) + dh, yaw_bins);
                         const uint64_t nk = (fl << 52) | ((ux + dx) << 30) | ((uy + dy) << 8) | static_cast<uint64_t>(h);
                         const uint32_t nid = bins_.find(nk);
                         if (nid != UINT32_MAX && cell_weight_[nid] >= threshold) join(root, nid);

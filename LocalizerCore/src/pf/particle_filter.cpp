@@ -492,17 +492,27 @@ double ParticleFilter::tempering_exponent(float max_ll) {
         tempering_d_.push_back(ll[i] - max_ll);
     }
     const size_t m = tempering_w_.size();
+    // Repeated log-likelihoods (no sign in view, resampled copies) share one exponential per run of equal
+    // values: the runs are found once (a NaN is a run of its own), then each evaluation computes one
+    // exponential per run and sums without a branch per particle (the same values and sums as recomputing the
+    // exponential whenever the value changes).
+    tempering_run_of_.resize(m);
+    tempering_run_d_.clear();
+    for (size_t k = 0; k < m; ++k) {
+        if (k == 0 || !(tempering_d_[k] == tempering_d_[k - 1])) tempering_run_d_.push_back(tempering_d_[k]);
+        tempering_run_of_[k] = static_cast<uint32_t>(tempering_run_d_.size() - 1);
+    }
     auto ess_fraction = [&](double beta) {
+        tempering_run_e_.resize(tempering_run_d_.size());
+        for (size_t r = 0; r < tempering_run_d_.size(); ++r) {
+            tempering_run_e_[r] = std::exp(beta * static_cast<double>(tempering_run_d_[r]));
+        }
+        const double *e = tempering_run_e_.data();
+        const uint32_t *run = tempering_run_of_.data();
+        const float *tw = tempering_w_.data();
         double s = 0, s2 = 0;
-        // Repeated log-likelihoods (no sign in view, resampled copies) reuse the previous exponential.
-        float last_d = std::numeric_limits<float>::quiet_NaN();
-        double e = 0;
         for (size_t k = 0; k < m; ++k) {
-            if (!(tempering_d_[k] == last_d)) {
-                last_d = tempering_d_[k];
-                e = std::exp(beta * static_cast<double>(last_d));
-            }
-            const double v = tempering_w_[k] * e;
+            const double v = tw[k] * e[run[k]];
             s += v;
             s2 += v * v;
         }
@@ -522,15 +532,16 @@ double ParticleFilter::tempering_exponent(float max_ll) {
 void ParticleFilter::maybe_resample(bool after_measurement) {
     const size_t n = p_.size();
     if (n == 0) return;
-    const double ess = effective_sample_size(p_.weight.data(), n);
+    double weight_sum = 0;
+    const double ess = effective_sample_size(p_.weight.data(), n, &weight_sum);
     double inject = 0;
     if (opts_.recovery && after_measurement && w_slow_ > 0) {
         inject = std::clamp(1.0 - w_fast_ / w_slow_, 0.0, opts_.recovery_max_fraction);
     }
-    if (ess < opts_.resample_ess_fraction * static_cast<double>(n) || inject > 0.01) resample(inject);
+    if (ess < opts_.resample_ess_fraction * static_cast<double>(n) || inject > 0.01) resample(inject, weight_sum);
 }
 
-void ParticleFilter::resample(double inject_fraction) {
+void ParticleFilter::resample(double inject_fraction, double weight_sum) {
     const size_t n = p_.size();
     size_t target = static_cast<size_t>(opts_.particle_count);
     if (opts_.adaptive_particle_count) {
@@ -547,13 +558,13 @@ void ParticleFilter::resample(double inject_fraction) {
         const size_t k_enough = kld_bins_reaching(max_n, opts_.kld_epsilon, opts_.kld_z);
         bool at_max = false;
         if (k_enough != SIZE_MAX && 4 * k_enough < n) {
-            systematic_resample(p_.weight.data(), n, n, u0, indices_, 2 * k_enough);
+            systematic_resample_with_total(p_.weight.data(), n, n, u0, weight_sum, indices_, 2 * k_enough);
             at_max = count_bins() >= k_enough;
         }
         if (at_max) {
             target = std::max(max_n, static_cast<size_t>(opts_.min_particles));  // std::clamp's value
         } else {
-            systematic_resample(p_.weight.data(), n, n, u0, indices_);
+            systematic_resample_with_total(p_.weight.data(), n, n, u0, weight_sum, indices_);
             target = std::clamp(kld_sample_count(count_bins(), opts_.kld_epsilon, opts_.kld_z),
                                 static_cast<size_t>(opts_.min_particles), max_n);
         }
@@ -591,24 +602,54 @@ void ParticleFilter::resample(double inject_fraction) {
         if (significant >= 2 || (significant == 1 && clusters[0].weight < 0.99)) {
             grouped = true;
             const int32_t groups = significant + 1;  // last group: the rest
-            // Members of each group in particle order, as one array sorted by group (counting sort, no
-            // per-group allocation).
             group_start_.assign(static_cast<size_t>(groups) + 1, 0);
-            std::vector<double> mass(groups, 0.0);
-            for (size_t i = 0; i < n; ++i) {
-                const int32_t c = cluster_of[i];
-                const int32_t g = (c >= 0 && c < significant) ? c : significant;
-                ++group_start_[g + 1];
-                mass[g] += p_.weight[i];
+            // Members of each group in particle order, as one array sorted by group (no per-group allocation).
+            // With few groups (the usual case: one or two hypotheses and the rest), one branch-free compaction
+            // pass per group over a byte of group per particle; with more, a counting sort. Either way the
+            // same array.
+            group_members_.resize(n + 1);  // + 1: a compaction pass writes one slot past its last member
+            uint32_t *members_out = group_members_.data();
+            if (groups <= kCompactionGroups) {
+                group_of_.resize(n);
+                uint8_t *gid = group_of_.data();
+                for (size_t i = 0; i < n; ++i) {
+                    const int32_t c = cluster_of[i];
+                    gid[i] = static_cast<uint8_t>((c >= 0 && c < significant) ? c : significant);
+                }
+                size_t pos = 0;
+                for (int32_t g = 0; g < groups; ++g) {
+                    const auto gg = static_cast<uint8_t>(g);
+                    for (size_t i = 0; i < n; ++i) {
+                        members_out[pos] = static_cast<uint32_t>(i);
+                        pos += gid[i] == gg ? 1 : 0;
+                    }
+                    group_start_[g + 1] = pos;
+                }
+            } else {
+                for (size_t i = 0; i < n; ++i) {
+                    const int32_t c = cluster_of[i];
+                    ++group_start_[((c >= 0 && c < significant) ? c : significant) + 1];
+                }
+                for (int32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
+                group_fill_.assign(group_start_.begin(), group_start_.end() - 1);
+                for (size_t i = 0; i < n; ++i) {
+                    const int32_t c = cluster_of[i];
+                    const int32_t g = (c >= 0 && c < significant) ? c : significant;
+                    members_out[group_fill_[g]++] = static_cast<uint32_t>(i);
+                }
             }
-            for (int32_t g = 0; g < groups; ++g) group_start_[g + 1] += group_start_[g];
-            group_members_.resize(n);
-            group_fill_.assign(group_start_.begin(), group_start_.end() - 1);
-            for (size_t i = 0; i < n; ++i) {
-                const int32_t c = cluster_of[i];
-                const int32_t g = (c >= 0 && c < significant) ? c : significant;
-                group_members_[group_fill_[g]++] = static_cast<uint32_t>(i);
+            // The members' weights in group order, and each group's mass: their sum in particle order, which
+            // is also the total that the group's systematic resampling forms (so it is passed on, not summed
+            // again).
+            group_weights_.resize(n);
+            for (size_t k = 0; k < n; ++k) group_weights_[k] = p_.weight[members_out[k]];
+            group_mass_.assign(static_cast<size_t>(groups), 0.0);
+            for (int32_t g = 0; g < groups; ++g) {
+                double m = 0;
+                for (size_t k = group_start_[g]; k < group_start_[g + 1]; ++k) m += group_weights_[k];
+                group_mass_[g] = m;
             }
+            const double *mass = group_mass_.data();
             double total = 0;
             int32_t nonempty = 0;
             for (int32_t g = 0; g < groups; ++g) {
@@ -624,11 +665,10 @@ void ParticleFilter::resample(double inject_fraction) {
                                                             ((1.0 - share) * wg + share / nonempty)));
                 ng = std::clamp<size_t>(ng, 1, std::max<size_t>(1, remaining));
                 if (g == groups - 1 || out + ng > n_keep) ng = std::max<size_t>(1, remaining);
-                const uint32_t *members = group_members_.data() + group_start_[g];
+                const uint32_t *members = members_out + group_start_[g];
                 const size_t count = group_start_[g + 1] - group_start_[g];
-                group_weights_.resize(count);
-                for (size_t k = 0; k < count; ++k) group_weights_[k] = p_.weight[members[k]];
-                systematic_resample(group_weights_.data(), group_weights_.size(), ng, rng_.uniform(), indices_);
+                systematic_resample_with_total(group_weights_.data() + group_start_[g], count, ng, rng_.uniform(),
+                                               mass[g], indices_);
                 const float w = static_cast<float>(kept_mass * wg / static_cast<double>(ng));
                 for (uint32_t k : indices_) copy_particle(members[k], w);
                 if (out >= n_keep) break;
@@ -636,7 +676,7 @@ void ParticleFilter::resample(double inject_fraction) {
         }
     }
     if (!grouped) {
-        systematic_resample(p_.weight.data(), n, n_keep, rng_.uniform(), indices_);
+        systematic_resample_with_total(p_.weight.data(), n, n_keep, rng_.uniform(), weight_sum, indices_);
         const float w = static_cast<float>(kept_mass / static_cast<double>(std::max<size_t>(1, n_keep)));
         for (uint32_t i : indices_) copy_particle(i, w);
     }
@@ -956,10 +996,14 @@ void ParticleFilter::compute_estimate() {
     const ClusterSummary &d = clusters.front();
     {
         const std::vector<int32_t> &cluster_of = clusterer_.particle_clusters();
-        dominant_members_.clear();
+        // Branch-free compaction (the members of a spread-out cloud's dominant cluster are scattered).
+        dominant_members_.resize(cluster_of.size() + 1);  // + 1: the pass writes one slot past the last member
+        size_t members = 0;
         for (size_t i = 0; i < cluster_of.size(); ++i) {
-            if (cluster_of[i] == 0) dominant_members_.push_back(static_cast<uint32_t>(i));
+            dominant_members_[members] = static_cast<uint32_t>(i);
+            members += cluster_of[i] == 0 ? 1 : 0;
         }
+        dominant_members_.resize(members);
         dominant_members_valid_ = !dominant_members_.empty() && cluster_of.size() == p_.size();
         full_estimate_t_ = t_last_;
     }

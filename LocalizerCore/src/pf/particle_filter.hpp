@@ -100,7 +100,9 @@ private:
     void reset_filter_state();
     void normalize(double sum);
     void maybe_resample(bool after_measurement);
-    void resample(double inject_fraction);
+    /// Resamples; `weight_sum` is the weights' sum in double in particle order (effective_sample_size's), the
+    /// total of the systematic draws over the whole set.
+    void resample(double inject_fraction, double weight_sum);
     void apply_compass_reweight();
     double tempering_exponent(float max_ll);
     void apply_floor_change(double delta_m);
@@ -142,13 +144,22 @@ private:
     ParticleSet p_, scratch_;
     std::vector<float> log_likelihood_;
     std::vector<float> tempering_w_, tempering_d_;  // tempering_exponent's subsample
+    /// Runs of equal values in tempering_d_: each element's run, each run's value and its exponential.
+    std::vector<uint32_t> tempering_run_of_;
+    std::vector<float> tempering_run_d_;
+    std::vector<double> tempering_run_e_;
     std::vector<PreparedSighting> last_sightings_;  // sightings of the update being resampled
     std::vector<uint32_t> indices_;
     /// Hypothesis-preserving resampling: particle indices grouped by cluster (group g is
     /// group_members_[group_start_[g] .. group_start_[g + 1])).
     std::vector<uint32_t> group_members_;
     std::vector<size_t> group_start_, group_fill_;
+    /// Weights of group_members_ (same order) and each group's mass (their sum in that order).
     std::vector<float> group_weights_;
+    std::vector<double> group_mass_;
+    /// Group of each particle, when there are at most kCompactionGroups groups (one compaction pass each).
+    std::vector<uint8_t> group_of_;
+    static constexpr int32_t kCompactionGroups = 4;
     /// Resampling draws: source particle and new weight of each kept particle.
     std::vector<uint32_t> resample_src_;
     std::vector<float> resample_w_;

@@ -5,29 +5,27 @@
 #include <cstring>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
-double effective_sample_size(const float *weights, size_t n) {
+double effective_sample_size(const float *weights, size_t n, double *weight_sum) {
     double s = 0, s2 = 0;
     for (size_t i = 0; i < n; ++i) {
         s += weights[i];
         s2 += static_cast<double>(weights[i]) * weights[i];
     }
+    if (weight_sum) *weight_sum = s;
     if (!(s2 > 0) || !std::isfinite(s2)) return 0;
     return s * s / s2;  // = 1 / sum w^2 when the weights sum to 1
 }
 
-void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out,
-                         size_t first) {
-    const size_t m = std::min(n_out, first);
+namespace {
+
+/// The draws of systematic_resample once the weights' sum is known.
+void systematic_draws(const float *weights, size_t n, size_t n_out, double u0, double total, size_t m,
+                      std::vector<uint32_t> &out) {
     out.resize(m);
-    if (n == 0 || n_out == 0) {
-        out.clear();
-        return;
-    }
-    double total = 0;
-    for (size_t i = 0; i < n; ++i) total += weights[i];
     if (!(total > 0) || !std::isfinite(total)) {
         for (size_t k = 0; k < m; ++k) out[k] = static_cast<uint32_t>((k * n) / n_out);
         return;
@@ -45,6 +43,29 @@ void systematic_resample(const float *weights, size_t n, size_t n_out, double u0
         out[k] = static_cast<uint32_t>(i);
         target += step;
     }
+}
+
+}  // namespace
+
+void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out,
+                         size_t first) {
+    const size_t m = std::min(n_out, first);
+    if (n == 0 || n_out == 0) {
+        out.clear();
+        return;
+    }
+    double total = 0;
+    for (size_t i = 0; i < n; ++i) total += weights[i];
+    systematic_draws(weights, n, n_out, u0, total, m, out);
+}
+
+void systematic_resample_with_total(const float *weights, size_t n, size_t n_out, double u0, double total,
+                                    std::vector<uint32_t> &out, size_t first) {
+    if (n == 0 || n_out == 0) {
+        out.clear();
+        return;
+    }
+    systematic_draws(weights, n, n_out, u0, total, std::min(n_out, first), out);
 }
 
 size_t kld_sample_count(size_t k, double epsilon, double z) {
@@ -143,7 +164,7 @@ uint32_t BinCounter::find(uint64_t key) const {
     return UINT32_MAX;
 }
 
-bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
+WF_SIMD_CLONES bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
                        float inv_bin_yaw, int32_t yaw_bins, size_t max_box) {
     ix_.resize(m);
     iy_.resize(m);

@@ -15,8 +15,9 @@
 
 namespace wf::loc {
 
-/// 1 / sum(w^2) for weights summing to 1.
-double effective_sample_size(const float *weights, size_t n);
+/// 1 / sum(w^2) for weights summing to 1. When `weight_sum` is not null it receives sum(w) as formed in double
+/// in index order: the total that systematic_resample forms, for systematic_resample_with_total.
+double effective_sample_size(const float *weights, size_t n, double *weight_sum = nullptr);
 
 /// Systematic resampling: writes `n_out` source indices into `out` (sorted, proportional to the weights,
 /// each particle i drawn floor or ceil of n_out * w_i times). `u0` in [0, 1) is the single random offset.
@@ -25,6 +26,12 @@ double effective_sample_size(const float *weights, size_t n);
 /// same values as the full draw's first entries, at a fraction of the cost.
 void systematic_resample(const float *weights, size_t n, size_t n_out, double u0, std::vector<uint32_t> &out,
                          size_t first = SIZE_MAX);
+
+/// systematic_resample(weights, n, n_out, u0, out, first) for a caller that already holds `total`, the weights'
+/// sum formed as systematic_resample forms it (in double, in index order from 0): the same draws without the
+/// summing pass.
+void systematic_resample_with_total(const float *weights, size_t n, size_t n_out, double u0, double total,
+                                    std::vector<uint32_t> &out, size_t first = SIZE_MAX);
 
 /// Fox 2003 eq. (12): n = (k-1)/(2 eps) * (1 - 2/(9(k-1)) + sqrt(2/(9(k-1))) z)^3, for k occupied bins.
 /// Returns 1 for k <= 1.

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
@@ -11,6 +12,46 @@ namespace {
 
 /// Direction levels (pi / 128 each) per radian.
 constexpr float kLevelsPerRad = static_cast<float>(WallField::kDirectionLevels) / kPi;
+
+/// std::max(init, v[0], ..., v[n - 1]) folded in eight independent lanes, then the lanes (no chain of
+/// dependent maxima through every particle). The same value as the sequential fold for values that hold no
+/// negative zero (every log-likelihood here is +0 or a sum of negative terms): std::max keeps its first
+/// argument against a NaN, so a NaN never enters either fold, and the maximum of the others does not depend on
+/// the order.
+/// Particles (runs) per block of the one-floor path, and plane points whose cells are computed together (the
+/// cells of point q of a block at cell + q * kBlock).
+constexpr size_t kBlock = 512;
+constexpr int32_t kPointChunk = 4;
+
+/// acc[i] += log_p of each of Q points of particle i (cells at cell[q * kBlock + i], plane direction level
+/// level[i]), in point order.
+template <int32_t Q>
+inline void add_lookups(const uint16_t *code, const float *lp, const int32_t *cell, const int32_t *level, float *acc,
+                        size_t m) {
+    for (size_t i = 0; i < m; ++i) {
+        float a = acc[i];
+        const int32_t lv = level[i];
+        for (int32_t q = 0; q < Q; ++q) {
+            const int32_t cc = code[cell[static_cast<size_t>(q) * kBlock + i]];
+            a += lp[(cc & ~127) | ((cc - lv) & 127)];
+        }
+        acc[i] = a;
+    }
+}
+
+float max_of(const float *v, size_t n, float init) {
+    constexpr size_t kLanes = 8;
+    float lane[kLanes];
+    for (float &l : lane) l = init;
+    size_t i = 0;
+    for (; i + kLanes <= n; i += kLanes) {
+        for (size_t k = 0; k < kLanes; ++k) lane[k] = std::max(lane[k], v[i + k]);
+    }
+    float m = init;
+    for (float l : lane) m = std::max(m, l);
+    for (; i < n; ++i) m = std::max(m, v[i]);
+    return m;
+}
 
 }  // namespace
 
@@ -147,7 +188,7 @@ PlaneLikelihoodTable build_plane_likelihood_table(const PlaneModelParams &m) {
     return t;
 }
 
-float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &fields,
+WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &fields,
                            const PlaneLikelihoodTable &table, const PlaneModelParams &m, const PreparedPlane *planes,
                            size_t count, float *log_likelihood) {
     const size_t n = p.size();
@@ -195,23 +236,26 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
         const uint16_t *code = f.code.data();
         const float fx_max = static_cast<float>(f.nx - 1), fy_max = static_cast<float>(f.ny - 1);
         const int32_t stride = f.nx;
-        constexpr size_t kBlock = 512;
         alignas(64) float cs[kBlock], ss[kBlock], gx[kBlock], gy[kBlock], yl[kBlock], acc[kBlock], ll[kBlock];
-        alignas(64) int32_t cell[kBlock], level[kBlock];
+        alignas(64) int32_t cell[kPointChunk * kBlock], level[kBlock];
         // Resampling leaves identical copies of a particle next to each other (and the plane update often
         // follows a sign update's resampling before any motion): each run of identical particles is scored
         // once, with the same arithmetic, and its value given to every copy.
-        thread_local std::vector<uint32_t> first_of_run;
+        thread_local std::vector<uint32_t> first_of_run, run_of;
         thread_local std::vector<float> run_ll;
-        first_of_run.clear();
+        first_of_run.resize(n + 1);  // + 1: the branch-free scan writes one slot past the last run's start
+        run_of.resize(n);
         const float *px = p.x.data(), *py = p.y.data(), *pyaw = p.yaw_offset.data(), *psc = p.scale.data();
-        first_of_run.push_back(0);
+        first_of_run[0] = 0;
+        run_of[0] = 0;
+        size_t runs = 1;
         for (size_t i = 1; i < n; ++i) {
-            if (px[i] != px[i - 1] || py[i] != py[i - 1] || pyaw[i] != pyaw[i - 1] || psc[i] != psc[i - 1]) {
-                first_of_run.push_back(static_cast<uint32_t>(i));
-            }
+            const bool differs =
+                (px[i] != px[i - 1]) | (py[i] != py[i - 1]) | (pyaw[i] != pyaw[i - 1]) | (psc[i] != psc[i - 1]);
+            first_of_run[runs] = static_cast<uint32_t>(i);
+            runs += differs ? 1 : 0;
+            run_of[i] = static_cast<uint32_t>(runs - 1);
         }
-        const size_t runs = first_of_run.size();
         run_ll.resize(runs);
         alignas(64) float yo[kBlock], scp[kBlock], xp[kBlock], ypp[kBlock];
         for (size_t b = 0; b < runs; b += kBlock) {
@@ -240,29 +284,34 @@ float plane_log_likelihood(const ParticleSet &p, const std::vector<WallField> &f
                     acc[i] = 0.0f;
                     level[i] = static_cast<int32_t>(pp.tangent_levels + yl[i]) & 127;
                 }
-                for (int32_t q = 0; q < pp.k; ++q) {
-                    const float pe = pp.pe[q], pn = pp.pn[q];
-                    for (size_t i = 0; i < m_n; ++i) {
-                        const float fx = std::min(std::max(gx[i] + cs[i] * pe - ss[i] * pn, 0.0f), fx_max);
-                        const float fy = std::min(std::max(gy[i] + ss[i] * pe + cs[i] * pn, 0.0f), fy_max);
-                        cell[i] = static_cast<int32_t>(fy) * stride + static_cast<int32_t>(fx);
+                // Points in chunks of kPointChunk: the cells of each point (vectorised), then per particle the
+                // chunk's lookups, added in point order into a register (the same sums as point by point, with
+                // several independent lookups in flight per particle and one load and store of acc).
+                for (int32_t q0 = 0; q0 < pp.k; q0 += kPointChunk) {
+                    const int32_t qn = std::min(kPointChunk, pp.k - q0);
+                    for (int32_t q = 0; q < qn; ++q) {
+                        const float pe = pp.pe[q0 + q], pn = pp.pn[q0 + q];
+                        int32_t *const cq = cell + static_cast<size_t>(q) * kBlock;
+                        for (size_t i = 0; i < m_n; ++i) {
+                            const float fx = std::min(std::max(gx[i] + cs[i] * pe - ss[i] * pn, 0.0f), fx_max);
+                            const float fy = std::min(std::max(gy[i] + ss[i] * pe + cs[i] * pn, 0.0f), fy_max);
+                            cq[i] = static_cast<int32_t>(fy) * stride + static_cast<int32_t>(fx);
+                        }
                     }
-                    for (size_t i = 0; i < m_n; ++i) {
-                        const int32_t cc = code[cell[i]];
-                        acc[i] += lp[(cc & ~127) | ((cc - level[i]) & 127)];
+                    switch (qn) {
+                        case 4: add_lookups<4>(code, lp, cell, level, acc, m_n); break;
+                        case 3: add_lookups<3>(code, lp, cell, level, acc, m_n); break;
+                        case 2: add_lookups<2>(code, lp, cell, level, acc, m_n); break;
+                        default: add_lookups<1>(code, lp, cell, level, acc, m_n); break;
                     }
                 }
                 for (size_t i = 0; i < m_n; ++i) ll[i] += pp.per_point * acc[i];
             }
             std::copy(ll, ll + m_n, run_ll.begin() + static_cast<std::ptrdiff_t>(b));
         }
-        size_t r = 0;
-        for (size_t i = 0; i < n; ++i) {
-            r += (r + 1 < runs && first_of_run[r + 1] == i) ? 1 : 0;
-            log_likelihood[i] += run_ll[r];
-            max_ll = std::max(max_ll, log_likelihood[i]);
-        }
-        return max_ll;
+        const uint32_t *run_index = run_of.data();
+        for (size_t i = 0; i < n; ++i) log_likelihood[i] += run_ll[run_index[i]];
+        return max_of(log_likelihood, n, max_ll);
     }
     for (size_t i = 0; i < n; ++i) {
         const int16_t fl = p.floor[i];

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
@@ -45,7 +46,7 @@ namespace {
 constexpr int kMaxCandidates = 64;
 }
 
-float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
+WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
                           const PreparedSighting *sightings, size_t count, float *log_likelihood) {
     const size_t n = p.size();
     if (count == 0 && !m.negative_information) {
@@ -80,6 +81,7 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
     float cand_r[kMaxCandidates], cand_b[kMaxCandidates];
     int32_t cand_kind[kMaxCandidates];
     float max_ll = -INFINITY;
+    bool any_no_candidate = false;
     // log of the clutter term alone, per sighting: the likelihood of a particle that sees no sign of the
     // sighted kind (most particles of a spread-out cloud). Same float expressions as in the loop below, so a
     // particle without candidates gets exactly the value the loop would compute.
@@ -128,7 +130,7 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
     constexpr size_t kBlock = 512;
     float sin_b[kBlock], cos_b[kBlock];
     int32_t cell_b[kBlock];
-    uint32_t near_b[kBlock];
+    uint32_t near_b[kBlock], seeing_b[kBlock];
     const bool one_floor = map.floors.size() == 1;
     const bool sign_major = one_floor && map.floors[0].words_per_cell == 1 && map.floors[0].signs.size() <= 32;
     const float *const yaw_offsets = p.yaw_offset.data();
@@ -162,7 +164,22 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
                 }
             }
         }
-        for (size_t j = 0; j < nb; ++j) {
+        // Sign-major: a particle with no sign nearly in view gets the clutter-only value, with no negative
+        // information (as the loops below would give it); the value joins the maximum once, after the loop (a
+        // repeated value: the same maximum, with no dependency chain through every particle). The others are
+        // listed by a branch-free compaction (whether a particle sees a sign is unpredictable) and scored below.
+        size_t scored = nb;
+        if (sign_major) {
+            scored = 0;
+            for (size_t j = 0; j < nb; ++j) {
+                log_likelihood[b + j] = ll_no_candidate;
+                seeing_b[scored] = static_cast<uint32_t>(j);
+                scored += near_b[j] != 0 ? 1 : 0;
+            }
+            any_no_candidate |= scored < nb;
+        }
+        for (size_t t = 0; t < scored; ++t) {
+            const size_t j = sign_major ? seeing_b[t] : t;
             const size_t i = b + j;
             const float px = xs[i], py = ys[i];
             const int16_t f = p.floor[i];
@@ -171,12 +188,6 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
             int nc = 0;
             if (sign_major) {
                 uint32_t bits = near_b[j];
-                if (bits == 0) {
-                    // No sign nearly in view: clutter only, and no negative information (as the loops below).
-                    log_likelihood[i] = ll_no_candidate;
-                    max_ll = std::max(max_ll, ll_no_candidate);
-                    continue;
-                }
                 while (bits) {
                     const int sj = __builtin_ctz(bits);
                     bits &= bits - 1;
@@ -236,6 +247,9 @@ float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const Localiz
             max_ll = std::max(max_ll, ll);
         }
     }
+    // Order-free: no log-likelihood here is NaN-sensitive (std::max keeps its first argument against a NaN, and
+    // max_ll never is one) or a negative zero (every sum starts at +0 and adds logs of positive values).
+    if (any_no_candidate) max_ll = std::max(max_ll, ll_no_candidate);
     return n ? max_ll : 0.0f;
 }
 

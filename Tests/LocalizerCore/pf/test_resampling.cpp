@@ -1,4 +1,5 @@
-// Tests for pf/resampling.hpp: ESS, systematic resampling proportions, KLD sample counts.
+// Tests for pf/resampling.hpp: ESS, systematic resampling proportions (and with a given total), KLD sample
+// counts.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -59,6 +60,35 @@ TEST(Resampling, SystematicWithZeroWeightsFallsBackToUniform) {
 }
 
 // Fox 2003 bound: grows about linearly in k; e.g. k = 100, epsilon 0.05, z 2.326 gives ~1,300 particles.
+// The caller's total (the sum systematic_resample and effective_sample_size form: double, index order) gives
+// the same draws.
+TEST(Resampling, SystematicWithTotalIsTheSameDraw) {
+    Rng rng(11);
+    std::vector<float> w(3000);
+    for (float &v : w) v = rng.uniform_float() * rng.uniform_float();
+    double total = 0;
+    for (float v : w) total += v;
+    double ess_sum = -1;
+    effective_sample_size(w.data(), w.size(), &ess_sum);
+    EXPECT_EQ(ess_sum, total);  // the ESS's sum is the draws' total
+    std::vector<uint32_t> plain, given;
+    for (size_t n_out : {1, 7, 3000, 10000}) {
+        const double u0 = rng.uniform();
+        systematic_resample(w.data(), w.size(), n_out, u0, plain);
+        systematic_resample_with_total(w.data(), w.size(), n_out, u0, total, given);
+        EXPECT_EQ(plain, given) << n_out;
+        systematic_resample(w.data(), w.size(), n_out, u0, plain, n_out / 3);
+        systematic_resample_with_total(w.data(), w.size(), n_out, u0, total, given, n_out / 3);
+        EXPECT_EQ(plain, given) << n_out << " first " << n_out / 3;
+    }
+    const std::vector<float> zero(10, 0.0f);
+    systematic_resample(zero.data(), zero.size(), 20, 0.5, plain);
+    systematic_resample_with_total(zero.data(), zero.size(), 20, 0.5, 0.0, given);
+    EXPECT_EQ(plain, given);
+    systematic_resample_with_total(w.data(), 0, 20, 0.5, 0.0, given);
+    EXPECT_TRUE(given.empty());
+}
+
 TEST(Resampling, KldCountGrowsWithBins) {
     EXPECT_EQ(kld_sample_count(1, 0.05, 2.326), 1u);
     size_t prev = 1;
