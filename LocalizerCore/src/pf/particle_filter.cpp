@@ -1094,6 +1094,13 @@ void ParticleFilter::compute_estimate() {
         h.evidence_nats = c.evidence - d.evidence;
         hypotheses_.push_back(h);
     }
+    if (hin.core_weight >= 0 && d.weight >= 0.01 && !hypotheses_.empty()) {
+        // The locked hypothesis is reported where the estimate is: at its core.
+        hypotheses_.front().x = e.x;
+        hypotheses_.front().y = e.y;
+        hypotheses_.front().heading_rad = e.heading_rad;
+        hypotheses_.front().position_std_m = e.position_std_m;
+    }
     e.localized = localized ? 1 : 0;
     // Never hand out NaN: fall back to zeros (cannot happen with finite particles; kept as a guard).
     const double fields[] = {e.x, e.y, e.heading_rad, e.cov_xx, e.cov_xy, e.cov_yy, e.heading_std_rad, e.confidence};

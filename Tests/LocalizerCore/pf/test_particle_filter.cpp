@@ -706,6 +706,11 @@ TEST(ParticleFilter, OneMisreadSightingDoesNotBreakTheLock) {
             EXPECT_EQ(pf.update_signs(z.data(), z.size(), f.vio.t), WF_LOC_OK);
             const wf_localizer_estimate &e = pf.estimate();
             locked_frames = e.localized ? locked_frames + 1 : 0;
+            if (e.localized && !pf.hypotheses().empty()) {
+                // The locked hypothesis is reported where the estimate is (its core).
+                EXPECT_EQ(pf.hypotheses().front().x, e.x) << "walk " << walk_seed << " frame " << k;
+                EXPECT_EQ(pf.hypotheses().front().y, e.y) << "walk " << walk_seed << " frame " << k;
+            }
             if (outlier_frame >= 0 && static_cast<int>(k) <= outlier_frame + 30) {
                 a.unlocalized += e.localized ? 0 : 1;
                 a.max_error_m = std::max(a.max_error_m, position_error(e, f));
