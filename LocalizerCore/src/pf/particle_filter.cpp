@@ -764,84 +764,65 @@ void ParticleFilter::set_pose_from_core(wf_localizer_estimate &e, const ClusterC
     e.cov_yy = core.cov_yy;
     e.yaw_offset_rad = std::atan2(core.yaw_sin_sum, core.yaw_cos_sum);
     e.heading_rad = wrap_angle(vio_yaw_ + e.yaw_offset_rad);
-    const double rlen = std::min(1.0, std::hypot(core.yaw_cos_sum, core.yaw_sin_sum) / core.weight);
+    const double rlen =
+        std::min(1.0, std::sqrt(core.yaw_cos_sum * core.yaw_cos_sum + core.yaw_sin_sum * core.yaw_sin_sum) / core.weight);
     e.heading_std_rad = rlen > 1e-12 ? std::sqrt(std::max(0.0, -2.0 * std::log(rlen))) : kPiD;
     e.position_std_m = core.position_std_m();
     e.confidence = e.dominant_weight / (1.0 + e.position_std_m * e.position_std_m);
 }
 
+void ParticleFilter::place_front_hypothesis(const wf_localizer_estimate &e) {
+    if (hypotheses_.empty()) return;
+    wf_localizer_hypothesis &h = hypotheses_.front();
+    h.x = e.x;
+    h.y = e.y;
+    h.heading_rad = e.heading_rad;
+    h.position_std_m = e.position_std_m;
+}
+
 void ParticleFilter::follow_dominant_cluster() {
     estimate_dirty_ = false;
+    // The moments of the dominant cluster's particles (while localized, of its core, as in compute_estimate).
+    ClusterCore m;
+    double w = 0;
+    for (uint32_t i : dominant_members_) w += p_.weight[i];
     if (hysteresis_.localized()) {
-        // The locked pose is the cluster's core (as in compute_estimate).
-        const ClusterCore core =
-            cluster_core(p_, dominant_members_, hysteresis_.params().lock_core_radius_m, core_scratch_);
-        double w = 0;
-        for (uint32_t i : dominant_members_) w += p_.weight[i];
-        if (!(core.weight > 0) || !std::isfinite(core.x) || !std::isfinite(core.y)) {
-            compute_estimate();
-            return;
+        m = cluster_core(p_, dominant_members_, hysteresis_.params().lock_core_radius_m, core_scratch_);
+    } else {
+        double sx = 0, sy = 0, oc = 0, os = 0;
+        for (uint32_t i : dominant_members_) {
+            const double wi = p_.weight[i];
+            float so, co;
+            fast_sincos(p_.yaw_offset[i], so, co);
+            sx += wi * p_.x[i];
+            sy += wi * p_.y[i];
+            oc += wi * co;
+            os += wi * so;
         }
-        wf_localizer_estimate &e = estimate_;
-        e.t = t_last_;
-        e.dominant_weight = std::clamp(w, 0.0, 1.0);
-        set_pose_from_core(e, core);
-        if (!hypotheses_.empty()) {
-            hypotheses_.front().x = e.x;
-            hypotheses_.front().y = e.y;
-            hypotheses_.front().heading_rad = e.heading_rad;
-            hypotheses_.front().weight = e.dominant_weight;
-            hypotheses_.front().position_std_m = e.position_std_m;
+        m.weight = w;
+        m.x = sx / w;
+        m.y = sy / w;
+        m.yaw_cos_sum = oc;
+        m.yaw_sin_sum = os;
+        if (w > 0) {
+            for (uint32_t i : dominant_members_) {
+                const double wi = p_.weight[i] / w, dx = p_.x[i] - m.x, dy = p_.y[i] - m.y;
+                m.cov_xx += wi * dx * dx;
+                m.cov_xy += wi * dx * dy;
+                m.cov_yy += wi * dy * dy;
+            }
         }
-        return;
     }
-    double w = 0, sx = 0, sy = 0, oc = 0, os = 0;
-    for (uint32_t i : dominant_members_) {
-        const double wi = p_.weight[i];
-        float so, co;
-        fast_sincos(p_.yaw_offset[i], so, co);
-        w += wi;
-        sx += wi * p_.x[i];
-        sy += wi * p_.y[i];
-        oc += wi * co;
-        os += wi * so;
-    }
-    if (!(w > 0) || !std::isfinite(sx) || !std::isfinite(sy)) {
+    if (!(m.weight > 0) || !std::isfinite(m.x) || !std::isfinite(m.y)) {
         compute_estimate();
         return;
     }
-    const double mx = sx / w, my = sy / w;
-    double cxx = 0, cxy = 0, cyy = 0;
-    for (uint32_t i : dominant_members_) {
-        const double wi = p_.weight[i] / w, dx = p_.x[i] - mx, dy = p_.y[i] - my;
-        cxx += wi * dx * dx;
-        cxy += wi * dx * dy;
-        cyy += wi * dy * dy;
-    }
     wf_localizer_estimate &e = estimate_;
     e.t = t_last_;
-    e.x = mx;
-    e.y = my;
-    e.cov_xx = cxx;
-    e.cov_xy = cxy;
-    e.cov_yy = cyy;
-    e.yaw_offset_rad = std::atan2(os, oc);
-    e.heading_rad = wrap_angle(vio_yaw_ + e.yaw_offset_rad);
-    const double rlen = std::min(1.0, std::sqrt(oc * oc + os * os) / w);
-    e.heading_std_rad = rlen > 1e-12 ? std::sqrt(std::max(0.0, -2.0 * std::log(rlen))) : kPiD;
     e.dominant_weight = std::clamp(w, 0.0, 1.0);
-    // Largest eigenvalue of the 2x2 covariance in closed form.
-    const double tr = 0.5 * (cxx + cyy), det = cxx * cyy - cxy * cxy;
-    const double std_m = std::sqrt(std::max(0.0, tr + std::sqrt(std::max(0.0, tr * tr - det))));
-    e.position_std_m = std_m;
-    e.confidence = e.dominant_weight / (1.0 + std_m * std_m);
-    if (!hypotheses_.empty()) {
-        hypotheses_.front().x = mx;
-        hypotheses_.front().y = my;
-        hypotheses_.front().heading_rad = e.heading_rad;
-        hypotheses_.front().weight = e.dominant_weight;
-        hypotheses_.front().position_std_m = std_m;
-    }
+    set_pose_from_core(e, m);
+    place_front_hypothesis(e);
+    if (!hypotheses_.empty()) hypotheses_.front().weight = e.dominant_weight;
 }
 
 void ParticleFilter::accumulate_evidence(const float *ll, float max_ll, double t) {
@@ -1094,13 +1075,8 @@ void ParticleFilter::compute_estimate() {
         h.evidence_nats = c.evidence - d.evidence;
         hypotheses_.push_back(h);
     }
-    if (hin.core_weight >= 0 && d.weight >= 0.01 && !hypotheses_.empty()) {
-        // The locked hypothesis is reported where the estimate is: at its core.
-        hypotheses_.front().x = e.x;
-        hypotheses_.front().y = e.y;
-        hypotheses_.front().heading_rad = e.heading_rad;
-        hypotheses_.front().position_std_m = e.position_std_m;
-    }
+    // The locked hypothesis is reported where the estimate is: at its core.
+    if (hin.core_weight >= 0 && d.weight >= 0.01) place_front_hypothesis(e);
     e.localized = localized ? 1 : 0;
     // Never hand out NaN: fall back to zeros (cannot happen with finite particles; kept as a guard).
     const double fields[] = {e.x, e.y, e.heading_rad, e.cov_xx, e.cov_xy, e.cov_yy, e.heading_std_rad, e.confidence};

@@ -129,8 +129,10 @@ private:
     /// localized, its core's: pf/cluster_core).
     void follow_dominant_cluster();
     /// Sets the pose part of `e` (position, covariance, heading, their spreads, confidence from e's dominant
-    /// weight) from the locked cluster's core.
+    /// weight) from a cluster's moments (the locked cluster's core, or all of the dominant cluster's particles).
     void set_pose_from_core(wf_localizer_estimate &e, const ClusterCore &core) const;
+    /// Puts the first hypothesis (the dominant cluster) at the pose of `e` (position, heading, spread).
+    void place_front_hypothesis(const wf_localizer_estimate &e);
     /// Longest time between two full clusterings of the estimate, seconds.
     static constexpr double kFullEstimateIntervalS = 0.2;
 
