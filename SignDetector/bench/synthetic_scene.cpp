@@ -53,6 +53,17 @@ cv::Mat renderBackground(const Camera& camera, uint32_t seed) {
 cv::Mat renderSignFace(const SignPlacement& sign, int heightPx) {
     const int h = std::max(8, heightPx);
     const int w = std::max(8, static_cast<int>(std::lround(h * sign.widthMeters / sign.heightMeters)));
+    if (sign.style == SignStyle::PlacardLightOnDark) {
+        cv::Mat face(h, w, CV_8UC3, cv::Scalar(40, 35, 30));
+        const int thickness = std::max(1, h / 40);
+        int baseline = 0;
+        const cv::Size unit = cv::getTextSize(sign.legend, cv::FONT_HERSHEY_SIMPLEX, 1.0, thickness, &baseline);
+        const double scale = std::min(h / 6.0 / unit.height, 0.8 * w / unit.width);
+        const cv::Size fitted = cv::getTextSize(sign.legend, cv::FONT_HERSHEY_SIMPLEX, scale, thickness, &baseline);
+        cv::putText(face, sign.legend, cv::Point((w - fitted.width) / 2, (h + fitted.height) / 2), cv::FONT_HERSHEY_SIMPLEX,
+                    scale, cv::Scalar(235, 235, 235), thickness, cv::LINE_AA);
+        return face;
+    }
     const bool redPlate = sign.style == SignStyle::WhiteLettersOnRed;
     const cv::Scalar red(30, 30, 210), white(235, 240, 240);
     cv::Mat face(h, w, CV_8UC3, redPlate ? red : white);

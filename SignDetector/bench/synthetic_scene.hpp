@@ -6,6 +6,7 @@
 #include <opencv2/core.hpp>
 
 #include <cstdint>
+#include <string>
 #include <vector>
 
 namespace wf::sign::synthetic {
@@ -16,6 +17,9 @@ enum class SignStyle {
     RedLettersOnWhite,
     /// White "EXIT" letters on a red plate (segments cleanly with a red-pixel model).
     WhiteLettersOnRed,
+    /// A room-number placard: SignPlacement::legend in white on a near-black plate (characters a sixth of the
+    /// plate's height: 25 mm on a 0.15 m plate).
+    PlacardLightOnDark,
 };
 
 /// A camera: raw image size and intrinsics (pixels, pixel-centre convention), gravity angles.
@@ -41,6 +45,8 @@ struct SignPlacement {
     double heightMeters = 0.21;
     double widthMeters = 0.33;
     SignStyle style = SignStyle::RedLettersOnWhite;
+    /// Legend of a placard (SignStyle::PlacardLightOnDark), e.g. "214".
+    std::string legend = "214";
 };
 
 /// Truth of a rendered sign.

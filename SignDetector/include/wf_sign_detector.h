@@ -158,6 +158,20 @@ typedef struct wf_sign_kind {
     const char *legend_colour;
     /** 1 = the sign has a face on both sides (hung across a corridor), 0 = one face. */
     int double_sided;
+    /** Where signs of this kind hang, for the cascade's placement prior: the height of the face's centre above
+     *  the camera, meters (negative below it). Both 0 = the detector's cascade_sign_above_camera_min_m / _max_m
+     *  (Exit signs). A room-number placard or a tactile pictogram (ADA 703.4.1: characters 1.22-1.52 m above the
+     *  floor) with the phone 1.0-1.7 m up: about -0.45 .. 0.65 m. Min < max when either is set; finite. */
+    double centre_above_camera_min_m;
+    double centre_above_camera_max_m;
+    /** Farthest horizontal range at which the kind is recognised, meters; 0 = no limit. The cascade of this kind
+     *  searches no window smaller than the face at this range (fy x face height / range), which is where most of
+     *  a search's windows are. Finite and >= 0. */
+    double max_range_m;
+    /** 1 = the legend is text to read (a room-number placard): wf_detector_sense reads it into the sighting's
+     *  `text` (tesseract where the library was built with it, WF_SIGN_DETECTOR_HAS_TEXT_READER; otherwise the text
+     *  stays empty and the iPhone reads it with Vision). 0 = a pictogram or word sign with no identity. */
+    int reads_text;
 } wf_sign_kind;
 
 /**
@@ -176,7 +190,12 @@ typedef struct wf_detector_options {
     const wf_sign_kind *catalogue;
     size_t catalogue_count;
 
-    /* Cascade detector: one cascade per sign kind. */
+    /* Cascade detector: one cascade per sign kind. With WF_DETECTOR_UNET, cascades of kinds the U-Net has no
+     * class for (pictograms, placards) run beside it; a kind that is also a U-Net class is rejected at creation.
+     * A cascade whose catalogue entry is not Exit-like (SignKindSpec::colourGated: face or legend red or green, or
+     * both unknown) is searched without the colour gate, on its placement band (centre_above_camera_*_m) and out to
+     * its max_range_m, on the unrolled frame shrunk to a long side of at most 640 px (docs/sign-detection.md
+     * "More sign kinds"). */
     /** `cascade_count` paths of OpenCV cascade XML files. */
     const char *const *cascade_paths;
     /** `cascade_count` kind names ("exit", "restroom"...); NULL = every cascade is "exit". */
@@ -293,6 +312,9 @@ typedef struct wf_detector wf_detector;
 /** Longest sign kind name, including the terminating NUL. */
 #define WF_KIND_NAME_CAPACITY 32
 
+/** Longest legend text read off a sign (a room number such as "402A"), including the terminating NUL. */
+#define WF_SIGN_TEXT_CAPACITY 16
+
 /** One detected sign, measured on the unrolled image. */
 typedef struct wf_detector_observation {
     /** Kind name ("exit"...), NUL-terminated. */
@@ -327,6 +349,9 @@ typedef struct wf_detector_observation {
     /** Affine map unrolled -> raw pixels, row-major 2x3: u = m[0] u' + m[1] v' + m[2],
      *  v = m[3] u' + m[4] v' + m[5]. */
     double unrolled_to_raw[6];
+    /** Legend text read off the sign (kinds with reads_text: a room number), NUL-terminated; "" = not read. Only
+     *  letters, digits and '-' are kept. */
+    char text[WF_SIGN_TEXT_CAPACITY];
 } wf_detector_observation;
 
 /**
@@ -364,6 +389,9 @@ typedef struct wf_sign_sighting {
      *  upright sign as u0, v0, u1, v1, ...: the measured edge lines (median edges and slopes) at the ends of the
      *  sign's horizontal extent in the unrolled image, mapped back to the raw image. */
     double corners_raw_px[8];
+    /** Legend text read off the sign (a room number), NUL-terminated; "" = not read or the kind has none. The
+     *  localizer matches a sighting with text to the one map sign of that kind and text. */
+    char text[WF_SIGN_TEXT_CAPACITY];
 } wf_sign_sighting;
 
 /**
@@ -389,6 +417,15 @@ size_t wf_detector_kind_count(const wf_detector *detector);
 
 /** Name of kind `index` (0-based among the reported kinds); NULL if out of range. Owned by the handle. */
 const char *wf_detector_kind_name(const wf_detector *detector, size_t index);
+
+/** 1 when the detector reads the text of the kinds that have it (a kind with reads_text is reported and the
+ *  text reader loaded), 0 otherwise (none such, or the library was built without tesseract, or its English model
+ *  is missing: wf_detector_text_reader_problem says which). */
+int wf_detector_reads_text(const wf_detector *detector);
+
+/** Why a kind with reads_text gets no text ("" when the reader is loaded or no kind reads text); owned by the
+ *  handle. NULL handle: "". */
+const char *wf_detector_text_reader_problem(const wf_detector *detector);
 
 /** Library version string, e.g. "1.0.0"; static storage. */
 const char *wf_sign_detector_version(void);

@@ -144,31 +144,45 @@ void CascadeDetector::detectOne(size_t index, const cv::Mat& image, cv::Point or
     }
 }
 
+namespace {
+/// The cascade indices to run: `kindIndices`, or 0 .. count - 1.
+std::vector<size_t> selectedKinds(size_t count, const std::vector<size_t>* kindIndices) {
+    if (kindIndices != nullptr) return *kindIndices;
+    std::vector<size_t> all(count);
+    for (size_t i = 0; i < count; ++i) all[i] = i;
+    return all;
+}
+}  // namespace
+
 std::vector<Detection> CascadeDetector::detect(const cv::Mat& grayUnrolledFull, const CascadeParams& params, int lastRow,
-                                               const FrameGeometry* geometry) {
+                                               const FrameGeometry* geometry, const std::vector<size_t>* kindIndices) {
     CV_Assert(grayUnrolledFull.type() == CV_8UC1);
     std::vector<Detection> detections;
     const int rows = lastRow < 0 ? grayUnrolledFull.rows : std::min(lastRow, grayUnrolledFull.rows);
     if (rows <= 0) return detections;
     const cv::Mat grayUnrolled = grayUnrolledFull.rowRange(0, rows);  // a view: same pixel coordinates
-    for (size_t i = 0; i < cascades_.size(); ++i) detectOne(i, grayUnrolled, cv::Point(0, 0), params, geometry, &detections);
+    for (size_t i : selectedKinds(cascades_.size(), kindIndices)) {
+        if (i < cascades_.size()) detectOne(i, grayUnrolled, cv::Point(0, 0), params, geometry, &detections);
+    }
     return detections;
 }
 
 std::vector<Detection> CascadeDetector::detectInRegions(const cv::Mat& grayUnrolled,
                                                         const std::vector<SearchRegion>& regions,
                                                         const CascadeParams& params, int lastRow,
-                                                        const FrameGeometry* geometry) {
+                                                        const FrameGeometry* geometry,
+                                                        const std::vector<size_t>* kindIndices) {
     CV_Assert(grayUnrolled.type() == CV_8UC1);
     std::vector<Detection> detections;
     const int rows = lastRow < 0 ? grayUnrolled.rows : std::min(lastRow, grayUnrolled.rows);
     const cv::Rect searched(0, 0, grayUnrolled.cols, std::max(0, rows));
+    const std::vector<size_t> kinds = selectedKinds(cascades_.size(), kindIndices);
     for (const SearchRegion& region : regions) {
         const cv::Rect r = region.unrolledRect & searched;
         if (r.empty()) continue;
         const cv::Mat view = grayUnrolled(r);  // a view: box + r.tl() is in grayUnrolled's pixels
-        for (size_t i = 0; i < cascades_.size(); ++i) {
-            detectOne(i, view, r.tl(), params, geometry, &detections, region.minWindowWidthPx);
+        for (size_t i : kinds) {
+            if (i < cascades_.size()) detectOne(i, view, r.tl(), params, geometry, &detections, region.minWindowWidthPx);
         }
     }
     return detections;

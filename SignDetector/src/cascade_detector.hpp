@@ -57,8 +57,10 @@ public:
     /// Detects every kind on `grayUnrolled` (CV_8UC1), searching rows 0 .. lastRow - 1 only (-1 = all), and at
     /// each scale only the rows of params.placement's band when it is enabled and `geometry` is given (borrowed
     /// for the call). Detections carry box measurements in its pixels.
+    /// `kindIndices` (borrowed; nullptr = every kind) limits the search to those cascades.
     std::vector<Detection> detect(const cv::Mat& grayUnrolled, const CascadeParams& params, int lastRow = -1,
-                                  const FrameGeometry* geometry = nullptr);
+                                  const FrameGeometry* geometry = nullptr,
+                                  const std::vector<size_t>* kindIndices = nullptr);
 
     /// Detects every kind inside each of `regions` (rectangles of `grayUnrolled`, unrolled pixels; each is
     /// searched on its own with windows from the smallest window, or the region's minWindowWidthPx if larger, up to
@@ -66,9 +68,11 @@ public:
     /// back to `grayUnrolled`'s pixel coordinates (box + region origin, exact). Rows at or below `lastRow`
     /// (>= 0) are not searched; the placement band applies as in detect(). Boxes of overlapping regions are not
     /// merged here (suppressOverlaps does).
+    /// `kindIndices` (borrowed; nullptr = every kind) limits the search to those cascades.
     std::vector<Detection> detectInRegions(const cv::Mat& grayUnrolled, const std::vector<SearchRegion>& regions,
                                            const CascadeParams& params, int lastRow = -1,
-                                           const FrameGeometry* geometry = nullptr);
+                                           const FrameGeometry* geometry = nullptr,
+                                           const std::vector<size_t>* kindIndices = nullptr);
 
     /// First unrolled row below the search region: rows v with pitch + atan((cy - v) / fy) >= minElevationRad,
     /// clamped to [0, rows].

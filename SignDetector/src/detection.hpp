@@ -17,6 +17,8 @@ struct Detection {
     double score = 0;
     /// Slice measurement in unrolled pixels.
     SliceMeasurement measurement;
+    /// Legend text read off the sign (kinds that read text: a room number); "" = none.
+    std::string text;
 };
 
 /// Intersection over union of two boxes (0 when either is empty).

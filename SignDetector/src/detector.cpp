@@ -187,11 +187,38 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
 int Detector::load(const ResolvedOptions& options, std::string* error) {
     options_ = options;
     kinds_.clear();
+    kindSearch_.clear();
+    gatedKinds_.clear();
+    plainKinds_.clear();
+    textReaderProblem_.clear();
     if (options_.kind == WF_DETECTOR_CASCADE) {
         if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_STATUS_MODEL_LOAD;
         kinds_ = cascade_.kinds();
-        return WF_STATUS_OK;
+    } else if (const int status = loadUnet(error); status != WF_STATUS_OK) {
+        return status;
     }
+    // How each cascade is searched: Exit-like kinds (and kinds the catalogue does not describe) through the colour
+    // gate, the others on their own placement band; beside a U-Net every cascade is searched on its band.
+    const bool cascadesLoaded = options_.kind == WF_DETECTOR_CASCADE || !options_.cascadePaths.empty();
+    for (size_t i = 0; cascadesLoaded && i < cascade_.kinds().size(); ++i) {
+        KindSearch search;
+        search.spec = findKind(options_.catalogue, cascade_.kinds()[i]);
+        search.gated = options_.kind == WF_DETECTOR_CASCADE && (search.spec == nullptr || search.spec->colourGated());
+        (search.gated ? gatedKinds_ : plainKinds_).push_back(i);
+        kindSearch_.push_back(search);
+    }
+    // The text reader, when a kind the detector reports reads text. Not fatal: such signs are then reported
+    // without their text (the phone reads it with Vision).
+    for (const SignKindSpec& spec : options_.catalogue) {
+        if (!spec.readsText || std::find(kinds_.begin(), kinds_.end(), spec.kind) == kinds_.end()) continue;
+        std::string problem;
+        if (!textReader_.load("", &problem)) textReaderProblem_ = problem;
+        break;
+    }
+    return WF_STATUS_OK;
+}
+
+int Detector::loadUnet(std::string* error) {
     if (options_.unetPath.empty()) {
         *error = "U-Net detector needs unet_path";
         return WF_STATUS_MODEL_LOAD;
@@ -209,7 +236,84 @@ int Detector::load(const ResolvedOptions& options, std::string* error) {
         }
     }
     kinds_.assign(unet_.classNames().begin() + 1, unet_.classNames().end());
+    if (options_.cascadePaths.empty()) return WF_STATUS_OK;
+    // Cascades beside the U-Net: kinds it has no class for (pictograms, placards).
+    if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_STATUS_MODEL_LOAD;
+    for (const std::string& kind : cascade_.kinds()) {
+        if (std::find(kinds_.begin(), kinds_.end(), kind) != kinds_.end()) {
+            *error = "cascade kind '" + kind + "' is also a class of the U-Net (or listed twice): give each kind one model";
+            return WF_STATUS_MODEL_LOAD;
+        }
+        kinds_.push_back(kind);
+    }
     return WF_STATUS_OK;
+}
+
+void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& unrolling, double pitchRad,
+                                std::vector<Detection>* out) {
+    const int longSide = std::max(grayUnrolled.cols, grayUnrolled.rows);
+    const int limit = options_.plainKindSearchMaxLongSidePx;
+    cv::Mat image = grayUnrolled;
+    if (limit > 0 && longSide > limit) {
+        const double s = double(limit) / longSide;
+        cv::resize(grayUnrolled, image,
+                   cv::Size(std::max(1, int(std::lround(grayUnrolled.cols * s))), std::max(1, int(std::lround(grayUnrolled.rows * s)))),
+                   0, 0, cv::INTER_AREA);
+    }
+    const double sx = double(image.cols) / grayUnrolled.cols, sy = double(image.rows) / grayUnrolled.rows;
+    const Intrinsics& k = unrolling.unrolledIntrinsics();
+    const FrameGeometry geometry{pitchRad, Intrinsics{k.fx * sx, k.fy * sy, (k.cx + 0.5) * sx - 0.5, (k.cy + 0.5) * sy - 0.5}};
+    for (size_t i : plainKinds_) {
+        CascadeParams params = options_.cascade;
+        const SignKindSpec* spec = kindSearch_[i].spec;
+        const cv::Size trained = cascade_.trainedWindow(i);
+        const double aspect = double(trained.width) / trained.height;
+        if (spec != nullptr) {
+            if (spec->hasPlacement()) {
+                params.placement.centreAboveCameraMinMeters = spec->centreAboveCameraMinMeters;
+                params.placement.centreAboveCameraMaxMeters = spec->centreAboveCameraMaxMeters;
+            }
+            // The window covers the face (and a margin): its width on the sign is at least the face's width, or its
+            // height at the window's aspect; up to about 1.6 x that with the margin and one pyramid step.
+            const double covered = std::max(spec->faceWidthMeters, spec->faceHeightMeters * aspect);
+            params.placement.windowWidthMinMeters = 0.8 * covered;
+            params.placement.windowWidthMaxMeters = 1.6 * covered;
+            if (spec->maxRangeMeters > 0) {
+                const double heightPx = geometry.unrolled.fy * spec->faceHeightMeters / spec->maxRangeMeters;
+                if (heightPx > std::max(trained.height, params.minWindow.height)) {
+                    params.minWindow = cv::Size(int(std::lround(heightPx * aspect)), int(std::lround(heightPx)));
+                }
+            }
+        } else {
+            params.placement.enabled = false;  // no size or height known
+        }
+        if (!std::isfinite(pitchRad)) params.placement.enabled = false;
+        const std::vector<size_t> one{i};
+        std::vector<Detection> found = cascade_.detect(image, params, -1, &geometry, &one);
+        const int indexOffset = options_.kind == WF_DETECTOR_UNET ? int(unet_.classNames().size()) : 0;
+        for (Detection& d : found) {
+            // Box edges scale with the image (edge coordinates from the image corner).
+            const cv::Rect2d& b = d.measurement.box;
+            const double left = b.x + 0.5, top = b.y + 0.5;
+            const int x0 = int(std::lround(left / sx)), y0 = int(std::lround(top / sy));
+            const int x1 = int(std::lround((left + b.width) / sx)), y1 = int(std::lround((top + b.height) / sy));
+            d.measurement = measureBox(cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0)), params.slices);
+            d.kindIndex += indexOffset;
+            out->push_back(std::move(d));
+        }
+    }
+}
+
+void Detector::readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections) {
+    if (!textReader_.loaded()) return;
+    for (Detection& d : *detections) {
+        const SignKindSpec* spec = findKind(options_.catalogue, d.kind);
+        if (spec == nullptr || !spec->readsText) continue;
+        const cv::Rect2d& b = d.measurement.box;
+        const cv::Rect box(int(std::floor(b.x + 0.5)), int(std::floor(b.y + 0.5)), int(std::ceil(b.width)),
+                           int(std::ceil(b.height)));
+        d.text = textReader_.read(grayUnrolled, box).text;
+    }
 }
 
 wf_detector_observation makeObservation(const Detection& d, const Unrolling& unrolling) {
@@ -240,6 +344,7 @@ wf_detector_observation makeObservation(const Detection& d, const Unrolling& unr
     o.applied_roll_rad = unrolling.appliedRollRad();
     const cv::Matx23d& a = unrolling.unrolledToRawMatrix();
     for (int i = 0; i < 6; ++i) o.unrolled_to_raw[i] = a(i / 3, i % 3);
+    std::strncpy(o.text, d.text.c_str(), WF_SIGN_TEXT_CAPACITY - 1);
     return o;
 }
 
@@ -277,17 +382,24 @@ FrameResult Detector::detect(const wf_frame& frame) {
             // reads are warped: the searched rows, or the gate's regions.
             const bool permutation = unrolling.quarterTurns() >= 0;
             const FrameGeometry geometry{frame.pitch_rad, unrolling.unrolledIntrinsics()};
-            cv::Mat grayUnrolled = permutation ? unrolling.apply(gray) : cv::Mat::zeros(unrolledSize, CV_8UC1);
-            if (gate.fullSearch) {
+            // Kinds without a colour gate (pictograms, placards) read the whole unrolled frame.
+            cv::Mat grayUnrolled = permutation || !plainKinds_.empty() ? unrolling.apply(gray)
+                                                                       : cv::Mat::zeros(unrolledSize, CV_8UC1);
+            const bool warped = permutation || !plainKinds_.empty();
+            if (gatedKinds_.empty()) {
+                // nothing searched through the gate
+            } else if (gate.fullSearch) {
                 const int rows = lastRow < 0 ? unrolledSize.height : lastRow;
-                if (!permutation) unrolling.applyToRegion(gray, cv::Rect(0, 0, unrolledSize.width, rows), &grayUnrolled);
-                detections = cascade_.detect(grayUnrolled, options_.cascade, lastRow, &geometry);
+                if (!warped) unrolling.applyToRegion(gray, cv::Rect(0, 0, unrolledSize.width, rows), &grayUnrolled);
+                detections = cascade_.detect(grayUnrolled, options_.cascade, lastRow, &geometry, &gatedKinds_);
             } else {
                 for (const SearchRegion& region : gate.regions) {
-                    if (!permutation) unrolling.applyToRegion(gray, region.unrolledRect, &grayUnrolled);
+                    if (!warped) unrolling.applyToRegion(gray, region.unrolledRect, &grayUnrolled);
                 }
-                detections = cascade_.detectInRegions(grayUnrolled, gate.regions, options_.cascade, lastRow, &geometry);
+                detections = cascade_.detectInRegions(grayUnrolled, gate.regions, options_.cascade, lastRow, &geometry,
+                                                      &gatedKinds_);
             }
+            if (!plainKinds_.empty()) detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &detections);
             detections = suppressOverlaps(std::move(detections), 0.5);
             // A box is a rough segmentation: its slices all have the box's height. The face's own edges, found in
             // the image around each box, give the slices their heights (face_edge_refiner.hpp).
@@ -296,8 +408,23 @@ FrameResult Detector::detect(const wf_frame& frame) {
                                                                     options_.cascade.slices, options_.faceEdges);
                 if (edges.refined) d.measurement = edges.measurement;
             }
+            if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
         } else {
             detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet, frame.pitch_rad);
+            if (!plainKinds_.empty()) {
+                // Cascades beside the U-Net (kinds it has no class for), refined and read as in the cascade detector.
+                const cv::Mat grayUnrolled = unrolling.apply(gray);
+                std::vector<Detection> extra;
+                detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &extra);
+                extra = suppressOverlaps(std::move(extra), 0.5);
+                for (Detection& d : extra) {
+                    const FaceEdgeResult edges = refineFaceEdgesInFrame(frame.image, unrolling, d.measurement,
+                                                                        options_.cascade.slices, options_.faceEdges);
+                    if (edges.refined) d.measurement = edges.measurement;
+                }
+                readLegends(grayUnrolled, &extra);
+                detections.insert(detections.end(), extra.begin(), extra.end());
+            }
         }
         for (const auto& d : detections) {
             if (d.score >= options_.minScore && d.measurement.valid) {
@@ -338,6 +465,8 @@ bool sightingFromObservation(const wf_detector_observation& o, const SignKindSpe
     out->bearing_rad = r.bearing_rad;
     out->score = o.score;
     out->center_height_above_camera_m = r.center_height_above_camera_m;
+    std::memcpy(out->text, o.text, WF_SIGN_TEXT_CAPACITY);
+    out->text[WF_SIGN_TEXT_CAPACITY - 1] = '\0';
     // Corners: the edge lines (medians at the centre column, slopes) at the ends of the extent, unrolled -> raw.
     const double half = 0.5 * o.extent_width_px;
     const double bottom = o.median_bottom_row_px, top = o.median_bottom_row_px - o.median_height_px;

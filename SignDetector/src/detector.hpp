@@ -6,6 +6,7 @@
 #include "face_edge_refiner.hpp"
 #include "image_input.hpp"
 #include "sign_catalogue.hpp"
+#include "text_reader.hpp"
 #include "unet_detector.hpp"
 #include "unroll.hpp"
 #include "wf_sign_detector.h"
@@ -44,6 +45,11 @@ struct ResolvedOptions {
     /// sign 1.3 m away, cut by the top corner of a 640 x 480 frame, read 3.2 m on the end-to-end study and broke
     /// a correct lock (conv-4-00 at 27 s).
     double frameEdgeMarginPx = 2;
+    /// Kinds searched without the colour gate (pictograms, placards: SignKindSpec::colourGated() false) are
+    /// searched on the unrolled frame shrunk so that its long side is at most this, pixels: the VGA frames their
+    /// cascades were trained and measured on (the phone sends the cascade VGA; a 1920 x 1440 U-Net frame is
+    /// shrunk 3 x for them, 9 x fewer windows). Boxes are mapped back to the frame's own pixels.
+    int plainKindSearchMaxLongSidePx = 640;
 
     /// Copies `opts` (borrowed strings are copied) and applies defaults. Returns WF_STATUS_OK or an error code with
     /// `error` set.
@@ -81,16 +87,47 @@ public:
     /// wf_detector_sense). Never throws.
     FrameSightings sense(const wf_frame& frame);
 
-    /// Kind names the detector reports (cascade kinds, or U-Net classes without background).
+    /// Kind names the detector reports (cascade kinds, or U-Net classes without background, then the cascade
+    /// kinds that run beside the U-Net).
     const std::vector<std::string>& kinds() const { return kinds_; }
 
     const ResolvedOptions& options() const { return options_; }
 
+    /// True when a kind of the catalogue reads text and the text reader loaded.
+    bool readsText() const { return textReader_.loaded(); }
+
+    /// Why the text reader is not loaded although a kind reads text ("" otherwise).
+    const std::string& textReaderProblem() const { return textReaderProblem_; }
+
 private:
+    /// How one cascade is searched: with the colour gate (Exit-like kinds, the shared CascadeParams) or on its
+    /// own placement band and range limit (pictograms, placards).
+    struct KindSearch {
+        bool gated = true;
+        /// The catalogue entry (nullptr = the kind is not in the catalogue: searched like an Exit sign).
+        const SignKindSpec* spec = nullptr;
+    };
+
+    /// Loads the U-Net of options_ and the cascades beside it. Returns WF_STATUS_OK or WF_STATUS_MODEL_LOAD.
+    int loadUnet(std::string* error);
+
+    /// Cascade kinds searched without the gate: on `grayUnrolled` (the whole unrolled frame) shrunk to at most
+    /// plainKindSearchMaxLongSidePx, each with its placement band and smallest window; boxes in `grayUnrolled`'s
+    /// pixels appended to `out`.
+    void detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& unrolling, double pitchRad,
+                          std::vector<Detection>* out);
+
+    /// Reads the legend of every detection whose kind reads text, from `grayUnrolled` (the whole unrolled frame).
+    void readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections);
+
     ResolvedOptions options_;
     CascadeDetector cascade_;
     UnetDetector unet_;
     std::vector<std::string> kinds_;
+    std::vector<KindSearch> kindSearch_;
+    std::vector<size_t> gatedKinds_, plainKinds_;
+    TextReader textReader_;
+    std::string textReaderProblem_;
 };
 
 /// Packs a detection into the C observation struct with the unrolling's intrinsics and map.

@@ -37,9 +37,35 @@ int parseCatalogue(const wf_sign_kind* entries, size_t count, std::vector<SignKi
         if (e.face_colour) spec.faceColour = e.face_colour;
         if (e.legend_colour) spec.legendColour = e.legend_colour;
         spec.doubleSided = e.double_sided != 0;
+        const bool placementGiven = e.centre_above_camera_min_m != 0 || e.centre_above_camera_max_m != 0;
+        if (placementGiven && !(std::isfinite(e.centre_above_camera_min_m) && std::isfinite(e.centre_above_camera_max_m) &&
+                                e.centre_above_camera_min_m < e.centre_above_camera_max_m)) {
+            std::ostringstream msg;
+            msg << where.str() << ": centre_above_camera_min_m " << e.centre_above_camera_min_m
+                << " must be finite and below centre_above_camera_max_m " << e.centre_above_camera_max_m;
+            *error = msg.str();
+            return WF_STATUS_INVALID_CATALOGUE;
+        }
+        if (!(std::isfinite(e.max_range_m) && e.max_range_m >= 0)) {
+            std::ostringstream msg;
+            msg << where.str() << ": max_range_m " << e.max_range_m << " must be 0 (no limit) or a positive number of meters";
+            *error = msg.str();
+            return WF_STATUS_INVALID_CATALOGUE;
+        }
+        if (e.reads_text != 0 && e.reads_text != 1) {
+            *error = where.str() + ": reads_text must be 0 or 1, not " + std::to_string(e.reads_text);
+            return WF_STATUS_INVALID_CATALOGUE;
+        }
+        spec.centreAboveCameraMinMeters = e.centre_above_camera_min_m;
+        spec.centreAboveCameraMaxMeters = e.centre_above_camera_max_m;
+        spec.maxRangeMeters = e.max_range_m;
+        spec.readsText = e.reads_text == 1;
         if (const SignKindSpec* previous = findKind(*out, spec.kind)) {
             if (previous->faceHeightMeters != spec.faceHeightMeters || previous->faceWidthMeters != spec.faceWidthMeters ||
-                previous->doubleSided != spec.doubleSided) {
+                previous->doubleSided != spec.doubleSided || previous->readsText != spec.readsText ||
+                previous->maxRangeMeters != spec.maxRangeMeters ||
+                previous->centreAboveCameraMinMeters != spec.centreAboveCameraMinMeters ||
+                previous->centreAboveCameraMaxMeters != spec.centreAboveCameraMaxMeters) {
                 std::ostringstream msg;
                 msg << where.str() << " contradicts an earlier entry of the same kind: " << spec.faceWidthMeters << " x "
                     << spec.faceHeightMeters << " m against " << previous->faceWidthMeters << " x "
@@ -52,6 +78,12 @@ int parseCatalogue(const wf_sign_kind* entries, size_t count, std::vector<SignKi
         out->push_back(std::move(spec));
     }
     return WF_STATUS_OK;
+}
+
+bool SignKindSpec::colourGated() const {
+    auto redOrGreen = [](const std::string& c) { return c == "red" || c == "green"; };
+    if (faceColour.empty() && legendColour.empty()) return true;
+    return redOrGreen(faceColour) || redOrGreen(legendColour);
 }
 
 const SignKindSpec* findKind(const std::vector<SignKindSpec>& catalogue, const std::string& kind) {

@@ -21,6 +21,21 @@ struct SignKindSpec {
     std::string faceColour, legendColour;
     /// A face on both sides.
     bool doubleSided = false;
+    /// Height of the face's centre above the camera for the cascade's placement prior, meters; both 0 = the
+    /// detector's defaults (Exit signs).
+    double centreAboveCameraMinMeters = 0;
+    double centreAboveCameraMaxMeters = 0;
+    /// Farthest recognition range, meters; 0 = no limit.
+    double maxRangeMeters = 0;
+    /// The legend is text to read (a room-number placard).
+    bool readsText = false;
+
+    /// True when the kind's legend or face is red or green, or both colours are unknown: the Exit-sign-like kinds
+    /// the cascade's red/green colour gate finds. Pictograms (white on blue or dark) and placards are searched
+    /// without it.
+    bool colourGated() const;
+    /// True when the entry gives its own placement band (centreAboveCamera*).
+    bool hasPlacement() const { return centreAboveCameraMinMeters != 0 || centreAboveCameraMaxMeters != 0; }
 };
 
 /// Copies and checks `count` catalogue entries. A NULL array with count > 0, a NULL, empty or too long name, a

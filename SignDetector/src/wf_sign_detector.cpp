@@ -145,6 +145,14 @@ const char* wf_detector_kind_name(const wf_detector* detector, size_t index) {
     return detector->detector.kinds()[index].c_str();
 }
 
+int wf_detector_reads_text(const wf_detector* detector) {
+    return detector != nullptr && detector->detector.readsText() ? 1 : 0;
+}
+
+const char* wf_detector_text_reader_problem(const wf_detector* detector) {
+    return detector == nullptr ? "" : detector->detector.textReaderProblem().c_str();
+}
+
 int wf_image_read(wf_owned_image* out, const char* path, wf_pixel_format format) {
     if (out == nullptr) return fail(WF_STATUS_INVALID_ARGUMENT, "wf_image_read: out is NULL");
     std::memset(out, 0, sizeof *out);

@@ -1,0 +1,259 @@
+// Tests of the sign kinds beyond the Exit sign (issue 16 section 3; docs/sign-detection.md "More sign kinds"):
+// the catalogue's placement, range and text fields, cascades of non-Exit kinds searched without the colour gate
+// on their own placement band and range limit (at VGA whatever the frame's size), cascades beside the U-Net, and
+// the text reader behind wf_detector_reads_text.
+#include "detector.hpp"
+#include "wf_sign_detector.h"
+
+#include "synthetic_scene.hpp"
+#include "test_paths.hpp"
+
+#include <gtest/gtest.h>
+#include <opencv2/imgproc.hpp>
+
+#include <cmath>
+#include <limits>
+#include <string>
+#include <vector>
+
+using namespace wf::sign;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+/// A portrait BGR frame (`size`, default 640 x 480) with the synthetic Exit-style sign (0.33 x 0.21 m, red letters on
+/// white) 2.5 m ahead, its bottom edge 0.3 m above the camera: centre 0.405 m above it.
+struct Frame {
+    synthetic::Camera camera;
+    synthetic::RenderedSign truth;
+    cv::Mat bgr;
+    wf_frame frame{};
+};
+
+Frame frameWithSign(cv::Size size = {640, 480}) {
+    Frame f;
+    f.camera.rollRad = -kPi / 2;
+    f.camera.pitchRad = 0.05;
+    f.camera = f.camera.resized(size);
+    f.bgr = synthetic::renderBackground(f.camera, 11);
+    synthetic::SignPlacement sign;
+    sign.rangeMeters = 2.5;
+    sign.bottomAboveCameraMeters = 0.3;
+    f.truth = synthetic::drawSign(f.bgr, f.camera, sign);
+    cv::cvtColor(f.bgr, f.bgr, cv::COLOR_BGR2RGB);
+    f.frame.image = wf_image{f.bgr.data, f.bgr.cols, f.bgr.rows, f.bgr.step, WF_PIXEL_RGB8, nullptr, 0};
+    f.frame.intrinsics = wf_intrinsics{f.camera.fx, f.camera.fy, f.camera.cx, f.camera.cy};
+    f.frame.pitch_rad = f.camera.pitchRad;
+    f.frame.roll_rad = f.camera.rollRad;
+    return f;
+}
+
+/// A pictogram-like kind ("restroom", white on blue: not Exit-like, so searched without the colour gate) with the
+/// synthetic sign's size, placed `bandMin`..`bandMax` above the camera, recognised out to `maxRange` m.
+wf_sign_kind restroomKind(double bandMin, double bandMax, double maxRange, int readsText = 0) {
+    wf_sign_kind k{};
+    k.kind = "restroom";
+    k.face_height_m = 0.21;
+    k.face_width_m = 0.33;
+    k.face_colour = "blue";
+    k.legend_colour = "white";
+    k.centre_above_camera_min_m = bandMin;
+    k.centre_above_camera_max_m = bandMax;
+    k.max_range_m = maxRange;
+    k.reads_text = readsText;
+    return k;
+}
+
+/// A cascade detector (the reference Exit cascade, registered as `kind`) with `catalogue`; nullptr on failure.
+wf_detector* cascadeDetector(const char* kind, const std::vector<wf_sign_kind>& catalogue) {
+    static const std::string path = wf::sign::testing::referenceCascadePath();
+    static const char* paths[] = {path.c_str()};
+    const char* kinds[] = {kind};
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.cascade_paths = paths;
+    opts.cascade_kinds = kinds;
+    opts.cascade_count = 1;
+    opts.cascade_min_neighbors = 1;
+    opts.catalogue = catalogue.data();
+    opts.catalogue_count = catalogue.size();
+    wf_detector* d = nullptr;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    return d;
+}
+
+std::vector<wf_sign_sighting> sense(wf_detector* d, const wf_frame& frame) {
+    std::vector<wf_sign_sighting> out(16);
+    size_t count = 0;
+    EXPECT_GE(wf_detector_sense(d, &frame, out.data(), out.size(), &count), 0) << wf_detector_last_error(d);
+    out.resize(count);
+    return out;
+}
+
+}  // namespace
+
+TEST(MoreKindsCatalogue, PlacementRangeAndTextFieldsAreValidatedNamingTheField) {
+    struct Case {
+        wf_sign_kind kind;
+        const char* field;
+    };
+    const double nan = std::numeric_limits<double>::quiet_NaN();
+    const Case cases[] = {
+        {restroomKind(0.6, 0.2, 0), "centre_above_camera_min_m"},
+        {restroomKind(0.2, nan, 0), "centre_above_camera_min_m"},
+        {restroomKind(0, 0, -1), "max_range_m"},
+        {restroomKind(0, 0, nan), "max_range_m"},
+        {restroomKind(0, 0, 0, 2), "reads_text"},
+    };
+    for (const Case& c : cases) {
+        std::vector<SignKindSpec> out;
+        std::string error;
+        EXPECT_EQ(parseCatalogue(&c.kind, 1, &out, &error), WF_STATUS_INVALID_CATALOGUE) << c.field;
+        EXPECT_NE(error.find(c.field), std::string::npos) << error;
+        EXPECT_NE(error.find("restroom"), std::string::npos) << error;
+    }
+    // Two entries of one kind that disagree about where it hangs contradict each other.
+    const wf_sign_kind two[] = {restroomKind(-0.4, 0.6, 6), restroomKind(-0.4, 0.7, 6)};
+    std::vector<SignKindSpec> out;
+    std::string error;
+    EXPECT_EQ(parseCatalogue(two, 2, &out, &error), WF_STATUS_INVALID_CATALOGUE);
+    // A good entry is copied whole.
+    const wf_sign_kind good = restroomKind(-0.4, 0.6, 6, 1);
+    ASSERT_EQ(parseCatalogue(&good, 1, &out, &error), WF_STATUS_OK) << error;
+    EXPECT_EQ(out[0].centreAboveCameraMinMeters, -0.4);
+    EXPECT_EQ(out[0].centreAboveCameraMaxMeters, 0.6);
+    EXPECT_EQ(out[0].maxRangeMeters, 6);
+    EXPECT_TRUE(out[0].readsText);
+    EXPECT_FALSE(out[0].colourGated());
+}
+
+TEST(MoreKindsCatalogue, OnlyExitLikeKindsAreColourGated) {
+    SignKindSpec s;
+    EXPECT_TRUE(s.colourGated());  // colours unknown: searched like an Exit sign
+    s.faceColour = "white";
+    s.legendColour = "red";
+    EXPECT_TRUE(s.colourGated());
+    s.faceColour = "green";
+    s.legendColour = "white";
+    EXPECT_TRUE(s.colourGated());  // ISO running man
+    s.faceColour = "blue";
+    EXPECT_FALSE(s.colourGated());  // a restroom pictogram
+    s.faceColour = "dark";
+    EXPECT_FALSE(s.colourGated());  // a room-number placard
+}
+
+TEST(MoreKinds, APictogramKindIsFoundOnItsPlacementBandOnly) {
+    const Frame f = frameWithSign();
+    ASSERT_TRUE(f.truth.visible);
+    // The sign's centre is 0.405 m above the camera: a band around it finds it, one 1.5-2.5 m up does not.
+    wf_detector* d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 0)});
+    const std::vector<wf_sign_sighting> seen = sense(d, f.frame);
+    ASSERT_GE(seen.size(), 1u);
+    EXPECT_STREQ(seen[0].kind, "restroom");
+    EXPECT_NEAR(seen[0].range_m, 2.5, 0.25);
+    EXPECT_NEAR(seen[0].center_height_above_camera_m, 0.405, 0.08);
+    EXPECT_STREQ(seen[0].text, "");
+    wf_detector_free(d);
+    d = cascadeDetector("restroom", {restroomKind(1.5, 2.5, 0)});
+    EXPECT_EQ(sense(d, f.frame).size(), 0u);
+    wf_detector_free(d);
+}
+
+TEST(MoreKinds, APictogramKindIsNotSearchedBeyondItsRange) {
+    const Frame f = frameWithSign();
+    // Out to 4 m the 2.5 m sign is searched; out to 1.5 m its face (about 45 px) is below the smallest window.
+    wf_detector* d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 4)});
+    EXPECT_GE(sense(d, f.frame).size(), 1u);
+    wf_detector_free(d);
+    d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 1.5)});
+    EXPECT_EQ(sense(d, f.frame).size(), 0u);
+    wf_detector_free(d);
+}
+
+TEST(MoreKinds, ExitKindsIgnoreTheirCatalogueBandAndKeepTheGate) {
+    // The same cascade as "exit" (Exit-like colours): searched through the colour gate with the detector's own
+    // placement prior, whatever band its entry states.
+    const Frame f = frameWithSign();
+    wf_sign_kind exit = restroomKind(1.5, 2.5, 0);
+    exit.kind = "exit";
+    exit.face_colour = "red";
+    wf_detector* d = cascadeDetector("exit", {exit});
+    const std::vector<wf_sign_sighting> seen = sense(d, f.frame);
+    ASSERT_GE(seen.size(), 1u);
+    EXPECT_STREQ(seen[0].kind, "exit");
+    wf_detector_free(d);
+}
+
+TEST(MoreKinds, HighResolutionFramesAreSearchedAtVgaAndBoxesMapBack) {
+    const Frame vga = frameWithSign();
+    const Frame hr = frameWithSign({1920, 1440});
+    wf_detector* d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 0)});
+    const std::vector<wf_sign_sighting> a = sense(d, vga.frame), b = sense(d, hr.frame);
+    ASSERT_GE(a.size(), 1u);
+    ASSERT_GE(b.size(), 1u);
+    EXPECT_NEAR(b[0].range_m, 2.5, 0.2);
+    // Corners land on the drawn face in the 1920 x 1440 frame (to a few VGA pixels, i.e. 3 x as many here).
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_NEAR(b[0].corners_raw_px[2 * i], hr.truth.cornersRaw[i].x, 12) << i;
+        EXPECT_NEAR(b[0].corners_raw_px[2 * i + 1], hr.truth.cornersRaw[i].y, 12) << i;
+    }
+    wf_detector_free(d);
+}
+
+TEST(MoreKinds, CascadesRunBesideTheUnetForKindsItHasNoClassFor) {
+    const std::string unet = wf::sign::testing::tinyUnetPath();
+    const std::string cascade = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {cascade.c_str()};
+    const wf_sign_kind catalogue[] = {{"exit", 0.21, 0.33, "red", "white", 0, 0, 0, 0, 0}, restroomKind(0.1, 0.7, 0)};
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.kind = WF_DETECTOR_UNET;
+    opts.unet_path = unet.c_str();
+    opts.cascade_paths = paths;
+    opts.cascade_count = 1;
+    opts.cascade_min_neighbors = 1;
+    opts.catalogue = catalogue;
+    opts.catalogue_count = 2;
+    const char* restroom[] = {"restroom"};
+    opts.cascade_kinds = restroom;
+    wf_detector* d = nullptr;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    ASSERT_EQ(wf_detector_kind_count(d), 2u);
+    EXPECT_STREQ(wf_detector_kind_name(d, 0), "exit");
+    EXPECT_STREQ(wf_detector_kind_name(d, 1), "restroom");
+    const Frame hr = frameWithSign({1920, 1440});
+    std::vector<wf_detector_observation> obs(16);
+    size_t count = 0;
+    ASSERT_GE(wf_detector_detect(d, &hr.frame, obs.data(), obs.size(), &count), 0) << wf_detector_last_error(d);
+    bool restroomSeen = false;
+    for (size_t i = 0; i < count; ++i) {
+        if (std::string(obs[i].kind) == "restroom") {
+            restroomSeen = true;
+            EXPECT_EQ(obs[i].kind_index, 2);  // after the U-Net's background and exit classes
+        }
+    }
+    EXPECT_TRUE(restroomSeen);
+    wf_detector_free(d);
+    // A cascade of a kind the U-Net already has is refused, naming the kind.
+    const char* exit[] = {"exit"};
+    opts.cascade_kinds = exit;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_MODEL_LOAD);
+    EXPECT_EQ(d, nullptr);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("'exit'"), std::string::npos) << wf_thread_last_error();
+}
+
+TEST(MoreKinds, TheTextReaderLoadsOnlyForAReportedKindThatReadsText) {
+    wf_detector* d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 0)});
+    EXPECT_EQ(wf_detector_reads_text(d), 0);
+    EXPECT_STREQ(wf_detector_text_reader_problem(d), "");
+    wf_detector_free(d);
+    d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 0, 1)});
+    if (TextReader::compiledIn()) {
+        EXPECT_EQ(wf_detector_reads_text(d), 1) << wf_detector_text_reader_problem(d);
+    } else {
+        EXPECT_EQ(wf_detector_reads_text(d), 0);
+        EXPECT_NE(std::string(wf_detector_text_reader_problem(d)), "");
+    }
+    wf_detector_free(d);
+    EXPECT_EQ(wf_detector_reads_text(nullptr), 0);
+    EXPECT_STREQ(wf_detector_text_reader_problem(nullptr), "");
+}
