@@ -40,8 +40,10 @@ let package = Package(
             path: "SignDetector",
             sources: ["src"],
             publicHeadersPath: "include",
-            cxxSettings: cxxCoreFlags + [.headerSearchPath("src"), .headerSearchPath("src/range")],
-            linkerSettings: openCVLibraries
+            cxxSettings: cxxCoreFlags + [.headerSearchPath("src"), .headerSearchPath("src/range"),
+                                         // placard text with Debian's tesseract (scripts/setup.sh); the iPhone reads it with Vision
+                                         .define("WF_SIGN_DETECTOR_HAS_TEXT_READER", to: "1", .when(platforms: [.linux]))],
+            linkerSettings: openCVLibraries + [.linkedLibrary("tesseract", .when(platforms: [.linux]))]
         ),
         // Swift wrapper over SignDetector: SignDetector (frame -> sightings), RangeEstimator, RangeCSV.
         .target(name: "SignDetection", dependencies: ["SignDetector", "Maps"], path: "SignDetector/Swift"),

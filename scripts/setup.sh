@@ -1,6 +1,6 @@
 #!/usr/bin/env bash
 # Idempotent set-up for a fresh Debian machine: system packages (C++ toolchain deps, Eigen, OpenCV with
-# dnn/objdetect/calib3d, GoogleTest, Google Benchmark, CMake, ninja, headless Chromium for report checks)
+# dnn/objdetect/calib3d, tesseract with its English model (placard text), GoogleTest, Google Benchmark, CMake, ninja, headless Chromium for report checks)
 # and the Python tools used by tests (ONNX Runtime parity check). Safe to run repeatedly; installs only
 # what is missing. Nothing here downloads model weights.
 set -euo pipefail
@@ -12,6 +12,7 @@ APT_PACKAGES=(
   libgtest-dev libbenchmark-dev
   chromium fonts-dejavu-core
   espeak-ng
+  libtesseract-dev tesseract-ocr-eng
 )
 
 missing=()

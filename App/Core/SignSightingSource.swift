@@ -56,7 +56,8 @@ final class SignSightingSource {
             let sensed = try detector.sense(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
                                             pitchRad: pose.pitchRad, rollRad: pose.rollRad)
             let sightings = sensed.map {
-                SignSighting(kind: $0.kind, rangeMeters: $0.rangeMeters, bearingRad: $0.bearingRad, score: $0.score)
+                SignSighting(kind: $0.kind, rangeMeters: $0.rangeMeters, bearingRad: $0.bearingRad, score: $0.score,
+                             text: $0.text)
             }
             return .success(sightings)
         } catch {

@@ -189,7 +189,9 @@ enum MapDocumentDecoder {
                                     legendColor: try k.optionalString("legendColor"),
                                     doubleSided: try k.bool("doubleSided", default: false),
                                     maxRangeMeters: try k.optionalNumber("maxRangeMeters"),
-                                    maxViewAngleDeg: try k.optionalNumber("maxViewAngleDeg"))
+                                    maxViewAngleDeg: try k.optionalNumber("maxViewAngleDeg"),
+                                    mountingHeightMeters: try k.optionalNumber("mountingHeightMeters"),
+                                    readsText: try k.bool("readsText", default: false))
             try k.rejectUnknownMembers()
             return spec
         }

@@ -135,6 +135,9 @@ public enum MapValidator {
             if let a = k.maxViewAngleDeg {
                 try checkNumber(a, kp + ".maxViewAngleDeg", range: 1...90, what: "recognition view angle (degrees)")
             }
+            if let m = k.mountingHeightMeters {
+                try checkNumber(m, kp + ".mountingHeightMeters", range: 0...10, what: "mounting height of the face's bottom edge (meters)")
+            }
             byKind[k.kind] = (k, i)
         }
         guard byKind.count <= maximumSignKindCount else {

@@ -25,17 +25,27 @@ public struct SignKindSpec: Codable, Hashable, Sendable {
     /// Largest angle between the face normal and the line of sight at which the kind is recognised, degrees;
     /// nil = the localizer's default (80). Text is read only fairly square on (about 50).
     public var maxViewAngleDeg: Double?
+    /// Typical height of the face's bottom edge above the floor, meters; nil = not stated (Exit signs: the
+    /// detector's own placement prior). The cascade of a kind that is not Exit-like searches the rows where a face
+    /// at this height can appear (docs/sign-detection.md "More sign kinds"): ADA 703.4.1 puts tactile signs
+    /// (placards, restroom, elevator and stairs pictograms) with their characters 1.22-1.52 m above the floor.
+    public var mountingHeightMeters: Double?
+    /// Whether the legend is text that identifies the sign (a room number): the detector reads it and the
+    /// localizer matches the sighting to the one sign with that text.
+    public var readsText: Bool
 
     /// Creates a catalogue entry.
     public init(kind: String, heightMeters: Double, widthMeters: Double, faceColor: String? = nil,
                 legendColor: String? = nil, doubleSided: Bool = false, maxRangeMeters: Double? = nil,
-                maxViewAngleDeg: Double? = nil) {
+                maxViewAngleDeg: Double? = nil, mountingHeightMeters: Double? = nil, readsText: Bool = false) {
         self.kind = kind; self.heightMeters = heightMeters; self.widthMeters = widthMeters
         self.faceColor = faceColor; self.legendColor = legendColor; self.doubleSided = doubleSided
         self.maxRangeMeters = maxRangeMeters; self.maxViewAngleDeg = maxViewAngleDeg
+        self.mountingHeightMeters = mountingHeightMeters; self.readsText = readsText
     }
 
-    /// Decodes an entry; `doubleSided` defaults to false, the recognition limits to nil.
+    /// Decodes an entry; `doubleSided` and `readsText` default to false, the recognition limits and the mounting
+    /// height to nil.
     public init(from decoder: Decoder) throws {
         let c = try decoder.container(keyedBy: CodingKeys.self)
         self.init(kind: try c.decode(String.self, forKey: .kind), heightMeters: try c.decode(Double.self, forKey: .heightMeters),
@@ -44,7 +54,9 @@ public struct SignKindSpec: Codable, Hashable, Sendable {
                   legendColor: try c.decodeIfPresent(String.self, forKey: .legendColor),
                   doubleSided: try c.decodeIfPresent(Bool.self, forKey: .doubleSided) ?? false,
                   maxRangeMeters: try c.decodeIfPresent(Double.self, forKey: .maxRangeMeters),
-                  maxViewAngleDeg: try c.decodeIfPresent(Double.self, forKey: .maxViewAngleDeg))
+                  maxViewAngleDeg: try c.decodeIfPresent(Double.self, forKey: .maxViewAngleDeg),
+                  mountingHeightMeters: try c.decodeIfPresent(Double.self, forKey: .mountingHeightMeters),
+                  readsText: try c.decodeIfPresent(Bool.self, forKey: .readsText) ?? false)
     }
 
     /// The Exit sign of the project's buildings (the Smith-Kettlewell signs measured for the paper, and the

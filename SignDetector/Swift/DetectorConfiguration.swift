@@ -110,8 +110,34 @@ public struct DetectorConfiguration: Sendable, Equatable {
     public static let unetFileName = "sign_unet.onnx"
     public static let classListFileName = "classes.json"
 
+    /// Cascade file of a sign kind other than the Exit sign: `<kind>_cascade.xml` (restroom, elevator, stairs,
+    /// placard: SignDetector/training/train_cascade.py --kind).
+    public static func cascadeFileName(kind: String) -> String {
+        kind == "exit" ? cascadeFileName : kind + "_cascade.xml"
+    }
+
+    /// How high above the phone a kind's face centre can be, meters, for the cascade's placement prior: from the
+    /// kind's `mountingHeightMeters` (bottom edge above the floor) for a phone held 1.0 (a wheelchair user) to
+    /// 1.7 m up, 0.1 m of margin each way. nil = not stated: the detector's Exit-sign placement.
+    public static func placementBand(_ kind: SignKindSpec) -> ClosedRange<Double>? {
+        guard let mount = kind.mountingHeightMeters, mount.isFinite else { return nil }
+        let centre = mount + 0.5 * kind.heightMeters
+        return (centre - 1.7 - 0.1)...(centre - 1.0 + 0.1)
+    }
+
+    /// The extra cascades of `catalogue`'s kinds found in `directory` (`cascadeFileName(kind:)`), leaving out the
+    /// Exit sign and the kinds in `except` (a U-Net's classes), in catalogue order.
+    static func extraCascades(directory: String, catalogue: SignCatalogue, except: Set<String>) -> [CascadeModel] {
+        catalogue.kinds.compactMap { k in
+            guard k.kind != "exit", !except.contains(k.kind) else { return nil }
+            let path = directory + "/" + cascadeFileName(kind: k.kind)
+            return FileManager.default.isReadableFile(atPath: path) ? CascadeModel(kind: k.kind, path: path) : nil
+        }
+    }
+
     /// The product's models: `<modelsDirectory>/exit_sign_cascade.xml`, or `sign_unet.onnx` with the class
-    /// names of `classes.json` (when readable). Without `modelsDirectory`, the first of these that exists is
+    /// names of `classes.json` (when readable); either way plus `<kind>_cascade.xml` for each other kind of the
+    /// catalogue whose file is there (beside the U-Net: the kinds it has no class for). Without `modelsDirectory`, the first of these that exists is
     /// used: $WAYFINDER_MODELS_DIR, the app bundle's `models` folder, `SignDetector/models` under the package
     /// root (found from this source file's location, then from the current directory upwards). Never
     /// throws: a missing file is reported by SignDetector.init, naming the path. `catalogue`: the map's sign
@@ -121,11 +147,16 @@ public struct DetectorConfiguration: Sendable, Equatable {
         let directory = modelsDirectory ?? locateModelsDirectory() ?? "SignDetector/models"
         switch kind {
         case .cascade:
-            return DetectorConfiguration(kind: .cascade, cascadePath: directory + "/" + cascadeFileName, catalogue: catalogue)
+            var c = DetectorConfiguration(kind: .cascade, cascadePath: directory + "/" + cascadeFileName, catalogue: catalogue)
+            c.cascades += extraCascades(directory: directory, catalogue: catalogue, except: [])
+            return c
         case .unet:
             let classes = readClassNames(path: directory + "/" + classListFileName) ?? []
-            return DetectorConfiguration(kind: .unet, unetPath: directory + "/" + unetFileName, classNames: classes,
-                                         catalogue: catalogue)
+            var c = DetectorConfiguration(kind: .unet, unetPath: directory + "/" + unetFileName, classNames: classes,
+                                          catalogue: catalogue)
+            c.cascades = extraCascades(directory: directory, catalogue: catalogue,
+                                       except: Set(classes.isEmpty ? ["exit"] : classes))
+            return c
         }
     }
 

@@ -58,12 +58,16 @@ public struct SensedSign: Sendable, Equatable {
     public var centerHeightAboveCameraMeters: Double
     /// The face's corners in the raw image, pixels: top-left, top-right, bottom-right, bottom-left.
     public var cornersRaw: [PixelPoint]
+    /// Legend text read off the sign (a room-number placard), letters, digits and '-'; nil = not read or the kind
+    /// has none. On the iPhone the detector reads none and the app fills it from Vision (App/iOS).
+    public var text: String?
 
     /// Creates a sensed sign (normally from `SignDetector.sense`).
     public init(kind: String, rangeMeters: Double, bearingRad: Double, score: Double,
-                centerHeightAboveCameraMeters: Double, cornersRaw: [PixelPoint]) {
+                centerHeightAboveCameraMeters: Double, cornersRaw: [PixelPoint], text: String? = nil) {
         self.kind = kind; self.rangeMeters = rangeMeters; self.bearingRad = bearingRad; self.score = score
         self.centerHeightAboveCameraMeters = centerHeightAboveCameraMeters; self.cornersRaw = cornersRaw
+        self.text = text
     }
 }
 

@@ -131,5 +131,20 @@ final class SignCatalogueTests: XCTestCase {
                           reason: "recognition range (meters)")
         try assertRejects(damage: withPlacardKind { $0.maxViewAngleDeg = 120 }, path: "$.signKinds[1].maxViewAngleDeg",
                           reason: "recognition view angle (degrees)")
+        try assertRejects(damage: withPlacardKind { $0.mountingHeightMeters = -1 }, path: "$.signKinds[1].mountingHeightMeters",
+                          reason: "mounting height")
+    }
+
+    func testMountingHeightAndTextReadingRoundTripAndDefaultToAbsent() throws {
+        var b = MapFixtures.building()
+        b.floors[1].signs[0].widthMeters = 0.3
+        b.floors[1].signs[0].heightMeters = 0.21
+        let placard = SignKindSpec(kind: "placard", heightMeters: 0.15, widthMeters: 0.15, faceColor: "dark", legendColor: "white",
+                                   maxRangeMeters: 2.5, maxViewAngleDeg: 50, mountingHeightMeters: 1.35, readsText: true)
+        b.signKinds = [.defaultExit, placard]
+        let loaded = try MapLoader.load(data: try MapWriter.encode(b), fileName: "kinds.json")
+        XCTAssertEqual(loaded.signCatalogue.spec(kind: "placard"), placard)
+        XCTAssertEqual(loaded.signCatalogue.spec(kind: "exit")?.readsText, false)
+        XCTAssertNil(loaded.signCatalogue.spec(kind: "exit")?.mountingHeightMeters)
     }
 }

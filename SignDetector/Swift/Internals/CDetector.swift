@@ -55,9 +55,12 @@ final class CDetector {
             catalogueStrings.forEach { free($0.0); free($0.1); free($0.2) }
         }
         var catalogue = zip(c.catalogue.kinds, catalogueStrings).map { k, strings in
-            wf_sign_kind(kind: UnsafePointer(strings.0), face_height_m: k.heightMeters, face_width_m: k.widthMeters,
-                         face_colour: UnsafePointer(strings.1), legend_colour: UnsafePointer(strings.2),
-                         double_sided: k.doubleSided ? 1 : 0)
+            let band = DetectorConfiguration.placementBand(k)
+            return wf_sign_kind(kind: UnsafePointer(strings.0), face_height_m: k.heightMeters, face_width_m: k.widthMeters,
+                                face_colour: UnsafePointer(strings.1), legend_colour: UnsafePointer(strings.2),
+                                double_sided: k.doubleSided ? 1 : 0,
+                                centre_above_camera_min_m: band?.lowerBound ?? 0, centre_above_camera_max_m: band?.upperBound ?? 0,
+                                max_range_m: k.maxRangeMeters ?? 0, reads_text: k.readsText ? 1 : 0)
         }
         var pathPointers = cascadePaths.map { UnsafePointer<CChar>($0) }
         var kindPointers = cascadeKinds.map { UnsafePointer<CChar>($0) }
@@ -147,11 +150,13 @@ final class CDetector {
 
     private static func sensed(_ g: wf_sign_sighting) -> SensedSign {
         let kind = withUnsafeBytes(of: g.kind) { raw in String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self) }
+        let text = withUnsafeBytes(of: g.text) { raw in String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self) }
         let c = g.corners_raw_px
         return SensedSign(kind: kind, rangeMeters: g.range_m, bearingRad: g.bearing_rad, score: g.score,
                           centerHeightAboveCameraMeters: g.center_height_above_camera_m,
                           cornersRaw: [PixelPoint(u: c.0, v: c.1), PixelPoint(u: c.2, v: c.3),
-                                       PixelPoint(u: c.4, v: c.5), PixelPoint(u: c.6, v: c.7)])
+                                       PixelPoint(u: c.4, v: c.5), PixelPoint(u: c.6, v: c.7)],
+                          text: text.isEmpty ? nil : text)
     }
 
     static var libraryVersion: String { String(cString: wf_sign_detector_version()) }
