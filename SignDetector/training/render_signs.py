@@ -17,8 +17,12 @@ Camera conventions follow ../shared/reference/arkit-frames.md exactly:
   * roll 0 = landscape upright, roll -pi/2 = portrait (camera x points down in the world);
   * pitch positive = looking up; bearing positive = to the LEFT; range = horizontal meters.
 
+Besides Exit signs it draws the wall sign kinds of WALL_KINDS (restroom, elevator and stairs pictograms,
+room-number placards), flat on a corridor wall beside a door at tactile-sign height (sample_kind_scene).
+
 Outputs (one directory per split): images (JPEG), masks (PNG, class index per pixel: 0 background,
-1 exit) and labels.jsonl, one JSON object per image (format in docs/training.md).
+1 exit, 2 restroom, 3 elevator, 4 stairs, 5 placard) and labels.jsonl, one JSON object per image
+(format in docs/training.md).
 
 Every frame is rendered from its own generator seeded by (seed, split, index), so a frame does not
 depend on how many frames were rendered before it.
@@ -41,8 +45,31 @@ from typing import List, Optional, Sequence, Tuple
 import cv2
 import numpy as np
 
-#: Class indices written into the masks (also in models/classes.json).
-CLASSES = ("background", "exit")
+#: Sign kinds besides the Exit sign ("More sign kinds"): wall-mounted plates, flat on the wall beside
+#: doors, at the height of tactile signs (ADA 2010 Standards 703.4.1 / 703.4.2).
+WALL_KINDS = ("restroom", "elevator", "stairs", "placard")
+
+#: Class indices written into the masks: 0 background, 1 exit, 2 restroom, 3 elevator, 4 stairs,
+#: 5 placard (models/classes.json lists the U-Net's classes, background and exit).
+CLASSES = ("background", "exit") + WALL_KINDS
+CLASS_INDEX = {k: i for i, k in enumerate(CLASSES)}
+
+#: Face size (width, height) in meters of each wall kind (fixed; the C++ side and the map catalogue
+#: use the same numbers).
+KIND_FACE_M = {"restroom": (0.23, 0.23), "elevator": (0.23, 0.23), "stairs": (0.23, 0.23), "placard": (0.15, 0.15)}
+#: Bottom edge above the floor (meters), drawn uniformly.
+KIND_BOTTOM_M = {"restroom": (1.30, 1.45), "elevator": (1.30, 1.45), "stairs": (1.30, 1.45), "placard": (1.30, 1.40)}
+#: Largest angle between the face normal and the direction to the camera (radians).
+KIND_MAX_OFF_AXIS = {"restroom": math.radians(60), "elevator": math.radians(60), "stairs": math.radians(60),
+                     "placard": math.radians(50)}
+#: Ranges (horizontal meters) drawn log-uniformly for training samples: the specified viewing ranges
+#: (pictograms 1-6 m, placards 0.8-2.5 m) with about 10 % margin.
+KIND_RANGE_M = {"restroom": (0.9, 6.6), "elevator": (0.9, 6.6), "stairs": (0.9, 6.6), "placard": (0.7, 2.8)}
+#: Distances of the held-out split test_kinds.
+KIND_TEST_DISTANCES = {"restroom": (1.5, 2.0, 3.0, 4.0, 5.0, 6.0), "elevator": (1.5, 2.0, 3.0, 4.0, 5.0, 6.0),
+                       "stairs": (1.5, 2.0, 3.0, 4.0, 5.0, 6.0), "placard": (0.8, 1.2, 1.6, 2.0, 2.5)}
+#: A wall sign's face is this far in front of its wall (plate thickness).
+WALL_GAP_M = 0.004
 
 #: iPhone 8 raw intrinsics at 1920 x 1440 (arkit-frames.md).
 RAW_INTRINSICS = dict(fx=1602.0, fy=1602.0, cx=960.0, cy=720.0, width=1920, height=1440)
@@ -291,6 +318,346 @@ def make_iso_exit_texture(rng: np.random.Generator, width_m: float, height_m: fl
     return Texture(rgb=rgb, alpha=np.ones((H, W), np.float32), emissive=1.0 if lit else 0.0, mask_class=1), dict(kind="iso", lit=lit)
 
 
+# --------------------------------------------------------------------------------------------------
+# Wall sign kinds (restroom, elevator, stairs pictograms; room-number placards), drawn with cv2
+# primitives at TEX_PPM. Pictograms are white (light) on a dark or blue plate; every drawing call
+# works in texture pixels with 4 fractional bits (shift 4) so that small parts stay anti-aliased.
+# --------------------------------------------------------------------------------------------------
+
+_SH = 4  # fractional bits of the drawing calls
+_SF = float(1 << _SH)
+
+
+def _poly(img: np.ndarray, pts, col) -> None:
+    """Filled anti-aliased polygon with float vertices."""
+    cv2.fillPoly(img, [np.round(np.asarray(pts, np.float64) * _SF).astype(np.int32)], col, cv2.LINE_AA, _SH)
+
+
+def _disc(img: np.ndarray, c, r: float, col, thickness: int = -1) -> None:
+    """Anti-aliased disc (or ring of `thickness` px) with a float centre and radius."""
+    cv2.circle(img, (int(round(c[0] * _SF)), int(round(c[1] * _SF))), int(round(r * _SF)), col,
+               thickness if thickness < 0 else max(1, int(round(thickness))), cv2.LINE_AA, _SH)
+
+
+def _seg(img: np.ndarray, p, q, col, thickness: float) -> None:
+    """Thick anti-aliased line segment with round caps."""
+    cv2.line(img, (int(round(p[0] * _SF)), int(round(p[1] * _SF))), (int(round(q[0] * _SF)), int(round(q[1] * _SF))),
+             col, max(1, int(round(thickness))), cv2.LINE_AA, _SH)
+
+
+def _jitter_colour(rng: np.random.Generator, base, sd: float = 6.0):
+    return tuple(int(np.clip(b + rng.normal(0, sd), 0, 255)) for b in base)
+
+
+def _draw_man(img, cx: float, top: float, h: float, col) -> None:
+    """Man pictogram (head, torso, arms apart from the torso, two legs), `h` px tall, head top at `top`."""
+    r = 0.085 * h
+    _disc(img, (cx, top + r), r, col)
+    sy, hy, fy = top + 0.205 * h, top + 0.56 * h, top + h
+    tw = 0.14 * h
+    _poly(img, [(cx - tw, sy), (cx + tw, sy), (cx + 0.85 * tw, hy), (cx - 0.85 * tw, hy)], col)
+    for sd in (-1, 1):
+        a0, a1 = cx + sd * (tw + 0.025 * h), cx + sd * (tw + 0.095 * h)
+        _poly(img, [(a0, sy + 0.01 * h), (a1, sy + 0.03 * h), (a1, top + 0.50 * h), (a0, top + 0.50 * h)], col)
+        l0, l1 = cx + sd * 0.015 * h, cx + sd * 0.85 * tw
+        _poly(img, [(l0, hy - 1), (l1, hy - 1), (l1, fy), (l0, fy)], col)
+
+
+def _draw_woman(img, cx: float, top: float, h: float, col) -> None:
+    """Woman pictogram (head, dress widening to the hem, arms, legs below the dress)."""
+    r = 0.085 * h
+    _disc(img, (cx, top + r), r, col)
+    sy, hem, fy = top + 0.205 * h, top + 0.68 * h, top + h
+    _poly(img, [(cx - 0.115 * h, sy), (cx + 0.115 * h, sy), (cx + 0.24 * h, hem), (cx - 0.24 * h, hem)], col)
+    for sd in (-1, 1):
+        a0 = cx + sd * 0.14 * h
+        _poly(img, [(a0, sy + 0.005 * h), (a0 + sd * 0.06 * h, sy + 0.02 * h), (a0 + sd * 0.13 * h, top + 0.47 * h),
+                    (a0 + sd * 0.075 * h, top + 0.48 * h)], col)
+        l0, l1 = cx + sd * 0.04 * h, cx + sd * 0.115 * h
+        _poly(img, [(l0, hem - 1), (l1, hem - 1), (l1, fy), (l0, fy)], col)
+
+
+def _draw_wheelchair(img, x0: float, top: float, h: float, col, mirror: bool = False) -> None:
+    """International Symbol of Accessibility (a seated figure in a wheelchair, facing right), in an
+    h x h box whose left edge is x0."""
+    def X(f):
+        return x0 + (1.0 - f) * h if mirror else x0 + f * h
+    lw = 0.085 * h
+    _disc(img, (X(0.40), top + 0.09 * h), 0.08 * h, col)
+    _seg(img, (X(0.36), top + 0.24 * h), (X(0.38), top + 0.52 * h), col, 1.3 * lw)  # back
+    _seg(img, (X(0.38), top + 0.52 * h), (X(0.66), top + 0.52 * h), col, lw)  # thigh
+    _seg(img, (X(0.66), top + 0.52 * h), (X(0.78), top + 0.84 * h), col, lw)  # shin
+    _seg(img, (X(0.78), top + 0.84 * h), (X(0.92), top + 0.80 * h), col, 0.8 * lw)  # foot
+    _seg(img, (X(0.37), top + 0.34 * h), (X(0.60), top + 0.34 * h), col, 0.8 * lw)  # arm
+    _disc(img, (X(0.42), top + 0.70 * h), 0.26 * h, col, thickness=0.07 * h)  # wheel
+
+
+def _draw_walker(img, cx: float, top: float, h: float, col, lw: float) -> None:
+    """Walking figure (head and thick limbs), `h` px tall, facing right, feet at top + h."""
+    _disc(img, (cx + 0.06 * h, top + 0.09 * h), 0.09 * h, col)
+    neck, hip = (cx + 0.03 * h, top + 0.23 * h), (cx - 0.02 * h, top + 0.56 * h)
+    _seg(img, neck, hip, col, 1.4 * lw)
+    knee_f, knee_b = (cx + 0.16 * h, top + 0.74 * h), (cx - 0.10 * h, top + 0.78 * h)
+    _seg(img, hip, knee_f, col, lw)
+    _seg(img, knee_f, (cx + 0.17 * h, top + 0.93 * h), col, lw)
+    _seg(img, hip, knee_b, col, lw)
+    _seg(img, knee_b, (cx - 0.22 * h, top + h), col, lw)
+    elbow_f, elbow_b = (cx + 0.16 * h, top + 0.40 * h), (cx - 0.10 * h, top + 0.40 * h)
+    _seg(img, (neck[0], neck[1] + 0.04 * h), elbow_f, col, 0.85 * lw)
+    _seg(img, elbow_f, (cx + 0.26 * h, top + 0.30 * h), col, 0.85 * lw)
+    _seg(img, (neck[0], neck[1] + 0.04 * h), elbow_b, col, 0.85 * lw)
+    _seg(img, elbow_b, (cx - 0.14 * h, top + 0.55 * h), col, 0.85 * lw)
+
+
+def _triangle(img, cx: float, cy: float, s: float, up: bool, col) -> None:
+    """Filled isosceles triangle of side `s` centred at (cx, cy), pointing up or down."""
+    hh = 0.45 * s
+    if up:
+        _poly(img, [(cx, cy - hh), (cx + s / 2, cy + hh), (cx - s / 2, cy + hh)], col)
+    else:
+        _poly(img, [(cx, cy + hh), (cx + s / 2, cy - hh), (cx - s / 2, cy - hh)], col)
+
+
+def _braille_row(img, cx: float, y: float, n_cells: int, col, rng: np.random.Generator) -> None:
+    """A row of Braille-like cells centred at cx, top dot row at y: 2 x 3 dots per cell, dots 2.4 mm apart,
+    cells 6.5 mm apart, dot diameter 1.5 mm (ADA 703.3.1 dimensions); random dot patterns."""
+    ppm = TEX_PPM
+    d, cell, r = 0.0024 * ppm, 0.0065 * ppm, 0.00075 * ppm
+    x0 = cx - ((n_cells - 1) * cell + d) / 2
+    for k in range(n_cells):
+        bits = rng.random(6) < 0.45
+        if not bits.any():
+            bits[int(rng.integers(6))] = True
+        for j in range(6):
+            if bits[j]:
+                _disc(img, (x0 + k * cell + (j // 3) * d, y + (j % 3) * d), r, col)
+
+
+def _text_line(img, text: str, cx: float, top: float, height: float, col, max_w: float,
+               font=cv2.FONT_HERSHEY_SIMPLEX, thick_frac: float = 0.16) -> float:
+    """Draw `text` with its glyph block `height` px tall (natural aspect, at most `max_w` wide) centred at cx,
+    top edge at `top`, over whatever is in img. Returns the block's bottom y."""
+    (tw, th), _ = cv2.getTextSize(text, font, 4.0, 1)
+    thick = max(1, int(round(thick_frac * th)))
+    (tw, th), _ = cv2.getTextSize(text, font, 4.0, thick)
+    tmp = np.zeros((th + 2 * thick + 8, tw + 2 * thick + 8), np.uint8)
+    cv2.putText(tmp, text, (thick + 4, th + thick + 4), font, 4.0, 255, thick, cv2.LINE_AA)
+    ys, xs = np.nonzero(tmp > 20)
+    tmp = tmp[ys.min():ys.max() + 1, xs.min():xs.max() + 1]
+    w = min(max_w, height * tmp.shape[1] / tmp.shape[0])
+    Wi, Hi = max(1, int(round(w))), max(1, int(round(height)))
+    a = cv2.resize(tmp, (Wi, Hi), interpolation=cv2.INTER_AREA).astype(np.float32)[..., None] / 255.0
+    x0, y0 = int(round(cx - Wi / 2)), int(round(top))
+    x0, y0 = max(0, x0), max(0, y0)
+    Wi, Hi = min(Wi, img.shape[1] - x0), min(Hi, img.shape[0] - y0)
+    roi = img[y0:y0 + Hi, x0:x0 + Wi].astype(np.float32)
+    img[y0:y0 + Hi, x0:x0 + Wi] = (roi * (1 - a[:Hi, :Wi]) + np.array(col, np.float32) * a[:Hi, :Wi] + 0.5).astype(np.uint8)
+    return float(y0 + Hi)
+
+
+def _plate(rng: np.random.Generator, W: int, H: int, choices) -> Tuple[np.ndarray, tuple, str]:
+    """Plate image filled with one of `choices` [(name, rgb, probability)], jittered."""
+    p = np.array([c[2] for c in choices], np.float64)
+    k = int(rng.choice(len(choices), p=p / p.sum()))
+    col = _jitter_colour(rng, choices[k][1])
+    img = np.zeros((H, W, 3), np.uint8)
+    img[:] = col
+    return img, col, choices[k][0]
+
+
+_SYMBOL_WHITE = (240, 240, 236)
+
+
+def make_restroom_texture(rng: np.random.Generator, width_m: float, height_m: float, style: Optional[dict] = None) -> Tuple[Texture, dict]:
+    """Restroom sign: white man and/or woman figures (optionally the wheelchair symbol) on a blue, dark grey
+    or black plate; optional text MEN / WOMEN / RESTROOM under the figures and Braille-like dots."""
+    W, H = int(round(width_m * TEX_PPM)), int(round(height_m * TEX_PPM))
+    img, plate, plate_name = _plate(rng, W, H, [("blue", (22, 68, 150), 0.65), ("darkgrey", (62, 64, 68), 0.2),
+                                                ("black", (22, 22, 24), 0.15)])
+    fg = _jitter_colour(rng, _SYMBOL_WHITE, 4)
+    variant = str(rng.choice(["men", "women", "unisex", "unisex", "accessible", "family"]))
+    text = bool(rng.random() < 0.5)
+    braille = text and bool(rng.random() < 0.6)
+    fh = H * (rng.uniform(0.50, 0.56) if text else rng.uniform(0.62, 0.72))
+    top = (H * 0.08 if text else (H - fh) / 2) + rng.normal(0, 0.01 * H)
+    if variant == "men":
+        _draw_man(img, W / 2, top, fh, fg)
+    elif variant == "women":
+        _draw_woman(img, W / 2, top, fh, fg)
+    elif variant == "unisex":
+        _draw_man(img, W * 0.28, top, fh, fg)
+        _seg(img, (W / 2, top), (W / 2, top + fh), fg, max(2.0, 0.025 * W))
+        _draw_woman(img, W * 0.72, top, fh, fg)
+    elif variant == "accessible":  # one figure and the wheelchair symbol
+        fh2 = fh * 0.9
+        if rng.random() < 0.5:
+            _draw_man(img, W * 0.27, top, fh2, fg)
+        else:
+            _draw_woman(img, W * 0.27, top, fh2, fg)
+        ws = min(0.88 * fh2, 0.5 * W)
+        _draw_wheelchair(img, W * 0.95 - ws, top + fh2 - ws, ws, fg)
+    else:  # family: man, woman and the wheelchair symbol, smaller
+        fh2 = fh * 0.8
+        t2 = top + 0.1 * fh
+        _draw_man(img, W * 0.18, t2, fh2, fg)
+        _draw_woman(img, W * 0.47, t2, fh2, fg)
+        ws = min(0.7 * fh2, 0.33 * W)
+        _draw_wheelchair(img, W * 0.96 - ws, t2 + fh2 - ws, ws, fg)
+    if text:
+        word = {"men": "MEN", "women": "WOMEN"}.get(variant, str(rng.choice(["RESTROOM", "RESTROOMS"])))
+        yb = _text_line(img, word, W / 2, top + fh + 0.07 * H, 0.1 * H, fg, 0.86 * W)
+        if braille:
+            _braille_row(img, W / 2, yb + 0.035 * H, min(8, len(word) + 1), fg, rng)
+    border = bool(rng.random() < 0.35)
+    if border:
+        b = 0.03 * W
+        cv2.rectangle(img, (int(b), int(b)), (int(W - 1 - b), int(H - 1 - b)), fg, max(2, int(0.008 * W)), cv2.LINE_AA)
+    st = dict(variant=variant, plate=plate_name, text=text, braille=braille, border=border)
+    return Texture(rgb=img.astype(np.float32) / 255.0, alpha=np.ones((H, W), np.float32), emissive=0.0,
+                   mask_class=CLASS_INDEX["restroom"]), st
+
+
+def make_elevator_texture(rng: np.random.Generator, width_m: float, height_m: float, style: Optional[dict] = None) -> Tuple[Texture, dict]:
+    """Elevator sign: a person in a box with up/down triangles beside it, a box with the up and down
+    triangles inside, or a pair of closed doors with the triangles above; white on dark grey, black or blue."""
+    W, H = int(round(width_m * TEX_PPM)), int(round(height_m * TEX_PPM))
+    img, plate, plate_name = _plate(rng, W, H, [("darkgrey", (62, 64, 68), 0.4), ("black", (22, 22, 24), 0.3),
+                                                ("blue", (22, 68, 150), 0.3)])
+    fg = _jitter_colour(rng, _SYMBOL_WHITE, 4)
+    variant = str(rng.choice(["person_box", "arrows_box", "doors"]))
+    text = bool(rng.random() < 0.35)
+    y_lo, y_hi = (0.1 * H, 0.72 * H) if text else (0.14 * H, 0.86 * H)
+    lw = max(3.0, 0.035 * W)
+    if variant == "person_box":
+        bx0, bx1 = 0.16 * W, 0.62 * W
+        cv2.rectangle(img, (int(bx0), int(y_lo)), (int(bx1), int(y_hi)), fg, int(lw), cv2.LINE_AA)
+        ph = (y_hi - y_lo) * 0.78
+        _draw_man(img, (bx0 + bx1) / 2, y_lo + (y_hi - y_lo - ph) / 2, ph, fg)
+        s = 0.17 * W
+        ym = (y_lo + y_hi) / 2
+        _triangle(img, 0.80 * W, ym - 0.6 * s, s, True, fg)
+        _triangle(img, 0.80 * W, ym + 0.6 * s, s, False, fg)
+    elif variant == "arrows_box":
+        bx0, bx1 = 0.22 * W, 0.78 * W
+        cv2.rectangle(img, (int(bx0), int(y_lo)), (int(bx1), int(y_hi)), fg, int(lw), cv2.LINE_AA)
+        s = 0.3 * W
+        ym = (y_lo + y_hi) / 2
+        _triangle(img, W / 2, ym - 0.27 * (y_hi - y_lo), s, True, fg)
+        _triangle(img, W / 2, ym + 0.27 * (y_hi - y_lo), s, False, fg)
+    else:  # doors with the call triangles above
+        s = 0.16 * W
+        _triangle(img, 0.38 * W, y_lo + 0.5 * s, s, True, fg)
+        _triangle(img, 0.62 * W, y_lo + 0.5 * s, s, False, fg)
+        d0 = y_lo + 1.25 * s
+        cv2.rectangle(img, (int(0.2 * W), int(d0)), (int(0.8 * W), int(y_hi)), fg, int(lw), cv2.LINE_AA)
+        g = 0.015 * W
+        for xa, xb in ((0.2 * W + 2 * lw, W / 2 - g), (W / 2 + g, 0.8 * W - 2 * lw)):
+            _poly(img, [(xa, d0 + 2 * lw), (xb, d0 + 2 * lw), (xb, y_hi - 2 * lw), (xa, y_hi - 2 * lw)], fg)
+    if text:
+        _text_line(img, "ELEVATOR", W / 2, y_hi + 0.08 * H, 0.095 * H, fg, 0.86 * W)
+    border = bool(rng.random() < 0.3)
+    if border:
+        b = 0.03 * W
+        cv2.rectangle(img, (int(b), int(b)), (int(W - 1 - b), int(H - 1 - b)), fg, max(2, int(0.008 * W)), cv2.LINE_AA)
+    st = dict(variant=variant, plate=plate_name, text=text, border=border)
+    return Texture(rgb=img.astype(np.float32) / 255.0, alpha=np.ones((H, W), np.float32), emissive=0.0,
+                   mask_class=CLASS_INDEX["elevator"]), st
+
+
+def make_stairs_texture(rng: np.random.Generator, width_m: float, height_m: float, style: Optional[dict] = None) -> Tuple[Texture, dict]:
+    """Stairs sign: a staircase (step polyline or filled steps) rising to one side with a walking figure on
+    it; white on dark grey, black or green; optional text STAIRS."""
+    W, H = int(round(width_m * TEX_PPM)), int(round(height_m * TEX_PPM))
+    img, plate, plate_name = _plate(rng, W, H, [("darkgrey", (62, 64, 68), 0.35), ("black", (22, 22, 24), 0.3),
+                                                ("green", (0, 112, 72), 0.35)])
+    fg = _jitter_colour(rng, _SYMBOL_WHITE, 4)
+    text = bool(rng.random() < 0.35)
+    filled = bool(rng.random() < 0.5)
+    n = int(rng.integers(3, 6))
+    x0, x1 = 0.12 * W, 0.88 * W
+    y_bot = (0.74 if text else 0.86) * H
+    y_top = y_bot - 0.36 * H
+    sw, sh = (x1 - x0) / n, (y_bot - y_top) / n
+    lw = max(3.0, 0.04 * W)
+    # steps rising to the right: (x0, y_bot) -> up -> right -> up ...
+    pts = [(x0, y_bot)]
+    for k in range(n):
+        pts.append((x0 + k * sw, y_bot - (k + 1) * sh))
+        pts.append((x0 + (k + 1) * sw, y_bot - (k + 1) * sh))
+    if filled:
+        _poly(img, pts + [(x1, y_bot)], fg)
+    else:
+        for p, q in zip(pts[:-1], pts[1:]):
+            _seg(img, p, q, fg, lw)
+    # walker standing on the middle of the flight
+    k = n // 2
+    fh = 0.34 * H
+    foot_y = y_bot - (k + 1) * sh - (0 if filled else lw / 2)
+    _draw_walker(img, x0 + (k + 0.45) * sw, foot_y - fh, fh, fg, max(3.0, 0.045 * W))
+    down = bool(rng.random() < 0.4)
+    if down:
+        img = img[:, ::-1].copy()
+    if text:
+        _text_line(img, str(rng.choice(["STAIRS", "STAIR", "STAIRWAY"])), W / 2, y_bot + 0.07 * H, 0.095 * H, fg, 0.86 * W)
+    border = bool(rng.random() < 0.3)
+    if border:
+        b = 0.03 * W
+        cv2.rectangle(img, (int(b), int(b)), (int(W - 1 - b), int(H - 1 - b)), fg, max(2, int(0.008 * W)), cv2.LINE_AA)
+    st = dict(variant="down" if down else "up", steps=n, filled=filled, plate=plate_name, text=text, border=border)
+    return Texture(rgb=img.astype(np.float32) / 255.0, alpha=np.ones((H, W), np.float32), emissive=0.0,
+                   mask_class=CLASS_INDEX["stairs"]), st
+
+
+def random_room_number(rng: np.random.Generator) -> str:
+    """3-4 characters: 3 digits (e.g. 214), 4 digits (1107) or 3 digits and a letter (402A)."""
+    r = rng.random()
+    digits = 3 if r < 0.75 else 4
+    s = str(int(rng.integers(1, 10))) + "".join(str(int(d)) for d in rng.integers(0, 10, digits - 1))
+    if digits == 3 and rng.random() < 0.25:
+        s += str(rng.choice(list("ABCD")))
+    return s
+
+
+def make_placard_texture(rng: np.random.Generator, width_m: float, height_m: float, style: Optional[dict] = None) -> Tuple[Texture, dict]:
+    """Room-number placard: light digits 25 mm tall on a dark plate (near-black, dark grey, dark blue,
+    brown), or (30 %) dark digits on a light plate; optional Braille-like dots under the number and a thin
+    border. style may fix "text"; the style returned carries it."""
+    W, H = int(round(width_m * TEX_PPM)), int(round(height_m * TEX_PPM))
+    light = bool(rng.random() < 0.3)
+    if light:
+        img, plate, plate_name = _plate(rng, W, H, [("white", (236, 236, 230), 0.4), ("beige", (214, 204, 178), 0.3),
+                                                    ("lightgrey", (192, 194, 196), 0.3)])
+        fg = _jitter_colour(rng, [(24, 24, 26), (28, 40, 92), (72, 46, 30)][int(rng.integers(3))])
+    else:
+        img, plate, plate_name = _plate(rng, W, H, [("black", (22, 22, 24), 0.3), ("darkgrey", (62, 64, 68), 0.25),
+                                                    ("darkblue", (28, 42, 92), 0.25), ("brown", (82, 52, 32), 0.2)])
+        fg = _jitter_colour(rng, (238, 238, 232) if rng.random() < 0.7 else (226, 214, 186))
+    text = (style or {}).get("text") or random_room_number(rng)
+    braille = bool(rng.random() < 0.6)
+    border = bool(rng.random() < 0.5)
+    font = cv2.FONT_HERSHEY_SIMPLEX if rng.random() < 0.6 else cv2.FONT_HERSHEY_DUPLEX
+    digit_h = 0.025 * TEX_PPM
+    top = H * (rng.uniform(0.28, 0.36) if braille else rng.uniform(0.38, 0.45))
+    yb = _text_line(img, text, W / 2 + rng.normal(0, 0.01 * W), top, digit_h, fg, 0.8 * W, font=font,
+                    thick_frac=rng.uniform(0.14, 0.2))
+    if braille:
+        _braille_row(img, W / 2, yb + 0.012 * TEX_PPM, len(text) + 1, fg, rng)
+    if border:
+        b = rng.uniform(0.035, 0.06) * W
+        cv2.rectangle(img, (int(b), int(b)), (int(W - 1 - b), int(H - 1 - b)), fg, max(2, int(0.0015 * TEX_PPM)), cv2.LINE_AA)
+    st = dict(text=text, plate=plate_name, light=light, braille=braille, border=border)
+    return Texture(rgb=img.astype(np.float32) / 255.0, alpha=np.ones((H, W), np.float32), emissive=0.0,
+                   mask_class=CLASS_INDEX["placard"]), st
+
+
+def make_wall_sign_texture(rng: np.random.Generator, kind: str, width_m: float, height_m: float,
+                           style: Optional[dict] = None) -> Tuple[Texture, dict]:
+    """Texture and style of a wall sign of `kind` (one of WALL_KINDS)."""
+    fn = {"restroom": make_restroom_texture, "elevator": make_elevator_texture, "stairs": make_stairs_texture,
+          "placard": make_placard_texture}[kind]
+    return fn(rng, width_m, height_m, style)
+
+
 DISTRACTOR_WORDS_RED = ["FIRE", "EXTRA", "ENTER", "STAFF", "ALARM", "STOP", "PULL", "NO ENTRY", "EXAM", "DANGER", "OFFICE", "TEXT"]
 DISTRACTOR_WORDS_GREEN = ["OPEN", "ROOM", "WAY", "EXAM", "TAXI", "EAST", "LIFT", "INFO", "MEN", "WOMEN"]
 
@@ -411,6 +778,43 @@ def sample_corridor(rng: np.random.Generator, must_contain: Sequence[np.ndarray]
         door_spacing_m=rng.uniform(2.5, 7.0), door_phase_m=rng.uniform(0, 7.0),
         light_spacing_m=rng.uniform(2.0, 4.0), light_phase_m=rng.uniform(0, 4.0),
         light_gain=rng.uniform(1.3, 2.2), falloff_m=rng.uniform(5.0, 25.0))
+
+
+def sample_corridor_on_wall(rng: np.random.Generator, wall_signs, others: Sequence[np.ndarray], cam_t: np.ndarray) -> Corridor:
+    """Corridor (or hall) whose side wall carries the wall signs `wall_signs` [(SignSpec, centre, normal) in
+    world coordinates; their normals are +-x, all on one wall], containing the camera and the points
+    `others`, with a door beside the first sign (sign on the latch side, 8-30 cm from the door frame, as
+    ADA 703.4.2 places tactile signs). Draws sample_corridor's values, then places the walls and the door."""
+    s0, c0, n0 = wall_signs[0]
+    left = n0[0] > 0  # the face looks towards +x: it hangs on the left wall
+    x_wall = float(c0[0] - math.copysign(WALL_GAP_M, n0[0]))
+    pts = [np.asarray(p, np.float64) for p in others] + [np.asarray(c, np.float64) for _, c, _ in wall_signs]
+    cor = sample_corridor(rng, pts, cam_t)
+    width = cor.x_right - cor.x_left
+    xs = [cam_t[0]] + [p[0] for p in others]
+    if left:
+        need = max(xs) - x_wall + 0.4
+        cor.x_left, cor.x_right = x_wall, x_wall + max(width, need + rng.uniform(0.0, 1.0))
+    else:
+        need = x_wall - min(xs) + 0.4
+        cor.x_right, cor.x_left = x_wall, x_wall - max(width, need + rng.uniform(0.0, 1.0))
+    gap = rng.uniform(0.08, 0.30)
+    if rng.random() < 0.5:  # the door starts beyond the sign (larger z)
+        z0 = float(c0[2]) + s0.width_m / 2 + gap
+    else:  # the door (and its 7 cm frame) ends before the sign
+        z0 = float(c0[2]) - s0.width_m / 2 - gap - 0.97
+    offset = 0.0 if left else 0.37 * cor.door_spacing_m  # render_corridor's door pattern on each wall
+    cor.door_phase_m = float((z0 - offset) % cor.door_spacing_m)
+    return cor
+
+
+def _corridor_for(rng: np.random.Generator, signs_world, t: np.ndarray) -> Corridor:
+    """The corridor of a frame: sample_corridor around the signs, or sample_corridor_on_wall when wall
+    signs (WALL_KINDS) are present."""
+    wall = [(s, c, n) for s, c, n in signs_world if s.kind in WALL_KINDS]
+    if not wall:
+        return sample_corridor(rng, [c for _, c, _ in signs_world], t)
+    return sample_corridor_on_wall(rng, wall, [c for s, c, _ in signs_world if s.kind not in WALL_KINDS], t)
 
 
 def _value_noise(rng: np.random.Generator, n: int = 64) -> np.ndarray:
@@ -546,8 +950,10 @@ def render_clutter(rng: np.random.Generator, W: int, H: int) -> np.ndarray:
 class SignSpec:
     """A sign (or distractor) in CAMERA coordinates: `center_cam` (3,) meters, `normal_cam` (3,)
     unit vector pointing out of the face towards the viewer side, `width_m`, `height_m`, `kind`
-    ("exit" for US or ISO exit signs), `style` (texture options; see make_us_exit_texture), and
-    `iso` selects the ISO running-man face. The face's up direction is world up (signs hang level)."""
+    ("exit" for US or ISO exit signs; "restroom", "elevator", "stairs", "placard": WALL_KINDS, flat on a
+    side wall whose plane render_frame puts WALL_GAP_M behind the face, so their normal must be world +-x),
+    `style` (texture options; see make_us_exit_texture; a placard's may fix "text"), and `iso` selects
+    the ISO running-man face. The face's up direction is world up (signs hang level)."""
     center_cam: np.ndarray
     normal_cam: np.ndarray
     width_m: float
@@ -663,7 +1069,7 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
     bg_kind = background or ("corridor" if rng.random() < 0.85 else "clutter")
     ds = 2 if W * H > 1_000_000 else 1
     if bg_kind == "corridor":
-        cor = sample_corridor(rng, [c for _, c, _ in signs_world], t)
+        cor = _corridor_for(rng, signs_world, t)
         img = render_corridor(rng, cor, R, t, intr, downsample=ds)
     else:
         cor = None
@@ -707,6 +1113,8 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
         if s.kind == "distractor":
             tex, _, _ = make_distractor_texture(rng)
             style = dict(kind="distractor")
+        elif s.kind in WALL_KINDS:
+            tex, style = make_wall_sign_texture(rng, s.kind, s.width_m, s.height_m, s.style)
         elif s.iso:
             tex, style = make_iso_exit_texture(rng, s.width_m, s.height_m)
         else:
@@ -715,7 +1123,8 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
         uv, depth = project_points(corners, R, t, intr)
         if (depth < 0.1).any():
             continue
-        _paste_housing(img, emissive, rng, s, cw, nw, R, t, intr, light=exposure * 0.9)
+        if s.kind not in WALL_KINDS:  # wall signs are flat plates on the wall
+            _paste_housing(img, emissive, rng, s, cw, nw, R, t, intr, light=exposure * 0.9)
         paste_quad(img, mask, emissive, tex, uv, light=exposure * rng.uniform(0.8, 1.1))
         if s.kind == "distractor":
             continue
@@ -876,11 +1285,14 @@ def _sign_label(s, cw, nw, R, t, uv, style) -> dict:
     # bearing: angle from camera forward to the sign, positive to the left (CCW seen from above)
     cross = fwd[0] * d_h[1] - fwd[1] * d_h[0]
     bearing = -math.atan2(cross, float(np.dot(fwd, d_h)))
-    return dict(kind=s.kind, cornersRaw=[[float(a), float(b)] for a, b in uv],
-                rangeMeters=float(np.linalg.norm(d_h)), bearingRad=float(bearing),
-                heightMeters=float(s.height_m), widthMeters=float(s.width_m),
-                centerHeightMeters=float(cw[1]), style={k: (v if isinstance(v, (bool, str)) else str(v)) for k, v in style.items()},
-                _uv=uv)
+    lab = dict(kind=s.kind, cornersRaw=[[float(a), float(b)] for a, b in uv],
+               rangeMeters=float(np.linalg.norm(d_h)), bearingRad=float(bearing),
+               heightMeters=float(s.height_m), widthMeters=float(s.width_m),
+               centerHeightMeters=float(cw[1]), style={k: (v if isinstance(v, (bool, str)) else str(v)) for k, v in style.items()},
+               _uv=uv)
+    if s.kind == "placard":
+        lab["text"] = str(style["text"])
+    return lab
 
 
 def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec], rng: np.random.Generator,
@@ -899,7 +1311,7 @@ def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec]
     illum = phone.illuminance
     floor = None
     if bg_kind == "corridor":
-        cor = sample_corridor(rng, [c for _, c, _ in signs_world], t)
+        cor = _corridor_for(rng, signs_world, t)
         cor.light_gain = float(rng.uniform(4.0, 15.0))  # light panels: far brighter than the walls they light
         img, floor = render_corridor(rng, cor, R, t, intr, downsample=ds, gloss=phone.gloss, return_floor=True)
     else:
@@ -914,6 +1326,8 @@ def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec]
         if s.kind == "distractor":
             tex, _, _ = make_phone_distractor_texture(rng)
             style = dict(kind="distractor")
+        elif s.kind in WALL_KINDS:
+            tex, style = make_wall_sign_texture(rng, s.kind, s.width_m, s.height_m, s.style)
         elif s.iso:
             tex, style = make_iso_exit_texture(rng, s.width_m, s.height_m, phone=True)
         else:
@@ -959,7 +1373,8 @@ def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec]
         uv, depth = project_points(corners, R, t, intr)
         if (depth < 0.1).any():
             continue
-        _paste_housing(img, emissive, rng, s, cw, nw, R, t, intr, light=illum * 0.9)
+        if s.kind not in WALL_KINDS:
+            _paste_housing(img, emissive, rng, s, cw, nw, R, t, intr, light=illum * 0.9)
         paste_quad(img, mask, emissive, tex, uv, light=illum * rng.uniform(0.8, 1.1), emission_scale=phone.led_gain_scale)
         if s.kind != "distractor":
             labels.append(_sign_label(s, cw, nw, R, t, uv, style))
@@ -1093,6 +1508,72 @@ def _sample_scene_phone(rng, intr, distance_m, test, max_tries, upright):
     raise RuntimeError("sample_scene: could not place a visible sign at %.1f m" % (distance_m or -1))
 
 
+def _visible(uv: np.ndarray, depth: np.ndarray, intr: dict, margin: float = 4) -> bool:
+    """All projected corners in front of the camera and inside the image with `margin` pixels."""
+    return bool((depth >= 0.3).all() and np.isfinite(uv).all() and (uv[:, 0] >= margin).all() and (uv[:, 1] >= margin).all()
+                and (uv[:, 0] <= intr["width"] - 1 - margin).all() and (uv[:, 1] <= intr["height"] - 1 - margin).all())
+
+
+def sample_kind_scene(rng: np.random.Generator, intr: dict, kind: str, distance_m: Optional[float] = None, test: bool = False,
+                      max_tries: int = 200, extra_kinds: Optional[Sequence[str]] = None, extra_kind_prob: float = 0.3,
+                      exit_prob: float = 0.3) -> Tuple[np.ndarray, List[SignSpec], dict]:
+    """Draw a camera pose and a wall sign of `kind` (one of WALL_KINDS) in view: face KIND_FACE_M[kind], flat on a
+    side wall (normal world +-x) with its bottom edge KIND_BOTTOM_M[kind] above the floor, seen at most
+    KIND_MAX_OFF_AXIS[kind] off its normal from horizontal range `distance_m` (drawn log-uniformly in
+    KIND_RANGE_M[kind] when None), within +-0.6 rad of the camera's heading; camera as sample_camera.
+
+    Then, when they are in view: with `extra_kind_prob` a second wall sign of one of `extra_kinds` on the same
+    wall 0.8-4 m along it, and with `exit_prob` a US Exit sign (0.30 x 0.21 m, bottom 2.0-2.5 m) hanging
+    across the corridor 2.5-10 m ahead, facing along it. Returns (camera_to_world 4x4, [SignSpec in camera
+    coordinates], the `kind` sign first, info dict)."""
+    if kind not in WALL_KINDS:
+        raise ValueError("sample_kind_scene: kind %r is not one of %s" % (kind, WALL_KINDS))
+    w_m, h_m = KIND_FACE_M[kind]
+    for _ in range(max_tries):
+        pitch, roll, _, cam_h = sample_camera(rng, test)  # the heading follows the sign below
+        t = np.array([0.0, cam_h, 0.0])
+        lo, hi = KIND_RANGE_M[kind]
+        Z = distance_m if distance_m is not None else float(np.exp(rng.uniform(math.log(lo), math.log(hi))))
+        off = rng.uniform(-1.0, 1.0) * KIND_MAX_OFF_AXIS[kind]
+        normal = np.array([1.0, 0.0, 0.0]) if rng.random() < 0.5 else np.array([-1.0, 0.0, 0.0])
+        to_cam = rot_y(off) @ normal
+        center = t - Z * to_cam
+        center[1] = rng.uniform(*KIND_BOTTOM_M[kind]) + h_m / 2
+        bearing = rng.uniform(-0.6, 0.6)
+        yaw = math.atan2(to_cam[0], to_cam[2]) - bearing  # the sign lies at `bearing` left of the heading
+        R = camera_rotation(yaw, pitch, roll)
+        uv, depth = project_points(quad_corners_world(center, normal, w_m, h_m), R, t, intr)
+        if not _visible(uv, depth, intr):
+            continue
+        world = [(kind, center, normal, w_m, h_m)]
+        if extra_kinds and rng.random() < extra_kind_prob:
+            k2 = str(rng.choice(list(extra_kinds)))
+            w2, h2 = KIND_FACE_M[k2]
+            c2 = center.copy()
+            c2[2] += (1.0 if rng.random() < 0.5 else -1.0) * rng.uniform(0.8, 4.0)
+            c2[1] = rng.uniform(*KIND_BOTTOM_M[k2]) + h2 / 2
+            uv2, d2 = project_points(quad_corners_world(c2, normal, w2, h2), R, t, intr)
+            to2 = np.array([t[0] - c2[0], 0.0, t[2] - c2[2]])
+            if _visible(uv2, d2, intr) and np.dot(to2, normal) > math.cos(math.radians(75)) * np.linalg.norm(to2):
+                world.append((k2, c2, normal, w2, h2))
+        if rng.random() < exit_prob:
+            fwd = np.array([-math.sin(yaw), 0.0, -math.cos(yaw)])
+            pe = t + rng.uniform(2.5, 10.0) * fwd
+            pe[0] = max(pe[0], center[0] + 0.3) if normal[0] > 0 else min(pe[0], center[0] - 0.3)
+            pe[1] = rng.uniform(2.0, 2.5) + 0.105
+            ne = np.array([0.0, 0.0, 1.0 if t[2] > pe[2] else -1.0])
+            uve, de = project_points(quad_corners_world(pe, ne, 0.30, 0.21), R, t, intr)
+            toe = np.array([t[0] - pe[0], 0.0, t[2] - pe[2]])
+            if _visible(uve, de, intr) and np.dot(toe, ne) > math.cos(math.radians(70)) * np.linalg.norm(toe):
+                world.append(("exit", pe, ne, 0.30, 0.21))
+        T = np.eye(4)
+        T[:3, :3], T[:3, 3] = R, t
+        specs = [SignSpec(center_cam=R.T @ (c - t), normal_cam=R.T @ n, width_m=w, height_m=h, kind=k)
+                 for k, c, n, w, h in world]
+        return T, specs, dict(pitch=pitch, roll=roll, yaw=yaw, offAxisRad=float(off))
+    raise RuntimeError("sample_kind_scene: could not place a visible %s sign at %.1f m" % (kind, distance_m or -1))
+
+
 def sample_empty(rng: np.random.Generator, test: bool = False, phone: bool = False, upright: bool = False) -> Tuple[np.ndarray, dict]:
     """Camera pose for a sign-free frame."""
     pitch, roll, yaw, cam_h = sample_camera(rng, test, phone=phone, upright=upright) if phone else sample_camera(rng, test)
@@ -1102,7 +1583,7 @@ def sample_empty(rng: np.random.Generator, test: bool = False, phone: bool = Fal
     return T, dict(pitch=pitch, roll=roll, yaw=yaw)
 
 
-SPLIT_CODES = {"train": 1, "val": 2, "test": 3, "test_phone": 4}
+SPLIT_CODES = {"train": 1, "val": 2, "test": 3, "test_phone": 4, "test_kinds": 5}
 
 #: Low-resolution phone frames: upright portrait 360 x 640, a 16:9 video frame of the iPhone 8
 #: sensor (1920 x 1080 at fx 1602) rotated and scaled by 1/3: fx = fy = 534 px, as the real test photos.
@@ -1132,7 +1613,7 @@ def frame_intrinsics(resolution: str, index: int) -> Tuple[dict, bool]:
 
 def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40, n_empty: int = 200,
                    n_train: int = 0, resolution: str = "raw", jpeg: bool = True, verbose: bool = True,
-                   style: str = "classic") -> int:
+                   style: str = "classic", kinds: Optional[Sequence[str]] = None) -> int:
     """Render a split into `out_dir` (images, masks, labels.jsonl). Returns the number of frames.
 
     split "test" / "test_phone": for each distance 2..9 m, `n_per_distance` frames with one sign,
@@ -1142,25 +1623,45 @@ def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40
     faces 0.30 x 0.21 m and ISO running-man faces; oblique views to 65 degrees). Other splits:
     `n_train` frames with a sign at 1..12 m plus `n_empty` sign-free frames.
     style: "classic" or "phone" (test_phone is always phone).
+    kinds: sign kinds ("exit" and WALL_KINDS). "test_kinds": for each kind in `kinds` (default WALL_KINDS) and
+    each of its KIND_TEST_DISTANCES, `n_per_distance` frames with one sign of that kind (sample_kind_scene:
+    sometimes a second wall sign of another kind and an Exit sign too), then `n_empty` sign-free frames.
+    Train/val: sign frame j has kind kinds[j % len(kinds)] (default exit only: the frames are then unchanged).
+    Wall kinds are rendered in the classic style only.
     """
     import phone_camera as pc
     os.makedirs(out_dir, exist_ok=True)
+    kinds = tuple(kinds) if kinds else (WALL_KINDS if split == "test_kinds" else ("exit",))
+    for k in kinds:
+        if k != "exit" and k not in WALL_KINDS:
+            raise ValueError("render_dataset: unknown sign kind %r" % k)
+    if split in ("test", "test_phone") and kinds != ("exit",):
+        raise ValueError("render_dataset: split %s holds Exit signs only (use test_kinds)" % split)
+    if style == "phone" and any(k != "exit" for k in kinds):
+        raise ValueError("render_dataset: wall sign kinds are rendered in the classic style only")
     jobs = []
     if split in ("test", "test_phone"):
         for d in range(2, 10):
-            jobs += [("sign", float(d))] * n_per_distance
+            jobs += [("sign", float(d), "exit")] * n_per_distance
+    elif split == "test_kinds":
+        for k in kinds:
+            for d in KIND_TEST_DISTANCES.get(k, range(2, 10)):
+                jobs += [("sign", float(d), k)] * n_per_distance
     else:
-        jobs += [("sign", None)] * n_train
-    jobs += [("empty", None)] * n_empty
-    test = split in ("test", "test_phone")
+        jobs += [("sign", None, kinds[j % len(kinds)]) for j in range(n_train)]
+    jobs += [("empty", None, None)] * n_empty
+    test = split in ("test", "test_phone", "test_kinds")
     if split == "test_phone":
         style = "phone"
     with open(os.path.join(out_dir, "labels.jsonl"), "w") as f:
-        for i, (kind, dist) in enumerate(jobs):
+        for i, (kind, dist, sign_kind) in enumerate(jobs):
             rng = frame_rng(seed, split, i)
             intr, upright = frame_intrinsics(resolution, i)
             ph = style == "phone"
-            if kind == "sign":
+            if kind == "sign" and sign_kind != "exit":
+                T, signs, info = sample_kind_scene(rng, intr, sign_kind, dist, test=test,
+                                                   extra_kinds=[k for k in WALL_KINDS if k != sign_kind])
+            elif kind == "sign":
                 T, signs, info = sample_scene(rng, intr, dist, test=test, phone=ph, upright=upright) if ph else \
                     sample_scene(rng, intr, dist, test=test)
             else:
@@ -1196,11 +1697,17 @@ def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--out", required=True, help="output directory")
-    ap.add_argument("--split", choices=["train", "val", "test", "test_phone"], default="test",
-                    help="test: the fixed classic test set; test_phone: the harder phone-style held-out set")
+    ap.add_argument("--split", choices=["train", "val", "test", "test_phone", "test_kinds"], default="test",
+                    help="test: the fixed classic test set; test_phone: the harder phone-style held-out set; "
+                         "test_kinds: restroom, elevator, stairs and placard signs at fixed distances (VGA)")
     ap.add_argument("--seed", type=int, default=1234)
-    ap.add_argument("--n-per-distance", type=int, default=None, help="test splits: frames per distance 2..9 m (test 40, test_phone 15)")
-    ap.add_argument("--n-empty", type=int, default=None, help="sign-free frames (default 200; test_phone 60)")
+    ap.add_argument("--n-per-distance", type=int, default=None,
+                    help="test splits: frames per distance (test 40, test_phone 15 at 2..9 m; test_kinds 12 per kind "
+                         "and distance: pictograms 1.5, 2, 3, 4, 5, 6 m, placards 0.8, 1.2, 1.6, 2.0, 2.5 m)")
+    ap.add_argument("--n-empty", type=int, default=None, help="sign-free frames (default 200; test_phone 60; test_kinds 40)")
+    ap.add_argument("--kinds", default=None,
+                    help="comma-separated sign kinds: exit, restroom, elevator, stairs, placard (default: exit; "
+                         "test_kinds: restroom,elevator,stairs,placard)")
     ap.add_argument("--n", type=int, default=500, help="train/val split: frames with a sign")
     ap.add_argument("--resolution", choices=["raw", "vga", "portrait360", "mixed"], default=None,
                     help="raw 1920x1440, VGA 640x480, portrait360 360x640 upright, mixed (raw/vga alternating); "
@@ -1208,14 +1715,16 @@ def main(argv=None) -> int:
     ap.add_argument("--style", choices=["classic", "phone"], default="classic", help="image formation (test_phone: phone)")
     ap.add_argument("--png", action="store_true", help="write PNG images instead of JPEG")
     a = ap.parse_args(argv)
-    if a.split == "test" and a.seed != 1234:
-        print("warning: the fixed test set is --split test --seed 1234", file=sys.stderr)
-    res = a.resolution or ("mixed" if a.split == "test_phone" else "raw")
+    if a.split in ("test", "test_kinds") and a.seed != 1234:
+        print("warning: the fixed test sets are --split test / test_kinds --seed 1234", file=sys.stderr)
+    res = a.resolution or {"test_phone": "mixed", "test_kinds": "vga"}.get(a.split, "raw")
     if a.n_per_distance is None:
-        a.n_per_distance = 15 if a.split == "test_phone" else 40
+        a.n_per_distance = {"test_phone": 15, "test_kinds": 12}.get(a.split, 40)
     if a.n_empty is None:
-        a.n_empty = 60 if a.split == "test_phone" else 200
-    n = render_dataset(a.out, a.split, a.seed, a.n_per_distance, a.n_empty, a.n, res, jpeg=not a.png, style=a.style)
+        a.n_empty = {"test_phone": 60, "test_kinds": 40}.get(a.split, 200)
+    kinds = [k.strip() for k in a.kinds.split(",") if k.strip()] if a.kinds else None
+    n = render_dataset(a.out, a.split, a.seed, a.n_per_distance, a.n_empty, a.n, res, jpeg=not a.png, style=a.style,
+                       kinds=kinds)
     print("wrote %d frames to %s" % (n, a.out))
     return 0
 
