@@ -14,7 +14,9 @@ The run-time pre-processing these samples assume (the C++ detector must match it
     224, centred in a 224 x 224 input, padding 0 (black);
   * zoom U-Net pass: a square crop of the unrolled frame centred on a coarse detection, side 3.5 x
     the detected sign width (trained on 2.5..5 x), resized to 224 x 224, outside the frame 0;
-  * cascade: grey-scale unrolled frame; windows 24 x 16 cover the sign face with about 10 % margin.
+  * cascade: grey-scale unrolled frame; windows 24 x 16 cover the sign face with about 10 % margin
+    (Exit); the wall sign kinds' cascades use square 20 x 20 windows, side 1.1 x the face's larger
+    projected extent (kind_window).
 """
 from __future__ import annotations
 
@@ -72,11 +74,13 @@ def sign_box_unrolled(T_virtual: np.ndarray, intr_u: dict, sign: rs.SignSpec, T_
 
 def render_view(rng: np.random.Generator, T_raw: np.ndarray, signs_raw: List[rs.SignSpec], intr_u: dict,
                 x0: float, y0: float, side_w: float, side_h: float, out_w: int, out_h: int,
-                residual_roll: float = 0.0, **kw) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
+                residual_roll: float = 0.0, degrade_unit: float = 1.0, **kw) -> Tuple[np.ndarray, np.ndarray, List[dict]]:
     """Render the window [x0, x0+side_w) x [y0, y0+side_h) of the unrolled frame at out_w x out_h.
 
     Rendered at min(out, window) resolution and resized up when the window is smaller than the
-    output (so enlarged crops look like enlarged raw pixels).
+    output (so enlarged crops look like enlarged raw pixels). degrade_unit: raw (1920-wide) pixels per
+    pixel of the source sensor's unrolled frame, inverted (1 for the 1920 x 1440 sensor, 1/3 for a
+    640 x 480 one), so that blur sizes drawn in raw pixels keep their angular size.
     """
     Tv = _virtual(T_raw, residual_roll)
     rw, rh = min(out_w, int(math.ceil(side_w))), min(out_h, int(math.ceil(side_h)))
@@ -85,7 +89,7 @@ def render_view(rng: np.random.Generator, T_raw: np.ndarray, signs_raw: List[rs.
     intr = dict(fx=intr_u["fx"] * sx, fy=intr_u["fy"] * sy, cx=(intr_u["cx"] - x0) * sx, cy=(intr_u["cy"] - y0) * sy,
                 width=rw, height=rh)
     signs_v = _signs_to(T_raw, Tv, signs_raw)
-    img, mask, labels = rs.render_frame(Tv, intr, signs_v, rng, degrade_scale=sx, **kw)
+    img, mask, labels = rs.render_frame(Tv, intr, signs_v, rng, degrade_scale=sx * degrade_unit, **kw)
     if (rw, rh) != (out_w, out_h):
         img = cv2.resize(img, (out_w, out_h), interpolation=cv2.INTER_LINEAR)
         mask = cv2.resize(mask, (out_w, out_h), interpolation=cv2.INTER_NEAREST)
@@ -202,3 +206,52 @@ def negative_frame(rng: np.random.Generator, width: int = 640) -> np.ndarray:
     img, _, _ = render_view(rng, T, [], intr_u, 0, 0, intr_u["width"], intr_u["height"], ow, oh,
                             n_distractors=int(rng.integers(2, 10)))
     return cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)
+
+
+# --------------------------------------------------------------------------------------------------
+# Cascade samples of the wall sign kinds (restroom, elevator, stairs, placard) and their negatives
+# --------------------------------------------------------------------------------------------------
+
+def _cascade_sensor(rng: np.random.Generator) -> dict:
+    """Sensor of a wall-kind cascade sample: 1920 x 1440 (50 %) or the 640 x 480 frame the phone sends the
+    cascade (fx 534 px; 50 %)."""
+    return rs.RAW_INTRINSICS.copy() if rng.random() < 0.5 else rs.scaled_intrinsics(640, 480)
+
+
+def kind_window(rng: np.random.Generator, kind: str, win: Tuple[int, int] = (20, 20)) -> np.ndarray:
+    """Grey win[0] x win[1] window around a face of `kind` ("exit" or one of rs.WALL_KINDS) with the Exit
+    positives' jitter (about 10 % margin: window width 1.1 x max(face width, aspect x face height), scale
+    jitter exp(N(0, 0.05)), centre jitter N(0, 0.03) of the window, residual roll N(0, 1.5 degrees),
+    5 % partial occlusion), rendered at 2x and area-downsampled. The source frame is a 1920 x 1440 or a
+    640 x 480 sensor (_cascade_sensor); wall kinds are placed by rs.sample_kind_scene (ranges
+    rs.KIND_RANGE_M, up to rs.KIND_MAX_OFF_AXIS off axis), Exit faces by rs.sample_scene."""
+    intr_raw = _cascade_sensor(rng)
+    if kind == "exit":
+        T, signs, _ = rs.sample_scene(rng, intr_raw)
+    else:
+        T, signs, _ = rs.sample_kind_scene(rng, intr_raw, kind, extra_kinds=[k for k in rs.WALL_KINDS if k != kind])
+    intr_u = unrolled_intrinsics(intr_raw, T)
+    Tv = _virtual(T, 0.0)
+    uv, w, h = sign_box_unrolled(Tv, intr_u, signs[0], T)
+    aspect = win[0] / win[1]
+    ww = max(w, aspect * h) * 1.1 * math.exp(rng.normal(0, 0.05))
+    wh = ww / aspect
+    c = uv.mean(axis=0) + rng.normal(0, 0.03, 2) * np.array([ww, wh])
+    img, _, _ = render_view(rng, T, signs, intr_u, c[0] - ww / 2, c[1] - wh / 2, ww, wh, 2 * win[0], 2 * win[1],
+                            residual_roll=math.radians(rng.normal(0, 1.5)), occlusion_prob=0.05,
+                            degrade_unit=intr_raw["width"] / rs.RAW_INTRINSICS["width"])
+    g = cv2.cvtColor(img, cv2.COLOR_RGB2GRAY)
+    return cv2.resize(g, win, interpolation=cv2.INTER_AREA)
+
+
+def kind_frame(rng: np.random.Generator, kind: str, extra_kinds, exit_prob: float = 0.5) -> Tuple[np.ndarray, List[str]]:
+    """Grey unrolled 640 x 480 (or 480 x 640) frame from the phone's VGA sensor with a wall sign of `kind`, a
+    second wall sign of one of `extra_kinds` (50 %), an Exit sign (`exit_prob`) and 2-9 distractors; returns
+    (image, the kinds of the labelled signs in it). Negatives for the other kinds' cascades."""
+    intr_raw = rs.scaled_intrinsics(640, 480)
+    T, signs, _ = rs.sample_kind_scene(rng, intr_raw, kind, extra_kinds=list(extra_kinds), extra_kind_prob=0.5,
+                                       exit_prob=exit_prob)
+    intr_u = unrolled_intrinsics(intr_raw, T)
+    img, _, labels = render_view(rng, T, signs, intr_u, 0, 0, intr_u["width"], intr_u["height"], intr_u["width"],
+                                 intr_u["height"], n_distractors=int(rng.integers(2, 10)), degrade_unit=1.0 / 3.0)
+    return cv2.cvtColor(img, cv2.COLOR_RGB2GRAY), sorted({lab["kind"] for lab in labels})

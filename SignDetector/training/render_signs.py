@@ -935,7 +935,7 @@ def render_clutter(rng: np.random.Generator, W: int, H: int) -> np.ndarray:
         col = tuple(float(c) for c in rng.uniform(0, 1, 3))
         x0, y0 = int(rng.integers(0, W)), int(rng.integers(0, H))
         if rng.random() < 0.7:
-            cv2.rectangle(img, (x0, y0), (x0 + int(rng.integers(5, W // 3)), y0 + int(rng.integers(5, H // 3))), col, -1)
+            cv2.rectangle(img, (x0, y0), (x0 + int(rng.integers(5, max(6, W // 3))), y0 + int(rng.integers(5, max(6, H // 3)))), col, -1)
         else:
             cv2.line(img, (x0, y0), (int(rng.integers(0, W)), int(rng.integers(0, H))), col, int(rng.integers(1, 8)))
     nz = cv2.resize(_value_noise(rng, 64), (W, H), interpolation=cv2.INTER_LINEAR)

@@ -22,7 +22,14 @@ producing the same model type, loadable by cv::CascadeClassifier / cv2.CascadeCl
     negative mining with cv2.CascadeClassifier on the cascade written so far, confirmed by the
     numpy evaluator).
 
+Wall sign kinds (--kind restroom|elevator|stairs|placard, square --window 20x20 by default): positives are
+rendered windows of that kind (crops.kind_window), negatives are windows of sign-free frames and of frames
+with the other kinds and Exit signs (crops.kind_frame; never a frame with the kind itself), plus "confuser"
+windows: windows framed like the positives around faces of every other kind (Exit included), those the
+cascade so far accepts, up to half of --num-neg per stage (load_kind_samples).
+
 Usage: python3 train_cascade.py --out ../models/exit_sign_cascade.xml --seed 7
+       python3 train_cascade.py --kind placard --out ../models/placard_cascade.xml --seed 7 --num-pos 2000
 """
 from __future__ import annotations
 
@@ -39,17 +46,29 @@ import numpy as np
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import crops  # noqa: E402
+import render_signs as rs  # noqa: E402
 
-WIN_W, WIN_H = 24, 16
+#: Generator codes of the wall-kind samples: windows (seed, 20 + code, i), frames (seed, 30 + code, i).
+KIND_CODES = {"exit": 0, "restroom": 1, "elevator": 2, "stairs": 3, "placard": 4}
+
+WIN_W, WIN_H = 24, 16  # the Exit cascade's window; --window (set_window) changes it for the wall kinds
+
+
+def set_window(w: int, h: int) -> None:
+    """Set the training window (every function here reads WIN_W, WIN_H when called)."""
+    global WIN_W, WIN_H
+    WIN_W, WIN_H = int(w), int(h)
 
 
 # --------------------------------------------------------------------------------------------------
 # MB-LBP features
 # --------------------------------------------------------------------------------------------------
 
-def enumerate_features(win_w: int = WIN_W, win_h: int = WIN_H) -> np.ndarray:
-    """All MB-LBP rects (x, y, w, h) with the 3 x 3 block grid inside the window, grouped by (w, h)
-    with x fastest: the order compute_features() produces codes in. Returns (F, 4) int."""
+def enumerate_features(win_w: int = None, win_h: int = None) -> np.ndarray:
+    """All MB-LBP rects (x, y, w, h) with the 3 x 3 block grid inside the window (default WIN_W x WIN_H),
+    grouped by (w, h) with x fastest: the order compute_features() produces codes in. Returns (F, 4) int."""
+    win_w = WIN_W if win_w is None else win_w
+    win_h = WIN_H if win_h is None else win_h
     out = []
     for w in range(1, win_w // 3 + 1):
         for h in range(1, win_h // 3 + 1):
@@ -63,9 +82,11 @@ def enumerate_features(win_w: int = WIN_W, win_h: int = WIN_H) -> np.ndarray:
 _BITS = {(0, 0): 128, (0, 1): 64, (0, 2): 32, (1, 2): 16, (2, 2): 8, (2, 1): 4, (2, 0): 2, (1, 0): 1}
 
 
-def compute_features(patches: np.ndarray, win_w: int = WIN_W, win_h: int = WIN_H) -> np.ndarray:
-    """MB-LBP codes of every feature of enumerate_features() for grey patches (N, win_h, win_w).
-    Returns uint8 (N, F)."""
+def compute_features(patches: np.ndarray, win_w: int = None, win_h: int = None) -> np.ndarray:
+    """MB-LBP codes of every feature of enumerate_features() for grey patches (N, win_h, win_w), default
+    window WIN_W x WIN_H. Returns uint8 (N, F)."""
+    win_w = WIN_W if win_w is None else win_w
+    win_h = WIN_H if win_h is None else win_h
     p = np.asarray(patches)
     N = p.shape[0]
     I = np.zeros((N, win_h + 1, win_w + 1), np.int32)
@@ -328,11 +349,14 @@ def codes_for(patches: np.ndarray, rects: np.ndarray) -> np.ndarray:
 
 
 def mine_negatives_exact(xml_path: str, stages: List[Stage], rects_all: np.ndarray, frames: List[np.ndarray], n: int,
-                         rng: np.random.Generator, max_per_frame: int, scale_factor: float = 1.1) -> Tuple[np.ndarray, int]:
+                         rng: np.random.Generator, max_per_frame: int, scale_factor: float = 1.1,
+                         sort_rects: bool = False) -> Tuple[np.ndarray, int]:
     """Windows exactly as cv2.CascadeClassifier.detectMultiScale evaluates them (image pyramid by
     INTER_LINEAR_EXACT resize to round(size / factor), window at step 2 below factor 2 else 1) that
     the cascade accepts: OpenCV finds the accepted rects, each is mapped back to its pyramid level
-    and position, and only windows the numpy cascade also accepts are kept."""
+    and position, and only windows the numpy cascade also accepts are kept. sort_rects: sort OpenCV's
+    rects first (its threaded scan returns them in a varying order, so without sorting the random
+    subset of max_per_frame, and the training after stage 0, differ between runs)."""
     cc = cv2.CascadeClassifier(xml_path)
     if cc.empty():
         raise RuntimeError("mine_negatives_exact: cv2 could not load %s" % xml_path)
@@ -349,6 +373,8 @@ def mine_negatives_exact(xml_path: str, stages: List[Stage], rects_all: np.ndarr
         if len(rects) == 0:
             continue
         rects = np.asarray(rects)
+        if sort_rects:
+            rects = rects[np.lexsort(rects.T[::-1])]
         if len(rects) > max_per_frame:
             rects = rects[rng.choice(len(rects), max_per_frame, replace=False)]
         factors = []
@@ -386,6 +412,65 @@ def mine_negatives_exact(xml_path: str, stages: List[Stage], rects_all: np.ndarr
         return np.zeros((0, WIN_H, WIN_W), np.uint8), scanned
     out = np.stack(out)
     return out[rng.permutation(len(out))[:n]], scanned
+
+
+def kind_windows(cache_dir: str, kind: str, seed: int, n: int, win: Tuple[int, int], log) -> np.ndarray:
+    """The first n windows of `kind` (crops.kind_window, generators (seed, 20 + KIND_CODES[kind], i)),
+    cached in cache_dir and extended when more are asked for."""
+    path = os.path.join(cache_dir, "kind_windows_%s_seed%d_w%dx%d.npz" % (kind, seed, win[0], win[1]))
+    have = np.load(path)["windows"] if os.path.exists(path) else np.zeros((0, win[1], win[0]), np.uint8)
+    if len(have) < n:
+        t0 = time.time()
+        new = [crops.kind_window(np.random.default_rng([seed, 20 + KIND_CODES[kind], i]), kind, win) for i in range(len(have), n)]
+        have = np.concatenate([have, np.stack(new)])
+        np.savez(path, windows=have)
+        log("rendered %d %s windows (%.0f s)" % (len(new), kind, time.time() - t0))
+    return have[:n]
+
+
+def kind_frames(cache_dir: str, seed: int, n_empty: int, n_per_kind: int, log) -> Tuple[List[np.ndarray], List[List[str]]]:
+    """Negative frames shared by the wall-kind cascades: n_empty sign-free frames (crops.negative_frame,
+    generators (seed, 11, i), 2-9 distractors) and, per wall kind, n_per_kind frames with that kind, often a
+    second kind and an Exit sign (crops.kind_frame, generators (seed, 30 + code, i)). Returns (grey frames,
+    the sign kinds in each)."""
+    path = os.path.join(cache_dir, "kind_frames_seed%d_e%d_k%d.npz" % (seed, n_empty, n_per_kind))
+    if os.path.exists(path):
+        z = np.load(path, allow_pickle=True)
+        return list(z["frames"]), [str(k).split(",") if str(k) else [] for k in z["kinds"]]
+    t0 = time.time()
+    frames, kinds = [], []
+    for i in range(n_empty):
+        frames.append(crops.negative_frame(np.random.default_rng([seed, 11, i])))
+        kinds.append([])
+    for k in rs.WALL_KINDS:
+        for i in range(n_per_kind):
+            g, ks = crops.kind_frame(np.random.default_rng([seed, 30 + KIND_CODES[k], i]), k, [o for o in rs.WALL_KINDS if o != k])
+            frames.append(g)
+            kinds.append(ks)
+    arr = np.empty(len(frames), object)
+    arr[:] = frames
+    np.savez(path, frames=arr, kinds=np.array([",".join(k) for k in kinds]))
+    log("rendered %d negative frames (%.0f s)" % (len(frames), time.time() - t0))
+    return frames, kinds
+
+
+def load_kind_samples(a, log) -> Tuple[np.ndarray, List[np.ndarray], np.ndarray, np.ndarray]:
+    """(positives, negative frames, confuser windows, confuser kinds) of the cascade for a.kind at the
+    current window: a.num_pos windows of the kind; the sign-free frames and the frames without the kind;
+    a.confusers windows of every other kind (Exit included)."""
+    win = (WIN_W, WIN_H)
+    pos = kind_windows(a.cache, a.kind, a.seed, a.num_pos, win, log)
+    frames_all, kinds_all = kind_frames(a.cache, a.seed, a.neg_frames, a.kind_frames, log)
+    frames = [g for g, ks in zip(frames_all, kinds_all) if a.kind not in ks]
+    conf, conf_kind = [], []
+    for k in ("exit",) + rs.WALL_KINDS:
+        if k != a.kind and a.confusers > 0:
+            conf.append(kind_windows(a.cache, k, a.seed, a.confusers, win, log))
+            conf_kind += [k] * a.confusers
+    conf = np.concatenate(conf) if conf else np.zeros((0, WIN_H, WIN_W), np.uint8)
+    log("%s: %d positives, %d negative frames (%d with other kinds), %d confuser windows" %
+        (a.kind, len(pos), len(frames), sum(1 for g, ks in zip(frames_all, kinds_all) if ks and a.kind not in ks), len(conf)))
+    return pos, frames, conf, np.array(conf_kind)
 
 
 def load_stages_full_index(path: str, rects_all: np.ndarray) -> List[Stage]:
@@ -507,9 +592,17 @@ def prepend_stages(base: List[Stage], rects: np.ndarray, Xp_all: np.ndarray, fra
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description="Train the Exit-sign LBP cascade from rendered samples.")
+    ap = argparse.ArgumentParser(description="Train an LBP cascade (Exit sign or a wall sign kind) from rendered samples.")
     ap.add_argument("--out", required=True, help="output cascade XML")
     ap.add_argument("--seed", type=int, default=7)
+    ap.add_argument("--kind", choices=("exit",) + rs.WALL_KINDS, default="exit",
+                    help="sign kind (default exit: the committed Exit cascade's recipe, unchanged)")
+    ap.add_argument("--window", default=None, metavar="WxH",
+                    help="training window (default 24x16 for exit, 20x20 for the wall kinds)")
+    ap.add_argument("--kind-frames", type=int, default=100,
+                    help="wall kinds: negative frames rendered per wall kind (those without --kind are used)")
+    ap.add_argument("--confusers", type=int, default=600,
+                    help="wall kinds: windows of each other kind (Exit included) used as negatives")
     ap.add_argument("--num-pos", type=int, default=3000)
     ap.add_argument("--num-neg", type=int, default=3000)
     ap.add_argument("--neg-frames", type=int, default=500)
@@ -549,8 +642,16 @@ def main(argv=None) -> int:
         print("[%6.1fs] %s" % (time.time() - t0, msg), flush=True)
 
     os.makedirs(a.cache, exist_ok=True)
+    if a.window:
+        set_window(*[int(v) for v in a.window.lower().split("x")])
+    else:
+        set_window(*((24, 16) if a.kind == "exit" else (20, 20)))
+    log("kind %s, window %d x %d" % (a.kind, WIN_W, WIN_H))
+    conf = conf_kind = None
     cache = os.path.join(a.cache, "cascade_samples_seed%d_p%d_f%d.npz" % (a.seed, a.num_pos, a.neg_frames))
-    if os.path.exists(cache):
+    if a.kind != "exit" or (WIN_W, WIN_H) != (24, 16):
+        pos, frames, conf, conf_kind = load_kind_samples(a, log)
+    elif os.path.exists(cache):
         z = np.load(cache, allow_pickle=True)
         pos, frames = z["pos"], list(z["frames"])
         log("loaded %s" % cache)
@@ -567,6 +668,7 @@ def main(argv=None) -> int:
     offsets = (np.arange(len(rects), dtype=np.int32) * 256)
     log("%d MB-LBP features" % len(rects))
     Xp_all = compute_features(pos)
+    Xconf = compute_features(conf) if conf is not None and len(conf) else None
     rng = np.random.default_rng([a.seed, 12])
     if a.prepend_to:
         base = load_stages_full_index(a.prepend_to, rects)
@@ -613,13 +715,22 @@ def main(argv=None) -> int:
             scanned = 0
         else:
             write_xml(tmp_xml, stages, rects, a.min_hit, a.max_fa, a.max_weak)
-            neg, scanned = mine_negatives_exact(tmp_xml, stages, rects, frames, a.num_neg, rng, max_per_frame=max(20, a.num_neg // 40))
+            neg, scanned = mine_negatives_exact(tmp_xml, stages, rects, frames, a.num_neg, rng, max_per_frame=max(20, a.num_neg // 40),
+                                                sort_rects=conf is not None)
         Xn = compute_features(neg) if len(neg) else np.zeros((0, len(rects)), np.uint8)
         if stages and len(Xn):
             Xn = Xn[cascade_pass(stages, Xn)]  # confirm they pass stages 0..k-1
         Xn = Xn[rng.permutation(len(Xn))[:a.num_neg]]
-        log("stage %d: %d positives, %d negatives (frames scanned %d)" % (k, len(Xp), len(Xn), scanned))
-        if len(Xn) < 100:
+        n_mined = len(Xn)
+        if Xconf is not None:  # windows around the other kinds' faces that still pass, up to half of num_neg
+            Xc = Xconf[cascade_pass(stages, Xconf)]
+            Xc = Xc[rng.permutation(len(Xc))[:a.num_neg // 2]]
+            Xn = np.concatenate([Xn, Xc])
+            log("stage %d: %d positives, %d negatives (frames scanned %d) + %d confuser windows" %
+                (k, len(Xp), n_mined, scanned, len(Xc)))
+        else:
+            log("stage %d: %d positives, %d negatives (frames scanned %d)" % (k, len(Xp), len(Xn), scanned))
+        if n_mined < 100:
             log("too few hard negatives left; cascade done")
             break
         stage, hit, fa = train_stage(Xp, Xn, a.min_hit, a.max_fa, a.max_weak, offsets, log, rng, a.feature_frac)
@@ -630,6 +741,10 @@ def main(argv=None) -> int:
     total = float(np.mean(cascade_pass(stages, Xp_all)))
     log("done: %d stages, %d weak classifiers, training-positive hit rate %.4f -> %s" %
         (len(stages), sum(len(s.stumps) for s in stages), total, a.out))
+    if Xconf is not None:
+        ok = cascade_pass(stages, Xconf)
+        log("confuser windows accepted: " + ", ".join("%s %.4f" % (k, float(ok[conf_kind == k].mean()))
+                                                       for k in ("exit",) + rs.WALL_KINDS if (conf_kind == k).any()))
     return 0
 
 
