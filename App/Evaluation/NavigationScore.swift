@@ -134,7 +134,11 @@ public struct NavigationScore: Codable, Sendable, Equatable {
         let wrong = cues.filter { cue in
             guard !usedCues.contains(cue.index) else { return false }
             // A cue with a true turn or bend of its direction shortly after it (or under way) is not wrong.
-            return !anyTurns.contains { $0.direction == cue.direction && $0.t >= cue.t - 2 && $0.t <= cue.t + Self.cueWindowSeconds }
+            if anyTurns.contains(where: { $0.direction == cue.direction && $0.t >= cue.t - 2 && $0.t <= cue.t + Self.cueWindowSeconds }) {
+                return false
+            }
+            // Nor is one the traveler did not follow: the route from the true pose turns that way next.
+            return !Self.routeFromTruthTurns(cue.direction, at: cue.t, truth: truth, building: building, destination: destination)
         }
         wrongInstructions = wrong.count
         wrongCues = wrong.map { SpokenCue(t: $0.t, text: announcements[$0.index].text) }
@@ -185,6 +189,30 @@ public struct NavigationScore: Codable, Sendable, Equatable {
     }
 
     /// True for the arrival phrase ("Arrived. Room 312 is on your left...").
+    /// How far ahead of the true position the route's next turn may be for a cue of its direction to be right
+    /// under the true pose, meters: the navigator starts a "now" cue so that it ends 0.5 m before the control
+    /// point (about 2.3 m before it at walking speed, the suite's median cue distance) and chains a second turn
+    /// up to 3 m after the first.
+    public static let truthRouteTurnWithinMeters = 4.0
+
+    /// True when the shortest route to `destination` from the true pose at `t` (a navigator given the truth, as if
+    /// localized exactly) makes its next turn or bend toward `direction` ("left"/"right") within
+    /// `truthRouteTurnWithinMeters`: the cue was right and the traveler did not follow it (the wrong-turn walks walk
+    /// past the turn on purpose). False without a destination or a route.
+    static func routeFromTruthTurns(_ direction: String, at t: Double, truth: TruthTrack, building: Building,
+                                    destination: String?) -> Bool {
+        guard let destination, !truth.isEmpty,
+              let navigator = try? Navigator(building: building, destinationId: destination) else { return false }
+        let s = truth.state(at: t)
+        _ = navigator.update(NavigationInput(t: t, positionInMap: Point2(s.x, s.y), floorId: s.floorId,
+                                             headingRad: s.headingRad, isLocalized: true))
+        guard let route = navigator.currentRoute,
+              let turn = route.maneuvers.first(where: { ($0.turnAngleDeg.map { abs($0) } ?? 0) >= TurnClassifier.straightBelowDeg })
+        else { return false }
+        return turn.distanceFromStartMeters <= truthRouteTurnWithinMeters
+            && (turn.turnAngleDeg! > 0 ? "left" : "right") == direction
+    }
+
     static func isArrival(_ text: String) -> Bool {
         let t = text.lowercased()
         return t.hasPrefix("arrived") || t.contains("you have arrived")

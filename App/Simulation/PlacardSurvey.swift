@@ -9,9 +9,7 @@ import Maps
 public enum PlacardSurvey {
     /// The placard kind: a 0.15 m square plate with 25 mm digits, read by text recognition from at most 2.5 m
     /// and 50 degrees off square (docs/map-format.md, `maxRangeMeters`), centre 1.5 m above the floor.
-    public static let placardKind = SignKindSpec(kind: "placard", heightMeters: 0.15, widthMeters: 0.15, faceColor: "dark",
-                                                 legendColor: "white", maxRangeMeters: 2.5, maxViewAngleDeg: 50,
-                                                 mountingHeightMeters: 1.35, readsText: true)
+    public static let placardKind = SignKindSpec.roomPlacard
     /// Bottom edge of the plate above the floor, meters (ADA: the text 1.22-1.52 m above the floor).
     public static let mountingHeightMeters = placardKind.mountingHeightMeters!
     /// Categories of points of interest that get no placard: their signs are pictograms (elevator, stairs)

@@ -10,6 +10,8 @@
 //     kitchen / copy room, conference room, stairwell B (east).
 // The plan is nearly symmetric under a 180 degree rotation about (20, 12): the localizer is tested on
 // ambiguity. Exit signs are 0.30 x 0.21 m, bottom edge 2.3 m above the floor, on walls facing corridors.
+// Tactile signs (bottom edge 1.35 m up) beside doors: a room-number placard at every office, restroom,
+// elevator and stairs pictograms at theirs (SignKindSpec.roomPlacard and the pictogram kinds).
 
 /// Builds the bundled "Wayfinder Office" building. Deterministic: same output on every run.
 public enum OfficeBuildingGenerator {
@@ -28,6 +30,13 @@ public enum OfficeBuildingGenerator {
     /// Height of an Exit sign's bottom edge above the floor, meters.
     public static let exitSignMountingHeightMeters = 2.3
 
+    /// The office's sign kinds: Exit signs, the restroom, elevator and stairs pictograms beside those doors, and a
+    /// room-number placard beside every office door (issue 16 section 3).
+    public static let signKinds: [SignKindSpec] = [.defaultExit, .restroomPictogram, .elevatorPictogram, .stairsPictogram,
+                                                   .roomPlacard]
+    /// Distance along the wall from a door's centre to the centre of the plate beside it (latch side), meters.
+    public static let plateOffsetFromDoorMeters = 0.75
+
     /// The building (validated by the caller; `BundledMapsTests` checks it passes `MapValidator`).
     public static func makeBuilding() -> Building {
         var floors: [Floor] = []
@@ -44,7 +53,8 @@ public enum OfficeBuildingGenerator {
         for stem in ["stairs-a", "stairs-b", "elevator"] {
             edges.append(GraphEdge(from: "\(stem)-1f-landing", to: "\(stem)-2f-landing", throughDoor: false))
         }
-        return Building(id: buildingId, name: "Wayfinder Office", floors: floors, graph: NavigationGraph(nodes: nodes, edges: edges))
+        return Building(id: buildingId, name: "Wayfinder Office", floors: floors, graph: NavigationGraph(nodes: nodes, edges: edges),
+                        signKinds: signKinds)
     }
 }
 
@@ -128,6 +138,18 @@ private final class FloorBuilder {
         signs.append(sign)
     }
 
+    /// A tactile sign of `spec`'s kind beside the door at `door` (on the wall along `along`, facing the corridor
+    /// side `facing`), `OfficeBuildingGenerator.plateOffsetFromDoorMeters` along the wall, 1 cm off it.
+    func plate(_ spec: SignKindSpec, _ id: String, door: Point2, along: Point2, facing: Point2, text: String? = nil) {
+        let o = OfficeBuildingGenerator.plateOffsetFromDoorMeters
+        var sign = Sign(id: "\(spec.kind)-\(tag)-\(id)", kind: spec.kind,
+                        position: Point2(door.x + o * along.x + 0.01 * facing.x, door.y + o * along.y + 0.01 * facing.y),
+                        facing: facing, widthMeters: spec.widthMeters, heightMeters: spec.heightMeters,
+                        mountingHeightMeters: spec.mountingHeightMeters)
+        sign.text = text
+        signs.append(sign)
+    }
+
     // MARK: floor
 
     func build() {
@@ -197,6 +219,9 @@ private final class FloorBuilder {
         var number = level * 100 + 1
         func office(door: Point2, front: Point2, corridor: String) {
             place("room-\(number)", "Room \(number)", "office", door: door, front: front, corridor: corridor, behindDoor: true)
+            // The room-number placard beside the door: on the door's wall, toward +x or +y, facing the corridor.
+            let facing = Point2(front.x - door.x, front.y - door.y)
+            plate(.roomPlacard, "\(number)", door: door, along: Point2(abs(facing.y), abs(facing.x)), facing: facing, text: "\(number)")
             number += 1
         }
         for x in bandDoorsX { office(door: Point2(x, 6), front: Point2(x, 7), corridor: south) }
@@ -254,6 +279,13 @@ private final class FloorBuilder {
                 edges.append(GraphEdge(from: controlIds[a]!, to: controlIds[b]!, throughDoor: false))
             }
         }
+
+        // Pictograms beside the restroom, elevator and stairwell doors, facing the corridor they open on.
+        plate(.restroomPictogram, "women", door: Point2(14, 8), along: Point2(1, 0), facing: Point2(0, -1))
+        plate(.restroomPictogram, "men", door: Point2(14, 16), along: Point2(1, 0), facing: Point2(0, 1))
+        plate(.elevatorPictogram, "door", door: Point2(19, 12.2), along: Point2(0, 1), facing: Point2(1, 0))
+        plate(.stairsPictogram, "a", door: Point2(8, 12), along: Point2(0, -1), facing: Point2(-1, 0))
+        plate(.stairsPictogram, "b", door: Point2(32, 12), along: Point2(0, 1), facing: Point2(1, 0))
 
         // Exit signs: at the four ends of the south and north corridors (seen down the corridor), beside
         // both stairwell doors, on the core walls at the central T-junctions pointing to the exits or

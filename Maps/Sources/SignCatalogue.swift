@@ -63,6 +63,29 @@ public struct SignKindSpec: Codable, Hashable, Sendable {
     /// bundled office): a face 0.30 m wide and 0.21 m high, red legend on white.
     public static let defaultExit = SignKindSpec(kind: "exit", heightMeters: 0.21, widthMeters: 0.30,
                                                  faceColor: "white", legendColor: "red")
+
+    /// Tactile pictogram signs (ADA 703.6 pictograms with a 6 in = 0.15 m field; the plates are about 9 in =
+    /// 0.23 m square), white on a blue (restroom) or dark plate, beside the door they name, bottom edge 1.35 m above
+    /// the floor (ADA 703.4.1: tactile characters 1.22-1.52 m up). Recognised out to 6 m (a 0.23 m face is then
+    /// 20 px tall on the cascade's VGA frame, about the smallest its 20 x 20 window finds) and 60 degrees off square.
+    public static let restroomPictogram = SignKindSpec(kind: "restroom", heightMeters: 0.23, widthMeters: 0.23, faceColor: "blue",
+                                                       legendColor: "white", maxRangeMeters: 6, maxViewAngleDeg: 60,
+                                                       mountingHeightMeters: 1.35)
+    /// The elevator pictogram plate (see `restroomPictogram`), white on dark.
+    public static let elevatorPictogram = SignKindSpec(kind: "elevator", heightMeters: 0.23, widthMeters: 0.23, faceColor: "dark",
+                                                       legendColor: "white", maxRangeMeters: 6, maxViewAngleDeg: 60,
+                                                       mountingHeightMeters: 1.35)
+    /// The stairs pictogram plate (see `restroomPictogram`), white on dark.
+    public static let stairsPictogram = SignKindSpec(kind: "stairs", heightMeters: 0.23, widthMeters: 0.23, faceColor: "dark",
+                                                     legendColor: "white", maxRangeMeters: 6, maxViewAngleDeg: 60,
+                                                     mountingHeightMeters: 1.35)
+    /// A room-number placard: a 0.15 m square dark plate with 25 mm light digits, beside the door on the latch side,
+    /// bottom edge 1.35 m above the floor; its legend (the room number, `Sign.text`) is read by text recognition
+    /// from at most 2.5 m and 50 degrees off square (25 mm digits are about 20 px tall at 2 m on the phone's
+    /// 1920 x 1440 frame).
+    public static let roomPlacard = SignKindSpec(kind: "placard", heightMeters: 0.15, widthMeters: 0.15, faceColor: "dark",
+                                                 legendColor: "white", maxRangeMeters: 2.5, maxViewAngleDeg: 50,
+                                                 mountingHeightMeters: 1.35, readsText: true)
 }
 
 /// The sign kinds of a building, one entry per kind.

@@ -76,6 +76,36 @@ final class NavigationScoreTests: XCTestCase {
         XCTAssertEqual(score.wrongCues.map(\.text), ["Turn right now."])
     }
 
+    /// A corridor n0 (0, 0) - n1 (10, 0) - n2 (20, 0) with a branch from n1 to the room at (10, -5): walking east,
+    /// the room is a right turn at n1. The walker goes straight past it (a wrong turn on purpose).
+    func walkPastTheTurn() -> (truth: TruthTrack, building: Building) {
+        let nodes = [GraphNode(id: "n0", kind: .control, floorId: "1", position: Point2(0, 0)),
+                     GraphNode(id: "n1", kind: .control, floorId: "1", position: Point2(10, 0)),
+                     GraphNode(id: "n2", kind: .control, floorId: "1", position: Point2(20, 0)),
+                     GraphNode(id: "room", kind: .pointOfInterest, floorId: "1", position: Point2(10, -5), label: "Room",
+                               pointOfInterestId: "room")]
+        let edges = [GraphEdge(from: "n0", to: "n1"), GraphEdge(from: "n1", to: "n2"), GraphEdge(from: "n1", to: "room")]
+        let room = PointOfInterest(id: "room", name: "Room", category: "office", position: Point2(10, -5), behindDoor: false)
+        let b = Building(id: "test", name: "Test",
+                         floors: [Floor(id: "1", name: "F1", elevationMeters: 0, walls: [], doors: [], signs: [], pointsOfInterest: [room])],
+                         graph: NavigationGraph(nodes: nodes, edges: edges))
+        return (TruthTrack(walk([Point2(0, 0), Point2(20, 0)])), b)
+    }
+
+    func testACueRightUnderTheTruePoseIsNotWrongWhenTheTravelerWalksPastTheTurn() {
+        let w = walkPastTheTurn()
+        // "Turn right now." 2 m before n1: the route from the true position turns right there.
+        let followedNot = NavigationScore(announcements: [(8, "Turn right now.")], truth: w.truth, building: w.building,
+                                          destination: "room", convergenceT: 0)
+        XCTAssertEqual(followedNot.wrongInstructions, 0, "\(followedNot.wrongCues)")
+        // The other way, or without a destination to route to, or with the turn too far ahead, it is wrong.
+        for (t, text, destination) in [(8.0, "Turn left now.", "room"), (8.0, "Turn right now.", nil), (2.0, "Turn right now.", "room")] {
+            let score = NavigationScore(announcements: [(t, text)], truth: w.truth, building: w.building,
+                                        destination: destination, convergenceT: 0)
+            XCTAssertEqual(score.wrongInstructions, 1, "\(text) at \(t) s to \(destination ?? "nil")")
+        }
+    }
+
     func testAChangeOfDirectionFarFromEveryControlPointIsNotATurn() {
         // The same 90-degree turn, but the graph's only corner is 10 m away.
         let truth = walk([Point2(0, 0), Point2(20, 0), Point2(20, 15)])
