@@ -1,4 +1,5 @@
 import Foundation
+import SignDetection
 import Localizer
 import Maps
 import Navigation
@@ -32,6 +33,11 @@ public struct PipelineOptions: Sendable {
     /// Sign kinds and their face sizes for the range estimator (paper: h0); nil = the map's
     /// (`Building.signCatalogue`: its "signKinds", or sizes from its signs and the default Exit sign).
     public var signCatalogue: SignCatalogue?
+    /// Reads the legend of a sign whose kind reads text (a room-number placard) when the detector did not: on the
+    /// iPhone the C++ library is built without tesseract and the app reads the text with Vision
+    /// (App/iOS/Sensors/VisionLegendReader.swift). Given the frame and the face's corners in raw pixels (TL, TR,
+    /// BR, BL); returns letters, digits and '-' only, or nil. nil here = only the detector's own reading.
+    public var legendReader: (@Sendable (ImageBuffer, [PixelPoint]) -> String?)?
     /// Minimum time between two detector runs, seconds (the phone runs the detector at about 10 Hz and
     /// drops frames while it is busy). Also the cadence of "nothing seen" updates for negative information.
     public var detectionIntervalSeconds: Double = 0.1

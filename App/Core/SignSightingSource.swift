@@ -15,11 +15,14 @@ import SignDetection
 final class SignSightingSource {
     private let options: PipelineOptions
     private let detector: SignDetector?
+    /// Kinds of the catalogue whose legend is read (`SignKindSpec.readsText`).
+    private let textKinds: Set<String>
 
     /// Loads the detector when images will be processed, with the sign sizes of `catalogue` (the map's
     /// `Building.signCatalogue` unless `options.signCatalogue` overrides it). Throws when its model is missing.
     init(options: PipelineOptions, catalogue: SignCatalogue, imagesAvailable: Bool) throws {
         self.options = options
+        textKinds = Set((options.signCatalogue ?? catalogue).kinds.filter(\.readsText).map(\.kind))
         let kind: DetectorKind?
         switch options.sightingSource {
         case .recorded: kind = nil
@@ -55,14 +58,29 @@ final class SignSightingSource {
             let k = frame.intrinsics
             let sensed = try detector.sense(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
                                             pitchRad: pose.pitchRad, rollRad: pose.rollRad)
-            let sightings = sensed.map {
-                SignSighting(kind: $0.kind, rangeMeters: $0.rangeMeters, bearingRad: $0.bearingRad, score: $0.score,
-                             text: $0.text)
+            let sightings = sensed.map { s -> SignSighting in
+                // The detector's reading, else the platform's (Vision on the iPhone) for kinds that read text.
+                var text = s.text
+                if text == nil, textKinds.contains(s.kind), let read = options.legendReader {
+                    text = read(image, s.cornersRaw).flatMap(Self.cleanLegend)
+                }
+                return SignSighting(kind: s.kind, rangeMeters: s.rangeMeters, bearingRad: s.bearingRad, score: s.score,
+                                    text: text)
             }
             return .success(sightings)
         } catch {
             return .failure(.frame("image \(source): \(error)"))
         }
+    }
+
+    /// `raw` upper-cased and reduced to letters, digits and '-' (the detector's rule for legends; O and I, which
+    /// room numbers do not use, read as 0 and 1), nil when nothing is left or it is longer than 15 characters.
+    static func cleanLegend(_ raw: String) -> String? {
+        let mapped = raw.uppercased().replacingOccurrences(of: "O", with: "0").replacingOccurrences(of: "I", with: "1")
+        let kept = String(mapped.unicodeScalars.filter {
+            ("A"..."Z").contains($0) || ("0"..."9").contains($0) || $0 == "-"
+        }.map(Character.init)).trimmingCharacters(in: CharacterSet(charactersIn: "-"))
+        return kept.isEmpty || kept.count > 15 ? nil : kept
     }
 
     /// The frame's recorded observations as sightings, skipping any with a range that is not finite, not

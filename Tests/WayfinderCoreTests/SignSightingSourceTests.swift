@@ -51,6 +51,34 @@ final class SignSightingSourceTests: XCTestCase {
         return try XCTUnwrap(try source.sightings(for: f, pose: pose).get())
     }
 
+    /// A kind that reads text gets the platform's reading (Vision on the iPhone) when the detector read none: the
+    /// red plate has no legend for tesseract, so the reader given in the options supplies it, cleaned; a kind that
+    /// reads no text never asks it.
+    func testTheLegendReaderFillsTheTextOfKindsThatReadText() throws {
+        var options = PipelineOptions()
+        options.sightingSource = .unet
+        options.modelsDirectory = modelsDirectory.path
+        let calls = LockedCounter()
+        options.legendReader = { image, corners in
+            calls.increment()
+            return corners.count == 4 && image.width == 640 ? "2o4-" : nil
+        }
+        var exit = SignKindSpec.defaultExit
+        exit.readsText = true
+        options.signCatalogue = SignCatalogue(kinds: [exit])
+        let office = try TestData.office()
+        let read = try sightings(options: options, building: office)
+        XCTAssertEqual(read.first?.text, "204", "O read as 0, the trailing '-' dropped")
+        XCTAssertEqual(calls.value, read.count)
+        options.signCatalogue = SignCatalogue(kinds: [.defaultExit])
+        let plain = try sightings(options: options, building: office)
+        XCTAssertFalse(plain.isEmpty)
+        XCTAssertNil(plain.first?.text)
+        XCTAssertEqual(calls.value, read.count, "not asked for a kind without text")
+        XCTAssertNil(SignSightingSource.cleanLegend("--"))
+        XCTAssertEqual(SignSightingSource.cleanLegend(" b-12 "), "B-12")
+    }
+
     func testTheMapsCatalogueSetsTheRange() throws {
         var options = PipelineOptions()
         options.sightingSource = .unet
@@ -86,4 +114,12 @@ final class SignSightingSourceTests: XCTestCase {
         guard case .failure(let error) = source.sightings(for: f, pose: pose) else { return XCTFail("expected a frame error") }
         XCTAssertTrue("\(error)".contains("image data has"), "\(error)")
     }
+}
+
+/// A thread-safe call counter for @Sendable closures.
+final class LockedCounter: @unchecked Sendable {
+    private let lock = NSLock()
+    private var count = 0
+    func increment() { lock.lock(); count += 1; lock.unlock() }
+    var value: Int { lock.lock(); defer { lock.unlock() }; return count }
 }

@@ -20,7 +20,12 @@ struct SessionSnapshot: Sendable {
 /// `@unchecked Sendable`: every mutable member is touched only on `queue`.
 final class PipelineWorker: @unchecked Sendable {
     private let queue = DispatchQueue(label: "org.wayfinder.pipeline", qos: .userInitiated)
-    private let phone = PhonePipeline()
+    private let phone: PhonePipeline = {
+        var base = PipelineOptions()
+        // Placard legends: Vision on the phone (the iOS detector library has no tesseract).
+        base.legendReader = { image, corners in VisionLegendReader.read(image: image, cornersRaw: corners) }
+        return PhonePipeline(baseOptions: base)
+    }()
     private var recorder: WalkRecorder?
     private var recordingURL: URL?
 
