@@ -53,6 +53,7 @@ bool readLabels(const std::string& dir, std::vector<LabelledFrame>* frames, std:
                 sign.bearingRad = s["bearingRad"].real();
                 if (!s["heightMeters"].empty()) sign.heightMeters = s["heightMeters"].real();
                 if (!s["widthMeters"].empty()) sign.widthMeters = s["widthMeters"].real();
+                if (!s["text"].empty()) sign.text = static_cast<std::string>(s["text"]);
                 f.signs.push_back(sign);
             }
             if (f.width <= 0 || f.height <= 0 || f.fx <= 0) throw std::runtime_error("missing intrinsics");
@@ -215,6 +216,55 @@ bool matches(const wf_detector_observation& o, const LabelledSign& sign) {
     const double truthHeight = maxY - minY;
     return cxObs >= minX && cxObs <= maxX && cyObs >= minY && cyObs <= maxY && o.median_height_px > 0.5 * truthHeight &&
            o.median_height_px < 2.0 * truthHeight;
+}
+
+}  // namespace wf::sign::bench
+
+namespace wf::sign::bench {
+
+std::string officeMapPath() { return std::string(WF_REPO_ROOT) + "/Maps/Buildings/wayfinder-office.json"; }
+
+bool readMapCatalogue(const std::string& mapPath, std::vector<CatalogueEntry>* out, std::string* error) {
+    out->clear();
+    try {
+        cv::FileStorage fs(mapPath, cv::FileStorage::READ | cv::FileStorage::FORMAT_JSON);
+        if (!fs.isOpened()) {
+            *error = mapPath + ": cannot open the map";
+            return false;
+        }
+        const cv::FileNode kinds = fs["signKinds"];
+        if (kinds.empty() || !kinds.isSeq()) {
+            *error = mapPath + ": the map has no signKinds catalogue";
+            return false;
+        }
+        out->reserve(kinds.size());
+        for (const auto& k : kinds) {
+            CatalogueEntry e;
+            e.kind = static_cast<std::string>(k["kind"]);
+            if (!k["faceColor"].empty()) e.faceColour = static_cast<std::string>(k["faceColor"]);
+            if (!k["legendColor"].empty()) e.legendColour = static_cast<std::string>(k["legendColor"]);
+            e.entry.face_height_m = k["heightMeters"].real();
+            e.entry.face_width_m = k["widthMeters"].real();
+            e.entry.double_sided = !k["doubleSided"].empty() && static_cast<int>(k["doubleSided"]) != 0;
+            if (!k["maxRangeMeters"].empty()) e.entry.max_range_m = k["maxRangeMeters"].real();
+            e.entry.reads_text = !k["readsText"].empty() && static_cast<int>(k["readsText"]) != 0;
+            if (!k["mountingHeightMeters"].empty()) {
+                const double centre = k["mountingHeightMeters"].real() + 0.5 * e.entry.face_height_m;
+                e.entry.centre_above_camera_min_m = centre - 1.7 - 0.1;
+                e.entry.centre_above_camera_max_m = centre - 1.0 + 0.1;
+            }
+            out->push_back(std::move(e));
+        }
+    } catch (const cv::Exception& e) {
+        *error = mapPath + ": " + e.what();
+        return false;
+    }
+    for (CatalogueEntry& e : *out) {
+        e.entry.kind = e.kind.c_str();
+        e.entry.face_colour = e.faceColour.empty() ? nullptr : e.faceColour.c_str();
+        e.entry.legend_colour = e.legendColour.empty() ? nullptr : e.legendColour.c_str();
+    }
+    return true;
 }
 
 }  // namespace wf::sign::bench

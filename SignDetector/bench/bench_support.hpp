@@ -22,6 +22,8 @@ struct LabelledSign {
     std::array<cv::Point2d, 4> cornersRaw;
     /// Truth: horizontal range (m), bearing (rad, positive left), face size (m).
     double rangeMeters = 0, bearingRad = 0, heightMeters = 0.21, widthMeters = 0.30;
+    /// Legend text of a sign that has one (a room-number placard); "" otherwise.
+    std::string text;
 };
 
 /// One line of labels.jsonl: {"image", "intrinsics": {fx, fy, cx, cy, width, height}, "pitchRad", "rollRad",
@@ -103,11 +105,26 @@ std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseM
 /// Runs a detector on a prepared frame; returns the status and fills `observations`.
 int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations);
 
+/// One kind of a map's "signKinds" catalogue with its strings owned (wf_sign_kind borrows them from here).
+struct CatalogueEntry {
+    std::string kind, faceColour, legendColour;
+    wf_sign_kind entry{};
+};
+
+/// Reads the "signKinds" of a map-v1 JSON file (e.g. Maps/Buildings/wayfinder-office.json) as the Swift wrapper
+/// turns them into wf_sign_kind: sizes, colours, recognition range, reads_text, and the placement band from
+/// "mountingHeightMeters" for a phone 1.0-1.7 m up with 0.1 m of margin (DetectorConfiguration.placementBand).
+/// Returns false with `error` naming the file on failure. The entries' pointers stay valid while `out` lives and
+/// is not resized.
+bool readMapCatalogue(const std::string& mapPath, std::vector<CatalogueEntry>* out, std::string* error);
+
 /// Default locations: SignDetector/models in this checkout, the reference cascade in ../shared, and the
 /// tiny test model.
 std::string productModelsDir();
 std::string referenceCascadePath();
 std::string tinyUnetPath();
+/// The bundled office map (Maps/Buildings/wayfinder-office.json), whose catalogue has every sign kind.
+std::string officeMapPath();
 bool fileExists(const std::string& path);
 
 /// Range (m) from an observation and the sign's face height: the paper's equation 3 on the unrolled

@@ -306,9 +306,18 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
 
 void Detector::readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections) {
     if (!textReader_.loaded()) return;
-    for (Detection& d : *detections) {
+    // Best scores first, at most maxLegendReadsPerFrame plates tall enough to read (tesseract costs about 10-30 ms
+    // a plate: a frame of false placard hits must not cost a second).
+    std::vector<Detection*> order;
+    for (Detection& d : *detections) order.push_back(&d);
+    std::stable_sort(order.begin(), order.end(), [](const Detection* a, const Detection* b) { return a->score > b->score; });
+    int reads = 0;
+    for (Detection* dp : order) {
+        Detection& d = *dp;
         const SignKindSpec* spec = findKind(options_.catalogue, d.kind);
         if (spec == nullptr || !spec->readsText) continue;
+        if (d.measurement.box.height < options_.minReadablePlateHeightPx || reads >= options_.maxLegendReadsPerFrame) continue;
+        ++reads;
         const cv::Rect2d& b = d.measurement.box;
         const cv::Rect box(int(std::floor(b.x + 0.5)), int(std::floor(b.y + 0.5)), int(std::ceil(b.width)),
                            int(std::ceil(b.height)));

@@ -50,6 +50,12 @@ struct ResolvedOptions {
     /// cascades were trained and measured on (the phone sends the cascade VGA; a 1920 x 1440 U-Net frame is
     /// shrunk 3 x for them, 9 x fewer windows). Boxes are mapped back to the frame's own pixels.
     int plainKindSearchMaxLongSidePx = 640;
+    /// Legends (kinds that read text) are read only off plates at least this tall, unrolled pixels: a 0.15 m placard's
+    /// 25 mm characters are then about 7 px, below which tesseract reads noise (text_reader.hpp enlarges the crop,
+    /// but cannot add detail). 40 px: a placard within about 2 m on a VGA frame, 6 m on a 1920 x 1440 one.
+    double minReadablePlateHeightPx = 40;
+    /// At most this many legends are read per frame, best detection scores first (tesseract: about 10-30 ms each).
+    int maxLegendReadsPerFrame = 3;
 
     /// Copies `opts` (borrowed strings are copied) and applies defaults. Returns WF_STATUS_OK or an error code with
     /// `error` set.
