@@ -16,7 +16,7 @@ public enum PlacardSurvey {
     /// or Exit signs, not room numbers.
     public static let categoriesWithoutPlacard: Set<String> = ["elevator", "stairs", "exit"]
 
-    /// `building` with a placard beside every room-like point of interest (see the type) and the placard
+    /// `building` with a placard beside every room-like point of interest that has none within 1.5 m (see the type) and the placard
     /// kind added to an explicit catalogue (the map's, or the derived one). A place whose nearest wall is
     /// more than 1.5 m away gets none (it is in an open hall).
     public static func addingPlacards(to building: Building) -> Building {
@@ -27,6 +27,10 @@ public enum PlacardSurvey {
         for fi in b.floors.indices {
             let floor = b.floors[fi]
             for poi in floor.pointsOfInterest where !categoriesWithoutPlacard.contains(poi.category) {
+                // A place the map already gives a placard (the bundled office's rooms) keeps it alone.
+                if floor.signs.contains(where: { $0.kind == placardKind.kind && $0.position.distance(to: poi.position) <= 1.5 }) {
+                    continue
+                }
                 guard let nearest = floor.nearestWall(to: poi.position), nearest.distanceMeters <= 1.5,
                       nearest.distanceMeters > 1e-6 else { continue }
                 let onWall = floor.walls[nearest.index].closestPoint(to: poi.position)

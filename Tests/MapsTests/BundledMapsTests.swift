@@ -32,11 +32,20 @@ final class BundledMapsTests: XCTestCase {
             XCTAssertFalse(f.walls.isEmpty)
             XCTAssertGreaterThanOrEqual(f.signs.count, 5, "floor \(f.id)")
             for s in f.signs {
-                XCTAssertEqual(s.kind, "exit")
-                XCTAssertEqual(s.widthMeters, 0.30); XCTAssertEqual(s.heightMeters, 0.21)
-                XCTAssertEqual(s.mountingHeightMeters, 2.3)
+                // Every sign is sized and mounted as its kind in the catalogue says, on a wall (or a flag sign).
+                let spec = try XCTUnwrap(b.signCatalogue.spec(kind: s.kind), s.id)
+                XCTAssertEqual(s.widthMeters, spec.widthMeters, s.id); XCTAssertEqual(s.heightMeters, spec.heightMeters, s.id)
+                XCTAssertEqual(s.mountingHeightMeters, spec.kind == "exit" ? 2.3 : spec.mountingHeightMeters, s.id)
                 XCTAssertLessThanOrEqual(f.nearestWall(to: s.position)!.distanceMeters, 0.15, s.id)
             }
+            XCTAssertGreaterThanOrEqual(f.signs.filter { $0.kind == "exit" }.count, 5, "floor \(f.id)")
+            // A placard with its room number beside each office, the pictograms beside their doors.
+            let offices = f.pointsOfInterest.filter { $0.category == "office" }
+            for o in offices {
+                XCTAssertTrue(f.signs.contains { $0.kind == "placard" && $0.text == o.id.replacingOccurrences(of: "room-", with: "")
+                    && $0.position.distance(to: o.position) < 1 }, o.id)
+            }
+            XCTAssertEqual(Set(f.signs.map(\.kind)), ["exit", "placard", "restroom", "elevator", "stairs"])
             let bounds = f.bounds
             XCTAssertEqual(bounds, Rect2(minX: 0, minY: 0, maxX: 40, maxY: 24))
         }

@@ -132,7 +132,8 @@ final class ObservationModelTests: XCTestCase {
         let processedTimes = Set(w.diagnostics.processedFrameIndices.map { (w.frames[$0].t * 1000).rounded() })
         for o in w.observations {
             XCTAssertTrue(processedTimes.contains((o.t * 1000).rounded()))
-            XCTAssertEqual(o.source, "simulated"); XCTAssertEqual(o.kind, "exit")
+            XCTAssertEqual(o.source, "simulated")
+            XCTAssertTrue(Fixtures.office.signCatalogue.spec(kind: o.kind) != nil, o.kind)
             XCTAssertTrue(o.score > 0 && o.score <= 1)
         }
         let ten = try WalkSimulator.simulate(building: Fixtures.office, scenario: SimulationScenario(

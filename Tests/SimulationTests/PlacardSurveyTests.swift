@@ -9,7 +9,9 @@ import SessionFormat
 /// read are right about as often as the model says (fixed seeds, stated tolerances).
 final class PlacardSurveyTests: XCTestCase {
     func testSurveyedOfficeIsValidAndHasAPlacardBesideEveryRoom() throws {
-        let office = Fixtures.office
+        // The office without its own placards, as an importer leaves a building.
+        var office = Fixtures.office
+        for i in office.floors.indices { office.floors[i].signs.removeAll { $0.kind == PlacardSurvey.placardKind.kind } }
         let surveyed = PlacardSurvey.addingPlacards(to: office)
         XCTAssertNoThrow(try MapValidator.validate(surveyed))
         let rooms = office.floors.flatMap(\.pointsOfInterest).filter { !PlacardSurvey.categoriesWithoutPlacard.contains($0.category) }
@@ -19,6 +21,12 @@ final class PlacardSurveyTests: XCTestCase {
         XCTAssertEqual(Set(placards.compactMap(\.text)), Set(rooms.map(\.id)))
         XCTAssertEqual(surveyed.signCatalogue.spec(kind: "placard"), PlacardSurvey.placardKind)
         XCTAssertEqual(surveyed.signCatalogue.spec(kind: "exit"), office.signCatalogue.spec(kind: "exit"))
+        // The bundled office keeps its own placards (room numbers) and gets one only where a place has none.
+        let bundled = PlacardSurvey.addingPlacards(to: Fixtures.office)
+        let all = bundled.floors.flatMap(\.signs).filter { $0.kind == PlacardSurvey.placardKind.kind }
+        XCTAssertEqual(all.count, rooms.count, "one per room-like place, the office's own included")
+        XCTAssertTrue(all.contains { $0.text == "101" })
+        XCTAssertFalse(all.contains { $0.text == "room-101" })
     }
 
     /// A corridor with two placards ("101" at x = 2, "102" at x = 18) on the south wall, facing north.

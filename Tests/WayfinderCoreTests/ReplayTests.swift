@@ -112,18 +112,18 @@ final class ReplayTests: XCTestCase {
         let sample = try TestData.sample()
         let building = try TestData.office()
         var damaged = sample
-        // An "elevator" sighting next to every fifth exit sighting: the office map has only exit signs.
+        // A "vending-machine" sighting next to every fifth sighting: the office map has no such kind.
         var observations: [ObservationRecord] = []
         for (i, o) in sample.observations.enumerated() {
             observations.append(o)
-            if i % 5 == 2 { observations.append(ObservationRecord(t: o.t, kind: "elevator", rangeMeters: 2, bearingRad: 0.1, score: 0.9)) }
+            if i % 5 == 2 { observations.append(ObservationRecord(t: o.t, kind: "vending-machine", rangeMeters: 2, bearingRad: 0.1, score: 0.9)) }
         }
         damaged.observations = observations
         let bundle = try writtenCopy(damaged)
         let added = observations.count - sample.observations.count
-        let firstLine = try XCTUnwrap(observations.firstIndex { $0.kind == "elevator" }) + 1
+        let firstLine = try XCTUnwrap(observations.firstIndex { $0.kind == "vending-machine" }) + 1
         let result = try Replay.run(bundle: bundle, building: building, options: quickOptions(bundle))
-        let w = try XCTUnwrap(result.warnings.first { $0.contains("'elevator'") }, "\(result.warnings)")
+        let w = try XCTUnwrap(result.warnings.first { $0.contains("'vending-machine'") }, "\(result.warnings)")
         XCTAssertTrue(w.contains("observations.jsonl line \(firstLine):"), w)
         XCTAssertTrue(w.contains("\(added) observations of this kind ignored"), w)
         // Ignored means exactly that: the replay is the one without them.
