@@ -23,6 +23,9 @@
 //   cascade_phone_nv12/VGA, .../HR          the frames as ARKit delivers them: NV12 (Y plane + interleaved CbCr),
 //                                           full-range BT.601, handed over without conversion
 //   cascade_phone_bgra/VGA, .../HR          the frames as 32BGRA pixel buffers
+//   cascade_phone_bgra_all_kinds/VGA        the same plus every other kind of the office's catalogue with a model
+//                                           (models/<kind>_cascade.xml: pictograms, placards; their legends read)
+//   unet_coarse_zoom_all_kinds/HR           the U-Net with those cascades beside it
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
 //                                           tiny test model (then it times only the pipeline around the net)
@@ -222,6 +225,9 @@ public:
         ratio("cascade_phone_bgra/VGA", "cascade_phone_bgra_no_edge_refinement/VGA");
         ratio("cascade_phone_nv12/VGA", "cascade_phone_nv12_no_edge_refinement/VGA");
         ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_no_edge_refinement/HR");
+        // Issue 16: "extra sign classes add <= 20 %" (pictogram and placard cascades beside the Exit detector).
+        ratio("cascade_phone_bgra_all_kinds/VGA", "cascade_phone_bgra/VGA");
+        ratio("unet_coarse_zoom_all_kinds/HR", "unet_coarse_zoom/HR");
     }
 
 private:
@@ -250,6 +256,45 @@ int main(int argc, char** argv) {
     static const auto hrBgra = prepareAllAs(sources, {1920, 1440}, WF_PIXEL_BGRA8);
 
     const std::string ours = productModelsDir() + "/exit_sign_cascade.xml";
+    // Every kind of the bundled office's catalogue with a model: the Exit detector plus <kind>_cascade.xml.
+    static std::vector<CatalogueEntry> catalogue;
+    static std::vector<std::string> kindPaths, kindNames;
+    std::string catalogueError;
+    if (readMapCatalogue(officeMapPath(), &catalogue, &catalogueError)) {
+        for (const auto& e : catalogue) {
+            const std::string path = productModelsDir() + "/" + e.kind + "_cascade.xml";
+            if (e.kind != "exit" && fileExists(path)) {
+                kindPaths.push_back(path);
+                kindNames.push_back(e.kind);
+            }
+        }
+    } else {
+        std::fprintf(stderr, "no extra kinds: %s\n", catalogueError.c_str());
+    }
+    auto withKinds = [](wf_detector_kind kind, const std::string& model) {
+        auto d = std::make_unique<DetectorHandle>();
+        std::vector<const char*> paths, names;
+        if (kind == WF_DETECTOR_CASCADE) {
+            paths.push_back(model.c_str());
+            names.push_back("exit");
+        }
+        for (size_t i = 0; i < kindPaths.size(); ++i) {
+            paths.push_back(kindPaths[i].c_str());
+            names.push_back(kindNames[i].c_str());
+        }
+        std::vector<wf_sign_kind> entries;
+        for (const auto& e : catalogue) entries.push_back(e.entry);
+        wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+        opts.kind = kind;
+        if (kind == WF_DETECTOR_UNET) opts.unet_path = model.c_str();
+        opts.cascade_paths = paths.data();
+        opts.cascade_kinds = names.data();
+        opts.cascade_count = paths.size();
+        opts.catalogue = entries.data();
+        opts.catalogue_count = entries.size();
+        if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
+        return d;
+    };
     static std::unique_ptr<DetectorHandle> oursCascade, oursRough, oursV4, oursV3, oursFull, refCascade, unet, unetRough,
         unetWholeFrame;
     if (fileExists(ours)) {
@@ -298,6 +343,11 @@ int main(int argc, char** argv) {
         pipeline("cascade_phone_nv12_no_edge_refinement/VGA", oursRough.get(), &vgaNv12);
         pipeline("cascade_phone_nv12/HR", oursCascade.get(), &hrNv12);
         pipeline("cascade_phone_bgra/HR", oursCascade.get(), &hrBgra);
+        if (!kindPaths.empty()) {
+            static auto allKinds = withKinds(WF_DETECTOR_CASCADE, ours);
+            if (*allKinds) pipeline("cascade_phone_bgra_all_kinds/VGA", allKinds.get(), &vgaBgra);
+            else std::fprintf(stderr, "all-kinds cascade not benchmarked: %s\n", allKinds->error.c_str());
+        }
     }
     if (refCascade && *refCascade) {
         pipeline("cascade_reference/VGA", refCascade.get(), &vga);
@@ -312,6 +362,11 @@ int main(int argc, char** argv) {
         pipeline("unet_coarse_zoom_no_edge_refinement/HR", unetRough.get(), &hr);
         pipeline("unet_coarse_zoom_whole_frame/HR", unetWholeFrame.get(), &hr);
         benchmark::RegisterBenchmark("unet_forward/224", runForward, &unetModelPath)->Unit(benchmark::kMillisecond);
+        if (!kindPaths.empty()) {
+            static auto unetKinds = withKinds(WF_DETECTOR_UNET, unetModel);
+            if (*unetKinds) pipeline("unet_coarse_zoom_all_kinds/HR", unetKinds.get(), &hr);
+            else std::fprintf(stderr, "all-kinds U-Net not benchmarked: %s\n", unetKinds->error.c_str());
+        }
     } else {
         std::fprintf(stderr, "U-Net not benchmarked: %s\n", unet->error.c_str());
     }

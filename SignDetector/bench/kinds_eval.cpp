@@ -2,6 +2,7 @@
 // placards) on a rendered held-out set, through the product's one call per frame (wf_detector_sense).
 //
 //   wf_kinds_eval --testset DIR [--models DIR] [--map MAP.json] [--limit N] [--repeat K]
+//   (WF_KINDS_ROTATION=N sets wf_detector_options.cascade_wall_kinds_per_frame: N wall kinds searched per frame)
 //
 // DIR: SignDetector/training/render_signs.py --split test_kinds (VGA frames, labels.jsonl with "kind" and, for
 // placards, "text"). The catalogue is the map's "signKinds" (default: the bundled office's, which has every
@@ -21,6 +22,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
 #include <map>
 #include <set>
@@ -74,6 +76,7 @@ std::unique_ptr<DetectorHandle> makeDetector(const std::vector<std::string>& pat
     opts.cascade_count = p.size();
     opts.catalogue = entries.data();
     opts.catalogue_count = entries.size();
+    if (const char* every = std::getenv("WF_KINDS_ROTATION")) opts.cascade_wall_kinds_per_frame = std::atoi(every);
     if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
     return d;
 }

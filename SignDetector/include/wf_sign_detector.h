@@ -289,6 +289,12 @@ typedef struct wf_detector_options {
     double cascade_sign_above_camera_min_m;
     double cascade_sign_above_camera_max_m;
 
+    /* Cascades of kinds that are not Exit-like (docs/sign-detection.md "More sign kinds"). */
+    /** How many of those kinds one frame searches, in rotation: 0 = default 1 (with four such kinds each is searched
+     *  on every fourth frame: 2.5 times a second at the phone's 10 Hz detection rate); N > 0 = N; -1 = all of them
+     *  on every frame. Without a colour gate each costs about 20-40 ms per VGA frame (docs/benchmarks.md). */
+    int cascade_wall_kinds_per_frame;
+
     /* Face-edge refinement (both detectors; docs/sign-detection.md "Face-edge refinement"). */
     /** 0 = default: on; 1 = on; -1 = off. Per slice of each detection's rough box (cascade) or mask (U-Net), the
      *  face's top and bottom edges are located in the image (the half-way crossing of the first persistent rise

@@ -50,6 +50,9 @@ struct ResolvedOptions {
     /// cascades were trained and measured on (the phone sends the cascade VGA; a 1920 x 1440 U-Net frame is
     /// shrunk 3 x for them, 9 x fewer windows). Boxes are mapped back to the frame's own pixels.
     int plainKindSearchMaxLongSidePx = 640;
+    /// How many of those kinds one frame searches, in rotation (-1 = all of them every frame):
+    /// wf_detector_options.cascade_wall_kinds_per_frame.
+    int wallKindsPerFrame = 1;
     /// Legends (kinds that read text) are read only off plates at least this tall, unrolled pixels: a 0.15 m placard's
     /// 25 mm characters are then about 7 px, below which tesseract reads noise (text_reader.hpp enlarges the crop,
     /// but cannot add detail). 40 px: a placard within about 2 m on a VGA frame, 6 m on a 1920 x 1440 one.
@@ -132,6 +135,8 @@ private:
     std::vector<std::string> kinds_;
     std::vector<KindSearch> kindSearch_;
     std::vector<size_t> gatedKinds_, plainKinds_;
+    /// Next of plainKinds_ to search (rotation, ResolvedOptions::wallKindsPerFrame).
+    size_t wallKindCursor_ = 0;
     TextReader textReader_;
     std::string textReaderProblem_;
 };

@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <limits>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -256,4 +257,39 @@ TEST(MoreKinds, TheTextReaderLoadsOnlyForAReportedKindThatReadsText) {
     wf_detector_free(d);
     EXPECT_EQ(wf_detector_reads_text(nullptr), 0);
     EXPECT_STREQ(wf_detector_text_reader_problem(nullptr), "");
+}
+
+TEST(MoreKinds, WallKindsAreSearchedOnePerFrameInRotationUnlessAllAreAsked) {
+    const Frame f = frameWithSign();
+    static const std::string path = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {path.c_str(), path.c_str()};
+    const char* kinds[] = {"restroom", "stairs"};
+    wf_sign_kind stairs = restroomKind(0.1, 0.7, 0);
+    stairs.kind = "stairs";
+    const wf_sign_kind catalogue[] = {restroomKind(0.1, 0.7, 0), stairs};
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.cascade_paths = paths;
+    opts.cascade_kinds = kinds;
+    opts.cascade_count = 2;
+    opts.cascade_min_neighbors = 1;
+    opts.catalogue = catalogue;
+    opts.catalogue_count = 2;
+    auto kindsSeen = [&](wf_detector* d) {
+        std::set<std::string> seen;
+        for (const auto& s : sense(d, f.frame)) seen.insert(s.kind);
+        return seen;
+    };
+    wf_detector* d = nullptr;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"restroom"}));
+    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"stairs"}));
+    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"restroom"}));
+    wf_detector_free(d);
+    opts.cascade_wall_kinds_per_frame = -1;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"restroom", "stairs"}));
+    wf_detector_free(d);
+    opts.cascade_wall_kinds_per_frame = -2;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_wall_kinds_per_frame"), std::string::npos);
 }
