@@ -54,9 +54,10 @@ struct ResolvedOptions {
     /// wf_detector_options.cascade_wall_kinds_per_frame.
     int wallKindsPerFrame = 1;
     /// Legends (kinds that read text) are read only off plates at least this tall, unrolled pixels: a 0.15 m placard's
-    /// 25 mm characters are then about 7 px, below which tesseract reads noise (text_reader.hpp enlarges the crop,
-    /// but cannot add detail). 40 px: a placard within about 2 m on a VGA frame, 6 m on a 1920 x 1440 one.
-    double minReadablePlateHeightPx = 40;
+    /// 25 mm characters are then 10 px, about the smallest tesseract reads (text_reader.hpp enlarges the crop, but
+    /// cannot add detail; on the rendered VGA placards 7 of 72 were misread with confidence >= 75, all from plates
+    /// of 30-67 px). 60 px: a placard within about 1.3 m on a VGA frame, 4 m on a 1920 x 1440 one.
+    double minReadablePlateHeightPx = 60;
     /// At most this many legends are read per frame, best detection scores first (tesseract: about 10-30 ms each).
     int maxLegendReadsPerFrame = 3;
 

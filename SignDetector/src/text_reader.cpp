@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cstdlib>
+#include <vector>
 
 #if defined(WF_SIGN_DETECTOR_HAS_TEXT_READER)
 #include <tesseract/baseapi.h>
@@ -80,6 +81,23 @@ cv::Mat preparePlateForReading(const cv::Mat& gray, const cv::Rect& plateBox, co
     for (int y = 0; y < binary.rows; ++y) {
         for (int x : {0, binary.cols - 1}) {
             if (binary.at<uint8_t>(y, x) == 0) cv::floodFill(binary, cv::Point(x, y), 255);
+        }
+    }
+    // Keep only what is shaped like a character: a plate's border line or frame (as wide or tall as most of the
+    // crop) and specks or Braille dots (a few percent of its height) are wiped white.
+    cv::Mat ink = 255 - binary, labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(ink, labels, stats, centroids, 8, CV_32S);
+    std::vector<uint8_t> keep(n, 0);
+    for (int i = 1; i < n; ++i) {
+        const int w = stats.at<int>(i, cv::CC_STAT_WIDTH), h = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+        const bool dash = w >= 2 * h && w >= 0.04 * binary.cols;  // "B-12"
+        keep[i] = w < 0.6 * binary.cols && h < 0.6 * binary.rows && (h >= 0.08 * binary.rows || dash);
+    }
+    for (int y = 0; y < binary.rows; ++y) {
+        const int* l = labels.ptr<int>(y);
+        uint8_t* b = binary.ptr<uint8_t>(y);
+        for (int x = 0; x < binary.cols; ++x) {
+            if (l[x] > 0 && !keep[l[x]]) b[x] = 255;
         }
     }
     const int pad = std::max(4, params.plateHeightPx / 10);
