@@ -267,4 +267,26 @@ bool readMapCatalogue(const std::string& mapPath, std::vector<CatalogueEntry>* o
     return true;
 }
 
+std::unique_ptr<DetectorHandle> makeWithCatalogue(const std::vector<std::string>& paths, const std::vector<std::string>& kinds,
+                                                  const std::vector<CatalogueEntry>& catalogue, const std::string& unetPath,
+                                                  int wallKindsPerFrame) {
+    auto d = std::make_unique<DetectorHandle>();
+    std::vector<const char*> p, k;
+    for (const auto& s : paths) p.push_back(s.c_str());
+    for (const auto& s : kinds) k.push_back(s.c_str());
+    std::vector<wf_sign_kind> entries;
+    for (const auto& e : catalogue) entries.push_back(e.entry);
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.kind = unetPath.empty() ? WF_DETECTOR_CASCADE : WF_DETECTOR_UNET;
+    if (!unetPath.empty()) opts.unet_path = unetPath.c_str();
+    opts.cascade_paths = p.data();
+    opts.cascade_kinds = k.data();
+    opts.cascade_count = p.size();
+    opts.catalogue = entries.data();
+    opts.catalogue_count = entries.size();
+    opts.cascade_wall_kinds_per_frame = wallKindsPerFrame;
+    if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
+    return d;
+}
+
 }  // namespace wf::sign::bench

@@ -118,6 +118,13 @@ struct CatalogueEntry {
 /// is not resized.
 bool readMapCatalogue(const std::string& mapPath, std::vector<CatalogueEntry>* out, std::string* error);
 
+/// A detector with `catalogue` and the cascades `paths` of kinds `kinds` (borrowed for the call): a cascade detector,
+/// or with `unetPath` set the U-Net with those cascades beside it. `wallKindsPerFrame`: as
+/// wf_detector_options.cascade_wall_kinds_per_frame (0 = default 1, -1 = all).
+std::unique_ptr<DetectorHandle> makeWithCatalogue(const std::vector<std::string>& paths, const std::vector<std::string>& kinds,
+                                                  const std::vector<CatalogueEntry>& catalogue, const std::string& unetPath = "",
+                                                  int wallKindsPerFrame = 0);
+
 /// Default locations: SignDetector/models in this checkout, the reference cascade in ../shared, and the
 /// tiny test model.
 std::string productModelsDir();

@@ -271,30 +271,6 @@ int main(int argc, char** argv) {
     } else {
         std::fprintf(stderr, "no extra kinds: %s\n", catalogueError.c_str());
     }
-    auto withKinds = [](wf_detector_kind kind, const std::string& model) {
-        auto d = std::make_unique<DetectorHandle>();
-        std::vector<const char*> paths, names;
-        if (kind == WF_DETECTOR_CASCADE) {
-            paths.push_back(model.c_str());
-            names.push_back("exit");
-        }
-        for (size_t i = 0; i < kindPaths.size(); ++i) {
-            paths.push_back(kindPaths[i].c_str());
-            names.push_back(kindNames[i].c_str());
-        }
-        std::vector<wf_sign_kind> entries;
-        for (const auto& e : catalogue) entries.push_back(e.entry);
-        wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
-        opts.kind = kind;
-        if (kind == WF_DETECTOR_UNET) opts.unet_path = model.c_str();
-        opts.cascade_paths = paths.data();
-        opts.cascade_kinds = names.data();
-        opts.cascade_count = paths.size();
-        opts.catalogue = entries.data();
-        opts.catalogue_count = entries.size();
-        if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
-        return d;
-    };
     static std::unique_ptr<DetectorHandle> oursCascade, oursRough, oursV4, oursV3, oursFull, refCascade, unet, unetRough,
         unetWholeFrame;
     if (fileExists(ours)) {
@@ -344,7 +320,10 @@ int main(int argc, char** argv) {
         pipeline("cascade_phone_nv12/HR", oursCascade.get(), &hrNv12);
         pipeline("cascade_phone_bgra/HR", oursCascade.get(), &hrBgra);
         if (!kindPaths.empty()) {
-            static auto allKinds = withKinds(WF_DETECTOR_CASCADE, ours);
+            std::vector<std::string> paths{ours}, names{"exit"};
+            paths.insert(paths.end(), kindPaths.begin(), kindPaths.end());
+            names.insert(names.end(), kindNames.begin(), kindNames.end());
+            static auto allKinds = makeWithCatalogue(paths, names, catalogue);
             if (*allKinds) pipeline("cascade_phone_bgra_all_kinds/VGA", allKinds.get(), &vgaBgra);
             else std::fprintf(stderr, "all-kinds cascade not benchmarked: %s\n", allKinds->error.c_str());
         }
@@ -363,7 +342,7 @@ int main(int argc, char** argv) {
         pipeline("unet_coarse_zoom_whole_frame/HR", unetWholeFrame.get(), &hr);
         benchmark::RegisterBenchmark("unet_forward/224", runForward, &unetModelPath)->Unit(benchmark::kMillisecond);
         if (!kindPaths.empty()) {
-            static auto unetKinds = withKinds(WF_DETECTOR_UNET, unetModel);
+            static auto unetKinds = makeWithCatalogue(kindPaths, kindNames, catalogue, unetModel);
             if (*unetKinds) pipeline("unet_coarse_zoom_all_kinds/HR", unetKinds.get(), &hr);
             else std::fprintf(stderr, "all-kinds U-Net not benchmarked: %s\n", unetKinds->error.c_str());
         }

@@ -66,25 +66,6 @@ struct KindStats {
     int falseSightings = 0, confused = 0;
 };
 
-std::unique_ptr<DetectorHandle> makeDetector(const std::vector<std::string>& paths, const std::vector<std::string>& kinds,
-                                             const std::vector<CatalogueEntry>& catalogue) {
-    auto d = std::make_unique<DetectorHandle>();
-    std::vector<const char*> p, k;
-    for (const auto& s : paths) p.push_back(s.c_str());
-    for (const auto& s : kinds) k.push_back(s.c_str());
-    std::vector<wf_sign_kind> entries;
-    for (const auto& e : catalogue) entries.push_back(e.entry);
-    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
-    opts.kind = WF_DETECTOR_CASCADE;
-    opts.cascade_paths = p.data();
-    opts.cascade_kinds = k.data();
-    opts.cascade_count = p.size();
-    opts.catalogue = entries.data();
-    opts.catalogue_count = entries.size();
-    if (const char* every = std::getenv("WF_KINDS_ROTATION")) opts.cascade_wall_kinds_per_frame = std::atoi(every);
-    if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
-    return d;
-}
 
 }  // namespace
 
@@ -131,8 +112,10 @@ int main(int argc, char** argv) {
             std::fprintf(stderr, "wf_kinds_eval: no model for kind '%s' (%s): not evaluated\n", e.kind.c_str(), path.c_str());
         }
     }
-    auto exitOnly = makeDetector({paths[0]}, {"exit"}, catalogue);
-    auto all = makeDetector(paths, kinds, catalogue);
+    const char* rotation = std::getenv("WF_KINDS_ROTATION");
+    const int wallKindsPerFrame = rotation ? std::atoi(rotation) : 0;
+    auto exitOnly = makeWithCatalogue({paths[0]}, {"exit"}, catalogue, "", wallKindsPerFrame);
+    auto all = makeWithCatalogue(paths, kinds, catalogue, "", wallKindsPerFrame);
     for (auto* d : {exitOnly.get(), all.get()}) {
         if (!*d) {
             std::fprintf(stderr, "wf_kinds_eval: %s\n", d->error.c_str());
