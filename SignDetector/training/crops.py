@@ -244,14 +244,39 @@ def kind_window(rng: np.random.Generator, kind: str, win: Tuple[int, int] = (20,
     return cv2.resize(g, win, interpolation=cv2.INTER_AREA)
 
 
-def kind_frame(rng: np.random.Generator, kind: str, extra_kinds, exit_prob: float = 0.5) -> Tuple[np.ndarray, List[str]]:
+def kind_frame(rng: np.random.Generator, kind: str, extra_kinds, exit_prob: float = 0.5,
+               unrolled: bool = False) -> Tuple[np.ndarray, List[str]]:
     """Grey unrolled 640 x 480 (or 480 x 640) frame from the phone's VGA sensor with a wall sign of `kind`, a
     second wall sign of one of `extra_kinds` (50 %), an Exit sign (`exit_prob`) and 2-9 distractors; returns
-    (image, the kinds of the labelled signs in it). Negatives for the other kinds' cascades."""
+    (image, the kinds of the labelled signs in it). Negatives for the other kinds' cascades.
+
+    unrolled=False: rendered directly at the roll-free virtual camera (the whole frame is scene);
+    unrolled=True: rendered at the sensor's pose and unrolled as at run time (render_signs.unroll_image), so
+    it has the black corners the rotation leaves (their diagonal edges fooled a stairs cascade trained
+    without them)."""
     intr_raw = rs.scaled_intrinsics(640, 480)
     T, signs, _ = rs.sample_kind_scene(rng, intr_raw, kind, extra_kinds=list(extra_kinds), extra_kind_prob=0.5,
                                        exit_prob=exit_prob)
+    if unrolled:
+        return _raw_unrolled(rng, T, signs, intr_raw)
     intr_u = unrolled_intrinsics(intr_raw, T)
     img, _, labels = render_view(rng, T, signs, intr_u, 0, 0, intr_u["width"], intr_u["height"], intr_u["width"],
                                  intr_u["height"], n_distractors=int(rng.integers(2, 10)), degrade_unit=1.0 / 3.0)
     return cv2.cvtColor(img, cv2.COLOR_RGB2GRAY), sorted({lab["kind"] for lab in labels})
+
+
+def _raw_unrolled(rng: np.random.Generator, T: np.ndarray, signs, intr_raw: dict) -> Tuple[np.ndarray, List[str]]:
+    """Render at the sensor pose with 2-9 distractors, grey, unrolled as at run time; (image, sign kinds)."""
+    img, _, labels = rs.render_frame(T, intr_raw, signs, rng, n_distractors=int(rng.integers(2, 10)))
+    R = T[:3, :3]
+    roll = math.atan2(R[1, 0], R[1, 1]) if abs(R[1, 2]) < 0.999 else 0.0
+    g, _, _ = rs.unroll_image(cv2.cvtColor(img, cv2.COLOR_RGB2GRAY), intr_raw, roll)
+    return g, sorted({lab["kind"] for lab in labels})
+
+
+def vga_empty_frame(rng: np.random.Generator) -> np.ndarray:
+    """Grey sign-free frame from the phone's VGA sensor with 2-9 distractors, unrolled as at run time (black
+    corners included); negatives of the wall-kind cascades (--kind-negatives unrolled)."""
+    intr_raw = rs.scaled_intrinsics(640, 480)
+    T, _ = rs.sample_empty(rng)
+    return _raw_unrolled(rng, T, [], intr_raw)[0]

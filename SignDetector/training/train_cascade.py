@@ -24,7 +24,8 @@ producing the same model type, loadable by cv::CascadeClassifier / cv2.CascadeCl
 
 Wall sign kinds (--kind restroom|elevator|stairs|placard, square --window 20x20 by default): positives are
 rendered windows of that kind (crops.kind_window), negatives are windows of sign-free frames and of frames
-with the other kinds and Exit signs (crops.kind_frame; never a frame with the kind itself), plus "confuser"
+with the other kinds and Exit signs (crops.kind_frame; never a frame with the kind itself; unrolled VGA
+frames with their black corners by default, --kind-negatives), plus "confuser"
 windows: windows framed like the positives around faces of every other kind (Exit included), those the
 cascade so far accepts, up to half of --num-neg per stage (load_kind_samples).
 
@@ -428,23 +429,33 @@ def kind_windows(cache_dir: str, kind: str, seed: int, n: int, win: Tuple[int, i
     return have[:n]
 
 
-def kind_frames(cache_dir: str, seed: int, n_empty: int, n_per_kind: int, log) -> Tuple[List[np.ndarray], List[List[str]]]:
-    """Negative frames shared by the wall-kind cascades: n_empty sign-free frames (crops.negative_frame,
-    generators (seed, 11, i), 2-9 distractors) and, per wall kind, n_per_kind frames with that kind, often a
-    second kind and an Exit sign (crops.kind_frame, generators (seed, 30 + code, i)). Returns (grey frames,
-    the sign kinds in each)."""
-    path = os.path.join(cache_dir, "kind_frames_seed%d_e%d_k%d.npz" % (seed, n_empty, n_per_kind))
+def kind_frames(cache_dir: str, seed: int, n_empty: int, n_per_kind: int, log, mode: str = "unrolled") -> Tuple[List[np.ndarray], List[List[str]]]:
+    """Negative frames shared by the wall-kind cascades: n_empty sign-free frames and, per wall kind,
+    n_per_kind frames with that kind, often a second kind and an Exit sign (crops.kind_frame). Returns (grey
+    frames, the sign kinds in each).
+
+    mode "unrolled": VGA frames rendered at the sensor pose and unrolled as at run time, black corners
+    included (crops.vga_empty_frame, generators (seed, 15, i); crops.kind_frame(unrolled=True), (seed, 40 +
+    code, i)); "virtual": rendered at the roll-free virtual camera, no black corners (crops.negative_frame,
+    (seed, 11, i); crops.kind_frame, (seed, 30 + code, i)): the first recipe, used for the committed
+    restroom and elevator cascades."""
+    if mode not in ("unrolled", "virtual"):
+        raise ValueError("kind_frames: mode %r" % mode)
+    unrolled = mode == "unrolled"
+    path = os.path.join(cache_dir, "kind_frames_%sseed%d_e%d_k%d.npz" % ("unrolled_" if unrolled else "", seed, n_empty, n_per_kind))
     if os.path.exists(path):
         z = np.load(path, allow_pickle=True)
         return list(z["frames"]), [str(k).split(",") if str(k) else [] for k in z["kinds"]]
     t0 = time.time()
     frames, kinds = [], []
     for i in range(n_empty):
-        frames.append(crops.negative_frame(np.random.default_rng([seed, 11, i])))
+        frames.append(crops.vga_empty_frame(np.random.default_rng([seed, 15, i])) if unrolled else
+                      crops.negative_frame(np.random.default_rng([seed, 11, i])))
         kinds.append([])
     for k in rs.WALL_KINDS:
         for i in range(n_per_kind):
-            g, ks = crops.kind_frame(np.random.default_rng([seed, 30 + KIND_CODES[k], i]), k, [o for o in rs.WALL_KINDS if o != k])
+            g, ks = crops.kind_frame(np.random.default_rng([seed, (40 if unrolled else 30) + KIND_CODES[k], i]), k,
+                                     [o for o in rs.WALL_KINDS if o != k], unrolled=unrolled)
             frames.append(g)
             kinds.append(ks)
     arr = np.empty(len(frames), object)
@@ -460,7 +471,7 @@ def load_kind_samples(a, log) -> Tuple[np.ndarray, List[np.ndarray], np.ndarray,
     a.confusers windows of every other kind (Exit included)."""
     win = (WIN_W, WIN_H)
     pos = kind_windows(a.cache, a.kind, a.seed, a.num_pos, win, log)
-    frames_all, kinds_all = kind_frames(a.cache, a.seed, a.neg_frames, a.kind_frames, log)
+    frames_all, kinds_all = kind_frames(a.cache, a.seed, a.neg_frames, a.kind_frames, log, a.kind_negatives)
     frames = [g for g, ks in zip(frames_all, kinds_all) if a.kind not in ks]
     conf, conf_kind = [], []
     for k in ("exit",) + rs.WALL_KINDS:
@@ -601,6 +612,10 @@ def main(argv=None) -> int:
                     help="training window (default 24x16 for exit, 20x20 for the wall kinds)")
     ap.add_argument("--kind-frames", type=int, default=100,
                     help="wall kinds: negative frames rendered per wall kind (those without --kind are used)")
+    ap.add_argument("--kind-negatives", choices=["unrolled", "virtual"], default="unrolled",
+                    help="wall kinds: negative frames rendered at the sensor pose and unrolled as at run time, black "
+                         "corners included (default), or 'virtual': at the roll-free virtual camera (the recipe of the "
+                         "committed restroom and elevator cascades)")
     ap.add_argument("--confusers", type=int, default=600,
                     help="wall kinds: windows of each other kind (Exit included) used as negatives")
     ap.add_argument("--num-pos", type=int, default=3000)
