@@ -194,7 +194,7 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
 int Detector::load(const ResolvedOptions& options, std::string* error) {
     options_ = options;
     kinds_.clear();
-    kindSearch_.clear();
+    cascadeSpecs_.clear();
     gatedKinds_.clear();
     plainKinds_.clear();
     wallKindCursor_ = 0;
@@ -209,11 +209,10 @@ int Detector::load(const ResolvedOptions& options, std::string* error) {
     // gate, the others on their own placement band; beside a U-Net every cascade is searched on its band.
     const bool cascadesLoaded = options_.kind == WF_DETECTOR_CASCADE || !options_.cascadePaths.empty();
     for (size_t i = 0; cascadesLoaded && i < cascade_.kinds().size(); ++i) {
-        KindSearch search;
-        search.spec = findKind(options_.catalogue, cascade_.kinds()[i]);
-        search.gated = options_.kind == WF_DETECTOR_CASCADE && (search.spec == nullptr || search.spec->colourGated());
-        (search.gated ? gatedKinds_ : plainKinds_).push_back(i);
-        kindSearch_.push_back(search);
+        const SignKindSpec* spec = findKind(options_.catalogue, cascade_.kinds()[i]);
+        const bool gated = options_.kind == WF_DETECTOR_CASCADE && (spec == nullptr || spec->colourGated());
+        (gated ? gatedKinds_ : plainKinds_).push_back(i);
+        cascadeSpecs_.push_back(spec);
     }
     // The text reader, when a kind the detector reports reads text. Not fatal: such signs are then reported
     // without their text (the phone reads it with Vision).
@@ -280,9 +279,10 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
         for (int j = 0; j < perFrame; ++j) searched.push_back(plainKinds_[(wallKindCursor_ + j) % plainKinds_.size()]);
         wallKindCursor_ = (wallKindCursor_ + perFrame) % plainKinds_.size();
     }
+    const int indexOffset = options_.kind == WF_DETECTOR_UNET ? int(unet_.classNames().size()) : 0;
     for (size_t i : searched) {
         CascadeParams params = options_.cascade;
-        const SignKindSpec* spec = kindSearch_[i].spec;
+        const SignKindSpec* spec = cascadeSpecs_[i];
         const cv::Size trained = cascade_.trainedWindow(i);
         const double aspect = double(trained.width) / trained.height;
         if (spec != nullptr) {
@@ -307,7 +307,6 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
         if (!std::isfinite(pitchRad)) params.placement.enabled = false;
         const std::vector<size_t> one{i};
         std::vector<Detection> found = cascade_.detect(image, params, -1, &geometry, &one);
-        const int indexOffset = options_.kind == WF_DETECTOR_UNET ? int(unet_.classNames().size()) : 0;
         for (Detection& d : found) {
             // Box edges scale with the image (edge coordinates from the image corner).
             const cv::Rect2d& b = d.measurement.box;
@@ -319,6 +318,19 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
             out->push_back(std::move(d));
         }
     }
+}
+
+std::vector<Detection> Detector::refinedBoxes(std::vector<Detection> boxes, const wf_image& image,
+                                              const Unrolling& unrolling) const {
+    std::vector<Detection> kept = suppressOverlaps(std::move(boxes), 0.5);
+    // A box is a rough segmentation: its slices all have the box's height. The face's own edges, found in the
+    // image around each box, give the slices their heights (face_edge_refiner.hpp).
+    for (Detection& d : kept) {
+        const FaceEdgeResult edges =
+            refineFaceEdgesInFrame(image, unrolling, d.measurement, options_.cascade.slices, options_.faceEdges);
+        if (edges.refined) d.measurement = edges.measurement;
+    }
+    return kept;
 }
 
 void Detector::readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections) {
@@ -409,9 +421,8 @@ FrameResult Detector::detect(const wf_frame& frame) {
             const bool permutation = unrolling.quarterTurns() >= 0;
             const FrameGeometry geometry{frame.pitch_rad, unrolling.unrolledIntrinsics()};
             // Kinds without a colour gate (pictograms, placards) read the whole unrolled frame.
-            cv::Mat grayUnrolled = permutation || !plainKinds_.empty() ? unrolling.apply(gray)
-                                                                       : cv::Mat::zeros(unrolledSize, CV_8UC1);
             const bool warped = permutation || !plainKinds_.empty();
+            cv::Mat grayUnrolled = warped ? unrolling.apply(gray) : cv::Mat::zeros(unrolledSize, CV_8UC1);
             if (gatedKinds_.empty()) {
                 // nothing searched through the gate
             } else if (gate.fullSearch) {
@@ -426,14 +437,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
                                                       &gatedKinds_);
             }
             if (!plainKinds_.empty()) detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &detections);
-            detections = suppressOverlaps(std::move(detections), 0.5);
-            // A box is a rough segmentation: its slices all have the box's height. The face's own edges, found in
-            // the image around each box, give the slices their heights (face_edge_refiner.hpp).
-            for (Detection& d : detections) {
-                const FaceEdgeResult edges = refineFaceEdgesInFrame(frame.image, unrolling, d.measurement,
-                                                                    options_.cascade.slices, options_.faceEdges);
-                if (edges.refined) d.measurement = edges.measurement;
-            }
+            detections = refinedBoxes(std::move(detections), frame.image, unrolling);
             if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
         } else {
             detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet, frame.pitch_rad);
@@ -442,12 +446,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
                 const cv::Mat grayUnrolled = unrolling.apply(gray);
                 std::vector<Detection> extra;
                 detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &extra);
-                extra = suppressOverlaps(std::move(extra), 0.5);
-                for (Detection& d : extra) {
-                    const FaceEdgeResult edges = refineFaceEdgesInFrame(frame.image, unrolling, d.measurement,
-                                                                        options_.cascade.slices, options_.faceEdges);
-                    if (edges.refined) d.measurement = edges.measurement;
-                }
+                extra = refinedBoxes(std::move(extra), frame.image, unrolling);
                 readLegends(grayUnrolled, &extra);
                 detections.insert(detections.end(), extra.begin(), extra.end());
             }

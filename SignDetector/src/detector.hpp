@@ -110,14 +110,6 @@ public:
     const std::string& textReaderProblem() const { return textReaderProblem_; }
 
 private:
-    /// How one cascade is searched: with the colour gate (Exit-like kinds, the shared CascadeParams) or on its
-    /// own placement band and range limit (pictograms, placards).
-    struct KindSearch {
-        bool gated = true;
-        /// The catalogue entry (nullptr = the kind is not in the catalogue: searched like an Exit sign).
-        const SignKindSpec* spec = nullptr;
-    };
-
     /// Loads the U-Net of options_ and the cascades beside it. Returns WF_STATUS_OK or WF_STATUS_MODEL_LOAD.
     int loadUnet(std::string* error);
 
@@ -127,6 +119,10 @@ private:
     void detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& unrolling, double pitchRad,
                           std::vector<Detection>* out);
 
+    /// `boxes` with overlaps of a kind suppressed (IoU > 0.5) and each box's slices measured from the face edges
+    /// found in `image` around it (face-edge refinement, when on).
+    std::vector<Detection> refinedBoxes(std::vector<Detection> boxes, const wf_image& image, const Unrolling& unrolling) const;
+
     /// Reads the legend of every detection whose kind reads text, from `grayUnrolled` (the whole unrolled frame).
     void readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections);
 
@@ -134,7 +130,10 @@ private:
     CascadeDetector cascade_;
     UnetDetector unet_;
     std::vector<std::string> kinds_;
-    std::vector<KindSearch> kindSearch_;
+    /// Catalogue entry of each cascade (nullptr = not in the catalogue: searched like an Exit sign).
+    std::vector<const SignKindSpec*> cascadeSpecs_;
+    /// Cascades searched through the colour gate (Exit-like kinds, the shared CascadeParams) and the others, on
+    /// their own placement band and range limit (pictograms, placards).
     std::vector<size_t> gatedKinds_, plainKinds_;
     /// Next of plainKinds_ to search (rotation, ResolvedOptions::wallKindsPerFrame).
     size_t wallKindCursor_ = 0;
