@@ -68,17 +68,18 @@ public struct SignKindSpec: Codable, Hashable, Sendable {
     /// 0.23 m square), white on a blue (restroom) or dark plate, beside the door they name, bottom edge 1.35 m above
     /// the floor (ADA 703.4.1: tactile characters 1.22-1.52 m up). Recognised out to 6 m (a 0.23 m face is then
     /// 20 px tall on the cascade's VGA frame, about the smallest its 20 x 20 window finds) and 60 degrees off square.
-    public static let restroomPictogram = SignKindSpec(kind: "restroom", heightMeters: 0.23, widthMeters: 0.23, faceColor: "blue",
-                                                       legendColor: "white", maxRangeMeters: 6, maxViewAngleDeg: 60,
-                                                       mountingHeightMeters: 1.35)
+    public static let restroomPictogram = tactilePictogram(kind: "restroom", faceColor: "blue")
     /// The elevator pictogram plate (see `restroomPictogram`), white on dark.
-    public static let elevatorPictogram = SignKindSpec(kind: "elevator", heightMeters: 0.23, widthMeters: 0.23, faceColor: "dark",
-                                                       legendColor: "white", maxRangeMeters: 6, maxViewAngleDeg: 60,
-                                                       mountingHeightMeters: 1.35)
+    public static let elevatorPictogram = tactilePictogram(kind: "elevator", faceColor: "dark")
     /// The stairs pictogram plate (see `restroomPictogram`), white on dark.
-    public static let stairsPictogram = SignKindSpec(kind: "stairs", heightMeters: 0.23, widthMeters: 0.23, faceColor: "dark",
-                                                     legendColor: "white", maxRangeMeters: 6, maxViewAngleDeg: 60,
-                                                     mountingHeightMeters: 1.35)
+    public static let stairsPictogram = tactilePictogram(kind: "stairs", faceColor: "dark")
+
+    /// A 0.23 m square tactile pictogram plate of `kind`, white legend on `faceColor`, mounted and recognised as
+    /// `restroomPictogram` says.
+    static func tactilePictogram(kind: String, faceColor: String) -> SignKindSpec {
+        SignKindSpec(kind: kind, heightMeters: 0.23, widthMeters: 0.23, faceColor: faceColor, legendColor: "white",
+                     maxRangeMeters: 6, maxViewAngleDeg: 60, mountingHeightMeters: 1.35)
+    }
     /// A room-number placard: a 0.15 m square dark plate with 25 mm light digits, beside the door on the latch side,
     /// bottom edge 1.35 m above the floor; its legend (the room number, `Sign.text`) is read by text recognition
     /// from at most 2.5 m and 50 degrees off square (25 mm digits are about 20 px tall at 2 m on the phone's

@@ -149,8 +149,8 @@ final class CDetector {
     }
 
     private static func sensed(_ g: wf_sign_sighting) -> SensedSign {
-        let kind = withUnsafeBytes(of: g.kind) { raw in String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self) }
-        let text = withUnsafeBytes(of: g.text) { raw in String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self) }
+        let kind = string(fromCChars: g.kind)
+        let text = string(fromCChars: g.text)
         let c = g.corners_raw_px
         return SensedSign(kind: kind, rangeMeters: g.range_m, bearingRad: g.bearing_rad, score: g.score,
                           centerHeightAboveCameraMeters: g.center_height_above_camera_m,
@@ -183,10 +183,13 @@ final class CDetector {
         }
     }
 
+    /// The NUL-terminated UTF-8 string in a fixed C char array (a tuple in Swift), e.g. `wf_sign_sighting.kind`.
+    private static func string<Chars>(fromCChars chars: Chars) -> String {
+        withUnsafeBytes(of: chars) { raw in String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self) }
+    }
+
     private static func detection(_ o: wf_detector_observation) -> SignDetection {
-        let kind = withUnsafeBytes(of: o.kind) { raw in
-            String(decoding: raw.prefix { $0 != 0 }, as: UTF8.self)
-        }
+        let kind = string(fromCChars: o.kind)
         let m = o.unrolled_to_raw
         return SignDetection(
             kind: kind, kindIndex: Int(o.kind_index), score: o.score,
