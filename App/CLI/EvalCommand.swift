@@ -12,8 +12,8 @@ enum EvalCommand: Subcommand {
     static let usage = """
     Usage: wayfinder eval BUNDLE... --map MAP [--detector recorded|cascade|unet|auto] [--models DIR] [--json] [--explain]
                           [--baseline FILE] [--write-baseline FILE] [--seed N]
-           wayfinder eval --scenarios DIR [--skeri DIR] [--survey-placards] [--json] [--explain] [--baseline FILE]
-                          [--write-baseline FILE]
+           wayfinder eval --scenarios DIR [--skeri DIR] [--survey-placards] [--sim-detector NAME] [--json] [--explain]
+                          [--baseline FILE] [--write-baseline FILE]
 
     Replays each bundle (which must have truth.jsonl) through the real pipeline and prints, per walk:
     time and distance to first convergence, median/90th/95th percentile position error after convergence,
@@ -24,12 +24,15 @@ enum EvalCommand: Subcommand {
     --scenarios simulates and scores every scenario definition (*.json) in DIR in memory.
     --survey-placards adds a room-number placard beside every room-like place of the map before simulating and
     replaying (a study of identifying signs: PlacardSurvey, docs/benchmarks.md "Placards").
+    --sim-detector (with --scenarios) simulates the walks behind another detector's noise (below;
+    docs/benchmarks.md "Behind the real detectors' errors").
     --explain prints to standard error, for every cue scored wrong and every turn scored missing, the true
     and estimated positions, the true turns and the phrases around it.
     True turns are found from truth.jsonl alone (a change of walking direction over a few meters, matched to
     the graph node where the route turns; see docs/evaluation.md); a truth floor that the map lacks is an error.
     \(MapSpec.usageLine).
     \(EvidenceSwitches.usage)
+    \(SimDetectorOption.usage)
     Exit codes: 0 ok, 1 bad input (map, bundle, scenarios) or a regression against --baseline, 2 usage.
     """
 
@@ -43,6 +46,8 @@ enum EvalCommand: Subcommand {
         let mapPath = try arguments.option("map")
         let surveyPlacards = arguments.flag("survey-placards")
         let adjustMap: (Building) -> Building = { surveyPlacards ? PlacardSurvey.addingPlacards(to: $0) : $0 }
+        let (simulation, simDetectorGiven) = try SimDetectorOption.parse(&arguments)
+        if simDetectorGiven && scenariosDir == nil { throw CLIError.usage("--sim-detector only applies to --scenarios") }
         var pipeline = PipelineOptions()
         try EvidenceSwitches.apply(&arguments, to: &pipeline)
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
@@ -63,7 +68,8 @@ enum EvalCommand: Subcommand {
             do {
                 scores = try ScenarioRunner.scoreAll(directory: URL(fileURLWithPath: scenariosDir),
                                                      skeriDirectory: skeriDir.map { URL(fileURLWithPath: $0) },
-                                                     options: pipeline, adjustMap: adjustMap, progress: progress,
+                                                     options: pipeline, adjustMap: adjustMap,
+                                                     parameters: simulation, progress: progress,
                                                      inspect: { explainWalk($0, $1, $2, $3.truth) })
             } catch {
                 throw CLIError.failure("\(scenariosDir): \(error)")

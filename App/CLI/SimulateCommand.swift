@@ -12,7 +12,8 @@ enum SimulateCommand: Subcommand {
                               [--orientation portrait|landscape] [--rate HZ] [--detector-rate HZ]
                               [--images] [--image-rate HZ] [--floor-only-start | --known-start]
                               [--tracking-loss T] [--tracking-loss-duration S] [--vio-reset T] [--wrong-turn]
-                              [--north-offset DEG] [--tour-minutes M] [--scenario FILE] [--overwrite]
+                              [--north-offset DEG] [--tour-minutes M] [--sim-detector NAME] [--scenario FILE]
+                              [--overwrite]
 
     Simulates a person walking the shortest route from A to B (point-of-interest ids or names, or route-graph
     node ids as the committed scenarios use) with a phone held camera-forward, and writes the bundle (format v1: session.json, frames.jsonl, observations.jsonl,
@@ -32,12 +33,14 @@ enum SimulateCommand: Subcommand {
       --north-offset DEG   compass reading when facing map north (default: drawn from the seed)
       --tour-minutes M     a long tour: walk A to B and back, again and again, for at least M minutes
       --overwrite          replace an existing bundle at BUNDLE
+    \(SimDetectorOption.usage)
     Exit codes: 0 ok, 1 bad input (map, places, scenario), 2 usage.
     """
 
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
         var scenario: SimulationScenario
         let scenarioPath = try arguments.option("scenario")
+        let (simulation, _) = try SimDetectorOption.parse(&arguments)
         let mapOption = try arguments.option("map")
         let from = try arguments.option("from"), to = try arguments.option("to")
         let seed = try arguments.option("seed")
@@ -95,7 +98,7 @@ enum SimulateCommand: Subcommand {
         scenario.from = try resolvePlace(scenario.from, flag: "--from", in: building, mapSpec: scenario.map)
         scenario.to = try resolvePlace(scenario.to, flag: "--to", in: building, mapSpec: scenario.map)
         let walk: SimulatedWalk
-        do { walk = try WalkSimulator.simulate(building: building, scenario: scenario) } catch {
+        do { walk = try WalkSimulator.simulate(building: building, scenario: scenario, parameters: simulation) } catch {
             throw CLIError.failure("\(error)")
         }
         do { try walk.write(to: URL(fileURLWithPath: out), overwrite: overwrite) } catch {

@@ -121,7 +121,7 @@ struct SignObservationModel {
             let detected = u < pd
             visibleLog.append(VisibleSign(frameIndex: frameIndex, signId: sign.id, rangeMeters: r, detected: detected, blurred: blur < 1))
             guard detected else { continue }
-            let range = r * exp(p.rangeLogSigma * zr)
+            let range = r * (1 + p.rangeBias) * exp(p.rangeLogSigma * zr)
             let bearing = wrapAngle(b + radians(p.bearingSigmaDeg) * zb)
             let score = max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs))
             // Text recognition, only for identifying legends (so the streams of maps without any are unchanged).

@@ -108,5 +108,9 @@ final class CommandLineUsageTests: XCTestCase {
                               "-o", "/tmp/never"], names: "--carry")
         try assertUsageError(["render", bundle, "--map", map, "-o", "/tmp/never-written.html", "--at", "1,soon"],
                              names: "--at")
+        try assertUsageError(["eval", "--scenarios", "Tests/Scenarios", "--sim-detector", "perfect"], names: "--sim-detector")
+        try assertUsageError(["eval", bundle, "--map", map, "--sim-detector", "real-unet"], names: "--sim-detector")
+        try assertUsageError(["simulate", "--from", "room-101", "--to", "room-103", "--seed", "1", "--sim-detector", "x",
+                              "-o", "/tmp/never"], names: "--sim-detector")
     }
 }
