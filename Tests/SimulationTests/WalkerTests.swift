@@ -144,6 +144,12 @@ final class WalkerTests: XCTestCase {
         XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office, scenario: Fixtures.scenario(), parameters: p)) {
             XCTAssertTrue("\($0)".contains("maxTurnRateRadPerSecond"))
         }
+        for bias in [-1.0, .nan] {
+            var b = SimulationParameters(); b.detector.rangeBias = bias
+            XCTAssertThrowsError(try WalkSimulator.simulate(building: Fixtures.office, scenario: Fixtures.scenario(), parameters: b)) {
+                XCTAssertTrue("\($0)".contains("rangeBias"), "\($0)")
+            }
+        }
     }
 
     func testRouteThroughAWallIsRefused() throws {
