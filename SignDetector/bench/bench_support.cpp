@@ -145,7 +145,7 @@ void convertPixelFormat(PreparedFrame* p, wf_pixel_format format) {
 
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth, int minWindowHeight,
                                             double maxWindowFactor, double minElevationRad, bool fullSearch,
-                                            CascadeSearch search, FaceEdgeOptions faceEdges) {
+                                            CascadeSearch search, FaceEdgeOptions faceEdges, int searchMaxLongSidePx) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.kind = WF_DETECTOR_CASCADE;
@@ -158,6 +158,7 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     opts.cascade_full_search = fullSearch ? 1 : 0;
     opts.face_edge_refinement = faceEdges.refinement;
     opts.face_edge_transfer = faceEdges.transfer;
+    opts.cascade_search_max_long_side_px = searchMaxLongSidePx;
     if (search != CascadeSearch::Defaults) {
         opts.cascade_gate_min_margin_px = 24;
         opts.cascade_gate_component_window_fraction = -1;

@@ -91,11 +91,13 @@ enum class CascadeSearch {
 struct FaceEdgeOptions {
     int refinement = 0, transfer = 0;
 };
+/// `searchMaxLongSidePx`: wf_detector_options' cascade_search_max_long_side_px (0 = default: search at most VGA,
+/// measure on the frame; -1 = search the frame at its own size).
 std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWindowWidth = 0, int minWindowHeight = 0,
                                             double maxWindowFactor = 0, double minElevationRad = 0,
                                             bool fullSearch = false,
                                             CascadeSearch search = CascadeSearch::Defaults,
-                                            FaceEdgeOptions faceEdges = {});
+                                            FaceEdgeOptions faceEdges = {}, int searchMaxLongSidePx = 0);
 /// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
 /// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).
 /// `faceEdges` as for makeCascade (refinement -1 = the mask's own edges).

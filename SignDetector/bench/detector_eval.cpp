@@ -4,7 +4,8 @@
 //
 // DIR holds labels.jsonl and the images (SignDetector/training/render_signs.py --split test). Rows:
 //   cascade-vga  our cascade (models/exit_sign_cascade.xml), frames resized to 640 x 480
-//   cascade-hr   our cascade on 1920 x 1440 frames
+//   cascade-hr   our cascade given 1920 x 1440 frames (searched at VGA, measured on the frame: the phone's input)
+//   cascade-hr-native   the same frames searched at their own size (cascade_search_max_long_side_px = -1)
 //   cascade-vga-full, cascade-hr-full   the same without the colour gate (whole-frame search)
 //   unet         U-Net multi-scale (models/sign_unet.onnx) on 1920 x 1440 frames
 //   any row + "-rough": without face-edge refinement; + "-srgb": the refiner reads pixels as sRGB
@@ -135,6 +136,7 @@ void usage() {
                  "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3,\n"
                  "                        cascade-vga-v4,cascade-hr-v4] [--threads N]\n"
                  "  rows take a suffix: -rough = without face-edge refinement (the box's or mask's own edges),\n"
+                 "  -native (cascade rows) = search the frame at its own size, not shrunk to VGA,\n"
                  "               -srgb = the refiner reads pixels as sRGB-encoded (e.g. cascade-vga-rough, unet-srgb)\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
                  "  --limit N   use the first N frames (after --every)\n"
@@ -219,6 +221,12 @@ int main(int argc, char** argv) {
                 faceEdgeTitle = title;
             }
         }
+        // Suffix -native (cascade rows): search the frame at its own size, not shrunk to VGA.
+        bool native = false;
+        if (id.size() > 7 && id.compare(id.size() - 7, 7, "-native") == 0) {
+            id.resize(id.size() - 7);
+            native = true;
+        }
         if (id == "cascade-vga" || id == "cascade-hr" || id == "cascade-vga-full" || id == "cascade-hr-full" ||
             id == "cascade-vga-v3" || id == "cascade-hr-v3" || id == "cascade-vga-v4" || id == "cascade-hr-v4") {
             model = models + "/exit_sign_cascade.xml";
@@ -229,6 +237,7 @@ int main(int argc, char** argv) {
                        v4 = endsWith("-v4");
             r.size = vga ? cv::Size(640, 480) : cv::Size(1920, 1440);
             r.title = vga ? "Cascade box, VGA 640x480" : "Cascade box, HR 1920x1440";
+            r.title += native ? ", searched at its own size" : vga ? "" : ", searched at VGA";
             if (full) r.title += ", full search";
             if (v3) r.title += ", earliest gated search (24 px gate margins, every window in tiles, no placement prior, no crowded gate)";
             if (v4) r.title += ", earlier gate regions (24 px gate margins, every window in tiles)";
@@ -240,7 +249,7 @@ int main(int argc, char** argv) {
                                                                  full || v3 ? CascadeSearch::WideGateRegionsNoPrior
                                                                  : v4      ? CascadeSearch::WideGateRegions
                                                                            : CascadeSearch::Defaults,
-                                                                 faceEdges);
+                                                                 faceEdges, native ? -1 : 0);
         } else if (id == "unet") {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);

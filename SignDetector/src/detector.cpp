@@ -1,4 +1,5 @@
 #include "detector.hpp"
+#include "search_frame.hpp"
 
 #include "wf_range.h"
 
@@ -187,6 +188,13 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
         return WF_STATUS_INVALID_ARGUMENT;
     }
     r.wallKindsPerFrame = perFrame == 0 ? 1 : perFrame;
+    const int searchLongSide = opts.cascade_search_max_long_side_px;
+    if (searchLongSide < -1 || (searchLongSide > 0 && searchLongSide < 64)) {
+        *error = "cascade_search_max_long_side_px must be 0 (default: 640), -1 (the frame's own size) or at least 64, not " +
+                 std::to_string(searchLongSide);
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.cascadeSearchMaxLongSidePx = searchLongSide == 0 ? 640 : searchLongSide;
     *out = std::move(r);
     return WF_STATUS_OK;
 }
@@ -395,16 +403,25 @@ FrameResult Detector::detect(const wf_frame& frame) {
         return result;
     }
     try {
-        const cv::Mat gray = toGray(frame.image);
+        const Intrinsics k{frame.intrinsics.fx, frame.intrinsics.fy, frame.intrinsics.cx, frame.intrinsics.cy};
+        // The cascade searches a frame of at most cascadeSearchMaxLongSidePx (search_frame.hpp); the U-Net the
+        // frame itself. The brightness check reads the searched gray image.
+        const SearchFrame search(frame.image, k,
+                                 options_.kind == WF_DETECTOR_CASCADE ? options_.cascadeSearchMaxLongSidePx : 0);
+        const cv::Mat gray = toGray(search.image());
         const FrameCheck brightness = checkBrightness(gray);
         if (!brightness.ok()) {
             result.status = brightness.status;
             result.message = brightness.message;
             return result;
         }
-        const Intrinsics k{frame.intrinsics.fx, frame.intrinsics.fy, frame.intrinsics.cx, frame.intrinsics.cy};
-        const Unrolling unrolling =
-            Unrolling::forRoll(frame.roll_rad, k, gray.size(), options_.rollSnapToleranceRad);
+        const Unrolling unrolling = Unrolling::forRoll(frame.roll_rad, search.intrinsics(), gray.size(),
+                                                       options_.rollSnapToleranceRad);
+        // Where detections are measured and reported: the frame's own unrolled pixels.
+        const Unrolling frameUnrolling =
+            search.shrunk() ? Unrolling::forRoll(frame.roll_rad, k, cv::Size(frame.image.width, frame.image.height),
+                                                 options_.rollSnapToleranceRad)
+                            : unrolling;
         std::vector<Detection> detections;
         if (options_.kind == WF_DETECTOR_CASCADE) {
             const cv::Size unrolledSize = unrolling.unrolledSize();
@@ -415,7 +432,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
                                                           unrolledSize.height);
             }
             // Colour gate (colour_gate.hpp): only around strongly red/green regions when the frame has colour.
-            const GateDecision gate = gateFrame(frame.image, unrolling, lastRow, options_.cascade.colourGate);
+            const GateDecision gate = gateFrame(search.image(), unrolling, lastRow, options_.cascade.colourGate);
             // A quarter turn is a cheap pixel permutation of the whole frame; otherwise only the pixels the cascade
             // reads are warped: the searched rows, or the gate's regions.
             const bool permutation = unrolling.quarterTurns() >= 0;
@@ -437,8 +454,23 @@ FrameResult Detector::detect(const wf_frame& frame) {
                                                       &gatedKinds_);
             }
             if (!plainKinds_.empty()) detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &detections);
-            detections = refinedBoxes(std::move(detections), frame.image, unrolling);
-            if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
+            if (search.shrunk()) {
+                // Search at VGA, measure at full size (search_frame.hpp): each box refined on the searched image,
+                // its legend read there (the crops the phone's VGA frames gave), then moved to the frame's own
+                // pixels and refined again with a mask's narrow search (its edges are within a VGA pixel).
+                detections = refinedBoxes(std::move(detections), search.image(), unrolling);
+                if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
+                detections = mapToFrame(std::move(detections), search, unrolling, frameUnrolling);
+                const FaceEdgeParams fine = maskFaceEdgeParams(options_.faceEdges);
+                for (Detection& d : detections) {
+                    const FaceEdgeResult edges =
+                        refineFaceEdgesInFrame(frame.image, frameUnrolling, d.measurement, options_.cascade.slices, fine);
+                    if (edges.refined) d.measurement = edges.measurement;
+                }
+            } else {
+                detections = refinedBoxes(std::move(detections), frame.image, unrolling);
+                if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
+            }
         } else {
             detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet, frame.pitch_rad);
             if (!plainKinds_.empty()) {
@@ -453,7 +485,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
         }
         for (const auto& d : detections) {
             if (d.score >= options_.minScore && d.measurement.valid) {
-                result.observations.push_back(makeObservation(d, unrolling));
+                result.observations.push_back(makeObservation(d, frameUnrolling));
             }
         }
     } catch (const cv::Exception& e) {

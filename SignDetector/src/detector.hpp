@@ -50,6 +50,11 @@ struct ResolvedOptions {
     /// cascades were trained and measured on (the phone sends the cascade VGA; a 1920 x 1440 U-Net frame is
     /// shrunk 3 x for them, 9 x fewer windows). Boxes are mapped back to the frame's own pixels.
     int plainKindSearchMaxLongSidePx = 640;
+    /// The cascade detector searches the frame shrunk so that its long side is at most this, pixels (-1 = the
+    /// frame's own size), and measures what it finds on the frame itself (search_frame.hpp): the phone hands it
+    /// the full 1920 x 1440 frame, the windows cost what VGA costs, the face edges are located at full
+    /// resolution. wf_detector_options.cascade_search_max_long_side_px (0 = this default).
+    int cascadeSearchMaxLongSidePx = 640;
     /// How many of those kinds one frame searches, in rotation (-1 = all of them every frame):
     /// wf_detector_options.cascade_wall_kinds_per_frame.
     int wallKindsPerFrame = 1;
