@@ -9,19 +9,29 @@ enum SimDetectorOption {
       --sim-detector   the simulated detector's noise: standard (docs/simulator.md, the default), real-unet or
                        real-cascade (the U-Net's and the unrefined cascade's errors measured on real photos:
                        range bias +6.8 % and -25 %, their recall and false positives)
+      --sim-range-bias F  replaces that detector's systematic range error: measured = true x (1 + F), F > -1
+                       (-0.12 = reads 12 % short; a study of how much bias the localizer holds behind)
     """
 
-    /// Removes `--sim-detector` from `arguments` and returns the simulation parameters it names (the standard
-    /// ones when absent), and whether it was given. Throws a usage error for an unknown name.
+    /// Removes `--sim-detector` and `--sim-range-bias` from `arguments` and returns the simulation parameters
+    /// they name (the standard ones when absent), and whether either was given. Throws a usage error for an
+    /// unknown name or a bias that is not a finite number above -1.
     static func parse(_ arguments: inout ArgumentList) throws -> (parameters: SimulationParameters, given: Bool) {
         var parameters = SimulationParameters.standard
-        guard let name = try arguments.option("sim-detector") else { return (parameters, false) }
+        let name = try arguments.option("sim-detector")
         switch name {
-        case "standard": break
+        case nil, "standard": break
         case "real-unet": parameters.detector = .realPhotoUNet
         case "real-cascade": parameters.detector = .realPhotoCascade
-        default: throw CLIError.usage("--sim-detector must be standard, real-unet or real-cascade, got '\(name)'")
+        default: throw CLIError.usage("--sim-detector must be standard, real-unet or real-cascade, got '\(name ?? "")'")
         }
-        return (parameters, true)
+        let bias = try arguments.option("sim-range-bias")
+        if let bias {
+            guard let value = Double(bias), value.isFinite, value > -1 else {
+                throw CLIError.usage("--sim-range-bias must be a number above -1 (a relative range error), got '\(bias)'")
+            }
+            parameters.detector.rangeBias = value
+        }
+        return (parameters, name != nil || bias != nil)
     }
 }

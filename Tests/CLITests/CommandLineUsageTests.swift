@@ -112,5 +112,9 @@ final class CommandLineUsageTests: XCTestCase {
         try assertUsageError(["eval", bundle, "--map", map, "--sim-detector", "real-unet"], names: "--sim-detector")
         try assertUsageError(["simulate", "--from", "room-101", "--to", "room-103", "--seed", "1", "--sim-detector", "x",
                               "-o", "/tmp/never"], names: "--sim-detector")
+        for bias in ["-1", "nan", "short"] {
+            try assertUsageError(["eval", "--scenarios", "Tests/Scenarios", "--sim-range-bias", bias], names: "--sim-range-bias")
+        }
+        try assertUsageError(["eval", bundle, "--map", map, "--sim-range-bias", "-0.1"], names: "--sim-detector")
     }
 }
