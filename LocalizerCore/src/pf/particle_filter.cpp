@@ -227,6 +227,8 @@ void ParticleFilter::init_particle(size_t i, float x, float y, int16_t floor, fl
     p_.weight[i] = weight;
     p_.evidence[i] = 0;
     p_.compass_ll[i] = 0;
+    p_.bias_s1[i] = 0;
+    p_.bias_s0[i] = 0;
 }
 
 int ParticleFilter::init_floor_only(int32_t floor) {
@@ -387,7 +389,7 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         const size_t n = p_.size();
         log_likelihood_.resize(n);
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
-                                                 log_likelihood_.data());
+                                                 log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data());
         if (!z.empty()) {
             accumulate_evidence(log_likelihood_.data(), max_ll, t);
             last_sighting_t_ = t;
@@ -695,6 +697,8 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
         gather(p_.floor, scratch_.floor);
         gather(p_.evidence, scratch_.evidence);
         gather(p_.compass_ll, scratch_.compass_ll);
+        gather(p_.bias_s1, scratch_.bias_s1);
+        gather(p_.bias_s0, scratch_.bias_s0);
         std::copy(resample_w_.begin(), resample_w_.begin() + static_cast<std::ptrdiff_t>(kept), scratch_.weight.begin());
     }
     const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
@@ -717,6 +721,8 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
         scratch_.weight[k] = inject_w;
         scratch_.evidence[k] = worst_evidence;
         scratch_.compass_ll[k] = 0;
+        scratch_.bias_s1[k] = 0;  // a fresh guess has no sightings behind it
+        scratch_.bias_s0[k] = 0;
     }
     p_.swap(scratch_);
     // The kept particles are unchanged copies of clustered ones: the estimate's clustering, when nothing
@@ -895,13 +901,15 @@ constexpr NamedParameter kParameters[] = {
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
+    {"sign.range_bias_sigma", 0, 1},
 };
 
 }  // namespace
 
 const char *ParticleFilter::parameter_names() {
     return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,compass.max_total_nats,"
-           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,lock.core_radius_m,sign.negative_info_min_range_m";
+           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,lock.core_radius_m,sign.negative_info_min_range_m,"
+           "sign.range_bias_sigma";
 }
 
 int ParticleFilter::set_parameter(const std::string &name, double value) {
@@ -929,6 +937,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.jump_m") h.lock_jump_m = value;
     else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
+    else if (name == "sign.range_bias_sigma") sign_model_.range_bias_sigma = static_cast<float>(value);
     return WF_LOC_OK;
 }
 
@@ -946,6 +955,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;
+    else if (name == "sign.range_bias_sigma") value = sign_model_.range_bias_sigma;
     else return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
     return WF_LOC_OK;
 }

@@ -84,6 +84,8 @@ void ParticleFilter::draw_corroboration_rivals(double fraction) {
         p_.weight[i] = rival_w;
         p_.evidence[i] = best_evidence;
         p_.compass_ll[i] = 0;
+        p_.bias_s1[i] = 0;
+        p_.bias_s0[i] = 0;
         ++drawn;
     }
     double sum = 0;

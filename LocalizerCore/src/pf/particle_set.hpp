@@ -8,6 +8,9 @@
 //   weight[i]        importance weight (normalised to sum 1 after every update);
 //   evidence[i]      recent sign log-likelihood of the particle's history, exponentially forgotten (nats,
 //                    relative): used to tell a refuted hypothesis from one that is merely lighter;
+//   bias_s1[i], bias_s0[i]  sufficient statistics of the detector's range bias along this particle's history:
+//                    sums of w e and w over its matched sightings, e = log(measured / predicted range), w its
+//                    precision (sensors/sign_measurement_model, "Range bias");
 //   compass_ll[i]    compass log-weight this particle's history has received so far (nats, <= 0), so that the
 //                    total compass evidence against a hypothesis stays within a cap (sensors/compass_model).
 #pragma once
@@ -19,23 +22,27 @@
 namespace wf::loc {
 
 struct ParticleSet {
-    std::vector<float> x, y, yaw_offset, scale, weight, evidence, compass_ll;
+    std::vector<float> x, y, yaw_offset, scale, weight, evidence, compass_ll, bias_s1, bias_s0;
     std::vector<int16_t> floor;
 
     size_t size() const { return x.size(); }
     void resize(size_t n) {
         x.resize(n); y.resize(n); yaw_offset.resize(n); scale.resize(n); weight.resize(n); evidence.resize(n);
         compass_ll.resize(n);
+        bias_s1.resize(n);
+        bias_s0.resize(n);
         floor.resize(n);
     }
     void swap(ParticleSet &o) {
         x.swap(o.x); y.swap(o.y); yaw_offset.swap(o.yaw_offset); scale.swap(o.scale); weight.swap(o.weight);
         evidence.swap(o.evidence);
         compass_ll.swap(o.compass_ll);
+        bias_s1.swap(o.bias_s1);
+        bias_s0.swap(o.bias_s0);
         floor.swap(o.floor);
     }
     /// Bytes of state per particle (one copy).
-    static constexpr size_t kBytesPerParticle = 7 * sizeof(float) + sizeof(int16_t);
+    static constexpr size_t kBytesPerParticle = 9 * sizeof(float) + sizeof(int16_t);
 };
 
 }  // namespace wf::loc

@@ -47,7 +47,8 @@ constexpr int kMaxCandidates = 64;
 }
 
 WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
-                          const PreparedSighting *sightings, size_t count, float *log_likelihood) {
+                          const PreparedSighting *sightings, size_t count, float *log_likelihood,
+                          float *bias_s1_out, float *bias_s0_out) {
     const size_t n = p.size();
     if (count == 0 && !m.negative_information) {
         std::fill(log_likelihood, log_likelihood + n, 0.0f);
@@ -78,6 +79,10 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
     const float max_r2_margin = (max_r * 1.001f) * (max_r * 1.001f) + 1e-4f;
     const float tan_half_fov_margin = half_fov < 1.5f ? std::tan(half_fov) * 1.001f + 1e-4f : INFINITY;
 
+    // Range bias (see the header): prior precision, and whether the statistics are read and written.
+    const bool bias_on = m.range_bias_sigma > 0 && p.bias_s1.size() == n && p.bias_s0.size() == n;
+    const bool bias_update = bias_on && bias_s1_out != nullptr && bias_s0_out != nullptr;
+    const float bias_prior_precision = bias_on ? 1.0f / (m.range_bias_sigma * m.range_bias_sigma) : 0.0f;
     float cand_r[kMaxCandidates], cand_b[kMaxCandidates];
     int32_t cand_kind[kMaxCandidates];
     float max_ll = -INFINITY;
@@ -208,36 +213,77 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
                     }
                 }
             }
+            // The particle's range-bias posterior: predicted ranges times bias_factor, variance grown by bias_var
+            // (relative, per squared meter of range). Without the bias term: factor 1, no growth.
+            float bias_factor = 1.0f, bias_var = 0.0f, s1 = 0.0f, s0 = 0.0f;
+            if (bias_on) {
+                s1 = p.bias_s1[i];
+                s0 = p.bias_s0[i];
+                const float precision = bias_prior_precision + s0;
+                bias_factor = std::exp(s1 / precision);
+                bias_var = 1.0f / precision;
+            }
             float ll = 0.0f;
             for (size_t o = 0; o < count; ++o) {
                 const PreparedSighting &z = sightings[o];
-                float mix = 0.0f;
-                int nvis = 0;
+                float mix = 0.0f, best_term = 0.0f;
+                int nvis = 0, best = -1;
                 for (int k = 0; k < nc; ++k) {
                     if (cand_kind[k] != z.kind) continue;
                     ++nvis;
-                    const float sr = ra + rb * cand_r[k];
-                    const float er = (z.range_m - cand_r[k]) / sr;
-                    const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
-                    mix += std::exp(-0.5f * (er * er + eb * eb)) / sr;
+                    float term;
+                    if (bias_on) {
+                        const float rp = cand_r[k] * bias_factor;
+                        const float sr0 = ra + rb * rp;
+                        const float sr = std::sqrt(sr0 * sr0 + rp * rp * bias_var);
+                        const float er = (z.range_m - rp) / sr;
+                        const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
+                        term = std::exp(-0.5f * (er * er + eb * eb)) / sr;
+                    } else {
+                        const float sr = ra + rb * cand_r[k];
+                        const float er = (z.range_m - cand_r[k]) / sr;
+                        const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
+                        term = std::exp(-0.5f * (er * er + eb * eb)) / sr;
+                    }
+                    mix += term;
+                    if (term > best_term) {
+                        best_term = term;
+                        best = k;
+                    }
                 }
                 if (nvis == 0) {
                     ll += log_clutter_only[o];
                     continue;
                 }
-                float like = z.clutter_probability * u_clutter;
-                like += (1.0f - z.clutter_probability) * mix * norm_b / static_cast<float>(nvis);
-                ll += std::log(like);
+                const float clutter_like = z.clutter_probability * u_clutter;
+                const float scale_sign = (1.0f - z.clutter_probability) * norm_b / static_cast<float>(nvis);
+                ll += std::log(clutter_like + scale_sign * mix);
+                // The best candidate explains the sighting better than clutter does: its log range ratio joins
+                // the statistics, with the precision of the range model at that distance.
+                if (bias_update && best >= 0 && scale_sign * best_term > clutter_like && z.range_m > 0) {
+                    const float r = cand_r[best];
+                    const float rel_sigma = (ra + rb * r) / std::max(r, 1e-3f);
+                    const float w = 1.0f / (rel_sigma * rel_sigma);
+                    s1 += w * std::log(z.range_m / std::max(r, 1e-3f));
+                    s0 += w;
+                }
+            }
+            if (bias_update) {
+                // Above the cap the statistics shrink together (the mean kept): old sightings weigh less.
+                const float keep = s0 > m.range_bias_max_precision ? m.range_bias_max_precision / s0 : 1.0f;
+                bias_s1_out[i] = s1 * keep;
+                bias_s0_out[i] = s0 * keep;
             }
             if (m.negative_information) {
                 for (int k = 0; k < nc; ++k) {
                     if (cand_r[k] > neg_r || cand_r[k] < neg_r_min || std::fabs(cand_b[k]) > neg_b) continue;
-                    const float sr3 = 3.0f * (ra + rb * cand_r[k]);
+                    const float rp = cand_r[k] * bias_factor;
+                    const float sr3 = 3.0f * (ra + rb * rp);
                     const float sb3 = 3.0f * m.bearing_sigma_rad;
                     bool matched = false;
                     for (size_t o = 0; o < count && !matched; ++o) {
                         const PreparedSighting &z = sightings[o];
-                        matched = z.kind == cand_kind[k] && std::fabs(z.range_m - cand_r[k]) < sr3 &&
+                        matched = z.kind == cand_kind[k] && std::fabs(z.range_m - rp) < sr3 &&
                                   std::fabs(wrap_angle_f(z.bearing_rad - cand_b[k])) < sb3;
                     }
                     if (!matched) ll += log_miss;

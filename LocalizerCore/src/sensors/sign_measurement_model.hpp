@@ -10,6 +10,18 @@
 // s_r(r) = range_sigma_base_m + range_sigma_per_meter * r; u = 1 / (max_range * fov) is the density of a
 // false positive spread uniformly over the sensor's range x bearing space; p_clutter grows as the detector
 // score drops. Sightings of one frame are independent (product of likelihoods).
+// Range bias (Rao-Blackwellised static parameter; Storvik 2002, Carvalho et al. 2010 "particle learning"): a
+// detector reads every range off by a common factor exp(b) (the cascade's box reads faces tall, a U-Net's mask
+// reads them short or long, by up to 25 % on real photos), and a hypothesis that the walls also fit can match
+// the biased ranges better than the truth, which then pays on every sighting (docs/benchmarks.md, sixth and
+// seventh stops). b is unknown but the same for every sighting, so each particle keeps the sufficient statistics
+// of its own history (bias_s1 = sum w e, bias_s0 = sum w over its matched sightings, e = log(measured /
+// distance), w = (distance / s_r(distance))^2 its precision in log units); with the prior b ~ N(0, sigma_b^2) the
+// posterior is N(m, 1 / P), P = 1 / sigma_b^2 + bias_s0, m = bias_s1 / P, and the range is predicted as
+// r_j = distance * exp(m) with s_r grown to sqrt(s_r(r_j)^2 + r_j^2 / P). A sighting updates the statistics with
+// the candidate that explains it best, when that candidate outweighs the clutter term. Being a function of the
+// particle's history, the estimate cannot degenerate under resampling as a sampled static state does (tried in
+// the seventh stop: tracking 0.20 -> 0.65-1.18 m). sigma_b = 0 is the model without the bias term, exactly.
 // Negative information (optional): each sign predicted plainly visible (close but not overhead, near the image
 // centre) that no sighting of its kind matches within 3 sigma multiplies the weight by negative_info_miss_weight.
 #pragma once
@@ -40,6 +52,12 @@ struct SignModelParams {
     float negative_info_min_range_m = 2.5f;
     float negative_info_fov_fraction = 0.6f;
     float negative_info_miss_weight = 0.8f;
+    /// Prior std of the detector's log range bias b (see "Range bias" above), log units; 0 = no bias term.
+    /// Internal parameter `sign.range_bias_sigma`. 0.07: a 10 % bias is 1.5 sigma, 25 % is 4 sigma.
+    float range_bias_sigma = 0.07f;
+    /// Cap on bias_s0 (log-unit precision): the posterior std of b stays >= 1 / sqrt(cap) (0.03), so a bias that
+    /// changes with the scene (lighting, another kind of sign) can still be followed.
+    float range_bias_max_precision = 1000.0f;
 
     static SignModelParams from_options(const wf_localizer_options &o);
 };
@@ -60,8 +78,11 @@ std::vector<PreparedSighting> prepare_sightings(const wf_sign_observation *obs, 
 
 /// Log-likelihood of the frame's sightings for every particle (heading = vio_yaw + yaw_offset), written to
 /// `log_likelihood` (size p.size()). Returns the maximum. With no sighting and negative information off,
-/// every value is 0.
+/// every value is 0. With `bias_s1_out` and `bias_s0_out` (p.bias_s1.data() and p.bias_s0.data(): updated in
+/// place, only for particles that see a sign of a sighted kind) the range-bias statistics take this frame's
+/// sightings (range_bias_sigma > 0); nullptr = read only.
 float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
-                          const PreparedSighting *sightings, size_t count, float *log_likelihood);
+                          const PreparedSighting *sightings, size_t count, float *log_likelihood,
+                          float *bias_s1_out = nullptr, float *bias_s0_out = nullptr);
 
 }  // namespace wf::loc

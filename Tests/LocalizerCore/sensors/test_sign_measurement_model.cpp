@@ -144,7 +144,8 @@ TEST(SignMeasurementModel, MixtureOverVisibleSigns) {
     w.floors.push_back(f);
     const auto o = wf::test::default_options();
     const auto map = wf::test::build_map(w, o);
-    const SignModelParams m = no_negative(SignModelParams::from_options(o));
+    SignModelParams m = no_negative(SignModelParams::from_options(o));
+    m.range_bias_sigma = 0;  // the mixture alone (the bias term: RangeBias* below)
     const float h = static_cast<float>(wf::test::kPi / 2) - 0.25f;  // both in view
     const std::vector<PreparedSighting> z = {{wf::test::kExit, 10.0f, 0.25f, 0.1f}};  // sign 0 exactly
     const float ll = ll_at(map, m, 10, 10, h, z);
@@ -158,4 +159,91 @@ TEST(SignMeasurementModel, MixtureOverVisibleSigns) {
     const float g1 = std::exp(-0.5f * (e1 * e1 + eb1 * eb1)) / (2 * static_cast<float>(wf::test::kPi) * sr1 * sb);
     const float expected = 0.1f / (12 * static_cast<float>(o.horizontal_fov_rad)) + 0.9f * 0.5f * (g0 + g1);
     EXPECT_NEAR(ll, std::log(expected), 1e-3f);
+}
+
+namespace {
+
+/// One exit 10 m north of a particle at (10, 10) facing it (a 20 m box): the range-bias tests' world.
+struct OneSignAhead {
+    LocalizerMap map;
+    SignModelParams m;
+    float heading = static_cast<float>(wf::test::kPi / 2);
+};
+
+OneSignAhead one_sign_ahead() {
+    wf::test::World w;
+    wf::test::FloorSpec f;
+    f.box(0, 0, 20, 20).seed(10, 10);
+    f.sign(wf::test::kExit, 10, 20, 0, -1);
+    w.floors.push_back(f);
+    const auto o = wf::test::default_options();
+    OneSignAhead s{wf::test::build_map(w, o), no_negative(SignModelParams::from_options(o))};
+    return s;
+}
+
+/// Log-likelihood of a sighting at `range_m` (bearing 0) for the particle of `world` holding range-bias
+/// statistics (s1, s0); the statistics after the sighting are written to *after (s1, s0).
+float ll_with_bias(const OneSignAhead &world, float s1, float s0, float range_m, float *after = nullptr) {
+    ParticleSet p = one_particle(10, 10, world.heading);
+    p.bias_s1[0] = s1;
+    p.bias_s0[0] = s0;
+    const std::vector<PreparedSighting> z = {{wf::test::kExit, range_m, 0.0f, 0.1f}};
+    float ll;
+    sign_log_likelihood(p, 0.0f, world.map, world.m, z.data(), z.size(), &ll, p.bias_s1.data(), p.bias_s0.data());
+    if (after) {
+        after[0] = p.bias_s1[0];
+        after[1] = p.bias_s0[0];
+    }
+    return ll;
+}
+
+}  // namespace
+
+// Without history the predicted range is the distance, its std grown by the prior: sqrt(s_r^2 + r^2 sigma_b^2).
+TEST(SignMeasurementModel, RangeBiasPriorWidensThePrediction) {
+    const OneSignAhead w = one_sign_ahead();
+    const float r = 10, sb = w.m.bearing_sigma_rad, sigma_b = w.m.range_bias_sigma;
+    ASSERT_GT(sigma_b, 0.0f);
+    const float sr0 = w.m.range_sigma_base_m + w.m.range_sigma_per_meter * r;
+    const float sr = std::sqrt(sr0 * sr0 + r * r * sigma_b * sigma_b);
+    const float u = 1 / (w.m.max_range_m * 2 * w.m.half_fov_rad);
+    for (const float z : {10.0f, 8.5f}) {
+        const float e = (z - r) / sr;
+        const float expected = 0.1f * u + 0.9f * std::exp(-0.5f * e * e) / (2 * static_cast<float>(wf::test::kPi) * sr * sb);
+        EXPECT_NEAR(ll_with_bias(w, 0, 0, z), std::log(expected), 1e-4f) << z;
+    }
+}
+
+// A history that established b = log(0.8) (a detector reading 20 % short) predicts 8 m for a sign 10 m away:
+// a sighting at 8 m now scores higher than one at the true distance; with no history the order is reversed.
+TEST(SignMeasurementModel, RangeBiasHistoryMovesThePrediction) {
+    const OneSignAhead w = one_sign_ahead();
+    const float s0 = 900, s1 = s0 * std::log(0.8f);  // posterior mean log(0.8) * 900 / (900 + 1 / sigma_b^2)
+    EXPECT_GT(ll_with_bias(w, s1, s0, 8.0f), ll_with_bias(w, s1, s0, 10.0f));
+    EXPECT_LT(ll_with_bias(w, 0, 0, 8.0f), ll_with_bias(w, 0, 0, 10.0f));
+}
+
+// A sighting the sign explains adds its log range ratio with the model's precision at that distance; clutter
+// (a sighting no sign explains) adds nothing; above the precision cap both sums shrink together.
+TEST(SignMeasurementModel, RangeBiasStatisticsUpdate) {
+    const OneSignAhead w = one_sign_ahead();
+    const float r = 10, rel = (w.m.range_sigma_base_m + w.m.range_sigma_per_meter * r) / r;
+    float after[2];
+    ll_with_bias(w, 0.5f, 20, 9.0f, after);
+    EXPECT_NEAR(after[1], 20 + 1 / (rel * rel), 1e-3f);
+    EXPECT_NEAR(after[0], 0.5f + std::log(0.9f) / (rel * rel), 1e-4f);
+    ll_with_bias(w, 0.5f, 20, 3.0f, after);  // 7 m short: clutter
+    EXPECT_EQ(after[0], 0.5f);
+    EXPECT_EQ(after[1], 20.0f);
+    const float cap = w.m.range_bias_max_precision;
+    ll_with_bias(w, -0.1f * cap, cap, 9.0f, after);
+    EXPECT_NEAR(after[1], cap, 1e-2f);
+    EXPECT_LT(after[0] / after[1], -0.1f + 1e-6f);  // the mean moved towards log(0.9) = -0.105
+    EXPECT_GT(after[0] / after[1], -0.11f);
+    // sigma_b = 0: the model without the term reads and writes nothing.
+    OneSignAhead off = one_sign_ahead();
+    off.m.range_bias_sigma = 0;
+    ll_with_bias(off, 0.5f, 20, 9.0f, after);
+    EXPECT_EQ(after[0], 0.5f);
+    EXPECT_EQ(after[1], 20.0f);
 }

@@ -22,7 +22,12 @@ using namespace wf::loc;
 namespace {
 
 float plain_sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map,
-                                const SignModelParams &m, const std::vector<PreparedSighting> &z, float *out) {
+                                const SignModelParams &m, const std::vector<PreparedSighting> &z, float *out,
+                                std::vector<float> *s1_out, std::vector<float> *s0_out) {
+    const bool bias_on = m.range_bias_sigma > 0;
+    const float prior_precision = bias_on ? 1.0f / (m.range_bias_sigma * m.range_bias_sigma) : 0.0f;
+    *s1_out = p.bias_s1;
+    *s0_out = p.bias_s0;
     constexpr int kMaxCandidates = 64;
     const float half_fov = m.half_fov_rad, max_r = m.max_range_m;
     const float inv_sb = 1.0f / m.bearing_sigma_rad;
@@ -57,21 +62,42 @@ float plain_sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const L
             cand_kind[nc] = fd.signs.kind[j];
             ++nc;
         }
+        // Range bias: the particle's posterior N(s1 / P, 1 / P), P = 1 / sigma_b^2 + s0.
+        float factor = 1.0f, var = 0.0f, s1 = p.bias_s1[i], s0 = p.bias_s0[i];
+        if (bias_on) {
+            factor = std::exp(s1 / (prior_precision + s0));
+            var = 1.0f / (prior_precision + s0);
+        }
         float ll = 0.0f;
         for (const PreparedSighting &o : z) {
-            float mix = 0.0f;
-            int nvis = 0;
+            float mix = 0.0f, best_term = 0.0f;
+            int nvis = 0, best = -1;
             for (int k = 0; k < nc; ++k) {
                 if (cand_kind[k] != o.kind) continue;
                 ++nvis;
-                const float sr = ra + rb * cand_r[k];
-                const float er = (o.range_m - cand_r[k]) / sr;
+                const float rp = bias_on ? cand_r[k] * factor : cand_r[k];
+                const float sr0 = ra + rb * rp;
+                const float sr = bias_on ? std::sqrt(sr0 * sr0 + rp * rp * var) : sr0;
+                const float er = (o.range_m - rp) / sr;
                 const float eb = wrap_angle_f(o.bearing_rad - cand_b[k]) * inv_sb;
-                mix += std::exp(-0.5f * (er * er + eb * eb)) / sr;
+                const float term = std::exp(-0.5f * (er * er + eb * eb)) / sr;
+                mix += term;
+                if (term > best_term) { best_term = term; best = k; }
             }
-            float like = o.clutter_probability * u_clutter;
-            if (nvis > 0) like += (1.0f - o.clutter_probability) * mix * norm_b / static_cast<float>(nvis);
-            ll += std::log(like);
+            const float clutter = o.clutter_probability * u_clutter;
+            const float per_sign = (1.0f - o.clutter_probability) * norm_b / static_cast<float>(std::max(1, nvis));
+            ll += nvis > 0 ? std::log(clutter + per_sign * mix) : std::log(clutter);
+            if (bias_on && best >= 0 && per_sign * best_term > clutter) {
+                const float rel = (ra + rb * cand_r[best]) / cand_r[best];
+                const float w = 1.0f / (rel * rel);
+                s1 += w * std::log(o.range_m / cand_r[best]);
+                s0 += w;
+            }
+        }
+        if (bias_on) {
+            const float keep = s0 > m.range_bias_max_precision ? m.range_bias_max_precision / s0 : 1.0f;
+            (*s1_out)[i] = s1 * keep;
+            (*s0_out)[i] = s0 * keep;
         }
         if (m.negative_information) {
             for (int k = 0; k < nc; ++k) {
@@ -79,11 +105,12 @@ float plain_sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const L
                 if (cand_r[k] > m.negative_info_max_range_m || cand_r[k] < m.negative_info_min_range_m ||
                     std::fabs(cand_b[k]) > neg_b)
                     continue;
-                const float sr3 = 3.0f * (ra + rb * cand_r[k]);
+                const float rp = bias_on ? cand_r[k] * factor : cand_r[k];
+                const float sr3 = 3.0f * (ra + rb * rp);
                 const float sb3 = 3.0f * m.bearing_sigma_rad;
                 bool matched = false;
                 for (size_t o = 0; o < z.size() && !matched; ++o) {
-                    matched = z[o].kind == cand_kind[k] && std::fabs(z[o].range_m - cand_r[k]) < sr3 &&
+                    matched = z[o].kind == cand_kind[k] && std::fabs(z[o].range_m - rp) < sr3 &&
                               std::fabs(wrap_angle_f(z[o].bearing_rad - cand_b[k])) < sb3;
                 }
                 if (!matched) ll += log_miss;
@@ -133,7 +160,13 @@ ParticleSet spread(const LocalizerMap &map, size_t n, uint64_t seed) {
 void run_against_plain_loop(int extra_signs, int floors) {
     auto world = signed_office(extra_signs, floors);
     const auto map = wf::test::build_map(world, wf::test::default_options());
-    const ParticleSet p = spread(map, 20011, 9);
+    ParticleSet p = spread(map, 20011, 9);
+    // Range-bias statistics of every kind: none yet, a few sightings, a long history (up to the cap the filter
+    // keeps), biased both ways.
+    for (size_t i = 0; i < p.size(); ++i) {
+        p.bias_s0[i] = static_cast<float>((i * 37) % 1001);
+        p.bias_s1[i] = p.bias_s0[i] * (0.004f * static_cast<float>(static_cast<int>(i % 101) - 50));
+    }
     using wf::test::kExit;
     using wf::test::kRestroom;
     const std::vector<std::vector<PreparedSighting>> frames = {
@@ -142,18 +175,28 @@ void run_against_plain_loop(int extra_signs, int floors) {
         {{kExit, 6.0f, 0.1f, 0.1f}, {kRestroom, 3.5f, -0.2f, 0.4f}},
         {{kRestroom, 9.5f, 0.3f, 0.1f}, {kExit, 2.0f, -0.35f, 0.1f}, {kExit, 4.0f, 0.0f, 0.9f}},
     };
-    for (int negative = 0; negative < 2; ++negative) {
+    for (int variant = 0; variant < 4; ++variant) {
+        const int negative = variant % 2;
         SignModelParams m = SignModelParams::from_options(wf::test::default_options());
         m.negative_information = negative != 0;
+        if (variant >= 2) m.range_bias_sigma = 0;  // the model without the bias term
         for (size_t k = 0; k < frames.size(); ++k) {
-            std::vector<float> fast(p.size()), plain(p.size());
+            std::vector<float> fast(p.size()), plain(p.size()), s1_plain, s0_plain;
             const float yaw = 0.3f + 0.7f * static_cast<float>(k);
-            const float max_fast = sign_log_likelihood(p, yaw, map, m, frames[k].data(), frames[k].size(), fast.data());
-            const float max_plain = plain_sign_log_likelihood(p, yaw, map, m, frames[k], plain.data());
+            ParticleSet q = p;  // updated in place
+            const float max_fast = sign_log_likelihood(q, yaw, map, m, frames[k].data(), frames[k].size(), fast.data(),
+                                                       q.bias_s1.data(), q.bias_s0.data());
+            const float max_plain = plain_sign_log_likelihood(p, yaw, map, m, frames[k], plain.data(), &s1_plain, &s0_plain);
+            EXPECT_EQ(std::memcmp(q.bias_s1.data(), s1_plain.data(), p.size() * sizeof(float)), 0) << "frame " << k;
+            EXPECT_EQ(std::memcmp(q.bias_s0.data(), s0_plain.data(), p.size() * sizeof(float)), 0) << "frame " << k;
+            size_t updated = 0;
+            for (size_t i = 0; i < p.size(); ++i) updated += q.bias_s0[i] != p.bias_s0[i];
+            if (variant >= 2 || frames[k].empty()) EXPECT_EQ(updated, 0u) << "frame " << k;
+            else EXPECT_GT(updated, 0u) << "frame " << k << ": some particle explains a sighting";
             EXPECT_EQ(std::memcmp(&max_fast, &max_plain, sizeof(float)), 0)
-                << "frame " << k << " negative " << negative;
+                << "frame " << k << " variant " << variant;
             EXPECT_EQ(std::memcmp(fast.data(), plain.data(), fast.size() * sizeof(float)), 0)
-                << "frame " << k << " negative " << negative;
+                << "frame " << k << " variant " << variant;
             size_t informative = 0;
             for (float v : plain) informative += v != plain[0];
             if (!frames[k].empty()) EXPECT_GT(informative, p.size() / 50) << "the frame should tell particles apart";

@@ -176,6 +176,8 @@ struct WalkParams {
     double max_range_m = 10;
     double detect_prob = 0.9;
     double range_sigma_frac = 0.08;
+    /// Systematic relative range error of the detector: measured = true * (1 + bias) * (1 + noise).
+    double range_bias_frac = 0.0;
     double bearing_sigma_rad = 2 * kPi / 180;
     double false_positive_prob = 0.0;
     double vio_step_noise = 0.01;
@@ -228,7 +230,7 @@ inline std::vector<WalkFrame> make_walk(const FloorSpec &floor, const std::vecto
             const double tx = s.x + side * 0.05 * s.facing_x, ty = s.y + side * 0.05 * s.facing_y;
             if (brute_crosses(floor.walls, x, y, x + 0.99 * (tx - x), y + 0.99 * (ty - y))) continue;
             if (u01(gen) > wp.detect_prob) continue;
-            fr.sightings.push_back({s.kind, r * (1 + wp.range_sigma_frac * n01(gen)),
+            fr.sightings.push_back({s.kind, r * (1 + wp.range_bias_frac) * (1 + wp.range_sigma_frac * n01(gen)),
                                     wrap(b + wp.bearing_sigma_rad * n01(gen)), 0.95});
         }
         if (u01(gen) < wp.false_positive_prob) {
