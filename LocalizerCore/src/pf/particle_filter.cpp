@@ -913,6 +913,9 @@ void ParticleFilter::compute_estimate() {
     // lighter ones count by weight only): the others are not summarised (half the threshold, so that a
     // cluster whose particle sum reaches it is summarised whatever the summation order).
     cp.summary_min_weight = 0.5 * opts_.rival_min_weight;
+    // Right after a resampling with nothing moved since (the usual order in a frame: signs, planes, then this
+    // read), the clusters are those the resampling grouped by, weighed and summarised with the current weights.
+    cp.reuse_carried_partition = true;
     const std::vector<ClusterSummary> &clusters = clusterer_.run(p_, static_cast<float>(vio_yaw_), cp);
     if (clusters.empty()) {
         estimate_ = e;
