@@ -315,6 +315,63 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
     return clusters_;
 }
 
+WF_SIMD_CLONES void ParticleClusterer::add_moments(const ParticleSet &p, size_t begin, size_t end, MomentSums &out) {
+    const size_t n = p.size();
+    const bool has_evidence = p.evidence.size() == n;
+    const bool has_compass = p.compass_ll.size() == n;
+    // Lane sums (element i in lane (i - begin) % kLanes) so that the loop vectorises; the sines and cosines
+    // of a block first (vectorised). Headings are the offsets turned by the common VIO yaw: their resultant is
+    // the offsets' resultant rotated by it (summarise), so one sincos per particle serves both means.
+    constexpr size_t kLanes = 4, kBlock = 256;
+    double w[kLanes] = {}, wx[kLanes] = {}, wy[kLanes] = {}, wxx[kLanes] = {}, wxy[kLanes] = {}, wyy[kLanes] = {},
+           oc[kLanes] = {}, os[kLanes] = {}, sc[kLanes] = {}, ev[kLanes] = {};
+    alignas(64) float sn[kBlock], cs[kBlock], e[kBlock];
+    for (size_t b = begin; b < end; b += kBlock) {
+        const size_t nb = std::min(kBlock, end - b);
+        const float *yo = p.yaw_offset.data() + b;
+        for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
+        // Evidence plus compass log-weight, in double as before the sum (either may be absent).
+        for (size_t k = 0; k < nb; ++k) e[k] = 0.0f;
+        if (has_evidence) {
+            for (size_t k = 0; k < nb; ++k) e[k] = p.evidence[b + k];
+        }
+        if (has_compass) {
+            for (size_t k = 0; k < nb; ++k) e[k] += p.compass_ll[b + k];
+        }
+        const float *pw = p.weight.data() + b, *px = p.x.data() + b, *py = p.y.data() + b, *ps = p.scale.data() + b;
+        auto add = [&](size_t k, size_t l) {
+            const double wk = pw[k], x = px[k], y = py[k];
+            const double wxk = wk * x, wyk = wk * y;
+            w[l] += wk;
+            wx[l] += wxk;
+            wy[l] += wyk;
+            wxx[l] += wxk * x;
+            wxy[l] += wxk * y;
+            wyy[l] += wyk * y;
+            oc[l] += wk * cs[k];
+            os[l] += wk * sn[k];
+            sc[l] += wk * ps[k];
+            ev[l] += wk * e[k];
+        };
+        const size_t body = nb - nb % kLanes;
+        for (size_t k = 0; k < body; k += kLanes) {
+            for (size_t l = 0; l < kLanes; ++l) add(k + l, l);
+        }
+        for (size_t k = body; k < nb; ++k) add(k, k - body);
+    }
+    auto fold = [](const double (&v)[kLanes]) { return (v[0] + v[2]) + (v[1] + v[3]); };
+    out.w += fold(w);
+    out.wx += fold(wx);
+    out.wy += fold(wy);
+    out.wxx += fold(wxx);
+    out.wxy += fold(wxy);
+    out.wyy += fold(wyy);
+    out.oc += fold(oc);
+    out.os += fold(os);
+    out.sc += fold(sc);
+    out.ev += fold(ev);
+}
+
 WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio_yaw, const ClusterParams &params) {
     const size_t n = p.size();
     const size_t cluster_count = ranked_weight_.size();
@@ -328,71 +385,19 @@ WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio
             any_summary |= summarised_[k] != 0;
         }
     }
-    // The summarised clusters' moment sums (weight, first and second moments of the position, resultant of
-    // the yaw offsets, scale, evidence) in one pass over their particles. Runs of consecutive particles in one
-    // cluster (the whole cloud once it has converged) are summed in registers; the sines and cosines come
-    // vectorised per block.
+    // The summarised clusters' moment sums, along runs of consecutive particles in one cluster (the
+    // resampling writes each group's copies together; the whole cloud is one run once it has converged).
     acc_.assign(cluster_count, MomentSums{});
     const uint8_t *full = summarised_.data();
     if (any_summary) {
-        const bool has_evidence = p.evidence.size() == n;
-        const bool has_compass = p.compass_ll.size() == n;
-        const float *wp = p.weight.data();
         const int32_t *pc = particle_cluster_.data();
-        constexpr size_t kBlock = 256;
-        alignas(64) float sn[kBlock], cs[kBlock];
-        MomentSums run;
-        int32_t run_cluster = -1;
-        auto flush = [&] {
-            if (run_cluster < 0) return;
-            MomentSums &a = acc_[static_cast<size_t>(run_cluster)];
-            a.w += run.w;
-            a.wx += run.wx;
-            a.wy += run.wy;
-            a.wxx += run.wxx;
-            a.wxy += run.wxy;
-            a.wyy += run.wyy;
-            a.oc += run.oc;
-            a.os += run.os;
-            a.sc += run.sc;
-            a.ev += run.ev;
-            run = MomentSums{};
-        };
-        for (size_t b = 0; b < n; b += kBlock) {
-            const size_t nb = std::min(kBlock, n - b);
-            const float *yo = p.yaw_offset.data() + b;
-            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
-            for (size_t k = 0; k < nb; ++k) {
-                const size_t i = b + k;
-                const int32_t cl = pc[i];
-                // Runs end at every change of cluster, summarised or not, so that a cluster's sums do not
-                // depend on which others are summarised.
-                if (cl != run_cluster) {
-                    flush();
-                    run_cluster = cl;
-                }
-                if (cl < 0 || !full[cl]) continue;
-                const double w = wp[i];
-                const double x = p.x[i], y = p.y[i];
-                const double wx = w * x, wy = w * y;
-                run.w += w;
-                run.wx += wx;
-                run.wy += wy;
-                run.wxx += wx * x;
-                run.wxy += wx * y;
-                run.wyy += wy * y;
-                // Headings are the offsets turned by the common VIO yaw: their resultant is the offsets'
-                // resultant rotated by it (below), so one sincos per particle serves both means.
-                run.oc += w * cs[k];
-                run.os += w * sn[k];
-                run.sc += w * p.scale[i];
-                double ev = 0;
-                if (has_evidence) ev += p.evidence[i];
-                if (has_compass) ev += p.compass_ll[i];
-                run.ev += w * ev;
-            }
+        for (size_t i = 0; i < n;) {
+            const int32_t cl = pc[i];
+            size_t end = i + 1;
+            while (end < n && pc[end] == cl) ++end;
+            if (cl >= 0 && full[cl]) add_moments(p, i, end, acc_[static_cast<size_t>(cl)]);
+            i = end;
         }
-        flush();
     }
     clusters_.resize(cluster_count);
     const double cv = std::cos(static_cast<double>(vio_yaw)), sv = std::sin(static_cast<double>(vio_yaw));
