@@ -315,50 +315,64 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
     return clusters_;
 }
 
-WF_SIMD_CLONES void ParticleClusterer::add_moments(const ParticleSet &p, size_t begin, size_t end, MomentSums &out) {
-    const size_t n = p.size();
-    const bool has_evidence = p.evidence.size() == n;
-    const bool has_compass = p.compass_ll.size() == n;
-    // Lane sums (element i in lane (i - begin) % kLanes) so that the loop vectorises; the sines and cosines
-    // of a block first (vectorised). Headings are the offsets turned by the common VIO yaw: their resultant is
-    // the offsets' resultant rotated by it (summarise), so one sincos per particle serves both means.
-    constexpr size_t kLanes = 4, kBlock = 256;
-    double w[kLanes] = {}, wx[kLanes] = {}, wy[kLanes] = {}, wxx[kLanes] = {}, wxy[kLanes] = {}, wyy[kLanes] = {},
-           oc[kLanes] = {}, os[kLanes] = {}, sc[kLanes] = {}, ev[kLanes] = {};
+namespace {
+
+/// Per-particle inputs of the moment sums for one block of particles: sine and cosine of the yaw offset,
+/// evidence plus compass log-weight.
+struct MomentInputs {
+    static constexpr size_t kBlock = 256;
     alignas(64) float sn[kBlock], cs[kBlock], e[kBlock];
-    for (size_t b = begin; b < end; b += kBlock) {
-        const size_t nb = std::min(kBlock, end - b);
-        const float *yo = p.yaw_offset.data() + b;
-        for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
-        // Evidence plus compass log-weight, in double as before the sum (either may be absent).
-        for (size_t k = 0; k < nb; ++k) e[k] = 0.0f;
-        if (has_evidence) {
-            for (size_t k = 0; k < nb; ++k) e[k] = p.evidence[b + k];
-        }
-        if (has_compass) {
-            for (size_t k = 0; k < nb; ++k) e[k] += p.compass_ll[b + k];
-        }
-        const float *pw = p.weight.data() + b, *px = p.x.data() + b, *py = p.y.data() + b, *ps = p.scale.data() + b;
-        auto add = [&](size_t k, size_t l) {
+};
+
+}  // namespace
+
+inline void ParticleClusterer::add_moments(const ParticleSet &p, size_t block, size_t begin, size_t end,
+                                    const float *sn, const float *cs, const float *e, MomentSums &out) {
+    const float *pw = p.weight.data() + block, *px = p.x.data() + block, *py = p.y.data() + block,
+                *ps = p.scale.data() + block;
+    // Headings are the offsets turned by the common VIO yaw: their resultant is the offsets' resultant rotated
+    // by it (summarise), so one sincos per particle serves both means.
+    constexpr size_t kLanes = 4;
+    if (end - begin < 4 * kLanes) {
+        // A short run (a cloud in particle order, the light clusters): one particle at a time.
+        for (size_t k = begin; k < end; ++k) {
             const double wk = pw[k], x = px[k], y = py[k];
             const double wxk = wk * x, wyk = wk * y;
-            w[l] += wk;
-            wx[l] += wxk;
-            wy[l] += wyk;
-            wxx[l] += wxk * x;
-            wxy[l] += wxk * y;
-            wyy[l] += wyk * y;
-            oc[l] += wk * cs[k];
-            os[l] += wk * sn[k];
-            sc[l] += wk * ps[k];
-            ev[l] += wk * e[k];
-        };
-        const size_t body = nb - nb % kLanes;
-        for (size_t k = 0; k < body; k += kLanes) {
-            for (size_t l = 0; l < kLanes; ++l) add(k + l, l);
+            out.w += wk;
+            out.wx += wxk;
+            out.wy += wyk;
+            out.wxx += wxk * x;
+            out.wxy += wxk * y;
+            out.wyy += wyk * y;
+            out.oc += wk * cs[k];
+            out.os += wk * sn[k];
+            out.sc += wk * ps[k];
+            out.ev += wk * e[k];
         }
-        for (size_t k = body; k < nb; ++k) add(k, k - body);
+        return;
     }
+    // A long run: kLanes lanes per sum (element k in lane (k - begin) % kLanes), so that the loop vectorises.
+    double w[kLanes] = {}, wx[kLanes] = {}, wy[kLanes] = {}, wxx[kLanes] = {}, wxy[kLanes] = {}, wyy[kLanes] = {},
+           oc[kLanes] = {}, os[kLanes] = {}, sc[kLanes] = {}, ev[kLanes] = {};
+    auto add = [&](size_t k, size_t l) {
+        const double wk = pw[k], x = px[k], y = py[k];
+        const double wxk = wk * x, wyk = wk * y;
+        w[l] += wk;
+        wx[l] += wxk;
+        wy[l] += wyk;
+        wxx[l] += wxk * x;
+        wxy[l] += wxk * y;
+        wyy[l] += wyk * y;
+        oc[l] += wk * cs[k];
+        os[l] += wk * sn[k];
+        sc[l] += wk * ps[k];
+        ev[l] += wk * e[k];
+    };
+    const size_t body = begin + (end - begin) - (end - begin) % kLanes;
+    for (size_t k = begin; k < body; k += kLanes) {
+        for (size_t l = 0; l < kLanes; ++l) add(k + l, l);
+    }
+    for (size_t k = body; k < end; ++k) add(k, k - body);
     auto fold = [](const double (&v)[kLanes]) { return (v[0] + v[2]) + (v[1] + v[3]); };
     out.w += fold(w);
     out.wx += fold(wx);
@@ -391,13 +405,56 @@ WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio
     const uint8_t *full = summarised_.data();
     if (any_summary) {
         const int32_t *pc = particle_cluster_.data();
-        for (size_t i = 0; i < n;) {
-            const int32_t cl = pc[i];
-            size_t end = i + 1;
-            while (end < n && pc[end] == cl) ++end;
-            if (cl >= 0 && full[cl]) add_moments(p, i, end, acc_[static_cast<size_t>(cl)]);
-            i = end;
+        const bool has_evidence = p.evidence.size() == n;
+        const bool has_compass = p.compass_ll.size() == n;
+        MomentInputs in;
+        constexpr size_t kBlock = MomentInputs::kBlock;
+        MomentSums run;
+        int32_t run_cluster = -1;
+        auto flush = [&] {
+            if (run_cluster >= 0) {
+                MomentSums &a = acc_[static_cast<size_t>(run_cluster)];
+                a.w += run.w;
+                a.wx += run.wx;
+                a.wy += run.wy;
+                a.wxx += run.wxx;
+                a.wxy += run.wxy;
+                a.wyy += run.wyy;
+                a.oc += run.oc;
+                a.os += run.os;
+                a.sc += run.sc;
+                a.ev += run.ev;
+            }
+            run = MomentSums{};
+        };
+        for (size_t b = 0; b < n; b += kBlock) {
+            const size_t nb = std::min(kBlock, n - b);
+            // The block's sines and cosines and evidence (vectorised), then its runs.
+            const float *yo = p.yaw_offset.data() + b;
+            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), in.sn[k], in.cs[k]);
+            for (size_t k = 0; k < nb; ++k) in.e[k] = 0.0f;
+            if (has_evidence) {
+                for (size_t k = 0; k < nb; ++k) in.e[k] = p.evidence[b + k];
+            }
+            if (has_compass) {
+                for (size_t k = 0; k < nb; ++k) in.e[k] += p.compass_ll[b + k];
+            }
+            for (size_t k = 0; k < nb;) {
+                const int32_t cl = pc[b + k];
+                size_t end = k + 1;
+                while (end < nb && pc[b + end] == cl) ++end;
+                // Sums of consecutive runs of one cluster (across blocks) are kept in `run` (registers) and added
+                // to the cluster's at a change of cluster, summarised or not, so that a cluster's sums do not
+                // depend on which others are summarised.
+                if (cl != run_cluster) {
+                    flush();
+                    run_cluster = cl;
+                }
+                if (cl >= 0 && full[cl]) add_moments(p, b, k, end, in.sn, in.cs, in.e, run);
+                k = end;
+            }
         }
+        flush();
     }
     clusters_.resize(cluster_count);
     const double cv = std::cos(static_cast<double>(vio_yaw)), sv = std::sin(static_cast<double>(vio_yaw));

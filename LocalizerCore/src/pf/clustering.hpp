@@ -88,8 +88,10 @@ private:
     /// The carried partition (reuse_carried_partition): clusters' weights, counts and ranks from the current
     /// weights, particle_cluster_ from each copy's carried cluster.
     void rank_carried_partition(const ParticleSet &p);
-    /// Adds to `out` the moment sums of particles [begin, end) (one run of one cluster).
-    void add_moments(const ParticleSet &p, size_t begin, size_t end, MomentSums &out);
+    /// Adds to `out` the moment sums of particles block + [begin, end) (one run of one cluster within a block),
+    /// with their yaw offsets' sines sn[k] and cosines cs[k] and their evidence e[k] (k relative to the block).
+    static void add_moments(const ParticleSet &p, size_t block, size_t begin, size_t end, const float *sn,
+                            const float *cs, const float *e, MomentSums &out);
     /// Fills clusters_ from the ranked clusters' weights, counts and floors (ranked_*), and the moments of
     /// those chosen by `params` from one pass over the particles of particle_cluster_.
     void summarise(const ParticleSet &p, float vio_yaw, const ClusterParams &params);
