@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/fast_math.hpp"
+#include "common/lane_sums.hpp"
 #include "common/simd_clones.hpp"
 
 namespace wf::loc {
@@ -29,15 +30,71 @@ int32_t ParticleClusterer::find(int32_t a) {
 
 void ParticleClusterer::carry_bins(const uint32_t *src, size_t count) {
     carried_cell_.resize(count);
+    carried_cluster_.resize(count);
     const size_t m = cell_of_.size();
+    if (particle_cluster_.size() != m) {
+        carried_valid_ = false;
+        return;
+    }
     for (size_t k = 0; k < count; ++k) {
         if (src[k] >= m) {  // not a particle of the last run: bin afresh
             carried_valid_ = false;
             return;
         }
         carried_cell_[k] = cell_of_[src[k]];
+        carried_cluster_[k] = particle_cluster_[src[k]];
     }
+    carried_floor_.resize(clusters_.size());
+    for (size_t c = 0; c < clusters_.size(); ++c) carried_floor_[c] = clusters_[c].floor;
     carried_valid_ = true;
+}
+
+void ParticleClusterer::rank_carried_partition(const ParticleSet &p) {
+    const size_t n = p.size();
+    const size_t clusters = carried_floor_.size();
+    // Weight and count per carried cluster, slot 0 for the particles of none, summed along runs of copies in
+    // one cluster (the resampling writes each group's copies together: long runs).
+    carried_weight_.assign(clusters + 1, 0.0);
+    carried_count_.assign(clusters + 1, 0);
+    const float *wp = p.weight.data();
+    const int32_t *cc = carried_cluster_.data();
+    for (size_t i = 0; i < n;) {
+        const int32_t c = cc[i];
+        size_t end = i + 1;
+        while (end < n && cc[end] == c) ++end;
+        const size_t slot = static_cast<size_t>(c + 1);
+        carried_weight_[slot] += lane_sum(wp + i, end - i);
+        carried_count_[slot] += static_cast<uint32_t>(end - i);
+        i = end;
+    }
+    // Ranked heaviest first (ties: the carried order); clusters left without a particle are dropped.
+    order_.clear();
+    for (size_t c = 0; c < clusters; ++c) {
+        if (carried_count_[c + 1] > 0) order_.push_back(static_cast<int32_t>(c));
+    }
+    std::sort(order_.begin(), order_.end(), [&](int32_t a, int32_t b) {
+        const double wa = carried_weight_[static_cast<size_t>(a) + 1], wb = carried_weight_[static_cast<size_t>(b) + 1];
+        return wa != wb ? wa > wb : a < b;
+    });
+    // rank_[c + 1]: the new rank of carried cluster c (-1 for none and for dropped clusters).
+    rank_.assign(clusters + 1, -1);
+    ranked_weight_.resize(order_.size());
+    ranked_count_.resize(order_.size());
+    ranked_floor_.resize(order_.size());
+    for (size_t k = 0; k < order_.size(); ++k) {
+        const size_t c = static_cast<size_t>(order_[k]);
+        rank_[c + 1] = static_cast<int32_t>(k);
+        ranked_weight_[k] = carried_weight_[c + 1];
+        ranked_count_[k] = carried_count_[c + 1];
+        ranked_floor_[k] = carried_floor_[c];
+    }
+    particle_cluster_.resize(n);
+    int32_t *pc = particle_cluster_.data();
+    const int32_t *rank = rank_.data();
+    for (size_t i = 0; i < n; ++i) pc[i] = rank[cc[i] + 1];
+    // The cells stay those of the run before the copy (keys_ unchanged): a further carry_bins, before anything
+    // moves, can carry them again.
+    cell_of_.swap(carried_cell_);
 }
 
 WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
@@ -50,9 +107,9 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
     const float inv_m = 1.0f / params.cell_m;
     const float inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);
     cell_weight_.clear();
+    cell_count_.clear();
+    cell_floor_.clear();
     cell_of_.resize(n);
-    const bool has_evidence = p.evidence.size() == n;
-    const bool has_compass = p.compass_ll.size() == n;
     // Bins carried over from the last run through a resampling (carry_bins): the sources' cells, renumbered
     // in order of first occurrence in the new set, exactly as binning the (unchanged) copies again would.
     const bool reuse = carried_valid_ && carried_cell_.size() == n && last_vio_yaw_ == vio_yaw &&
@@ -60,6 +117,12 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
                        last_dense_param_ == params.dense_bins;
     carried_valid_ = false;
     last_used_carried_ = reuse;
+    last_used_partition_ = reuse && params.reuse_carried_partition;
+    if (last_used_partition_) {
+        rank_carried_partition(p);
+        summarise(p, vio_yaw, params);
+        return clusters_;
+    }
     const float *wp = p.weight.data();
     bool dense = last_dense_;
     if (reuse) {
@@ -72,9 +135,12 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
                 slot = static_cast<int32_t>(keys_.size());
                 keys_.push_back(old_keys_[carried_cell_[i]]);
                 cell_weight_.push_back(0.0);
+                cell_count_.push_back(0);
+                cell_floor_.push_back(p.floor[i]);
             }
             cell_of_[i] = static_cast<uint32_t>(slot);
             cell_weight_[slot] += wp[i];
+            ++cell_count_[slot];
         }
         if (dense) {
             box_cell_.assign(dense_.box_size(), -1);
@@ -105,9 +171,12 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
                     slot = static_cast<int32_t>(keys_.size());
                     keys_.push_back(box[i]);
                     cell_weight_.push_back(0.0);
+                    cell_count_.push_back(0);
+                    cell_floor_.push_back(p.floor[i]);
                 }
                 cell_of_[i] = static_cast<uint32_t>(slot);
                 cell_weight_[slot] += wp[i];
+                ++cell_count_[slot];
             }
         } else {
             for (size_t i = 0; i < n; ++i) {
@@ -121,9 +190,12 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
                 if (id == keys_.size()) {
                     keys_.push_back(key);
                     cell_weight_.push_back(0.0);
+                    cell_count_.push_back(0);
+                    cell_floor_.push_back(p.floor[i]);
                 }
                 cell_of_[i] = id;
                 cell_weight_[id] += wp[i];
+                ++cell_count_[id];
             }
         }
     }
@@ -199,7 +271,7 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
         }
     }
     // Clusters numbered in order of their first cell, with their weights (sums of their cells'), then
-    // ranked heaviest first (ties: first cell first), so the particle pass below writes the final ranks.
+    // ranked heaviest first (ties: first cell first).
     cluster_of_cell_.assign(cells, -1);
     cluster_weight_.clear();
     int32_t cluster_count = 0;
@@ -220,100 +292,184 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
     });
     rank_.resize(order_.size());
     for (size_t k = 0; k < order_.size(); ++k) rank_[order_[k]] = static_cast<int32_t>(k);
+    // Each ranked cluster's weight, count and floor from its cells (a cluster lies on one floor: bins join
+    // only on their own floor), and each cell's ranked cluster.
+    ranked_weight_.resize(order_.size());
+    ranked_count_.assign(order_.size(), 0);
+    ranked_floor_.resize(order_.size());
+    for (size_t k = 0; k < order_.size(); ++k) ranked_weight_[k] = cluster_weight_[order_[k]];
     for (size_t c = 0; c < cells; ++c) {
-        if (cluster_of_cell_[c] >= 0) cluster_of_cell_[c] = rank_[cluster_of_cell_[c]];
+        if (cluster_of_cell_[c] < 0) continue;
+        const int32_t k = rank_[cluster_of_cell_[c]];
+        cluster_of_cell_[c] = k;
+        ranked_count_[k] += cell_count_[c];
+        ranked_floor_[k] = cell_floor_[c];
     }
-    // Second pass: each cluster's weighted sums (weight, first and second moments of the position, resultant
-    // of the yaw offsets, scale, evidence). Runs of consecutive particles in one cluster (the whole cloud
-    // once it has converged) are summed in registers; the sines and cosines come vectorised per block.
-    // Clusters that are not summarised (summary_min_weight, weights_only) sum only the weight and the count,
-    // along the same runs, so their weights are the same values either way.
-    summarised_.assign(static_cast<size_t>(cluster_count), 0);
-    if (!params.weights_only) {
-        for (int32_t k = 0; k < cluster_count; ++k) {
-            summarised_[static_cast<size_t>(rank_[k])] = k == order_.front() || cluster_weight_[k] >= params.summary_min_weight;
-        }
-    }
-    const bool any_summary = !params.weights_only;
-    acc_.assign(static_cast<size_t>(cluster_count), CellSums{});
+    // Each particle's cluster: one gather per particle.
     particle_cluster_.resize(n);
     int32_t *pc = particle_cluster_.data();
-    constexpr size_t kBlock = 256;
-    alignas(64) float sn[kBlock], cs[kBlock];
-    CellSums run;
-    int32_t run_cluster = -1;
-    bool run_full = false;
-    auto flush = [&] {
-        if (run_cluster < 0) return;
-        CellSums &a = acc_[run_cluster];
-        a.w += run.w;
-        a.count += run.count;
-        if (run_full) {
-            a.wx += run.wx;
-            a.wy += run.wy;
-            a.wxx += run.wxx;
-            a.wxy += run.wxy;
-            a.wyy += run.wyy;
-            a.oc += run.oc;
-            a.os += run.os;
-            a.sc += run.sc;
-            a.ev += run.ev;
+    const int32_t *cluster_of_cell = cluster_of_cell_.data();
+    const uint32_t *cell_of = cell_of_.data();
+    for (size_t i = 0; i < n; ++i) pc[i] = cluster_of_cell[cell_of[i]];
+    summarise(p, vio_yaw, params);
+    return clusters_;
+}
+
+namespace {
+
+/// Per-particle inputs of the moment sums for one block of particles: sine and cosine of the yaw offset,
+/// evidence plus compass log-weight.
+struct MomentInputs {
+    static constexpr size_t kBlock = 256;
+    alignas(64) float sn[kBlock], cs[kBlock], e[kBlock];
+};
+
+}  // namespace
+
+inline void ParticleClusterer::add_moments(const ParticleSet &p, size_t block, size_t begin, size_t end,
+                                    const float *sn, const float *cs, const float *e, MomentSums &out) {
+    const float *pw = p.weight.data() + block, *px = p.x.data() + block, *py = p.y.data() + block,
+                *ps = p.scale.data() + block;
+    // Headings are the offsets turned by the common VIO yaw: their resultant is the offsets' resultant rotated
+    // by it (summarise), so one sincos per particle serves both means.
+    constexpr size_t kLanes = 4;
+    if (end - begin < 4 * kLanes) {
+        // A short run (a cloud in particle order, the light clusters): one particle at a time.
+        for (size_t k = begin; k < end; ++k) {
+            const double wk = pw[k], x = px[k], y = py[k];
+            const double wxk = wk * x, wyk = wk * y;
+            out.w += wk;
+            out.wx += wxk;
+            out.wy += wyk;
+            out.wxx += wxk * x;
+            out.wxy += wxk * y;
+            out.wyy += wyk * y;
+            out.oc += wk * cs[k];
+            out.os += wk * sn[k];
+            out.sc += wk * ps[k];
+            out.ev += wk * e[k];
         }
-        a.floor = run.floor;
-        run = CellSums{};
+        return;
+    }
+    // A long run: kLanes lanes per sum (element k in lane (k - begin) % kLanes), so that the loop vectorises.
+    double w[kLanes] = {}, wx[kLanes] = {}, wy[kLanes] = {}, wxx[kLanes] = {}, wxy[kLanes] = {}, wyy[kLanes] = {},
+           oc[kLanes] = {}, os[kLanes] = {}, sc[kLanes] = {}, ev[kLanes] = {};
+    auto add = [&](size_t k, size_t l) {
+        const double wk = pw[k], x = px[k], y = py[k];
+        const double wxk = wk * x, wyk = wk * y;
+        w[l] += wk;
+        wx[l] += wxk;
+        wy[l] += wyk;
+        wxx[l] += wxk * x;
+        wxy[l] += wxk * y;
+        wyy[l] += wyk * y;
+        oc[l] += wk * cs[k];
+        os[l] += wk * sn[k];
+        sc[l] += wk * ps[k];
+        ev[l] += wk * e[k];
     };
-    const uint8_t *full = summarised_.data();
-    for (size_t b = 0; b < n; b += kBlock) {
-        const size_t nb = std::min(kBlock, n - b);
-        const float *yo = p.yaw_offset.data() + b;
-        if (any_summary) {
-            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), sn[k], cs[k]);
-        }
-        for (size_t k = 0; k < nb; ++k) {
-            const size_t i = b + k;
-            const int32_t cl = cluster_of_cell_[cell_of_[i]];
-            pc[i] = cl;
-            if (cl < 0) continue;
-            if (cl != run_cluster) {
-                flush();
-                run_cluster = cl;
-                run_full = full[cl] != 0;
-                run.floor = p.floor[i];  // a cluster lies on one floor (bins join only on their own floor)
-            }
-            const double w = wp[i];
-            run.w += w;
-            ++run.count;
-            if (!run_full) continue;
-            const double x = p.x[i], y = p.y[i];
-            const double wx = w * x, wy = w * y;
-            run.wx += wx;
-            run.wy += wy;
-            run.wxx += wx * x;
-            run.wxy += wx * y;
-            run.wyy += wy * y;
-            // Headings are the offsets turned by the common VIO yaw: their resultant is the offsets' resultant
-            // rotated by it (below), so one sincos per particle serves both means.
-            run.oc += w * cs[k];
-            run.os += w * sn[k];
-            run.sc += w * p.scale[i];
-            double ev = 0;
-            if (has_evidence) ev += p.evidence[i];
-            if (has_compass) ev += p.compass_ll[i];
-            run.ev += w * ev;
+    const size_t body = begin + (end - begin) - (end - begin) % kLanes;
+    for (size_t k = begin; k < body; k += kLanes) {
+        for (size_t l = 0; l < kLanes; ++l) add(k + l, l);
+    }
+    for (size_t k = body; k < end; ++k) add(k, k - body);
+    auto fold = [](const double (&v)[kLanes]) { return (v[0] + v[2]) + (v[1] + v[3]); };
+    out.w += fold(w);
+    out.wx += fold(wx);
+    out.wy += fold(wy);
+    out.wxx += fold(wxx);
+    out.wxy += fold(wxy);
+    out.wyy += fold(wyy);
+    out.oc += fold(oc);
+    out.os += fold(os);
+    out.sc += fold(sc);
+    out.ev += fold(ev);
+}
+
+WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio_yaw, const ClusterParams &params) {
+    const size_t n = p.size();
+    const size_t cluster_count = ranked_weight_.size();
+    // Which clusters get their moments: none (weights_only), else the heaviest and those holding at least
+    // summary_min_weight.
+    summarised_.assign(cluster_count, 0);
+    bool any_summary = false;
+    if (!params.weights_only) {
+        for (size_t k = 0; k < cluster_count; ++k) {
+            summarised_[k] = k == 0 || ranked_weight_[k] >= params.summary_min_weight;
+            any_summary |= summarised_[k] != 0;
         }
     }
-    flush();
-    clusters_.resize(acc_.size());
+    // The summarised clusters' moment sums, along runs of consecutive particles in one cluster (the
+    // resampling writes each group's copies together; the whole cloud is one run once it has converged).
+    acc_.assign(cluster_count, MomentSums{});
+    const uint8_t *full = summarised_.data();
+    if (any_summary) {
+        const int32_t *pc = particle_cluster_.data();
+        const bool has_evidence = p.evidence.size() == n;
+        const bool has_compass = p.compass_ll.size() == n;
+        MomentInputs in;
+        constexpr size_t kBlock = MomentInputs::kBlock;
+        MomentSums run;
+        int32_t run_cluster = -1;
+        auto flush = [&] {
+            if (run_cluster >= 0) {
+                MomentSums &a = acc_[static_cast<size_t>(run_cluster)];
+                a.w += run.w;
+                a.wx += run.wx;
+                a.wy += run.wy;
+                a.wxx += run.wxx;
+                a.wxy += run.wxy;
+                a.wyy += run.wyy;
+                a.oc += run.oc;
+                a.os += run.os;
+                a.sc += run.sc;
+                a.ev += run.ev;
+            }
+            run = MomentSums{};
+        };
+        for (size_t b = 0; b < n; b += kBlock) {
+            const size_t nb = std::min(kBlock, n - b);
+            // The block's sines and cosines and evidence (vectorised), then its runs.
+            const float *yo = p.yaw_offset.data() + b;
+            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), in.sn[k], in.cs[k]);
+            for (size_t k = 0; k < nb; ++k) in.e[k] = 0.0f;
+            if (has_evidence) {
+                for (size_t k = 0; k < nb; ++k) in.e[k] = p.evidence[b + k];
+            }
+            if (has_compass) {
+                for (size_t k = 0; k < nb; ++k) in.e[k] += p.compass_ll[b + k];
+            }
+            for (size_t k = 0; k < nb;) {
+                const int32_t cl = pc[b + k];
+                size_t end = k + 1;
+                while (end < nb && pc[b + end] == cl) ++end;
+                // Sums of consecutive runs of one cluster (across blocks) are kept in `run` (registers) and added
+                // to the cluster's at a change of cluster, summarised or not, so that a cluster's sums do not
+                // depend on which others are summarised.
+                if (cl != run_cluster) {
+                    flush();
+                    run_cluster = cl;
+                }
+                if (cl >= 0 && full[cl]) add_moments(p, b, k, end, in.sn, in.cs, in.e, run);
+                k = end;
+            }
+        }
+        flush();
+    }
+    clusters_.resize(cluster_count);
     const double cv = std::cos(static_cast<double>(vio_yaw)), sv = std::sin(static_cast<double>(vio_yaw));
-    for (size_t k = 0; k < acc_.size(); ++k) {
-        const CellSums &a = acc_[k];
+    for (size_t k = 0; k < cluster_count; ++k) {
+        const MomentSums &a = acc_[k];
         ClusterSummary &s = clusters_[k];
-        s.weight = a.w;
-        s.floor = a.floor;
-        s.particle_count = a.count;
+        s = ClusterSummary{};
+        s.weight = ranked_weight_[k];
+        s.floor = ranked_floor_[k];
+        s.particle_count = ranked_count_[k];
         if (!full[k]) {
             s.heading_std = kPiD;  // not summarised: weight, floor and count only
         } else if (a.w > 0) {
+            // The moments are normalised by the weight their own pass summed (the same particles and weights
+            // as the cluster's weight, added in another order).
             const double hc = cv * a.oc - sv * a.os, hs = sv * a.oc + cv * a.os;
             s.x = a.wx / a.w;
             s.y = a.wy / a.w;
@@ -333,7 +489,6 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
             s.heading_std = kPiD;
         }
     }
-    return clusters_;
 }
 
 }  // namespace wf::loc

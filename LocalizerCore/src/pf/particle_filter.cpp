@@ -7,6 +7,8 @@
 #include <utility>
 
 #include "common/fast_math.hpp"
+#include "common/lane_sums.hpp"
+#include "pf/reweighting.hpp"
 
 namespace wf::loc {
 
@@ -398,39 +400,8 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         last_beta_ = beta;
         // w_i <- w_i * L_i^beta / sum_j w_j L_j^beta, in the log domain relative to the best particle (no
         // underflow). s_full = sum w_i L_i / L_max (untempered) feeds the recovery averages.
-        double s = 0, s_full = 0;
-        float *w = p_.weight.data();
-        const float *ll = log_likelihood_.data();
-        const float fb = static_cast<float>(beta);
-        // Most particles of a spread-out cloud see no sign and share one log-likelihood, and resampled copies
-        // sit next to each other: the exponential of the previous particle is reused when its value repeats
-        // (the same value, computed once).
-        if (fb == 1.0f) {
-            // Untempered: exp(beta d) is exp(d), one exponential per particle.
-            float last_ll = std::numeric_limits<float>::quiet_NaN(), e = 0.0f;
-            for (size_t i = 0; i < n; ++i) {
-                if (!(ll[i] == last_ll)) {
-                    last_ll = ll[i];
-                    e = std::exp(ll[i] - max_ll);
-                }
-                s_full += w[i] * e;
-                w[i] *= e;
-                s += w[i];
-            }
-        } else {
-            float last_d = std::numeric_limits<float>::quiet_NaN(), e_full = 0.0f, e_beta = 0.0f;
-            for (size_t i = 0; i < n; ++i) {
-                const float d = ll[i] - max_ll;
-                if (!(d == last_d)) {
-                    last_d = d;
-                    e_full = std::exp(d);
-                    e_beta = std::exp(fb * d);
-                }
-                s_full += w[i] * e_full;
-                w[i] *= e_beta;
-                s += w[i];
-            }
-        }
+        double s_full = 0;
+        const double s = reweight(p_.weight.data(), log_likelihood_.data(), n, max_ll, static_cast<float>(beta), &s_full);
         if (s > 0 && std::isfinite(s) && std::isfinite(max_ll)) {
             normalize(s);
             if (!z.empty() && opts_.recovery) {
@@ -494,31 +465,8 @@ double ParticleFilter::tempering_exponent(float max_ll) {
         tempering_d_.push_back(ll[i] - max_ll);
     }
     const size_t m = tempering_w_.size();
-    // Repeated log-likelihoods (no sign in view, resampled copies) share one exponential per run of equal
-    // values: the runs are found once (a NaN is a run of its own), then each evaluation computes one
-    // exponential per run and sums without a branch per particle (the same values and sums as recomputing the
-    // exponential whenever the value changes).
-    tempering_run_of_.resize(m);
-    tempering_run_d_.clear();
-    for (size_t k = 0; k < m; ++k) {
-        if (k == 0 || !(tempering_d_[k] == tempering_d_[k - 1])) tempering_run_d_.push_back(tempering_d_[k]);
-        tempering_run_of_[k] = static_cast<uint32_t>(tempering_run_d_.size() - 1);
-    }
     auto ess_fraction = [&](double beta) {
-        tempering_run_e_.resize(tempering_run_d_.size());
-        for (size_t r = 0; r < tempering_run_d_.size(); ++r) {
-            tempering_run_e_[r] = std::exp(beta * static_cast<double>(tempering_run_d_[r]));
-        }
-        const double *e = tempering_run_e_.data();
-        const uint32_t *run = tempering_run_of_.data();
-        const float *tw = tempering_w_.data();
-        double s = 0, s2 = 0;
-        for (size_t k = 0; k < m; ++k) {
-            const double v = tw[k] * e[run[k]];
-            s += v;
-            s2 += v * v;
-        }
-        return s2 > 0 ? (s * s / s2) / static_cast<double>(m) : 1.0;
+        return tempered_ess_fraction(tempering_w_.data(), tempering_d_.data(), m, static_cast<float>(beta));
     };
     // Compare with the ESS before the update (the prior weights may already be uneven).
     const double goal = std::min(target, ess_fraction(0.0));
@@ -640,16 +588,14 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
                     members_out[group_fill_[g]++] = static_cast<uint32_t>(i);
                 }
             }
-            // The members' weights in group order, and each group's mass: their sum in particle order, which
+            // The members' weights in group order, and each group's mass: their lane sum (common/lane_sums), which
             // is also the total that the group's systematic resampling forms (so it is passed on, not summed
             // again).
             group_weights_.resize(n);
             for (size_t k = 0; k < n; ++k) group_weights_[k] = p_.weight[members_out[k]];
             group_mass_.assign(static_cast<size_t>(groups), 0.0);
             for (int32_t g = 0; g < groups; ++g) {
-                double m = 0;
-                for (size_t k = group_start_[g]; k < group_start_[g + 1]; ++k) m += group_weights_[k];
-                group_mass_[g] = m;
+                group_mass_[g] = lane_sum(group_weights_.data() + group_start_[g], group_start_[g + 1] - group_start_[g]);
             }
             const double *mass = group_mass_.data();
             double total = 0;
@@ -732,9 +678,7 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
     } else {
         clusterer_.forget_carried_bins();
     }
-    double sum = 0;
-    for (float w : p_.weight) sum += w;
-    normalize(sum);
+    normalize(lane_sum(p_.weight.data(), p_.size()));
     ++resample_count_;
     injected_count_ += n_inject;
     estimate_dirty_ = true;
@@ -979,6 +923,9 @@ void ParticleFilter::compute_estimate() {
     // lighter ones count by weight only): the others are not summarised (half the threshold, so that a
     // cluster whose particle sum reaches it is summarised whatever the summation order).
     cp.summary_min_weight = 0.5 * opts_.rival_min_weight;
+    // Right after a resampling with nothing moved since (the usual order in a frame: signs, planes, then this
+    // read), the clusters are those the resampling grouped by, weighed and summarised with the current weights.
+    cp.reuse_carried_partition = true;
     const std::vector<ClusterSummary> &clusters = clusterer_.run(p_, static_cast<float>(vio_yaw_), cp);
     if (clusters.empty()) {
         estimate_ = e;

@@ -100,7 +100,7 @@ private:
     void reset_filter_state();
     void normalize(double sum);
     void maybe_resample(bool after_measurement);
-    /// Resamples; `weight_sum` is the weights' sum in double in particle order (effective_sample_size's), the
+    /// Resamples; `weight_sum` is the weights' lane sum (effective_sample_size's), the
     /// total of the systematic draws over the whole set.
     void resample(double inject_fraction, double weight_sum);
     void apply_compass_reweight();
@@ -146,10 +146,6 @@ private:
     ParticleSet p_, scratch_;
     std::vector<float> log_likelihood_;
     std::vector<float> tempering_w_, tempering_d_;  // tempering_exponent's subsample
-    /// Runs of equal values in tempering_d_: each element's run, each run's value and its exponential.
-    std::vector<uint32_t> tempering_run_of_;
-    std::vector<float> tempering_run_d_;
-    std::vector<double> tempering_run_e_;
     std::vector<PreparedSighting> last_sightings_;  // sightings of the update being resampled
     std::vector<uint32_t> indices_;
     /// Hypothesis-preserving resampling: particle indices grouped by cluster (group g is

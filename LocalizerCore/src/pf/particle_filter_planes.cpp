@@ -5,10 +5,10 @@
 // sharpen hypotheses that the signs and walls already support).
 #include <algorithm>
 #include <cmath>
-#include <limits>
 #include <string>
 
 #include "pf/particle_filter.hpp"
+#include "pf/reweighting.hpp"
 
 namespace wf::loc {
 
@@ -35,19 +35,7 @@ int ParticleFilter::update_planes(const wf_plane_observation *obs, size_t count,
             const float *ll = log_likelihood_.data();
             for (size_t i = 0; i < n; ++i) ev[i] += std::max(ll[i] - max_ll, -50.0f);
             const double beta = tempering_exponent(max_ll);
-            const float fb = static_cast<float>(beta);
-            float *w = p_.weight.data();
-            double s = 0;
-            // Resampled copies sit next to each other with the same value: its exponential is reused.
-            float last_ll = std::numeric_limits<float>::quiet_NaN(), e = 0.0f;
-            for (size_t i = 0; i < n; ++i) {
-                if (!(ll[i] == last_ll)) {
-                    last_ll = ll[i];
-                    e = std::exp(fb * (ll[i] - max_ll));
-                }
-                w[i] *= e;
-                s += w[i];
-            }
+            const double s = reweight(p_.weight.data(), ll, n, max_ll, static_cast<float>(beta), nullptr);
             normalize(s);
             maybe_resample(false);
             estimate_dirty_ = true;

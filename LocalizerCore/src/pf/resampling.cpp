@@ -5,16 +5,14 @@
 #include <cstring>
 
 #include "common/fast_math.hpp"
+#include "common/lane_sums.hpp"
 #include "common/simd_clones.hpp"
 
 namespace wf::loc {
 
-double effective_sample_size(const float *weights, size_t n, double *weight_sum) {
+WF_SIMD_CLONES double effective_sample_size(const float *weights, size_t n, double *weight_sum) {
     double s = 0, s2 = 0;
-    for (size_t i = 0; i < n; ++i) {
-        s += weights[i];
-        s2 += static_cast<double>(weights[i]) * weights[i];
-    }
+    lane_sum_and_squares(weights, n, s, s2);
     if (weight_sum) *weight_sum = s;
     if (!(s2 > 0) || !std::isfinite(s2)) return 0;
     return s * s / s2;  // = 1 / sum w^2 when the weights sum to 1
@@ -54,8 +52,7 @@ void systematic_resample(const float *weights, size_t n, size_t n_out, double u0
         out.clear();
         return;
     }
-    double total = 0;
-    for (size_t i = 0; i < n; ++i) total += weights[i];
+    const double total = lane_sum(weights, n);
     systematic_draws(weights, n, n_out, u0, total, m, out);
 }
 

@@ -15,8 +15,8 @@
 
 namespace wf::loc {
 
-/// 1 / sum(w^2) for weights summing to 1. When `weight_sum` is not null it receives sum(w) as formed in double
-/// in index order: the total that systematic_resample forms, for systematic_resample_with_total.
+/// 1 / sum(w^2) for weights summing to 1. When `weight_sum` is not null it receives sum(w) as lane_sum forms it
+/// (common/lane_sums): the total that systematic_resample forms, for systematic_resample_with_total.
 double effective_sample_size(const float *weights, size_t n, double *weight_sum = nullptr);
 
 /// Systematic resampling: writes `n_out` source indices into `out` (sorted, proportional to the weights,
@@ -28,7 +28,7 @@ void systematic_resample(const float *weights, size_t n, size_t n_out, double u0
                          size_t first = SIZE_MAX);
 
 /// systematic_resample(weights, n, n_out, u0, out, first) for a caller that already holds `total`, the weights'
-/// sum formed as systematic_resample forms it (in double, in index order from 0): the same draws without the
+/// sum formed as systematic_resample forms it (lane_sum of the weights): the same draws without the
 /// summing pass.
 void systematic_resample_with_total(const float *weights, size_t n, size_t n_out, double u0, double total,
                                     std::vector<uint32_t> &out, size_t first = SIZE_MAX);

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <map>
 
 #include "common/rng.hpp"
 #include "pf/clustering.hpp"
@@ -281,4 +282,95 @@ TEST(Clustering, CarriedBinsMatchFreshRun) {
         carried.run(q, 0.4f, params);
         EXPECT_FALSE(carried.last_run_used_carried_bins());
     }
+}
+
+// reuse_carried_partition: after a resampling-like copy, each copy is in its source's cluster (copies of
+// particles in no cluster in none), the clusters are ranked by their current weight, and each one's weight,
+// count, floor and moments are the plain sums over its copies under the current weights; a cluster left
+// without copies is dropped. Without the flag (or after forget_carried_bins) the clusters are found again.
+TEST(Clustering, CarriedPartitionSummarisesTheSourcesClusters) {
+    const ParticleSet p = mixed_cloud(24);
+    Rng rng(25);
+    ParticleClusterer carried;
+    carried.run(p, 0.4f, ClusterParams{});
+    const std::vector<int32_t> source_cluster = carried.particle_clusters();
+    std::vector<uint32_t> src;
+    for (uint32_t i = 0; i < p.size(); ++i) {
+        const uint32_t copies = rng.below(3);
+        for (uint32_t c = 0; c < copies; ++c) src.push_back(i);
+    }
+    ParticleSet q;
+    q.resize(src.size());
+    double total = 0;
+    for (size_t k = 0; k < src.size(); ++k) {
+        const uint32_t i = src[k];
+        q.x[k] = p.x[i];
+        q.y[k] = p.y[i];
+        q.yaw_offset[k] = p.yaw_offset[i];
+        q.scale[k] = p.scale[i];
+        q.floor[k] = p.floor[i];
+        q.evidence[k] = p.evidence[i];
+        q.compass_ll[k] = p.compass_ll[i];
+        q.weight[k] = p.weight[i] * (0.2f + 2.0f * rng.uniform_float());  // a later reweighting
+        total += q.weight[k];
+    }
+    for (float &w : q.weight) w = static_cast<float>(w / total);
+    ClusterParams reuse;
+    reuse.reuse_carried_partition = true;
+    carried.carry_bins(src.data(), src.size());
+    const std::vector<ClusterSummary> a = carried.run(q, 0.4f, reuse);
+    EXPECT_TRUE(carried.last_run_used_carried_partition());
+    ASSERT_GT(a.size(), 3u);
+    // Same partition: copies of one source cluster share a new cluster, and distinct ones do not.
+    const std::vector<int32_t> &pc = carried.particle_clusters();
+    ASSERT_EQ(pc.size(), q.size());
+    std::map<int32_t, int32_t> new_of_old;
+    for (size_t k = 0; k < src.size(); ++k) {
+        const int32_t old_c = source_cluster[src[k]];
+        if (old_c < 0) {
+            EXPECT_EQ(pc[k], -1) << k;
+            continue;
+        }
+        const auto it = new_of_old.emplace(old_c, pc[k]).first;
+        EXPECT_EQ(it->second, pc[k]) << k;
+    }
+    EXPECT_EQ(new_of_old.size(), a.size());
+    // Plain sums per new cluster.
+    std::vector<double> w(a.size()), wx(a.size()), wy(a.size()), wxx(a.size()), ws(a.size());
+    std::vector<size_t> count(a.size());
+    for (size_t k = 0; k < q.size(); ++k) {
+        if (pc[k] < 0) continue;
+        const double wk = q.weight[k];
+        w[pc[k]] += wk;
+        wx[pc[k]] += wk * q.x[k];
+        wy[pc[k]] += wk * q.y[k];
+        wxx[pc[k]] += wk * q.x[k] * q.x[k];
+        ws[pc[k]] += wk * q.scale[k];
+        ++count[pc[k]];
+    }
+    for (size_t c = 0; c < a.size(); ++c) {
+        if (c > 0) EXPECT_GE(a[c - 1].weight, a[c].weight) << c;  // ranked by current weight
+        EXPECT_NEAR(a[c].weight, w[c], 1e-12) << c;
+        EXPECT_EQ(a[c].particle_count, count[c]) << c;
+        if (c > 0) continue;  // only the heaviest is surely summarised (default summary_min_weight: all are)
+        EXPECT_NEAR(a[c].x, wx[c] / w[c], 1e-9) << c;
+        EXPECT_NEAR(a[c].y, wy[c] / w[c], 1e-9) << c;
+        EXPECT_NEAR(a[c].cov_xx, wxx[c] / w[c] - (wx[c] / w[c]) * (wx[c] / w[c]), 1e-7) << c;
+        EXPECT_NEAR(a[c].scale, ws[c] / w[c], 1e-9) << c;
+    }
+    // Without the flag: the bins are carried, the clusters found again (as a fresh clusterer finds them).
+    carried.run(p, 0.4f, ClusterParams{});
+    carried.carry_bins(src.data(), src.size());
+    const std::vector<ClusterSummary> b = carried.run(q, 0.4f, ClusterParams{});
+    EXPECT_TRUE(carried.last_run_used_carried_bins());
+    EXPECT_FALSE(carried.last_run_used_carried_partition());
+    ParticleClusterer fresh;
+    EXPECT_EQ(fresh.run(q, 0.4f, ClusterParams{}).size(), b.size());
+    EXPECT_EQ(fresh.particle_clusters(), carried.particle_clusters());
+    // Forgotten: nothing carried.
+    carried.run(p, 0.4f, ClusterParams{});
+    carried.carry_bins(src.data(), src.size());
+    carried.forget_carried_bins();
+    carried.run(q, 0.4f, reuse);
+    EXPECT_FALSE(carried.last_run_used_carried_partition());
 }

@@ -658,10 +658,12 @@ TEST(ParticleFilter, ZeroAreaFloorAndFloorWithoutSigns) {
     EXPECT_EQ(e.floor_index, 1);
 }
 
-// After a resampling with nothing moved since, the estimate's clustering takes the bins of the resampling's
-// clustering (ParticleClusterer::carry_bins): its dominant cluster must be exactly that of a fresh clustering of
-// the particles, at every frame of the L walk where it happened.
-TEST(ParticleFilter, EstimateAfterResamplingMatchesAFreshClustering) {
+// After a resampling with nothing moved since, the estimate's clustering takes the partition of the
+// resampling's clustering (ClusterParams::reuse_carried_partition): at every frame of the L walk where it
+// happened, the estimate must be exactly the plain summary of that partition's dominant cluster under the
+// current weights (or its core, when localized), and close to what a fresh clustering of the particles gives
+// (the partitions differ only where a bin's weight crossed the light-bin threshold).
+TEST(ParticleFilter, EstimateAfterResamplingSummarisesTheResamplingsPartition) {
     auto world = wf::test::l_world();
     auto o = test_options();
     const auto frames = l_walk(world);
@@ -671,41 +673,54 @@ TEST(ParticleFilter, EstimateAfterResamplingMatchesAFreshClustering) {
     cp.cell_m = static_cast<float>(o.cluster_cell_m);
     cp.yaw_bin_rad = static_cast<float>(o.cluster_yaw_bin_rad);
     int checked = 0, checked_localized = 0;
+    double worst_weight = 0, worst_position_m = 0;
     for (size_t k = 0; k < 150; ++k) {
         pf.predict(frames[k].vio);
         const size_t before = pf.resample_count();
         pf.update_signs(frames[k].sightings.data(), frames[k].sightings.size(), frames[k].vio.t);
         const wf_localizer_estimate e = pf.estimate();
-        if (pf.resample_count() == before || !pf.clusterer().last_run_used_carried_bins()) continue;
-        ParticleClusterer fresh;
-        const std::vector<ClusterSummary> &c = fresh.run(pf.particles(), pf.vio_yaw(), cp);
-        ASSERT_FALSE(c.empty());
-        EXPECT_EQ(e.dominant_weight, std::clamp(c[0].weight, 0.0, 1.0)) << "frame " << k;
+        if (pf.resample_count() == before || !pf.clusterer().last_run_used_carried_partition()) continue;
+        // Reference: the dominant cluster's members as the estimate's clustering left them, summed plainly.
+        const ParticleSet &p = pf.particles();
+        std::vector<uint32_t> members;
+        double w = 0, wx = 0, wy = 0;
+        for (size_t i = 0; i < pf.clusterer().particle_clusters().size(); ++i) {
+            if (pf.clusterer().particle_clusters()[i] != 0) continue;
+            members.push_back(static_cast<uint32_t>(i));
+            w += p.weight[i];
+            wx += static_cast<double>(p.weight[i]) * p.x[i];
+            wy += static_cast<double>(p.weight[i]) * p.y[i];
+        }
+        ASSERT_FALSE(members.empty());
+        EXPECT_NEAR(e.dominant_weight, std::clamp(w, 0.0, 1.0), 1e-9) << "frame " << k;
         if (e.localized) {
-            // Localized: the pose is the dominant cluster's core (pf/cluster_core) over the fresh run's members.
-            std::vector<uint32_t> members;
-            for (size_t i = 0; i < fresh.particle_clusters().size(); ++i) {
-                if (fresh.particle_clusters()[i] == 0) members.push_back(static_cast<uint32_t>(i));
-            }
+            // Localized: the pose is the dominant cluster's core (pf/cluster_core) over those members.
             std::vector<double> scratch;
             double radius_m = 0;
             ASSERT_EQ(pf.get_parameter("lock.core_radius_m", radius_m), WF_LOC_OK);
-            const ClusterCore core = cluster_core(pf.particles(), members, radius_m, scratch);
+            const ClusterCore core = cluster_core(p, members, radius_m, scratch);
             EXPECT_EQ(e.x, core.x) << "frame " << k;
             EXPECT_EQ(e.y, core.y) << "frame " << k;
             EXPECT_EQ(e.cov_xx, core.cov_xx) << "frame " << k;
             ++checked_localized;
         } else {
-            EXPECT_EQ(e.x, c[0].x) << "frame " << k;
-            EXPECT_EQ(e.y, c[0].y) << "frame " << k;
-            EXPECT_EQ(e.cov_xx, c[0].cov_xx) << "frame " << k;
-            EXPECT_EQ(e.heading_std_rad, c[0].heading_std) << "frame " << k;
+            EXPECT_NEAR(e.x, wx / w, 1e-9 * (1 + std::fabs(e.x))) << "frame " << k;
+            EXPECT_NEAR(e.y, wy / w, 1e-9 * (1 + std::fabs(e.y))) << "frame " << k;
         }
+        // A fresh clustering of the same particles finds nearly the same dominant cluster.
+        ParticleClusterer fresh;
+        const std::vector<ClusterSummary> &c = fresh.run(p, pf.vio_yaw(), cp);
+        ASSERT_FALSE(c.empty());
+        worst_weight = std::max(worst_weight, std::fabs(w - c[0].weight));
+        if (!e.localized) worst_position_m = std::max(worst_position_m, std::hypot(wx / w - c[0].x, wy / w - c[0].y));
         ++checked;
     }
     EXPECT_GT(checked, 3);  // the carried path was really taken
     EXPECT_GT(checked_localized, 0);
     EXPECT_LT(checked_localized, checked);
+    // Measured: 0.0037 and 4 cm at most over the 18 frames.
+    EXPECT_LT(worst_weight, 0.02);
+    EXPECT_LT(worst_position_m, 0.1);
 }
 
 // One misread far sign (a sighting that fits no pose near the lock) must not break a steady lock: recovery

@@ -7,6 +7,7 @@
 #include <map>
 #include <vector>
 
+#include "common/lane_sums.hpp"
 #include "common/rng.hpp"
 #include "pf/resampling.hpp"
 
@@ -60,14 +61,13 @@ TEST(Resampling, SystematicWithZeroWeightsFallsBackToUniform) {
 }
 
 // Fox 2003 bound: grows about linearly in k; e.g. k = 100, epsilon 0.05, z 2.326 gives ~1,300 particles.
-// The caller's total (the sum systematic_resample and effective_sample_size form: double, index order) gives
+// The caller's total (the sum systematic_resample and effective_sample_size form: lane_sum) gives
 // the same draws.
 TEST(Resampling, SystematicWithTotalIsTheSameDraw) {
     Rng rng(11);
     std::vector<float> w(3000);
     for (float &v : w) v = rng.uniform_float() * rng.uniform_float();
-    double total = 0;
-    for (float v : w) total += v;
+    const double total = lane_sum(w.data(), w.size());
     double ess_sum = -1;
     effective_sample_size(w.data(), w.size(), &ess_sum);
     EXPECT_EQ(ess_sum, total);  // the ESS's sum is the draws' total
