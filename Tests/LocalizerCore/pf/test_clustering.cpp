@@ -189,6 +189,33 @@ void expect_same_summary(const ClusterSummary &a, const ClusterSummary &b, size_
     EXPECT_EQ(a.scale, b.scale) << "cluster " << k;
     EXPECT_EQ(a.evidence, b.evidence) << "cluster " << k;
 }
+/// A resampling-like copy of `p`: each particle 0, 1 or 2 times (its indices in *src), each copy's weight its
+/// source's times a uniform factor in [lo, lo + span), then normalised (a later reweighting).
+ParticleSet resampled_copies(const ParticleSet &p, Rng &rng, float lo, float span, std::vector<uint32_t> *src) {
+    src->clear();
+    for (uint32_t i = 0; i < p.size(); ++i) {
+        const uint32_t copies = rng.below(3);
+        for (uint32_t c = 0; c < copies; ++c) src->push_back(i);
+    }
+    ParticleSet q;
+    q.resize(src->size());
+    double total = 0;
+    for (size_t k = 0; k < src->size(); ++k) {
+        const uint32_t i = (*src)[k];
+        q.x[k] = p.x[i];
+        q.y[k] = p.y[i];
+        q.yaw_offset[k] = p.yaw_offset[i];
+        q.scale[k] = p.scale[i];
+        q.floor[k] = p.floor[i];
+        q.evidence[k] = p.evidence[i];
+        q.compass_ll[k] = p.compass_ll[i];
+        q.weight[k] = p.weight[i] * (lo + span * rng.uniform_float());
+        total += q.weight[k];
+    }
+    for (float &w : q.weight) w = static_cast<float>(w / total);
+    return q;
+}
+
 }  // namespace
 
 // Summarising only the clusters that are read (summary_min_weight) or none (weights_only, the resampling's
@@ -239,26 +266,7 @@ TEST(Clustering, CarriedBinsMatchFreshRun) {
         carried.run(p, 0.4f, params);
         // Copies: each source 0, 1 or 2 times, then new weights (a later reweighting), normalised.
         std::vector<uint32_t> src;
-        for (uint32_t i = 0; i < p.size(); ++i) {
-            const uint32_t copies = rng.below(3);
-            for (uint32_t c = 0; c < copies; ++c) src.push_back(i);
-        }
-        ParticleSet q;
-        q.resize(src.size());
-        double total = 0;
-        for (size_t k = 0; k < src.size(); ++k) {
-            const uint32_t i = src[k];
-            q.x[k] = p.x[i];
-            q.y[k] = p.y[i];
-            q.yaw_offset[k] = p.yaw_offset[i];
-            q.scale[k] = p.scale[i];
-            q.floor[k] = p.floor[i];
-            q.evidence[k] = p.evidence[i];
-            q.compass_ll[k] = p.compass_ll[i];
-            q.weight[k] = p.weight[i] * (0.5f + rng.uniform_float());
-            total += q.weight[k];
-        }
-        for (float &w : q.weight) w = static_cast<float>(w / total);
+        const ParticleSet q = resampled_copies(p, rng, 0.5f, 1.0f, &src);
         carried.carry_bins(src.data(), src.size());
         const std::vector<ClusterSummary> a = carried.run(q, 0.4f, params);
         EXPECT_TRUE(carried.last_run_used_carried_bins());
@@ -295,26 +303,7 @@ TEST(Clustering, CarriedPartitionSummarisesTheSourcesClusters) {
     carried.run(p, 0.4f, ClusterParams{});
     const std::vector<int32_t> source_cluster = carried.particle_clusters();
     std::vector<uint32_t> src;
-    for (uint32_t i = 0; i < p.size(); ++i) {
-        const uint32_t copies = rng.below(3);
-        for (uint32_t c = 0; c < copies; ++c) src.push_back(i);
-    }
-    ParticleSet q;
-    q.resize(src.size());
-    double total = 0;
-    for (size_t k = 0; k < src.size(); ++k) {
-        const uint32_t i = src[k];
-        q.x[k] = p.x[i];
-        q.y[k] = p.y[i];
-        q.yaw_offset[k] = p.yaw_offset[i];
-        q.scale[k] = p.scale[i];
-        q.floor[k] = p.floor[i];
-        q.evidence[k] = p.evidence[i];
-        q.compass_ll[k] = p.compass_ll[i];
-        q.weight[k] = p.weight[i] * (0.2f + 2.0f * rng.uniform_float());  // a later reweighting
-        total += q.weight[k];
-    }
-    for (float &w : q.weight) w = static_cast<float>(w / total);
+    const ParticleSet q = resampled_copies(p, rng, 0.2f, 2.0f, &src);  // copies, then a later reweighting
     ClusterParams reuse;
     reuse.reuse_carried_partition = true;
     carried.carry_bins(src.data(), src.size());
