@@ -231,20 +231,13 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
                 for (int k = 0; k < nc; ++k) {
                     if (cand_kind[k] != z.kind) continue;
                     ++nvis;
-                    float term;
-                    if (bias_on) {
-                        const float rp = cand_r[k] * bias_factor;
-                        const float sr0 = ra + rb * rp;
-                        const float sr = std::sqrt(sr0 * sr0 + rp * rp * bias_var);
-                        const float er = (z.range_m - rp) / sr;
-                        const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
-                        term = std::exp(-0.5f * (er * er + eb * eb)) / sr;
-                    } else {
-                        const float sr = ra + rb * cand_r[k];
-                        const float er = (z.range_m - cand_r[k]) / sr;
-                        const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
-                        term = std::exp(-0.5f * (er * er + eb * eb)) / sr;
-                    }
+                    // Without the bias term rp is the distance and sr the plain range std (x 1.0f is exact).
+                    const float rp = cand_r[k] * bias_factor;
+                    const float sr0 = ra + rb * rp;
+                    const float sr = bias_on ? std::sqrt(sr0 * sr0 + rp * rp * bias_var) : sr0;
+                    const float er = (z.range_m - rp) / sr;
+                    const float eb = wrap_angle_f(z.bearing_rad - cand_b[k]) * inv_sb;
+                    const float term = std::exp(-0.5f * (er * er + eb * eb)) / sr;
                     mix += term;
                     if (term > best_term) {
                         best_term = term;
