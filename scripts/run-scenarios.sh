@@ -10,7 +10,9 @@
 # DetectorParameters.realPhotoUNet / .realPhotoCascade; docs/benchmarks.md "Behind the real detectors' errors"):
 # the convergence study behind the U-Net's (gate convergence-study-real-unet.json) and the scenario suite behind
 # the unrefined cascade's (gate scenarios-real-cascade.json, which records the wrong locks its -25 % range bias
-# still causes: the gate keeps them from getting worse).
+# still causes: the gate keeps them from getting worse); and the scenario suite behind that cascade's recall and
+# false positives with a -15 % range bias (`--sim-range-bias -0.15`, gate scenarios-cascade-bias-15.json: the
+# bias the localizer's range-bias term holds with no wrong lock, docs/benchmarks.md "Seventh stop").
 # Usage: scripts/run-scenarios.sh [--write-baseline]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -19,11 +21,13 @@ shared="${WAYFINDER_SHARED_DATA:-$(cd .. && pwd)/shared/data}"
 for suite in "Tests/Scenarios:Tests/Baselines/scenarios.json" "Tests/ConvergenceStudy:Tests/Baselines/convergence-study.json" \
              "Tests/Recovery:Tests/Baselines/recovery.json" "Tests/FloorChangeStudy:Tests/Baselines/floor-change-study.json" \
              "Tests/ConvergenceStudy:Tests/Baselines/convergence-study-real-unet.json:real-unet" \
-             "Tests/Scenarios:Tests/Baselines/scenarios-real-cascade.json:real-cascade"; do
-  IFS=: read -r dir baseline detector <<<"$suite"
+             "Tests/Scenarios:Tests/Baselines/scenarios-real-cascade.json:real-cascade" \
+             "Tests/Scenarios:Tests/Baselines/scenarios-cascade-bias-15.json:real-cascade:-0.15"; do
+  IFS=: read -r dir baseline detector bias <<<"$suite"
   args=(--scenarios "$dir" --skeri "$shared")
   if [ -n "$detector" ]; then args+=(--sim-detector "$detector"); fi
-  echo "== $dir${detector:+ (behind the $detector detector)}"
+  if [ -n "$bias" ]; then args+=("--sim-range-bias=$bias"); fi
+  echo "== $dir${detector:+ (behind the $detector detector${bias:+, range bias $bias})}"
   if [ "${1:-}" = "--write-baseline" ]; then
     .build/release/wayfinder eval "${args[@]}" --write-baseline "$baseline"
   else
