@@ -20,6 +20,8 @@
 //                                           no placement prior)
 //   cascade_ours_gray/VGA                   GRAY8 frames: no colour, so the gate falls back to the full search (what
 //                                           the phone sent before it sent colour)
+//   cascade_ours_native/HR                  the HR frames searched at their own size (cascade_search_max_long_side_px
+//                                           -1; the HR rows otherwise search the frame shrunk to VGA and measure on it)
 //   cascade_phone_nv12/VGA, .../HR          the frames as ARKit delivers them: NV12 (Y plane + interleaved CbCr),
 //                                           full-range BT.601, handed over without conversion
 //   cascade_phone_bgra/VGA, .../HR          the frames as 32BGRA pixel buffers
@@ -219,6 +221,11 @@ public:
         ratio("cascade_ours/VGA", "cascade_ours_v3_search/VGA");
         ratio("cascade_ours/VGA", "cascade_ours_full_search/VGA");
         ratio("cascade_ours/HR", "cascade_ours_full_search/HR");
+        // A full-size frame searched at VGA and measured at full size, against the same frame searched at full size
+        // and against the VGA frame the phone sends (search_frame.hpp).
+        ratio("cascade_ours/HR", "cascade_ours_native/HR");
+        ratio("cascade_phone_bgra/HR", "cascade_phone_bgra/VGA");
+        ratio("cascade_phone_nv12/HR", "cascade_phone_nv12/VGA");
         ratio("unet_coarse_zoom/HR", "cascade_reference/VGA");
         ratio("unet_coarse_zoom/HR", "cascade_ours/VGA");
         ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_whole_frame/HR");
@@ -271,12 +278,13 @@ int main(int argc, char** argv) {
     } else {
         std::fprintf(stderr, "no extra kinds: %s\n", catalogueError.c_str());
     }
-    static std::unique_ptr<DetectorHandle> oursCascade, oursRough, oursV4, oursV3, oursFull, refCascade, unet, unetRough,
+    static std::unique_ptr<DetectorHandle> oursCascade, oursRough, oursNative, oursV4, oursV3, oursFull, refCascade, unet, unetRough,
         unetWholeFrame;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
         // The same search without face-edge refinement (the box's own height in every slice).
         oursRough = makeCascade(ours, 0, 0, 0, 0, false, CascadeSearch::Defaults, FaceEdgeOptions{-1, 0});
+        oursNative = makeCascade(ours, 0, 0, 0, 0, false, CascadeSearch::Defaults, FaceEdgeOptions{}, -1);
         oursV4 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, CascadeSearch::WideGateRegions);
         oursV3 = makeCascade(ours, 0, 0, 0, 0, /*fullSearch=*/false, CascadeSearch::WideGateRegionsNoPrior);
         oursFull = makeCascade(ours, 0, 0, 0, std::nan(""), /*fullSearch=*/true, CascadeSearch::WideGateRegionsNoPrior);
@@ -308,6 +316,7 @@ int main(int argc, char** argv) {
     if (oursCascade && *oursCascade) {
         pipeline("cascade_ours/VGA", oursCascade.get(), &vga);
         pipeline("cascade_ours/HR", oursCascade.get(), &hr);
+        pipeline("cascade_ours_native/HR", oursNative.get(), &hr);
         pipeline("cascade_ours_v4_search/VGA", oursV4.get(), &vga);
         pipeline("cascade_ours_v3_search/VGA", oursV3.get(), &vga);
         pipeline("cascade_ours_full_search/VGA", oursFull.get(), &vga);
