@@ -296,9 +296,9 @@ typedef struct wf_detector_options {
     int cascade_wall_kinds_per_frame;
     /** Cascade detector: the frame is searched shrunk so that its long side is at most this many pixels, and what
      *  is found there is measured (face edges, slices) on the frame itself: 0 = default 640 (VGA: the cascades'
-     *  training size and their speed target), N >= 64 = N, -1 = search the frame at its own size. Give the
-     *  cascade the camera's full frame (1920 x 1440): the search costs what VGA costs and far faces are measured
-     *  with three times the pixels (docs/sign-detection.md "Search at VGA, measure at full size"). */
+     *  training size and their speed target), N >= 64 = N, -1 = search the frame at its own size. A full frame
+     *  (1920 x 1440) is then searched at VGA's cost and its faces measured with three times the pixels, plus the
+     *  shrink (2-5 ms on one core: docs/sign-detection.md "Search at VGA, measure at full size"). */
     int cascade_search_max_long_side_px;
 
     /* Face-edge refinement (both detectors; docs/sign-detection.md "Face-edge refinement"). */

@@ -329,13 +329,14 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
 }
 
 std::vector<Detection> Detector::refinedBoxes(std::vector<Detection> boxes, const wf_image& image,
-                                              const Unrolling& unrolling) const {
+                                              const Unrolling& unrolling, const FaceEdgeParams* edgeParams) const {
     std::vector<Detection> kept = suppressOverlaps(std::move(boxes), 0.5);
     // A box is a rough segmentation: its slices all have the box's height. The face's own edges, found in the
     // image around each box, give the slices their heights (face_edge_refiner.hpp).
+    const FaceEdgeParams& params = edgeParams != nullptr ? *edgeParams : options_.faceEdges;
     for (Detection& d : kept) {
         const FaceEdgeResult edges =
-            refineFaceEdgesInFrame(image, unrolling, d.measurement, options_.cascade.slices, options_.faceEdges);
+            refineFaceEdgesInFrame(image, unrolling, d.measurement, options_.cascade.slices, params);
         if (edges.refined) d.measurement = edges.measurement;
     }
     return kept;
@@ -462,11 +463,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
                 if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
                 detections = mapToFrame(std::move(detections), search, unrolling, frameUnrolling);
                 const FaceEdgeParams fine = maskFaceEdgeParams(options_.faceEdges);
-                for (Detection& d : detections) {
-                    const FaceEdgeResult edges =
-                        refineFaceEdgesInFrame(frame.image, frameUnrolling, d.measurement, options_.cascade.slices, fine);
-                    if (edges.refined) d.measurement = edges.measurement;
-                }
+                detections = refinedBoxes(std::move(detections), frame.image, frameUnrolling, &fine);
             } else {
                 detections = refinedBoxes(std::move(detections), frame.image, unrolling);
                 if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);

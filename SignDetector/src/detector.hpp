@@ -51,9 +51,10 @@ struct ResolvedOptions {
     /// shrunk 3 x for them, 9 x fewer windows). Boxes are mapped back to the frame's own pixels.
     int plainKindSearchMaxLongSidePx = 640;
     /// The cascade detector searches the frame shrunk so that its long side is at most this, pixels (-1 = the
-    /// frame's own size), and measures what it finds on the frame itself (search_frame.hpp): the phone hands it
-    /// the full 1920 x 1440 frame, the windows cost what VGA costs, the face edges are located at full
-    /// resolution. wf_detector_options.cascade_search_max_long_side_px (0 = this default).
+    /// frame's own size), and measures what it finds on the frame itself (search_frame.hpp): given a 1920 x 1440
+    /// frame, the windows cost what VGA costs and the face edges are located at full resolution (the shrink
+    /// itself costs 2-5 ms here, so the phone still hands the cascade VGA frames).
+    /// wf_detector_options.cascade_search_max_long_side_px (0 = this default).
     int cascadeSearchMaxLongSidePx = 640;
     /// How many of those kinds one frame searches, in rotation (-1 = all of them every frame):
     /// wf_detector_options.cascade_wall_kinds_per_frame.
@@ -125,8 +126,10 @@ private:
                           std::vector<Detection>* out);
 
     /// `boxes` with overlaps of a kind suppressed (IoU > 0.5) and each box's slices measured from the face edges
-    /// found in `image` around it (face-edge refinement, when on).
-    std::vector<Detection> refinedBoxes(std::vector<Detection> boxes, const wf_image& image, const Unrolling& unrolling) const;
+    /// found in `image` around it (face-edge refinement, when on), searched with `edges` (options_.faceEdges when
+    /// null; a mask's narrow search for boxes refined once already).
+    std::vector<Detection> refinedBoxes(std::vector<Detection> boxes, const wf_image& image, const Unrolling& unrolling,
+                                        const FaceEdgeParams* edges = nullptr) const;
 
     /// Reads the legend of every detection whose kind reads text, from `grayUnrolled` (the whole unrolled frame).
     void readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections);
