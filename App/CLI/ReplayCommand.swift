@@ -28,7 +28,9 @@ enum ReplayCommand: Subcommand {
                        hypotheses, sightings, announcements, haptics; sightingList (kind, rangeMeters,
                        bearingRad, score, text) on frames with sightings; tracking and trackingPrompt when
                        tracking is not normal; while not localized also advice
-                       (the exploratory instruction in force) and spokenAdvice (when one is said)
+                       (the exploratory instruction in force) and spokenAdvice (when one is said);
+                       hypothesisList (weight, x, y, headingRad, evidenceNats) while not localized or
+                       while more than one hypothesis is held
     \(EvidenceSwitches.usage)
     Speech (espeak-ng, Debian package espeak-ng, installed by scripts/setup.sh):
       --speak          after the replay, play the walk in real time: each announcement is printed and spoken

@@ -41,6 +41,9 @@ public struct TraceRecord: Codable, Sendable, Equatable {
     /// The frame's sightings as the localizer got them (kind, range, bearing, score, legend read), when any:
     /// what a detector saw, for checking it against truth; nil on frames without sightings.
     public var sightingList: [TraceSighting]? = nil
+    /// The localizer's hypotheses (heaviest first) on frames where it is not localized or holds more than one:
+    /// what a trainer or a developer reads to see which places the filter still weighs; nil otherwise.
+    public var hypothesisList: [TraceHypothesis]? = nil
 
     /// Creates a trace record.
     public init(t: Double, x: Double, y: Double, floorId: String, headingRad: Double, confidence: Double, localized: Bool,
@@ -63,6 +66,20 @@ public struct TraceSighting: Codable, Sendable, Equatable {
     public var score: Double
     /// The legend read, for identifying signs.
     public var text: String?
+}
+
+/// One hypothesis in a trace line (`TraceRecord.hypothesisList`).
+public struct TraceHypothesis: Codable, Sendable, Equatable {
+    /// Normalised weight, 0...1.
+    public var weight: Double
+    /// Mean position, map frame, meters.
+    public var x: Double
+    /// Mean position, map frame, meters.
+    public var y: Double
+    /// Camera heading, radians CCW from map +x.
+    public var headingRad: Double
+    /// Recent evidence relative to the dominant hypothesis, nats (0 for the dominant; negative = worse).
+    public var evidenceNats: Double
 }
 
 /// A sign sighting drawn as a ray from the estimated camera position, for the trainer's picture.
@@ -292,6 +309,12 @@ public enum Replay {
             if !update.sightings.isEmpty {
                 result.trace[result.trace.count - 1].sightingList = update.sightings.map {
                     TraceSighting(kind: $0.kind, rangeMeters: $0.rangeMeters, bearingRad: $0.bearingRad, score: $0.score, text: $0.text)
+                }
+            }
+            if !e.isLocalized || e.hypotheses.count > 1 {
+                result.trace[result.trace.count - 1].hypothesisList = e.hypotheses.map {
+                    TraceHypothesis(weight: $0.weight, x: $0.positionInMap.x, y: $0.positionInMap.y, headingRad: $0.headingRad,
+                                    evidenceNats: $0.evidenceNats)
                 }
             }
             if let advice = update.advice { result.trace[result.trace.count - 1].advice = advice.action?.rawValue ?? "unsure" }

@@ -85,8 +85,8 @@ final class ReplayCommandTests: XCTestCase {
                                        "sightings", "announcements", "haptics"]
         // While not localized: the exploratory advice in force, and the action when one is spoken; while
         // tracking is not normal: its state, and the phone's tracking prompt when one is said; on frames with
-        // sightings, the list of them.
-        let optional: Set<String> = ["advice", "spokenAdvice", "tracking", "trackingPrompt", "sightingList"]
+        // sightings, the list of them; while not localized or holding several hypotheses, the list of those.
+        let optional: Set<String> = ["advice", "spokenAdvice", "tracking", "trackingPrompt", "sightingList", "hypothesisList"]
         var previousT = -Double.infinity
         var spoken = 0
         for (i, line) in r.traceLines.enumerated() {
@@ -100,6 +100,20 @@ final class ReplayCommandTests: XCTestCase {
             let list = object["sightingList"] as? [[String: Any]]
             XCTAssertEqual(list?.count ?? 0, Int(sightingCount), "trace line \(i + 1)")
             XCTAssertEqual(list == nil, sightingCount == 0, "trace line \(i + 1)")
+            // The hypotheses are listed exactly when the filter is not localized or holds more than one, with
+            // weights in 0...1, heaviest first, the number of them at least the count of those above 5 %.
+            let localizedFlag = try XCTUnwrap(object["localized"] as? Bool, "line \(i + 1)")
+            let hypothesisCount = try XCTUnwrap(jsonNumber(object["hypotheses"]), "line \(i + 1)")
+            if let hypotheses = object["hypothesisList"] as? [[String: Any]] {
+                XCTAssertTrue(!localizedFlag || hypotheses.count > 1, "trace line \(i + 1)")
+                let weights = hypotheses.compactMap { jsonNumber($0["weight"]) }
+                XCTAssertEqual(weights.count, hypotheses.count, "trace line \(i + 1)")
+                XCTAssertTrue(weights.allSatisfy { (0...1.000_001).contains($0) }, "trace line \(i + 1): \(weights)")
+                XCTAssertEqual(weights, weights.sorted(by: >), "trace line \(i + 1)")
+                XCTAssertGreaterThanOrEqual(hypotheses.count, Int(hypothesisCount), "trace line \(i + 1)")
+            } else {
+                XCTAssertTrue(localizedFlag, "trace line \(i + 1): not localized but no hypothesisList")
+            }
             for entry in list ?? [] {
                 XCTAssertTrue(Set(entry.keys).isSuperset(of: ["kind", "rangeMeters", "bearingRad", "score"]), "trace line \(i + 1)")
             }
