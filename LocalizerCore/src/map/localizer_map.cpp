@@ -237,6 +237,7 @@ int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options 
         const float wcell = std::max(static_cast<float>(opts.wall_index_cell_m), cell);
         const FloorGrid wgrid(x0, y0, x1, y1, wcell);
         f.walls = WallIndex(wgrid, src.walls, src.wall_count);
+        f.symmetries = find_floor_symmetries(f.walls);
         for (size_t i = 0; i < src.sign_count; ++i) {
             const wf_localizer_sign &s = src.signs[i];
             float nx = s.facing_x, ny = s.facing_y;

@@ -14,6 +14,7 @@
 #include <vector>
 
 #include "map/floor_grid.hpp"
+#include "map/floor_symmetry.hpp"
 #include "map/wall_index.hpp"
 #include "wf_localizer.h"
 
@@ -44,6 +45,9 @@ struct FloorData {
     std::vector<uint8_t> walkable;         // per cell
     std::vector<int32_t> walkable_cells;   // indices of walkable cells
     std::vector<float> link_x, link_y;     // vertical-link points
+    /// Rotations that map the floor's walls onto themselves (map/floor_symmetry): the twins the filter must
+    /// keep alive until the evidence tells them apart (pf/twin_guard).
+    std::vector<FloorSymmetry> symmetries;
 
     /// Visibility words of the cell containing (x, y), or nullptr outside the grid / no signs.
     inline const uint64_t *visibility_at(float x, float y) const {

@@ -29,13 +29,14 @@ bool LocalizedHysteresis::update(const HysteresisInput &in) {
         const bool only_poor_rival = heavy_rival && in.strongest_rival_evidence_margin < -p_.lock_rival_margin_nats;
         const bool weak = weight < p_.unlocalize_weight && !only_poor_rival;
         const bool lost = weight < p_.lock_min_weight;
-        if (spread || weak || lost || jumped) {
+        const bool twin_ahead = in.twin_log_ratio < -p_.lock_rival_margin_nats;
+        if (spread || weak || lost || jumped || twin_ahead) {
             localized_ = false;
             has_candidate_ = false;
         }
         return localized_;
     }
-    const bool ambiguous = in.unrefuted_rival_weight > 0;
+    const bool ambiguous = in.unrefuted_rival_weight > 0 || in.twin_log_ratio < p_.rival_refute_nats;
     if (in.dominant_weight > p_.localize_weight && in.std_m < p_.localize_std_m && !ambiguous && !jumped) {
         if (!has_candidate_) {
             has_candidate_ = true;

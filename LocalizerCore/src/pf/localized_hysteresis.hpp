@@ -17,7 +17,10 @@
 //    >= `lock_rival_weight` whose evidence is more than `lock_rival_margin_nats` worse than the dominant's (a
 //    rival revived by injection starts with the worst evidence present: it does not break the lock until the
 //    sightings favour it); weight diffused over the floor (the sightings refuted the lock) breaks it;
-//  - the dominant cluster's weight fell below `lock_min_weight`, whatever the rivals.
+//  - the dominant cluster's weight fell below `lock_min_weight`, whatever the rivals;
+//  - on a symmetric floor, its twin explains the evidence better by more than `lock_rival_margin_nats`.
+// On a symmetric floor, becoming localized also needs the evidence against the dominant hypothesis's twins to
+// reach rival_refute_nats (pf/twin_guard).
 #pragma once
 
 #include <cstdint>
@@ -60,6 +63,11 @@ struct HysteresisInput {
     /// The dominant cluster's core (pf/cluster_core, radius lock_core_radius_m): weight (0..1) and position
     /// std (m). Read only while localized; negative: not computed (the whole cluster's figures are used).
     double core_weight = -1, core_std_m = -1;
+    /// Evidence for the dominant hypothesis against its symmetric twins (pf/twin_guard), nats: the lowest over
+    /// the floor's symmetries; +infinity on a floor without any. Becoming localized needs it to reach
+    /// rival_refute_nats (the twin is a rival that no particle may happen to represent); a lock drops when it
+    /// falls below -lock_rival_margin_nats (the twin explains the evidence better).
+    double twin_log_ratio = 1e300;
 };
 
 /// The flag's state machine. Value type; reset() on every init of the filter.

@@ -114,6 +114,8 @@ ParticleFilter::ParticleFilter(LocalizerMap map, const wf_localizer_options &opt
       sign_model_(SignModelParams::from_options(opts)),
       rng_(seed),
       tracker_(opts) {
+    // A ratio array per symmetry of the most symmetric floor (none on an asymmetric map: no cost there).
+    p_.twin_arrays = scratch_.twin_arrays = TwinGuard::twin_arrays_for(map_);
     floor_params_.storey_threshold_m = opts.storey_threshold_m;
     floor_params_.settle_tolerance_m = opts.altitude_settle_tolerance_m;
     floor_params_.settle_s = opts.altitude_settle_s;
@@ -203,6 +205,7 @@ void ParticleFilter::reset_filter_state() {
     has_evidence_t_ = false;
     motion_acc_.clear();
     hysteresis_.reset();
+    twin_.reset();
     compass_.reset();
     arm_corroboration(false);
     was_localized_ = false;
@@ -231,6 +234,7 @@ void ParticleFilter::init_particle(size_t i, float x, float y, int16_t floor, fl
     p_.compass_ll[i] = 0;
     p_.bias_s1[i] = 0;
     p_.bias_s0[i] = 0;
+    p_.clear_twins(i);
 }
 
 int ParticleFilter::init_floor_only(int32_t floor) {
@@ -390,8 +394,20 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
     if (!z.empty() || sign_model_.negative_information) {
         const size_t n = p_.size();
         log_likelihood_.resize(n);
+        // The twins are scored with the cloud's states as they are now (before the bias statistics update).
+        for (size_t k = 0; k < p_.twin_arrays; ++k) {
+            if (!twin_.build_twins(p_, map_, k, twin_set_)) continue;
+            twin_ll_.resize(n);
+            sign_log_likelihood(twin_set_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
+                                twin_ll_.data(), twin_set_.bias_s1.data(), twin_set_.bias_s0.data());
+            twin_lls_[k].swap(twin_ll_);
+        }
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
                                                  log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data());
+        for (size_t k = 0; k < p_.twin_arrays; ++k) {
+            if (twin_lls_[k].size() == n) twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_lls_[k].data());
+            twin_lls_[k].clear();
+        }
         if (!z.empty()) {
             accumulate_evidence(log_likelihood_.data(), max_ll, t);
             last_sighting_t_ = t;
@@ -435,6 +451,7 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
                 maybe_resample(opts_.recovery != 0);
             }
             last_sightings_.clear();
+            reseed_twins();
         } else {
             normalize(0);
         }
@@ -645,6 +662,7 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
         gather(p_.compass_ll, scratch_.compass_ll);
         gather(p_.bias_s1, scratch_.bias_s1);
         gather(p_.bias_s0, scratch_.bias_s0);
+        for (size_t k = 0; k < p_.twin_arrays; ++k) gather(p_.twin_llr[k], scratch_.twin_llr[k]);
         std::copy(resample_w_.begin(), resample_w_.begin() + static_cast<std::ptrdiff_t>(kept), scratch_.weight.begin());
     }
     const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
@@ -669,6 +687,7 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
         scratch_.compass_ll[k] = 0;
         scratch_.bias_s1[k] = 0;  // a fresh guess has no sightings behind it
         scratch_.bias_s0[k] = 0;
+        scratch_.clear_twins(k);
     }
     p_.swap(scratch_);
     // The kept particles are unchanged copies of clustered ones: the estimate's clustering, when nothing
@@ -700,6 +719,9 @@ void ParticleFilter::apply_floor_change(double delta_m) {
     clusterer_.forget_carried_bins();
     const double sum = wf::loc::apply_floor_change(p_, map_, delta_m, floor_params_, rng_,
                                                     [this] { return sample_yaw_offset(); });
+    // A new floor has its own symmetries: every twin ratio starts again.
+    for (size_t k = 0; k < p_.twin_arrays; ++k) std::fill(p_.twin_llr[k].begin(), p_.twin_llr[k].end(), 0.0f);
+    twin_.reset();
     normalize(sum);
     maybe_resample(false);
     estimate_dirty_ = true;
@@ -799,6 +821,12 @@ int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_ra
     const size_t n = p_.size();
     log_likelihood_.resize(n);
     compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, log_likelihood_.data());
+    for (size_t k = 0; k < p_.twin_arrays; ++k) {
+        if (!twin_.build_twins(p_, map_, k, twin_set_)) continue;
+        twin_ll_.resize(n);
+        compass_.log_likelihood(twin_set_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, twin_ll_.data());
+        twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_ll_.data());
+    }
     compass_.mark_applied();
     ++compass_update_count_;
     // Each particle's history keeps its compass log-weight relative to the best history (max 0), floored at
@@ -821,8 +849,17 @@ int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_ra
     }
     normalize(s);
     maybe_resample(false);
+    reseed_twins();
     estimate_dirty_ = true;
     return WF_LOC_OK;
+}
+
+void ParticleFilter::reseed_twins() {
+    if (twin_.reseed(p_, map_) > 0) {  // mass moved, not created: the weights stay normalised
+        clusterer_.forget_carried_bins();
+        dominant_members_valid_ = false;
+        estimate_dirty_ = true;
+    }
 }
 
 namespace {
@@ -846,6 +883,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.core_radius_m", 0.5, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
     {"sign.range_bias_sigma", 0, 1},
+    {"twin.enabled", 0, 1},
 };
 
 }  // namespace
@@ -853,7 +891,7 @@ constexpr NamedParameter kParameters[] = {
 const char *ParticleFilter::parameter_names() {
     return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,compass.max_total_nats,"
            "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,lock.core_radius_m,sign.negative_info_min_range_m,"
-           "sign.range_bias_sigma";
+           "sign.range_bias_sigma,twin.enabled";
 }
 
 int ParticleFilter::set_parameter(const std::string &name, double value) {
@@ -882,6 +920,10 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
     else if (name == "sign.range_bias_sigma") sign_model_.range_bias_sigma = static_cast<float>(value);
+    else if (name == "twin.enabled") {
+        twin_.mutable_params().enabled = value != 0;
+        if (value == 0) twin_.reset();
+    }
     return WF_LOC_OK;
 }
 
@@ -900,6 +942,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;
     else if (name == "sign.range_bias_sigma") value = sign_model_.range_bias_sigma;
+    else if (name == "twin.enabled") value = twin_.params().enabled ? 1 : 0;
     else return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
     return WF_LOC_OK;
 }
@@ -967,8 +1010,12 @@ void ParticleFilter::compute_estimate() {
     e.hypothesis_count = hyps;
     // Ambiguity: the heaviest rival that the recent evidence has not refuted; and for the lock, the rival
     // (heavy enough to matter) whose evidence comes closest to the dominant's.
+    twin_.observe_dominant(d.floor, d.x, d.y, d.yaw_offset, std_m);
     HysteresisInput hin;
     hin.t = t_last_;
+    if (dominant_members_valid_) {
+        hin.twin_log_ratio = twin_.log_ratio(p_, map_, dominant_members_.data(), dominant_members_.size());
+    }
     hin.dominant_weight = e.dominant_weight;
     hin.std_m = std_m;
     hin.x = d.x;
@@ -978,6 +1025,9 @@ void ParticleFilter::compute_estimate() {
     for (size_t k = 1; k < clusters.size(); ++k) {
         const ClusterSummary &r = clusters[k];
         if (r.weight < opts_.rival_min_weight) break;  // sorted by weight
+        // The dominant's own twin is judged by the twin ratio (the whole history, pf/twin_guard), not by the
+        // recent evidence that fades: a twin the guard keeps alive is refuted when the ratio says so.
+        if (twin_.is_twin_of_dominant(map_, r.floor, r.x, r.y, r.yaw_offset)) continue;
         if (d.evidence - r.evidence < opts_.rival_refute_nats) {
             hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, r.weight);
         }
@@ -1017,7 +1067,10 @@ void ParticleFilter::compute_estimate() {
     // unrefuted rival): guidance while unsure must be safe under each live hypothesis, however light.
     for (const ClusterSummary &c : clusters) {
         if (hypotheses_.size() >= 16 || c.weight < opts_.rival_min_weight) break;
-        const bool live_rival = &c != &clusters.front() && d.evidence - c.evidence < opts_.rival_refute_nats;
+        const bool live_rival = &c != &clusters.front() &&
+                                (twin_.is_twin_of_dominant(map_, c.floor, c.x, c.y, c.yaw_offset)
+                                     ? hin.twin_log_ratio < opts_.rival_refute_nats
+                                     : d.evidence - c.evidence < opts_.rival_refute_nats);
         if (c.weight < 0.01 && !live_rival) continue;
         Eigen::Matrix2d cc;
         cc << c.cov_xx, c.cov_xy, c.cov_xy, c.cov_yy;

@@ -5,6 +5,7 @@
 // methods return a wf_localizer_status; the C ABI (capi/wf_localizer.cpp) is a thin shell around this class.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <limits>
 #include <string>
@@ -17,6 +18,7 @@
 #include "pf/clustering.hpp"
 #include "pf/particle_set.hpp"
 #include "pf/localized_hysteresis.hpp"
+#include "pf/twin_guard.hpp"
 #include "pf/resampling.hpp"
 #include "sensors/barometric_floor_model.hpp"
 #include "sensors/compass_model.hpp"
@@ -188,6 +190,14 @@ private:
     CompassModel compass_;
     size_t compass_update_count_ = 0;
     LocalizedHysteresis hysteresis_;
+    /// Symmetric twins of the dominant hypothesis (pf/twin_guard) and their log-likelihoods' scratch.
+    TwinGuard twin_;
+    ParticleSet twin_set_;  // the cloud's twins under one symmetry (scratch)
+    std::vector<float> twin_ll_;
+    std::array<std::vector<float>, ParticleSet::kMaxTwins> twin_lls_;  // twin sign log-likelihoods per symmetry
+    /// After a measurement update: reseeds the dominant hypothesis's twins (TwinGuard::reseed) and marks the
+    /// clusters and the estimate stale when particles moved.
+    void reseed_twins();
 
     bool estimate_dirty_ = true;
     /// The lock must be earned against rivals that explain the same sightings (pf/particle_filter_corroboration):

@@ -11,12 +11,17 @@
 //   bias_s1[i], bias_s0[i]  sufficient statistics of the detector's range bias along this particle's history:
 //                    sums of w e and w over its matched sightings, e = log(measured / predicted range), w its
 //                    precision (sensors/sign_measurement_model, "Range bias");
+//   twin_llr[k][i]   on a floor with rotational symmetries (map/floor_symmetry): log-likelihood of this particle's
+//                    history minus that of its twin under the floor's k-th symmetry, signs and compass (nats;
+//                    pf/twin_guard); only the first `twin_arrays` arrays are used, none on a map without symmetry;
 //   compass_ll[i]    compass log-weight this particle's history has received so far (nats, <= 0), so that the
 //                    total compass evidence against a hypothesis stays within a cap (sensors/compass_model).
 #pragma once
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
+#include <utility>
 #include <vector>
 
 namespace wf::loc {
@@ -24,6 +29,11 @@ namespace wf::loc {
 struct ParticleSet {
     std::vector<float> x, y, yaw_offset, scale, weight, evidence, compass_ll, bias_s1, bias_s0;
     std::vector<int16_t> floor;
+    /// Most symmetries per floor that carry a twin log-likelihood ratio.
+    static constexpr size_t kMaxTwins = 3;
+    std::array<std::vector<float>, kMaxTwins> twin_llr;
+    /// Number of twin_llr arrays in use (sized with the others): 0 unless some floor is symmetric.
+    size_t twin_arrays = 0;
 
     size_t size() const { return x.size(); }
     void resize(size_t n) {
@@ -32,6 +42,7 @@ struct ParticleSet {
         bias_s1.resize(n);
         bias_s0.resize(n);
         floor.resize(n);
+        for (size_t k = 0; k < twin_arrays; ++k) twin_llr[k].resize(n);
     }
     void swap(ParticleSet &o) {
         x.swap(o.x); y.swap(o.y); yaw_offset.swap(o.yaw_offset); scale.swap(o.scale); weight.swap(o.weight);
@@ -40,8 +51,14 @@ struct ParticleSet {
         bias_s1.swap(o.bias_s1);
         bias_s0.swap(o.bias_s0);
         floor.swap(o.floor);
+        twin_llr.swap(o.twin_llr);
+        std::swap(twin_arrays, o.twin_arrays);
     }
-    /// Bytes of state per particle (one copy).
+    /// Clears particle i's twin ratios (a fresh particle: no evidence either way).
+    void clear_twins(size_t i) {
+        for (size_t k = 0; k < twin_arrays; ++k) twin_llr[k][i] = 0;
+    }
+    /// Bytes of state per particle (one copy), without the twin ratios.
     static constexpr size_t kBytesPerParticle = 9 * sizeof(float) + sizeof(int16_t);
 };
 
