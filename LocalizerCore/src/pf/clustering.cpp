@@ -28,6 +28,14 @@ int32_t ParticleClusterer::find(int32_t a) {
     return a;
 }
 
+void ParticleClusterer::reserve(size_t n) {
+    if (cell_of_.size() < n) cell_of_.resize(n);
+    if (particle_cluster_.size() < n) particle_cluster_.resize(n);
+    if (carried_cell_.size() < n) carried_cell_.resize(n);
+    if (carried_cluster_.size() < n) carried_cluster_.resize(n);
+    dense_.reserve(n);
+}
+
 void ParticleClusterer::carry_bins(const uint32_t *src, size_t count) {
     carried_cell_.resize(count);
     carried_cluster_.resize(count);
@@ -100,9 +108,12 @@ void ParticleClusterer::rank_carried_partition(const ParticleSet &p) {
 WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
                                                           const ClusterParams &params) {
     clusters_.clear();
-    particle_cluster_.clear();
     const size_t n = p.size();
-    if (n == 0) return clusters_;
+    // particle_cluster_ is resized to n (within its capacity: no fill) and written in full below.
+    if (n == 0) {
+        particle_cluster_.clear();
+        return clusters_;
+    }
     const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::lround(2.0 * kPiD / params.yaw_bin_rad)));
     const float inv_m = 1.0f / params.cell_m;
     const float inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);

@@ -161,6 +161,13 @@ uint32_t BinCounter::find(uint64_t key) const {
     return UINT32_MAX;
 }
 
+void DenseBins::reserve(size_t m) {
+    if (ix_.size() < m) ix_.resize(m);
+    if (iy_.size() < m) iy_.resize(m);
+    if (ih_.size() < m) ih_.resize(m);
+    if (box_.size() < m) box_.resize(m);
+}
+
 WF_SIMD_CLONES bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
                        float inv_bin_yaw, int32_t yaw_bins, size_t max_box) {
     ix_.resize(m);
