@@ -176,18 +176,27 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
         uint32_t last_id = 0;
         if (dense) {
             const uint32_t *box = dense_.box_bin().data();
+            // The arrays' data pointers in locals, refreshed when a new cell grows them (otherwise every store
+            // through one of them makes the compiler load the others' again).
+            int32_t *box_cell = box_cell_.data();
+            uint32_t *cell_of = cell_of_.data();
+            double *cell_weight = cell_weight_.data();
+            uint32_t *cell_count = cell_count_.data();
             for (size_t i = 0; i < n; ++i) {
-                int32_t &slot = box_cell_[box[i]];
+                int32_t slot = box_cell[box[i]];
                 if (slot < 0) {
                     slot = static_cast<int32_t>(keys_.size());
+                    box_cell[box[i]] = slot;
                     keys_.push_back(box[i]);
                     cell_weight_.push_back(0.0);
                     cell_count_.push_back(0);
                     cell_floor_.push_back(p.floor[i]);
+                    cell_weight = cell_weight_.data();
+                    cell_count = cell_count_.data();
                 }
-                cell_of_[i] = static_cast<uint32_t>(slot);
-                cell_weight_[slot] += wp[i];
-                ++cell_count_[slot];
+                cell_of[i] = static_cast<uint32_t>(slot);
+                cell_weight[slot] += wp[i];
+                ++cell_count[slot];
             }
         } else {
             for (size_t i = 0; i < n; ++i) {
