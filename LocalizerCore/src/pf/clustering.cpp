@@ -449,16 +449,22 @@ WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio
         };
         for (size_t b = 0; b < n; b += kBlock) {
             const size_t nb = std::min(kBlock, n - b);
-            // The block's sines and cosines and evidence (vectorised), then its runs.
-            const float *yo = p.yaw_offset.data() + b;
-            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), in.sn[k], in.cs[k]);
-            for (size_t k = 0; k < nb; ++k) in.e[k] = 0.0f;
-            if (has_evidence) {
-                for (size_t k = 0; k < nb; ++k) in.e[k] = p.evidence[b + k];
-            }
-            if (has_compass) {
-                for (size_t k = 0; k < nb; ++k) in.e[k] += p.compass_ll[b + k];
-            }
+            // The block's sines and cosines and evidence (vectorised), computed when its first run of a summarised
+            // cluster comes (a block of only light or unclustered particles, most of a spread-out cloud after a
+            // resampling, needs none), then its runs.
+            bool inputs_ready = false;
+            auto prepare_inputs = [&] {
+                const float *yo = p.yaw_offset.data() + b;
+                for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), in.sn[k], in.cs[k]);
+                for (size_t k = 0; k < nb; ++k) in.e[k] = 0.0f;
+                if (has_evidence) {
+                    for (size_t k = 0; k < nb; ++k) in.e[k] = p.evidence[b + k];
+                }
+                if (has_compass) {
+                    for (size_t k = 0; k < nb; ++k) in.e[k] += p.compass_ll[b + k];
+                }
+                inputs_ready = true;
+            };
             for (size_t k = 0; k < nb;) {
                 const int32_t cl = pc[b + k];
                 size_t end = k + 1;
@@ -470,7 +476,10 @@ WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio
                     flush();
                     run_cluster = cl;
                 }
-                if (cl >= 0 && full[cl]) add_moments(p, b, k, end, in.sn, in.cs, in.e, run);
+                if (cl >= 0 && full[cl]) {
+                    if (!inputs_ready) prepare_inputs();
+                    add_moments(p, b, k, end, in.sn, in.cs, in.e, run);
+                }
                 k = end;
             }
         }
