@@ -28,6 +28,14 @@ int32_t ParticleClusterer::find(int32_t a) {
     return a;
 }
 
+void ParticleClusterer::reserve(size_t n) {
+    if (cell_of_.size() < n) cell_of_.resize(n);
+    if (particle_cluster_.size() < n) particle_cluster_.resize(n);
+    if (carried_cell_.size() < n) carried_cell_.resize(n);
+    if (carried_cluster_.size() < n) carried_cluster_.resize(n);
+    dense_.reserve(n);
+}
+
 void ParticleClusterer::carry_bins(const uint32_t *src, size_t count) {
     carried_cell_.resize(count);
     carried_cluster_.resize(count);
@@ -100,9 +108,12 @@ void ParticleClusterer::rank_carried_partition(const ParticleSet &p) {
 WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const ParticleSet &p, float vio_yaw,
                                                           const ClusterParams &params) {
     clusters_.clear();
-    particle_cluster_.clear();
     const size_t n = p.size();
-    if (n == 0) return clusters_;
+    // particle_cluster_ is resized to n (within its capacity: no fill) and written in full below.
+    if (n == 0) {
+        particle_cluster_.clear();
+        return clusters_;
+    }
     const int32_t yaw_bins = std::max<int32_t>(1, static_cast<int32_t>(std::lround(2.0 * kPiD / params.yaw_bin_rad)));
     const float inv_m = 1.0f / params.cell_m;
     const float inv_yaw = static_cast<float>(yaw_bins) / (2.0f * kPi);
@@ -165,18 +176,27 @@ WF_SIMD_CLONES const std::vector<ClusterSummary> &ParticleClusterer::run(const P
         uint32_t last_id = 0;
         if (dense) {
             const uint32_t *box = dense_.box_bin().data();
+            // The arrays' data pointers in locals, refreshed when a new cell grows them (otherwise every store
+            // through one of them makes the compiler load the others' again).
+            int32_t *box_cell = box_cell_.data();
+            uint32_t *cell_of = cell_of_.data();
+            double *cell_weight = cell_weight_.data();
+            uint32_t *cell_count = cell_count_.data();
             for (size_t i = 0; i < n; ++i) {
-                int32_t &slot = box_cell_[box[i]];
+                int32_t slot = box_cell[box[i]];
                 if (slot < 0) {
                     slot = static_cast<int32_t>(keys_.size());
+                    box_cell[box[i]] = slot;
                     keys_.push_back(box[i]);
                     cell_weight_.push_back(0.0);
                     cell_count_.push_back(0);
                     cell_floor_.push_back(p.floor[i]);
+                    cell_weight = cell_weight_.data();
+                    cell_count = cell_count_.data();
                 }
-                cell_of_[i] = static_cast<uint32_t>(slot);
-                cell_weight_[slot] += wp[i];
-                ++cell_count_[slot];
+                cell_of[i] = static_cast<uint32_t>(slot);
+                cell_weight[slot] += wp[i];
+                ++cell_count[slot];
             }
         } else {
             for (size_t i = 0; i < n; ++i) {
@@ -429,16 +449,22 @@ WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio
         };
         for (size_t b = 0; b < n; b += kBlock) {
             const size_t nb = std::min(kBlock, n - b);
-            // The block's sines and cosines and evidence (vectorised), then its runs.
-            const float *yo = p.yaw_offset.data() + b;
-            for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), in.sn[k], in.cs[k]);
-            for (size_t k = 0; k < nb; ++k) in.e[k] = 0.0f;
-            if (has_evidence) {
-                for (size_t k = 0; k < nb; ++k) in.e[k] = p.evidence[b + k];
-            }
-            if (has_compass) {
-                for (size_t k = 0; k < nb; ++k) in.e[k] += p.compass_ll[b + k];
-            }
+            // The block's sines and cosines and evidence (vectorised), computed when its first run of a summarised
+            // cluster comes (a block of only light or unclustered particles, most of a spread-out cloud after a
+            // resampling, needs none), then its runs.
+            bool inputs_ready = false;
+            auto prepare_inputs = [&] {
+                const float *yo = p.yaw_offset.data() + b;
+                for (size_t k = 0; k < nb; ++k) fast_sincos(wrap_angle_f(yo[k]), in.sn[k], in.cs[k]);
+                for (size_t k = 0; k < nb; ++k) in.e[k] = 0.0f;
+                if (has_evidence) {
+                    for (size_t k = 0; k < nb; ++k) in.e[k] = p.evidence[b + k];
+                }
+                if (has_compass) {
+                    for (size_t k = 0; k < nb; ++k) in.e[k] += p.compass_ll[b + k];
+                }
+                inputs_ready = true;
+            };
             for (size_t k = 0; k < nb;) {
                 const int32_t cl = pc[b + k];
                 size_t end = k + 1;
@@ -450,7 +476,10 @@ WF_SIMD_CLONES void ParticleClusterer::summarise(const ParticleSet &p, float vio
                     flush();
                     run_cluster = cl;
                 }
-                if (cl >= 0 && full[cl]) add_moments(p, b, k, end, in.sn, in.cs, in.e, run);
+                if (cl >= 0 && full[cl]) {
+                    if (!inputs_ready) prepare_inputs();
+                    add_moments(p, b, k, end, in.sn, in.cs, in.e, run);
+                }
                 k = end;
             }
         }

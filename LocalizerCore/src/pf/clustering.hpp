@@ -63,7 +63,12 @@ public:
     const std::vector<ClusterSummary> &run(const ParticleSet &p, float vio_yaw, const ClusterParams &params);
 
     /// For each particle of the last run: index into the sorted clusters, or -1 (bin too light to join).
+    /// Before the first run (after reserve) its size is unspecified.
     const std::vector<int32_t> &particle_clusters() const { return particle_cluster_; }
+
+    /// Sizes the per-particle work arrays for runs of up to `n` particles (and carry_bins of up to n copies),
+    /// so that such runs neither allocate nor zero-fill them on first use.
+    void reserve(size_t n);
 
     /// After a resampling of the last run's particle set: particle k of the new set (k < count) is an
     /// unchanged copy of particle src[k] of that set. The next run, when it gets `count` particles, the same

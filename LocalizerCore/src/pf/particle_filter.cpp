@@ -214,6 +214,26 @@ void ParticleFilter::reset_filter_state() {
     dominant_members_valid_ = false;
     // A compass prior given before the first VIO yaw is applied at the next predict.
     compass_pending_ = compass_set_ && !tracker_.has_yaw();
+    size_work_arrays();
+}
+
+void ParticleFilter::size_work_arrays() {
+    // A resampling produces at most max_particles (KLD-sampling) or particle_count particles; the set itself may
+    // hold more after an init outside those bounds.
+    const size_t cap = std::max(p_.size(), static_cast<size_t>(opts_.adaptive_particle_count ? opts_.max_particles
+                                                                                              : opts_.particle_count));
+    // Only grown: a later init with fewer particles keeps what an earlier one sized (sizes within capacity do
+    // not allocate, and resizing down does not fill).
+    if (scratch_.size() < cap) scratch_.resize(cap);
+    if (log_likelihood_.size() < cap) log_likelihood_.resize(cap);
+    if (resample_src_.size() < cap) resample_src_.resize(cap);
+    if (resample_w_.size() < cap) resample_w_.resize(cap);
+    if (indices_.size() < cap) indices_.resize(cap);
+    if (group_members_.size() < cap + 1) group_members_.resize(cap + 1);
+    if (group_of_.size() < cap) group_of_.resize(cap);
+    if (group_weights_.size() < cap) group_weights_.resize(cap);
+    kld_dense_.reserve(cap);
+    clusterer_.reserve(cap);
 }
 
 size_t ParticleFilter::initial_particle_count() const {

@@ -100,6 +100,10 @@ private:
     void init_particle(size_t i, float x, float y, int16_t floor, float weight);
     bool sample_from_sighting(int16_t floor, float &x, float &y, float &yaw_offset);
     void reset_filter_state();
+    /// Sizes every per-frame work array (resampling copy and draws, grouping, KLD bins, clustering) for the
+    /// largest particle count a resampling can produce, so that no frame after an init allocates or
+    /// zero-fills them on first use (the steady state of the frame loop from the first frame on).
+    void size_work_arrays();
     void normalize(double sum);
     void maybe_resample(bool after_measurement);
     /// Resamples; `weight_sum` is the weights' lane sum (effective_sample_size's), the

@@ -20,27 +20,43 @@ WF_SIMD_CLONES double effective_sample_size(const float *weights, size_t n, doub
 
 namespace {
 
-/// The draws of systematic_resample once the weights' sum is known.
+/// Slack past the last draw of systematic_draws' output: each particle's copies are written as one block of
+/// kCopyBlock stores whatever their number (up to kCopyBlock), so that the walk has no branch per copy.
+constexpr size_t kCopyBlock = 8;
+
+/// The draws of systematic_resample once the weights' sum is known. Pointer k (k = 0 .. n_out - 1) lies at
+/// (u0 + k) * step along the cumulative weights, step = total / n_out, and falls to the first particle whose
+/// cumulative weight reaches it (PR Table 4.4). Counted per particle instead of walked per pointer: the
+/// pointers at or below the cumulative weight c_i are N_i = floor(c_i / step - u0) + 1 (clamped to [0, m]), so
+/// particle i gets N_i - N_{i-1} copies, written as one block of stores; the pointers a rounding leaves beyond
+/// the last cumulative weight go to the last particle, as in the walk. The same draws as the walk up to the
+/// rounding of a pointer that lies on a cumulative weight (Tests/LocalizerCore/pf/test_resampling.cpp compares
+/// both).
 void systematic_draws(const float *weights, size_t n, size_t n_out, double u0, double total, size_t m,
                       std::vector<uint32_t> &out) {
-    out.resize(m);
     if (!(total > 0) || !std::isfinite(total)) {
+        out.resize(m);
         for (size_t k = 0; k < m; ++k) out[k] = static_cast<uint32_t>((k * n) / n_out);
         return;
     }
-    // Pointers at (u0 + k) * total / n_out, k = 0..n_out-1, walked along the cumulative weights.
-    const double step = total / static_cast<double>(n_out);
-    double target = u0 * step;
-    double cumulative = weights[0];
-    size_t i = 0;
-    for (size_t k = 0; k < m; ++k) {
-        while (target > cumulative && i + 1 < n) {
-            ++i;
-            cumulative += weights[i];
-        }
-        out[k] = static_cast<uint32_t>(i);
-        target += step;
+    out.resize(m + kCopyBlock);
+    uint32_t *o = out.data();
+    const double inv_step = static_cast<double>(n_out) / total;
+    const auto limit = static_cast<int64_t>(m);
+    double cumulative = 0;
+    int64_t written = 0;
+    for (size_t i = 0; i < n && written < limit; ++i) {
+        cumulative += weights[i];
+        // Pointers at or below the cumulative weight: floor(x) + 1 = trunc(x + 1) for x = c / step - u0 > -1
+        // (c >= 0, u0 < 1), clamped to m as an integer (no floor call, no branch).
+        const int64_t upto = std::min(static_cast<int64_t>(cumulative * inv_step - u0 + 1.0), limit);
+        const auto id = static_cast<uint32_t>(i);
+        for (size_t c = 0; c < kCopyBlock; ++c) o[written + static_cast<int64_t>(c)] = id;
+        for (int64_t k = written + static_cast<int64_t>(kCopyBlock); k < upto; ++k) o[k] = id;  // rare
+        written = std::max(written, upto);
     }
+    for (auto k = static_cast<size_t>(written); k < m; ++k) o[k] = static_cast<uint32_t>(n - 1);
+    out.resize(m);
 }
 
 }  // namespace
@@ -159,6 +175,13 @@ uint32_t BinCounter::find(uint64_t key) const {
         h = (h + 1) & mask_;
     }
     return UINT32_MAX;
+}
+
+void DenseBins::reserve(size_t m) {
+    if (ix_.size() < m) ix_.resize(m);
+    if (iy_.size() < m) iy_.resize(m);
+    if (ih_.size() < m) ih_.resize(m);
+    if (box_.size() < m) box_.resize(m);
 }
 
 WF_SIMD_CLONES bool DenseBins::assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,

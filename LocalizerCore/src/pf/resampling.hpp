@@ -76,6 +76,9 @@ public:
     /// box holds more than max_box bins.
     bool assign(const ParticleSet &p, const uint32_t *idx, size_t m, float vio_yaw, float inv_bin_m,
                 float inv_bin_yaw, int32_t yaw_bins, size_t max_box);
+    /// Sizes the per-item work arrays for `m` items, so that an assign of up to m items neither allocates nor
+    /// zero-fills them.
+    void reserve(size_t m);
     /// Box bin of item k of the last assign, in [0, box_size()).
     const std::vector<uint32_t> &box_bin() const { return box_; }
     size_t box_size() const { return static_cast<size_t>(nf_) * ny_ * nx_ * nh_; }

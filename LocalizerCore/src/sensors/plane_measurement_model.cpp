@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "common/fast_math.hpp"
 #include "common/simd_clones.hpp"
@@ -242,18 +243,36 @@ WF_SIMD_CLONES float plane_log_likelihood(const ParticleSet &p, const std::vecto
         // follows a sign update's resampling before any motion): each run of identical particles is scored
         // once, with the same arithmetic, and its value given to every copy.
         thread_local std::vector<uint32_t> first_of_run, run_of;
+        thread_local std::vector<uint8_t> starts_run;
         thread_local std::vector<float> run_ll;
         first_of_run.resize(n + 1);  // + 1: the branch-free scan writes one slot past the last run's start
         run_of.resize(n);
+        starts_run.resize(n);
         const float *px = p.x.data(), *py = p.y.data(), *pyaw = p.yaw_offset.data(), *psc = p.scale.data();
+        // Whether particle i starts a run: a pose that differs from the previous one's in its bits (vectorised:
+        // integer compares; a copy is bit for bit its source, and a pose that is equal but for the sign of a
+        // zero only starts a run of its own, scored with the same arithmetic), then the runs listed by a
+        // branch-free compaction.
+        {
+            const auto bits = [](const float *v, size_t i) {
+                uint32_t u;
+                std::memcpy(&u, v + i, sizeof(u));
+                return u;
+            };
+            uint8_t *starts = starts_run.data();
+            for (size_t i = 1; i < n; ++i) {
+                starts[i] = static_cast<uint8_t>((bits(px, i) != bits(px, i - 1)) | (bits(py, i) != bits(py, i - 1)) |
+                                                 (bits(pyaw, i) != bits(pyaw, i - 1)) |
+                                                 (bits(psc, i) != bits(psc, i - 1)));
+            }
+        }
         first_of_run[0] = 0;
         run_of[0] = 0;
         size_t runs = 1;
+        const uint8_t *starts = starts_run.data();
         for (size_t i = 1; i < n; ++i) {
-            const bool differs =
-                (px[i] != px[i - 1]) | (py[i] != py[i - 1]) | (pyaw[i] != pyaw[i - 1]) | (psc[i] != psc[i - 1]);
             first_of_run[runs] = static_cast<uint32_t>(i);
-            runs += differs ? 1 : 0;
+            runs += starts[i];
             run_of[i] = static_cast<uint32_t>(runs - 1);
         }
         run_ll.resize(runs);

@@ -89,6 +89,53 @@ TEST(Resampling, SystematicWithTotalIsTheSameDraw) {
     EXPECT_TRUE(given.empty());
 }
 
+namespace {
+
+/// The plain systematic walk (PR Table 4.4): pointer k at (u0 + k) * total / n_out, accumulated, goes to the
+/// first particle whose cumulative weight reaches it (the last one when a rounding leaves it beyond).
+std::vector<uint32_t> walked_draws(const std::vector<float> &w, size_t n_out, double u0, size_t m) {
+    double total = lane_sum(w.data(), w.size());
+    std::vector<uint32_t> out(m);
+    const double step = total / static_cast<double>(n_out);
+    double target = u0 * step, cumulative = w[0];
+    size_t i = 0;
+    for (size_t k = 0; k < m; ++k) {
+        while (target > cumulative && i + 1 < w.size()) cumulative += w[++i];
+        out[k] = static_cast<uint32_t>(i);
+        target += step;
+    }
+    return out;
+}
+
+}  // namespace
+
+// The per-particle count of the draws (systematic_resample) against the plain pointer walk: the same draws
+// on random weights (a pointer exactly on a cumulative weight is where they may differ, by one position),
+// with light, heavy (many copies of one particle, beyond the copy block) and zero weights, full and prefix.
+TEST(Resampling, CountedDrawsAreThePointerWalk) {
+    Rng rng(47);
+    for (int trial = 0; trial < 20; ++trial) {
+        std::vector<float> w(1 + rng.below(5000));
+        for (float &v : w) {
+            const double u = rng.uniform();
+            v = u < 0.2 ? 0.0f : u < 0.21 ? 50.0f * rng.uniform_float() : rng.uniform_float() * rng.uniform_float();
+        }
+        w[rng.below(static_cast<uint32_t>(w.size()))] = 100.0f;  // at least one heavy particle
+        for (size_t n_out : {size_t{1}, size_t{13}, w.size(), 3 * w.size() + 7}) {
+            const double u0 = rng.uniform();
+            std::vector<uint32_t> drawn;
+            systematic_resample(w.data(), w.size(), n_out, u0, drawn);
+            const std::vector<uint32_t> walked = walked_draws(w, n_out, u0, n_out);
+            ASSERT_EQ(drawn.size(), walked.size());
+            size_t differ = 0;
+            for (size_t k = 0; k < drawn.size(); ++k) differ += drawn[k] != walked[k] ? 1 : 0;
+            EXPECT_EQ(differ, 0u) << "trial " << trial << " n_out " << n_out;
+            systematic_resample(w.data(), w.size(), n_out, u0, drawn, n_out / 2 + 1);
+            EXPECT_EQ(drawn, walked_draws(w, n_out, u0, std::min(n_out, n_out / 2 + 1)));
+        }
+    }
+}
+
 TEST(Resampling, KldCountGrowsWithBins) {
     EXPECT_EQ(kld_sample_count(1, 0.05, 2.326), 1u);
     size_t prev = 1;

@@ -151,6 +151,25 @@ TEST(PlaneMeasurementModel, IdenticalCopiesScoreExactlyAsAlone) {
     EXPECT_NE(all[1], all[2]);  // the scale matters, so the broken run really was scored twice
 }
 
+// The run scan compares the poses' bits: a pose one float step from its neighbour starts a run, and one equal
+// to it but for the sign of a zero yaw offset starts a run too, scored as it is alone (the same value as the
+// neighbour's: the sign of a zero does not change the points).
+TEST(PlaneMeasurementModel, NearCopiesAndSignedZerosScoreAsAlone) {
+    auto world = wf::test::corridor_world();
+    const auto o = wf::test::default_options();
+    const auto map = wf::test::build_map(world, o);
+    const float x1 = std::nextafter(10.0f, 11.0f);
+    const std::vector<std::array<float, 3>> poses = {{10, 1, 0},  {10, 1, 0},  {x1, 1, 0}, {x1, 1, 0},
+                                                     {10, 1, -0.0f}, {10, 1, 0}, {10, 1, -0.0f}};
+    ParticleSet p = particles(poses);
+    const std::vector<wf_plane_observation> obs = {plane(1, 0, 1, -kPiF / 2, 3), plane(2, 1, -1, kPiF / 2, 1.2)};
+    const auto all = log_likelihoods(map, p, obs);
+    for (size_t i = 0; i < poses.size(); ++i) {
+        EXPECT_EQ(all[i], log_likelihoods(map, particles({poses[i]}), obs)[0]) << "particle " << i;
+    }
+    EXPECT_EQ(all[4], all[0]);
+}
+
 TEST(PlaneMeasurementModel, ScaleAndYawOffsetMapThePlane) {
     // VIO is rotated by +90 degrees from the map (yaw offset -pi/2) and 10 % short (scale 1.1): a plane that
     // lies 0.909 m to the VIO west is 1 m to the map north, on the wall.
