@@ -46,8 +46,8 @@ struct PlaneModelParams {
     /// and an old anchor makes them unreliable), meters.
     float max_range_m = 8.0f;
     /// Sample points along a plane: about one every point_spacing_m, between 2 and max_points.
-    float point_spacing_m = 1.0f;
-    int32_t max_points = 3;
+    float point_spacing_m = 0.75f;
+    int32_t max_points = 4;
     /// Exponent on each plane's likelihood (correlation of successive reports of one wall).
     float weight = 0.5f;
     /// An anchor is applied at most once per this interval, seconds.
