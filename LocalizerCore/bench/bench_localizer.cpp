@@ -228,8 +228,11 @@ std::vector<wf_plane_observation> full_step_planes(uint64_t first_id) {
 
 /// A filter right after a floor-only start (spread-out cloud), one VIO sample seen and the wall fields of the
 /// plane model built, so the measured step does only per-frame work.
-std::unique_ptr<ParticleFilter> full_step_prototype(size_t n) {
+std::unique_ptr<ParticleFilter> full_step_prototype(size_t n, bool twins = true) {
     auto pf = std::make_unique<ParticleFilter>(office_map(), full_step_options(n), 5);
+    // The synthetic office is symmetric under a half turn (map/floor_symmetry: its doors are 0.67 m off the
+    // turned ones), so the shipped filter scores every particle's twin too (pf/twin_guard).
+    pf->set_parameter("twin.enabled", twins ? 1 : 0);
     pf->init_floor_only(0);
     pf->predict({0, 0, 0, 0.3, WF_VIO_TRACKING_NORMAL});
     const wf_plane_observation narrow{1, 0.5, 2.0, -kPiD / 2, 0.01};  // too narrow: builds the fields only
@@ -239,9 +242,11 @@ std::unique_ptr<ParticleFilter> full_step_prototype(size_t n) {
 
 // One full frame of the filter on the spread-out cloud: predict (4 cm, 0.6 deg), update_signs (2 sightings,
 // with resampling), update_planes (4 planes, resampling when due) and the estimate read (clustering).
-void BM_FilterFullStep(benchmark::State &state) {
+// BM_FilterFullStep: the shipped filter on this (symmetric) floor, twins scored; BM_FilterFullStepWithoutTwins:
+// the same with `twin.enabled` 0, what a floor without symmetry costs.
+void full_step(benchmark::State &state, bool twins) {
     const size_t n = static_cast<size_t>(state.range(0));
-    const auto proto = full_step_prototype(n);
+    const auto proto = full_step_prototype(n, twins);
     auto pf = std::make_unique<ParticleFilter>(*proto);
     const wf_sign_observation z[2] = {{0, 6.0, 0.1, 0.9}, {0, 9.5, -0.2, 0.9}};
     const auto planes = full_step_planes(100);
@@ -260,6 +265,8 @@ void BM_FilterFullStep(benchmark::State &state) {
     state.counters["resamplings"] = static_cast<double>(resamplings) / static_cast<double>(std::max<size_t>(1, iterations));
     set_counters(state, n, 2 * ParticleSet::kBytesPerParticle + sizeof(float) + sizeof(uint32_t));
 }
+void BM_FilterFullStep(benchmark::State &state) { full_step(state, true); }
+void BM_FilterFullStepWithoutTwins(benchmark::State &state) { full_step(state, false); }
 
 // ---------------------------------------------------------------------------------------------- baseline
 
@@ -568,6 +575,7 @@ BENCHMARK(BM_FilterUpdateSigns)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchm
 
 BENCHMARK(BM_ClusterSpread)->Args({100000, 1})->Args({100000, 0})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FilterFullStep)->Arg(100000)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_FilterFullStepWithoutTwins)->Arg(100000)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_BaselineFullStep)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 BENCHMARK_MAIN();

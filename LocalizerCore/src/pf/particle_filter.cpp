@@ -416,10 +416,14 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         log_likelihood_.resize(n);
         // The twins are scored with the cloud's states as they are now (before the bias statistics update).
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
-            if (!twin_.build_twins(p_, map_, k, twin_set_)) continue;
             twin_ll_.resize(n);
-            sign_log_likelihood(twin_set_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
-                                twin_ll_.data(), twin_set_.bias_s1.data(), twin_set_.bias_s0.data());
+            // Read only: the twins' ranges are scored with their particles' range-bias statistics.
+            if (!score_twins(k, [&] {
+                    sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
+                                        twin_ll_.data());
+                })) {
+                continue;
+            }
             twin_lls_[k].swap(twin_ll_);
         }
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
@@ -842,9 +846,13 @@ int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_ra
     log_likelihood_.resize(n);
     compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, log_likelihood_.data());
     for (size_t k = 0; k < p_.twin_arrays; ++k) {
-        if (!twin_.build_twins(p_, map_, k, twin_set_)) continue;
         twin_ll_.resize(n);
-        compass_.log_likelihood(twin_set_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, twin_ll_.data());
+        if (!score_twins(k, [&] {
+                compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad,
+                                        twin_ll_.data());
+            })) {
+            continue;
+        }
         twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_ll_.data());
     }
     compass_.mark_applied();

@@ -196,7 +196,21 @@ private:
     LocalizedHysteresis hysteresis_;
     /// Symmetric twins of the dominant hypothesis (pf/twin_guard) and their log-likelihoods' scratch.
     TwinGuard twin_;
-    ParticleSet twin_set_;  // the cloud's twins under one symmetry (scratch)
+    std::vector<float> twin_x_, twin_y_, twin_yaw_;  // the cloud's twin poses under one symmetry (scratch)
+    /// Scores the cloud's twins under symmetry k: swaps their poses into the particle set, calls score() (a
+    /// measurement model on p_, read only), swaps back. False (score not called) when there is nothing to do.
+    template <class Score>
+    bool score_twins(size_t k, Score &&score) {
+        if (!twin_.twin_poses(p_, map_, k, twin_x_, twin_y_, twin_yaw_)) return false;
+        p_.x.swap(twin_x_);
+        p_.y.swap(twin_y_);
+        p_.yaw_offset.swap(twin_yaw_);
+        score();
+        p_.x.swap(twin_x_);
+        p_.y.swap(twin_y_);
+        p_.yaw_offset.swap(twin_yaw_);
+        return true;
+    }
     std::vector<float> twin_ll_;
     std::array<std::vector<float>, ParticleSet::kMaxTwins> twin_lls_;  // twin sign log-likelihoods per symmetry
     /// After a measurement update: reseeds the dominant hypothesis's twins (TwinGuard::reseed) and marks the

@@ -31,10 +31,13 @@ int ParticleFilter::update_planes(const wf_plane_observation *obs, size_t count,
                                                   log_likelihood_.data());
         // On a symmetric floor, each particle's twin is scored against the same planes (pf/twin_guard).
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
-            if (!twin_.build_twins(p_, map_, k, twin_set_)) continue;
             twin_ll_.assign(n, 0.0f);
-            plane_log_likelihood(twin_set_, planes_.fields, planes_.table, planes_.params, z.data(), z.size(),
-                                 twin_ll_.data());
+            if (!score_twins(k, [&] {
+                    plane_log_likelihood(p_, planes_.fields, planes_.table, planes_.params, z.data(), z.size(),
+                                         twin_ll_.data());
+                })) {
+                continue;
+            }
             twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_ll_.data());
         }
         if (std::isfinite(max_ll)) {

@@ -64,32 +64,28 @@ bool TwinGuard::is_twin_of_dominant(const LocalizerMap &map, int32_t floor, doub
     return false;
 }
 
-bool TwinGuard::build_twins(const ParticleSet &p, const LocalizerMap &map, size_t k, ParticleSet &out) const {
+bool TwinGuard::twin_poses(const ParticleSet &p, const LocalizerMap &map, size_t k, std::vector<float> &x,
+                           std::vector<float> &y, std::vector<float> &yaw_offset) const {
     if (!p_.enabled || k >= p.twin_arrays) return false;
     bool any = false;
     for (const FloorData &f : map.floors) any = any || k < f.symmetries.size();
     if (!any) return false;
-    // Only what the measurement models read: pose, scale, floor and the range-bias statistics (which the sign
-    // model updates in place, on the copies). Weights, evidence and ratios are not copied.
     const size_t n = p.size();
-    out.twin_arrays = 0;
-    out.resize(n);
-    std::copy(p.scale.begin(), p.scale.end(), out.scale.begin());
-    std::copy(p.floor.begin(), p.floor.end(), out.floor.begin());
-    std::copy(p.bias_s1.begin(), p.bias_s1.end(), out.bias_s1.begin());
-    std::copy(p.bias_s0.begin(), p.bias_s0.end(), out.bias_s0.begin());
+    x.resize(n);
+    y.resize(n);
+    yaw_offset.resize(n);
+    const int16_t *fl = p.floor.data();
     size_t i = 0;
     while (i < n) {
         // Runs of one floor (usually the whole cloud): the transform is a vectorisable loop over the run.
-        const int16_t f = p.floor[i];
-        const int16_t *fl = p.floor.data();
+        const int16_t f = fl[i];
         size_t end = i + 1;
         while (end < n && fl[end] == f) ++end;
+        const float *__restrict px = p.x.data(), *__restrict py = p.y.data(), *__restrict pyaw = p.yaw_offset.data();
+        float *__restrict ox = x.data(), *__restrict oy = y.data(), *__restrict oyaw = yaw_offset.data();
         const FloorSymmetry *sym = symmetry_of(map, f, k);
         if (sym) {
             const float cx = sym->cx, cy = sym->cy, c = sym->cos_a, s = sym->sin_a, angle = sym->angle_rad;
-            const float *__restrict px = p.x.data(), *__restrict py = p.y.data(), *__restrict pyaw = p.yaw_offset.data();
-            float *__restrict ox = out.x.data(), *__restrict oy = out.y.data(), *__restrict oyaw = out.yaw_offset.data();
             for (size_t j = i; j < end; ++j) {
                 const float dx = px[j] - cx, dy = py[j] - cy;
                 ox[j] = cx + c * dx - s * dy;
@@ -97,10 +93,11 @@ bool TwinGuard::build_twins(const ParticleSet &p, const LocalizerMap &map, size_
                 oyaw[j] = turn(pyaw[j], angle);
             }
         } else {
-            std::copy(p.x.begin() + static_cast<std::ptrdiff_t>(i), p.x.begin() + static_cast<std::ptrdiff_t>(end), out.x.begin() + static_cast<std::ptrdiff_t>(i));
-            std::copy(p.y.begin() + static_cast<std::ptrdiff_t>(i), p.y.begin() + static_cast<std::ptrdiff_t>(end), out.y.begin() + static_cast<std::ptrdiff_t>(i));
-            std::copy(p.yaw_offset.begin() + static_cast<std::ptrdiff_t>(i), p.yaw_offset.begin() + static_cast<std::ptrdiff_t>(end),
-                      out.yaw_offset.begin() + static_cast<std::ptrdiff_t>(i));
+            for (size_t j = i; j < end; ++j) {
+                ox[j] = px[j];
+                oy[j] = py[j];
+                oyaw[j] = pyaw[j];
+            }
         }
         i = end;
     }

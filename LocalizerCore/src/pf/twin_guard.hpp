@@ -72,10 +72,12 @@ public:
     /// of the dominant hypothesis last observed (its mean rotated by a symmetry of the floor, the yaw offset turned
     /// by the same angle).
     bool is_twin_of_dominant(const LocalizerMap &map, int32_t floor, double x, double y, double yaw_offset_rad) const;
-    /// Fills `out` with the twin of every particle of `p` under symmetry k of its floor (position rotated, yaw
-    /// offset turned, other states copied). Particles on floors with fewer symmetries are copied unchanged
-    /// (their ratio is then not updated). False when the guard is off or no floor has a k-th symmetry.
-    bool build_twins(const ParticleSet &p, const LocalizerMap &map, size_t k, ParticleSet &out) const;
+    /// Fills x, y and yaw_offset (resized to p.size()) with the pose of every particle's twin under symmetry k
+    /// of its floor (position turned about the fixed point, yaw offset by the angle); particles on floors with
+    /// fewer symmetries keep their own pose (their ratio is then not updated). Every other state of a twin is
+    /// its particle's. False when the guard is off or no floor has a k-th symmetry.
+    bool twin_poses(const ParticleSet &p, const LocalizerMap &map, size_t k, std::vector<float> &x,
+                    std::vector<float> &y, std::vector<float> &yaw_offset) const;
     /// p.twin_llr[k][i] += ll[i] - twin_ll[i] (clamped to max_step_nats) for the particles whose floor has a k-th
     /// symmetry; non-finite values count as the clamp.
     void accumulate(ParticleSet &p, const LocalizerMap &map, size_t k, const float *ll, const float *twin_ll) const;
