@@ -8,16 +8,12 @@ namespace wf::loc {
 std::vector<FloorSymmetry> find_floor_symmetries(const WallIndex &walls, const FloorSymmetryParams &params) {
     std::vector<FloorSymmetry> out;
     const size_t n = walls.segment_count();
-    if (n == 0 || !(params.sample_step_m > 0)) return out;
-    float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
+    float x0, y0, x1, y1;
+    if (!(params.sample_step_m > 0) || !walls.segment_bounds(x0, y0, x1, y1)) return out;
     double total_m = 0;
     for (size_t s = 0; s < n; ++s) {
         float ax, ay, bx, by;
         walls.segment(s, ax, ay, bx, by);
-        x0 = std::min({x0, ax, bx});
-        y0 = std::min({y0, ay, by});
-        x1 = std::max({x1, ax, bx});
-        y1 = std::max({y1, ay, by});
         total_m += std::hypot(bx - ax, by - ay);
     }
     if (!(total_m >= params.min_wall_length_m)) return out;

@@ -269,6 +269,19 @@ bool WallIndex::crosses_slow(float x0, float y0, float x1, float y1) const {
     return false;
 }
 
+bool WallIndex::segment_bounds(float &x0, float &y0, float &x1, float &y1) const {
+    if (ax_.empty()) return false;
+    x0 = y0 = 1e30f;
+    x1 = y1 = -1e30f;
+    for (size_t s = 0; s < ax_.size(); ++s) {
+        x0 = std::min({x0, ax_[s], bx_[s]});
+        y0 = std::min({y0, ay_[s], by_[s]});
+        x1 = std::max({x1, ax_[s], bx_[s]});
+        y1 = std::max({y1, ay_[s], by_[s]});
+    }
+    return true;
+}
+
 float WallIndex::distance_to_nearest(float x, float y, float max_distance_m) const {
     float best = max_distance_m;
     if (cell_segments_.empty()) return best;

@@ -86,6 +86,8 @@ public:
     void segment(size_t i, float &ax, float &ay, float &bx, float &by) const {
         ax = ax_[i]; ay = ay_[i]; bx = bx_[i]; by = by_[i];
     }
+    /// Bounding box of the segments' end points, meters, map frame; false (outputs untouched) without segments.
+    bool segment_bounds(float &x0, float &y0, float &x1, float &y1) const;
     const FloorGrid &grid() const { return grid_; }
     /// True when the cell containing (x, y) lists no segment (fast path of `crosses`).
     bool cell_empty(float x, float y) const;

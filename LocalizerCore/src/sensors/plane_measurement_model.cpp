@@ -62,17 +62,9 @@ WallField build_wall_field(const WallIndex &walls, float cell_m, float max_dista
     f.inv_cell = 1.0f / cell_m;
     f.max_distance_m = max_distance_m;
     const size_t n = walls.segment_count();
-    if (n == 0) return f;
     // Bounds: the segments' box plus the saturation distance and two cells on every side.
-    float x0 = 1e30f, y0 = 1e30f, x1 = -1e30f, y1 = -1e30f;
-    for (size_t s = 0; s < n; ++s) {
-        float ax, ay, bx, by;
-        walls.segment(s, ax, ay, bx, by);
-        x0 = std::min({x0, ax, bx});
-        y0 = std::min({y0, ay, by});
-        x1 = std::max({x1, ax, bx});
-        y1 = std::max({y1, ay, by});
-    }
+    float x0, y0, x1, y1;
+    if (!walls.segment_bounds(x0, y0, x1, y1)) return f;
     const float margin = max_distance_m + 2 * cell_m;
     f.x0 = x0 - margin;
     f.y0 = y0 - margin;

@@ -4,23 +4,15 @@
 #include <cmath>
 
 #include "map/localizer_map.hpp"
-#include "support/synthetic_world.hpp"
+#include "support/filter_fixtures.hpp"
 
 using namespace wf::loc;
 
 namespace {
-wf_localizer_options defaults() {
-    wf_localizer_options o;
-    wf_localizer_options_init(&o, WF_LOCALIZER_OPTIONS_VERSION);
-    return o;
-}
 std::vector<FloorSymmetry> symmetries_of(wf::test::FloorSpec f) {
     wf::test::World w;
-    if (f.seeds.empty()) f.seed(1, 1);
     w.floors.push_back(f);
-    LocalizerMap m;
-    std::string err;
-    EXPECT_EQ(build_localizer_map(w.map(), defaults(), m, err), WF_LOC_OK) << err;
+    const LocalizerMap m = wf::test::build_map(w, wf::test::default_options());
     return m.floors.empty() ? std::vector<FloorSymmetry>{} : m.floors[0].symmetries;
 }
 }  // namespace
