@@ -326,6 +326,19 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
     }
     init_floor_ = f16;
     reset_filter_state();
+    // On a symmetric floor the named start's twin is unlikely before any evidence: the twin ratios start at the
+    // prior's (the disc's density plus the doubt share spread over the walkable cells, at the particle against
+    // at its twin), not at 0.
+    if (p_.twin_arrays > 0) {
+        const double cell_area = static_cast<double>(fd.grid.cell_m) * fd.grid.cell_m;
+        const double walkable_m2 = std::max(1.0, static_cast<double>(fd.walkable_cells.size()) * cell_area);
+        const double disc_r = std::max(0.25, radius_m);
+        const double d_disc = (1.0 - doubt) / (kPiD * disc_r * disc_r), d_uniform = doubt / walkable_m2;
+        twin_.set_prior_ratios(p_, map_, [&](int16_t, float qx, float qy) {
+            const bool in_disc = std::hypot(qx - cx, qy - cy) <= disc_r + 0.25;
+            return std::log(std::max(1e-12, (in_disc ? d_disc : 0.0) + d_uniform));
+        });
+    }
     // The traveler's word is not evidence: a named start may be wrong (Tests/Recovery), and in a parallel
     // corridor nothing contradicts it for many meters. The flag waits for a sign sighting the named start
     // must explain better than the other places that explain it (pf/particle_filter_corroboration).

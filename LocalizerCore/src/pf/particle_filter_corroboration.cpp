@@ -86,6 +86,7 @@ void ParticleFilter::draw_corroboration_rivals(double fraction) {
         p_.compass_ll[i] = 0;
         p_.bias_s1[i] = 0;
         p_.bias_s0[i] = 0;
+        p_.clear_twins(i);  // a fresh pose: no twin evidence either way
         ++drawn;
     }
     double sum = 0;

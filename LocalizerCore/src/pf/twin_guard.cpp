@@ -19,12 +19,6 @@ double wrap(double a) {
 /// yaw + angle wrapped to [-pi, pi] (the project's branch-free wrap: the twin loop vectorises).
 float turn(float yaw, float angle) { return wrap_angle_f(yaw + angle); }
 
-/// Symmetry k of floor f, or nullptr.
-const FloorSymmetry *symmetry_of(const LocalizerMap &map, int32_t f, size_t k) {
-    if (f < 0 || static_cast<size_t>(f) >= map.floors.size()) return nullptr;
-    const std::vector<FloorSymmetry> &s = map.floors[static_cast<size_t>(f)].symmetries;
-    return k < s.size() ? &s[k] : nullptr;
-}
 
 }  // namespace
 

@@ -27,6 +27,7 @@
 // likelihood ratio of two deterministic trajectories (the twin is a rigid transform of the particle's).
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <vector>
 
@@ -78,6 +79,31 @@ public:
     /// its particle's. False when the guard is off or no floor has a k-th symmetry.
     bool twin_poses(const ParticleSet &p, const LocalizerMap &map, size_t k, std::vector<float> &x,
                     std::vector<float> &y, std::vector<float> &yaw_offset) const;
+    /// Sets every particle's ratios to the prior's: log_prior(floor, x, y) at the particle minus at its twin
+    /// (clamped to max_step_nats). A named start makes the start's twin unlikely before any evidence: with the
+    /// ratios left at 0 the guard would hold the twin as equally likely and block the lock.
+    template <class LogPrior>
+    void set_prior_ratios(ParticleSet &p, const LocalizerMap &map, LogPrior &&log_prior) const {
+        for (size_t k = 0; k < p.twin_arrays; ++k) {
+            for (size_t i = 0; i < p.size(); ++i) {
+                const FloorSymmetry *sym = symmetry_of(map, p.floor[i], k);
+                if (!sym || !p_.enabled) {
+                    p.twin_llr[k][i] = 0;
+                    continue;
+                }
+                float tx, ty;
+                sym->apply(p.x[i], p.y[i], tx, ty);
+                const double r = log_prior(p.floor[i], p.x[i], p.y[i]) - log_prior(p.floor[i], tx, ty);
+                p.twin_llr[k][i] = static_cast<float>(std::clamp(r, -p_.max_step_nats, p_.max_step_nats));
+            }
+        }
+    }
+    /// Symmetry k of floor f of `map`, or nullptr.
+    static const FloorSymmetry *symmetry_of(const LocalizerMap &map, int32_t f, size_t k) {
+        if (f < 0 || static_cast<size_t>(f) >= map.floors.size()) return nullptr;
+        const std::vector<FloorSymmetry> &s = map.floors[static_cast<size_t>(f)].symmetries;
+        return k < s.size() ? &s[k] : nullptr;
+    }
     /// p.twin_llr[k][i] += ll[i] - twin_ll[i] (clamped to max_step_nats) for the particles whose floor has a k-th
     /// symmetry; non-finite values count as the clamp.
     void accumulate(ParticleSet &p, const LocalizerMap &map, size_t k, const float *ll, const float *twin_ll) const;

@@ -227,6 +227,29 @@ TEST(ParticleFilter, AnAsymmetricSignSettlesTheTwinsOnTheTruth) {
     std::printf("localized in %d of 8 seeds\n", localized_seeds);
 }
 
+// A named start on the symmetric corridor: the start's twin is unlikely before any evidence (the prior's
+// ratio, pf/twin_guard set_prior_ratios), so the guard must not hold the twin as equally likely and keep the
+// flag off: the filter localizes as early as without the guard, on the truth. (Trusted start: no doubt share,
+// so no corroboration, which a corridor whose sightings its twin explains as well would never give.)
+TEST(ParticleFilter, ANamedStartOnASymmetricFloorLocalizesAsWithoutTheGuard) {
+    int first[2] = {-1, -1};
+    for (const bool guard : {true, false}) {
+        auto world = wf::test::symmetric_world();
+        auto o = test_options();
+        o.start_point_doubt_share = 0;
+        ParticleFilter pf(wf::test::build_map(world, o), o, 7);
+        ASSERT_EQ(pf.set_parameter("twin.enabled", guard ? 1 : 0), WF_LOC_OK);
+        ASSERT_EQ(pf.init_start_point(0, 5, 1, 1.0), WF_LOC_OK);
+        wf::test::WalkParams wp;
+        const auto frames = wf::test::make_walk(world.floors[0], {{5, 1}, {25, 1}}, 0.0, wp);
+        const RunStats s = run(pf, frames);
+        EXPECT_GT(s.localized_frames, static_cast<int>(frames.size()) / 2) << (guard ? "with" : "without");
+        for (double e : s.errors_when_localized) ASSERT_LT(e, 3.0);
+        first[guard ? 0 : 1] = s.first_localized;
+    }
+    EXPECT_LE(first[0], first[1] + 10);  // within a second of the filter without the guard
+}
+
 // The same symmetric corridor with a compass: the mirror hypothesis faces the other way, so the compass
 // (applied once per 4 m, capped) refutes it and the filter localizes on the truth. With a compass biased by a
 // constant 40 degrees (steel nearby) it must never be confidently wrong; and with the compass switched off it
