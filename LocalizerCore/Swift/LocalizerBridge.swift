@@ -96,6 +96,19 @@ enum LocalizerBridge {
             }
         }
 
+        func floorSymmetries(floorIndex: Int) -> [FloorSymmetry] {
+            var buffer = [wf_localizer_floor_symmetry](repeating: wf_localizer_floor_symmetry(), count: 3)
+            var count = 0
+            let status = buffer.withUnsafeMutableBufferPointer {
+                wf_localizer_get_floor_symmetries(raw, Int32(floorIndex), $0.baseAddress, $0.count, &count)
+            }
+            guard status == WF_LOC_OK.rawValue else { return [] }
+            return buffer.prefix(count).map {
+                FloorSymmetry(angleRad: $0.angle_rad, center: Point2(x: $0.center_x_m, y: $0.center_y_m),
+                              matchedFraction: $0.matched_fraction)
+            }
+        }
+
         func particles(maxCount: Int, floorIds: [String]) -> [ParticleSample] {
             guard maxCount > 0 else { return [] }
             var buffer = [wf_localizer_particle](repeating: wf_localizer_particle(), count: maxCount)

@@ -201,6 +201,29 @@ public struct PoseHypothesis: Sendable, Equatable {
     }
 }
 
+/// A rotation of a floor plan onto itself (wf_localizer_floor_symmetry).
+public struct FloorSymmetry: Sendable, Equatable {
+    /// Rotation angle, radians: pi/2, pi or 3 pi/2.
+    public var angleRad: Double
+    /// Fixed point, meters, map frame.
+    public var center: Point2
+    /// Share of the floor's wall length the rotation lands on a wall, 0...1.
+    public var matchedFraction: Double
+
+    /// Creates a symmetry.
+    public init(angleRad: Double, center: Point2, matchedFraction: Double) {
+        self.angleRad = angleRad; self.center = center; self.matchedFraction = matchedFraction
+    }
+    /// "a half turn", "a quarter turn", "a three-quarter turn".
+    public var turnDescription: String {
+        switch Int((angleRad / (Double.pi / 2)).rounded()) {
+        case 1: return "a quarter turn"
+        case 2: return "a half turn"
+        default: return "a three-quarter turn"
+        }
+    }
+}
+
 /// One particle, for drawing.
 public struct ParticleSample: Sendable {
     /// Position, meters, map frame.

@@ -90,6 +90,14 @@ public final class ParticleLocalizer {
         record { try handle.updateAltitude(relativeAltitudeMeters, t: t) }
     }
 
+    /// The rotations that map the walls of floor `floorId` onto themselves (docs/localizer.md "Symmetric twins"):
+    /// on such a floor the localizer does not settle until the evidence refutes each hypothesis's turned twin.
+    /// Empty for an asymmetric or unknown floor.
+    public func floorSymmetries(floorId: String) -> [FloorSymmetry] {
+        guard let index = floorIds.firstIndex(of: floorId) else { return [] }
+        return handle.floorSymmetries(floorIndex: index)
+    }
+
     /// The current estimate (dominant hypothesis, confidence, localized flag).
     public var estimate: LocalizationEstimate {
         handle.estimate(floorIds: floorIds)

@@ -376,6 +376,17 @@ typedef struct wf_localizer_hypothesis {
     double evidence_nats;
 } wf_localizer_hypothesis;
 
+/** A rotation that maps a floor's walls onto themselves (docs/localizer.md "Symmetric twins"): on such a floor
+ *  every hypothesis has a twin the evidence must refute before the localized flag is set. */
+typedef struct wf_localizer_floor_symmetry {
+    /** Rotation angle, radians: pi/2, pi or 3 pi/2. */
+    double angle_rad;
+    /** Fixed point, meters, map frame. */
+    double center_x_m, center_y_m;
+    /** Share of the floor's wall length the rotation lands on a wall, 0..1. */
+    double matched_fraction;
+} wf_localizer_floor_symmetry;
+
 /** One particle, for drawing. */
 typedef struct wf_localizer_particle {
     float x, y;
@@ -477,6 +488,11 @@ int wf_localizer_get_hypotheses(wf_localizer *loc, wf_localizer_hypothesis *out,
  *  the number written. */
 int wf_localizer_get_particles(const wf_localizer *loc, wf_localizer_particle *out, size_t capacity,
                                size_t *count);
+
+/** Copies up to `capacity` symmetries of floor `floor_index` of the map (found when the localizer was created)
+ *  into `out`; *count receives the number written (0 for an asymmetric floor). */
+int wf_localizer_get_floor_symmetries(const wf_localizer *loc, int32_t floor_index, wf_localizer_floor_symmetry *out,
+                                      size_t capacity, size_t *count);
 
 /** Current particle count (0 before init, or on a NULL handle). */
 size_t wf_localizer_particle_count(const wf_localizer *loc);

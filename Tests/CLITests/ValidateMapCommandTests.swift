@@ -55,10 +55,16 @@ final class ValidateMapCommandTests: XCTestCase {
     func testBundledOfficeIsValid() throws {
         let r = try CLI.run(["validate-map", CLI.officeMapPath])
         r.assertExit(0)
-        XCTAssertEqual(r.stdoutLines.count, 1, "\(r)")
+        // The counts, then the office's two floors, each symmetric under a half turn about the plan's centre
+        // (docs/localizer.md "Symmetric twins").
+        XCTAssertEqual(r.stdoutLines.count, 3, "\(r)")
         let line = try XCTUnwrap(r.stdoutLines.first)
         XCTAssertTrue(line.hasPrefix("ok: \(CLI.officeMapPath): 2 floors, "), "\(r)")
         for word in ["walls", "signs", "POIs", "nodes"] { XCTAssertTrue(line.contains(word), "\(r)") }
+        for symmetry in r.stdoutLines.dropFirst() {
+            XCTAssertTrue(symmetry.hasPrefix("  floor "), "\(r)")
+            XCTAssertTrue(symmetry.contains("symmetric under a half turn about (20.0, 12.0) (9"), "\(r)")
+        }
         XCTAssertEqual(r.stderr, "", "\(r)")
     }
 

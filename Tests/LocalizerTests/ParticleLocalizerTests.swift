@@ -220,4 +220,19 @@ final class ParticleLocalizerTests: XCTestCase {
             guard case .invalidMap = error as? LocalizerError else { return XCTFail("\(error)") }
         }
     }
+
+    /// The bundled office is symmetric under a half turn about its centre; an L-shaped plan is not; an unknown floor
+    /// has none.
+    func testFloorSymmetriesAreReported() throws {
+        let office = try BundledMaps.office()
+        let localizer = try ParticleLocalizer(building: office)
+        let s = localizer.floorSymmetries(floorId: office.floors[0].id)
+        XCTAssertEqual(s.count, 1)
+        XCTAssertEqual(s.first?.angleRad ?? 0, Double.pi, accuracy: 1e-6)
+        XCTAssertEqual(s.first?.center.x ?? 0, 20, accuracy: 1e-6)
+        XCTAssertEqual(s.first?.center.y ?? 0, 12, accuracy: 1e-6)
+        XCTAssertGreaterThan(s.first?.matchedFraction ?? 0, 0.9)
+        XCTAssertEqual(s.first?.turnDescription, "a half turn")
+        XCTAssertTrue(localizer.floorSymmetries(floorId: "no such floor").isEmpty)
+    }
 }

@@ -192,6 +192,21 @@ int wf_localizer_get_hypotheses(wf_localizer *loc, wf_localizer_hypothesis *out,
     });
 }
 
+int wf_localizer_get_floor_symmetries(const wf_localizer *loc, int32_t floor_index, wf_localizer_floor_symmetry *out,
+                                      size_t capacity, size_t *count) {
+    if (count) *count = 0;
+    if (!loc || !count || (capacity > 0 && !out)) return WF_LOC_ERR_INVALID_ARGUMENT;
+    const wf::loc::LocalizerMap &map = loc->filter->map();
+    if (floor_index < 0 || static_cast<size_t>(floor_index) >= map.floors.size()) return WF_LOC_ERR_INVALID_ARGUMENT;
+    const std::vector<wf::loc::FloorSymmetry> &s = map.floors[static_cast<size_t>(floor_index)].symmetries;
+    const size_t m = std::min(s.size(), capacity);
+    for (size_t k = 0; k < m; ++k) {
+        out[k] = {s[k].angle_rad, s[k].cx, s[k].cy, s[k].matched_fraction};
+    }
+    *count = m;
+    return WF_LOC_OK;
+}
+
 int wf_localizer_get_particles(const wf_localizer *loc, wf_localizer_particle *out, size_t capacity, size_t *count) {
     if (count) *count = 0;
     if (!loc || !count || (capacity > 0 && !out)) return WF_LOC_ERR_INVALID_ARGUMENT;
