@@ -174,3 +174,32 @@ TEST(CApi, ZeroAreaFloorHasNoWalkableSpace) {
     EXPECT_EQ(e.localized, 0);
     wf_localizer_free(loc);
 }
+
+// The symmetric corridor (30 x 2 m) is mapped onto itself by a half turn about (15, 1); the L-shaped floor is not.
+TEST(CApi, FloorSymmetries) {
+    auto sym = wf::test::symmetric_world();
+    wf_localizer *loc = nullptr;
+    ASSERT_EQ(wf_localizer_create(&loc, &sym.map(), nullptr, 1), WF_LOC_OK);
+    wf_localizer_floor_symmetry out[3];
+    size_t count = 99;
+    ASSERT_EQ(wf_localizer_get_floor_symmetries(loc, 0, out, 3, &count), WF_LOC_OK);
+    ASSERT_EQ(count, 1u);
+    EXPECT_NEAR(out[0].angle_rad, M_PI, 1e-6);
+    EXPECT_NEAR(out[0].center_x_m, 15, 1e-6);
+    EXPECT_NEAR(out[0].center_y_m, 1, 1e-6);
+    EXPECT_GT(out[0].matched_fraction, 0.99);
+    EXPECT_EQ(wf_localizer_get_floor_symmetries(loc, 0, out, 0, &count), WF_LOC_OK);  // capacity 0: none copied
+    EXPECT_EQ(count, 0u);
+    EXPECT_EQ(wf_localizer_get_floor_symmetries(loc, 1, out, 3, &count), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(count, 0u);
+    EXPECT_EQ(wf_localizer_get_floor_symmetries(loc, 0, nullptr, 3, &count), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_localizer_get_floor_symmetries(loc, 0, out, 3, nullptr), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_localizer_get_floor_symmetries(nullptr, 0, out, 3, &count), WF_LOC_ERR_INVALID_ARGUMENT);
+    wf_localizer_free(loc);
+
+    auto l = wf::test::l_world();
+    ASSERT_EQ(wf_localizer_create(&loc, &l.map(), nullptr, 1), WF_LOC_OK);
+    ASSERT_EQ(wf_localizer_get_floor_symmetries(loc, 0, out, 3, &count), WF_LOC_OK);
+    EXPECT_EQ(count, 0u);
+    wf_localizer_free(loc);
+}
