@@ -277,6 +277,8 @@ int ParticleFilter::init_floor_only(int32_t floor) {
     }
     init_floor_ = f16;
     reset_filter_state();
+    // Headings drawn from a compass prior: the twins' headings are less likely by the prior's ratio.
+    if (compass_set_ && tracker_.has_yaw()) add_compass_prior_to_twins();
     return WF_LOC_OK;
 }
 
@@ -338,6 +340,7 @@ int ParticleFilter::init_start_point(int32_t floor, double x, double y, double r
             const bool in_disc = std::hypot(qx - cx, qy - cy) <= disc_r + 0.25;
             return std::log(std::max(1e-12, (in_disc ? d_disc : 0.0) + d_uniform));
         });
+        if (compass_set_ && tracker_.has_yaw()) add_compass_prior_to_twins();
     }
     // The traveler's word is not evidence: a named start may be wrong (Tests/Recovery), and in a parallel
     // corridor nothing contradicts it for many meters. The flag waits for a sign sighting the named start
@@ -374,6 +377,28 @@ void ParticleFilter::apply_compass_reweight() {
     }
     normalize(sum);
     compass_pending_ = false;
+    add_compass_prior_to_twins();
+}
+
+void ParticleFilter::add_compass_prior_to_twins() {
+    if (p_.twin_arrays == 0 || !compass_set_ || !twin_.params().enabled) return;
+    // The prior's density at the particle's heading against at its twin's (turned by the symmetry's angle): the
+    // same mixture as apply_compass_reweight and sample_yaw_offset.
+    const double inv = 1.0 / compass_sigma_;
+    const double floor_rel = kCompassUniformShare / (1.0 - kCompassUniformShare) * compass_sigma_ / std::sqrt(2.0 * kPiD);
+    auto log_prior = [&](double heading) {
+        const double e = wrap_angle(heading - compass_heading_) * inv;
+        return std::log(std::exp(-0.5 * e * e) + floor_rel);
+    };
+    const double cap = twin_.params().max_step_nats;
+    for (size_t k = 0; k < p_.twin_arrays; ++k) {
+        for (size_t i = 0; i < p_.size(); ++i) {
+            const FloorSymmetry *sym = TwinGuard::symmetry_of(map_, p_.floor[i], k);
+            if (!sym) continue;
+            const double h = vio_yaw_ + p_.yaw_offset[i];
+            p_.twin_llr[k][i] += static_cast<float>(std::clamp(log_prior(h) - log_prior(h + sym->angle_rad), -cap, cap));
+        }
+    }
 }
 
 void ParticleFilter::normalize(double sum) {

@@ -216,6 +216,9 @@ private:
     /// After a measurement update: reseeds the dominant hypothesis's twins (TwinGuard::reseed) and marks the
     /// clusters and the estimate stale when particles moved.
     void reseed_twins();
+    /// Adds the compass prior's log ratio (at each particle's heading against at its twin's) to the twin ratios:
+    /// after a draw the prior shaped and after its reweighting (apply_compass_reweight).
+    void add_compass_prior_to_twins();
 
     bool estimate_dirty_ = true;
     /// The lock must be earned against rivals that explain the same sightings (pf/particle_filter_corroboration):

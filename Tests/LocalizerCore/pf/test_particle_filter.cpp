@@ -250,6 +250,34 @@ TEST(ParticleFilter, ANamedStartOnASymmetricFloorLocalizesAsWithoutTheGuard) {
     EXPECT_LE(first[0], first[1] + 10);  // within a second of the filter without the guard
 }
 
+// A compass prior (the pipeline gives one when the map records north) counts in the twin ratios: a particle
+// heading where the compass points is that much likelier than its twin, which heads the other way; one heading
+// the other way is that much less likely. Applied once (at the next predict after an init).
+TEST(ParticleFilter, TheCompassPriorCountsInTheTwinRatios) {
+    auto world = wf::test::symmetric_world();
+    auto o = test_options();
+    ParticleFilter pf(wf::test::build_map(world, o), o, 5);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    ASSERT_EQ(pf.predict({0, 0, 0, 0.0, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);  // VIO yaw 0
+    ASSERT_EQ(pf.set_compass_prior(0.0, 0.5), WF_LOC_OK);                      // heading east, sigma 29 deg
+    ASSERT_EQ(pf.predict({0.1, 0, 0, 0.0, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);
+    const ParticleSet &p = pf.particles();
+    ASSERT_EQ(p.twin_arrays, 1u);
+    int along = 0, against = 0;
+    for (size_t i = 0; i < p.size(); ++i) {
+        const double h = std::remainder(static_cast<double>(p.yaw_offset[i]), 2 * wf::test::kPi);
+        if (std::fabs(h) < 0.2) {
+            EXPECT_GT(p.twin_llr[0][i], 2.0f) << i;  // log((1 + 0.1) / (~0 + 0.1)) = 2.4 nats at the peak
+            ++along;
+        } else if (std::fabs(h) > wf::test::kPi - 0.2) {
+            EXPECT_LT(p.twin_llr[0][i], -2.0f) << i;
+            ++against;
+        }
+    }
+    EXPECT_GT(along, 100);
+    EXPECT_GT(against, 10);
+}
+
 // The same symmetric corridor with a compass: the mirror hypothesis faces the other way, so the compass
 // (applied once per 4 m, capped) refutes it and the filter localizes on the truth. With a compass biased by a
 // constant 40 degrees (steel nearby) it must never be confidently wrong; and with the compass switched off it
