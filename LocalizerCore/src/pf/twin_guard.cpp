@@ -19,7 +19,6 @@ double wrap(double a) {
 /// yaw + angle wrapped to [-pi, pi] (the project's branch-free wrap: the twin loop vectorises).
 float turn(float yaw, float angle) { return wrap_angle_f(yaw + angle); }
 
-
 }  // namespace
 
 size_t TwinGuard::twin_arrays_for(const LocalizerMap &map) {
