@@ -781,8 +781,16 @@ void ParticleFilter::apply_floor_change(double delta_m) {
     clusterer_.forget_carried_bins();
     const double sum = wf::loc::apply_floor_change(p_, map_, delta_m, floor_params_, rng_,
                                                     [this] { return sample_yaw_offset(); });
-    // A new floor has its own symmetries: every twin ratio starts again.
-    for (size_t k = 0; k < p_.twin_arrays; ++k) std::fill(p_.twin_llr[k].begin(), p_.twin_llr[k].end(), 0.0f);
+    // A new floor has its own symmetries: every twin ratio starts again, from the ride's prior: a traveler
+    // leaving an elevator or stairs is near a vertical link, so a twin pose far from every link (the turn does
+    // not map the links onto links) is less likely by the weight the ride gives such poses.
+    if (p_.twin_arrays > 0) {
+        const double link_r = floor_params_.link_radius_m;
+        const double far = std::log(std::max(1e-6, floor_params_.far_from_link_weight));
+        twin_.set_prior_ratios(p_, map_, [&](int16_t f, float qx, float qy) {
+            return map_.floors[static_cast<size_t>(f)].distance_to_link(qx, qy) <= link_r ? 0.0 : far;
+        });
+    }
     twin_.reset();
     normalize(sum);
     maybe_resample(false);

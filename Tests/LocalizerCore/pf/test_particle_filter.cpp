@@ -685,6 +685,12 @@ TEST(ParticleFilter, AltitudeChangeNearLinkMovesToMatchingFloor) {
     ride(pf, 10.0, 14.1, 0.0);                                      // barometer up ~one storey
     EXPECT_EQ(pf.estimate().floor_index, 1);
     for (int16_t f : pf.particles().floor) ASSERT_EQ(f, 1);
+    // The box is symmetric under a half turn about (10, 5): the twin of a pose beside the link (2, 2) is near
+    // (18, 8), far from every link, so after the ride each particle's twin ratio is the ride's prior ratio,
+    // -log(far_from_link_weight) = 3.0 nats (pf/twin_guard).
+    const ParticleSet &after = pf.particles();
+    ASSERT_EQ(after.twin_arrays, 1u);
+    for (size_t i = 0; i < after.size(); ++i) ASSERT_NEAR(after.twin_llr[0][i], -std::log(0.05), 1e-4) << i;
     ride(pf, 14.1, 10.2, 10.0);                                     // and back down
     EXPECT_EQ(pf.estimate().floor_index, 0);
     // Small pressure noise (< storey threshold) changes nothing.
