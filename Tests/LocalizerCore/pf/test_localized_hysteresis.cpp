@@ -119,3 +119,27 @@ TEST(LocalizedHysteresis, WhileLockedTheCoreDecidesSpreadAndWeight) {
         EXPECT_FALSE(f.update(c));
     }
 }
+
+// On a symmetric floor (pf/twin_guard): no lock until the evidence against the dominant hypothesis's turned twin
+// reaches rival_refute_nats (4); a held lock drops once the twin is ahead by lock_rival_margin_nats (1); a ratio in
+// between leaves a lock as it is.
+TEST(LocalizedHysteresis, TheTwinMustBeRefutedAndAWinningTwinBreaksTheLock) {
+    LocalizedHysteresis h;
+    for (int k = 0; k <= 30; ++k) {
+        HysteresisInput in = sure(0.1 * k);
+        in.twin_log_ratio = 3.9;
+        EXPECT_FALSE(h.update(in)) << k;
+    }
+    for (int k = 31; k <= 45; ++k) {
+        HysteresisInput in = sure(0.1 * k);
+        in.twin_log_ratio = 4.1;
+        h.update(in);
+    }
+    EXPECT_TRUE(h.localized());
+    HysteresisInput in = sure(4.6);
+    in.twin_log_ratio = -0.9;  // the evidence moved towards the twin, not past the margin
+    EXPECT_TRUE(h.update(in));
+    in = sure(4.7);
+    in.twin_log_ratio = -1.1;
+    EXPECT_FALSE(h.update(in));
+}
