@@ -363,16 +363,19 @@ int ParticleFilter::set_compass_prior(double heading_in_map_rad, double sigma_ra
     return WF_LOC_OK;
 }
 
-void ParticleFilter::apply_compass_reweight() {
-    // w *= (1 - u) N(heading - compass; 0, sigma) + u / (2 pi): the mixture of sample_yaw_offset, so a wrong
-    // compass (magnetic disturbance indoors is common) only lowers the other headings, by about
-    // u / (1 - u) * sigma / sqrt(2 pi) relative to the reading's direction (0.05 for 30 degrees).
-    const double inv = 1.0 / compass_sigma_;
+double ParticleFilter::compass_prior_density(double heading_in_map_rad) const {
+    // (1 - u) N(heading - compass; 0, sigma) + u / (2 pi), scaled by its Gaussian peak: the mixture of
+    // sample_yaw_offset, so a wrong compass (magnetic disturbance indoors is common) only lowers the other
+    // headings, by about u / (1 - u) * sigma / sqrt(2 pi) relative to the reading's direction (0.05 for 30 deg).
     const double floor_rel = kCompassUniformShare / (1.0 - kCompassUniformShare) * compass_sigma_ / std::sqrt(2.0 * kPiD);
+    const double e = wrap_angle(heading_in_map_rad - compass_heading_) * (1.0 / compass_sigma_);
+    return std::exp(-0.5 * e * e) + floor_rel;
+}
+
+void ParticleFilter::apply_compass_reweight() {
     double sum = 0;
     for (size_t i = 0; i < p_.size(); ++i) {
-        const double e = wrap_angle(vio_yaw_ + p_.yaw_offset[i] - compass_heading_) * inv;
-        p_.weight[i] *= static_cast<float>(std::exp(-0.5 * e * e) + floor_rel);
+        p_.weight[i] *= static_cast<float>(compass_prior_density(vio_yaw_ + p_.yaw_offset[i]));
         sum += p_.weight[i];
     }
     normalize(sum);
@@ -382,21 +385,15 @@ void ParticleFilter::apply_compass_reweight() {
 
 void ParticleFilter::add_compass_prior_to_twins() {
     if (p_.twin_arrays == 0 || !compass_set_ || !twin_.params().enabled) return;
-    // The prior's density at the particle's heading against at its twin's (turned by the symmetry's angle): the
-    // same mixture as apply_compass_reweight and sample_yaw_offset.
-    const double inv = 1.0 / compass_sigma_;
-    const double floor_rel = kCompassUniformShare / (1.0 - kCompassUniformShare) * compass_sigma_ / std::sqrt(2.0 * kPiD);
-    auto log_prior = [&](double heading) {
-        const double e = wrap_angle(heading - compass_heading_) * inv;
-        return std::log(std::exp(-0.5 * e * e) + floor_rel);
-    };
+    // The prior's density at the particle's heading against at its twin's (turned by the symmetry's angle).
     const double cap = twin_.params().max_step_nats;
     for (size_t k = 0; k < p_.twin_arrays; ++k) {
         for (size_t i = 0; i < p_.size(); ++i) {
             const FloorSymmetry *sym = TwinGuard::symmetry_of(map_, p_.floor[i], k);
             if (!sym) continue;
             const double h = vio_yaw_ + p_.yaw_offset[i];
-            p_.twin_llr[k][i] += static_cast<float>(std::clamp(log_prior(h) - log_prior(h + sym->angle_rad), -cap, cap));
+            const double r = std::log(compass_prior_density(h)) - std::log(compass_prior_density(h + sym->angle_rad));
+            p_.twin_llr[k][i] += static_cast<float>(std::clamp(r, -cap, cap));
         }
     }
 }
@@ -452,23 +449,20 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
     if (!z.empty() || sign_model_.negative_information) {
         const size_t n = p_.size();
         log_likelihood_.resize(n);
-        // The twins are scored with the cloud's states as they are now (before the bias statistics update).
+        // The twins are scored with the cloud's states as they are now (before the bias statistics update); read
+        // only: the twins' ranges are scored with their particles' range-bias statistics.
+        std::array<bool, ParticleSet::kMaxTwins> twin_scored{};
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
-            twin_ll_.resize(n);
-            // Read only: the twins' ranges are scored with their particles' range-bias statistics.
-            if (!score_twins(k, [&] {
-                    sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
-                                        twin_ll_.data());
-                })) {
-                continue;
-            }
-            twin_lls_[k].swap(twin_ll_);
+            twin_lls_[k].resize(n);
+            twin_scored[k] = score_twins(k, [&] {
+                sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
+                                    twin_lls_[k].data());
+            });
         }
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
                                                  log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data());
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
-            if (twin_lls_[k].size() == n) twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_lls_[k].data());
-            twin_lls_[k].clear();
+            if (twin_scored[k]) twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_lls_[k].data());
         }
         if (!z.empty()) {
             accumulate_evidence(log_likelihood_.data(), max_ll, t);

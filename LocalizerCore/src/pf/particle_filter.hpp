@@ -211,7 +211,7 @@ private:
         p_.yaw_offset.swap(twin_yaw_);
         return true;
     }
-    std::vector<float> twin_ll_;
+    std::vector<float> twin_ll_;  // twin log-likelihoods of one symmetry (planes, compass)
     std::array<std::vector<float>, ParticleSet::kMaxTwins> twin_lls_;  // twin sign log-likelihoods per symmetry
     /// After a measurement update: reseeds the dominant hypothesis's twins (TwinGuard::reseed) and marks the
     /// clusters and the estimate stale when particles moved.
@@ -219,6 +219,9 @@ private:
     /// Adds the compass prior's log ratio (at each particle's heading against at its twin's) to the twin ratios:
     /// after a draw the prior shaped and after its reweighting (apply_compass_reweight).
     void add_compass_prior_to_twins();
+    /// The compass prior's mixture density at a map heading (radians), relative to its Gaussian peak: the
+    /// weight factor of apply_compass_reweight and the density of sample_yaw_offset's draw.
+    double compass_prior_density(double heading_in_map_rad) const;
 
     bool estimate_dirty_ = true;
     /// The lock must be earned against rivals that explain the same sightings (pf/particle_filter_corroboration):

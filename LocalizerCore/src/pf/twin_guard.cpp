@@ -10,12 +10,6 @@ namespace wf::loc {
 
 namespace {
 
-/// Angle wrapped to [-pi, pi] (std::remainder is a slow libm call; these angles are within a few turns).
-double wrap(double a) {
-    constexpr double two_pi = 2.0 * kPiD;
-    return a - two_pi * std::nearbyint(a / two_pi);
-}
-
 /// yaw + angle wrapped to [-pi, pi] (the project's branch-free wrap: the twin loop vectorises).
 float turn(float yaw, float angle) { return wrap_angle_f(yaw + angle); }
 
@@ -49,10 +43,7 @@ bool TwinGuard::is_twin_of_dominant(const LocalizerMap &map, int32_t floor, doub
         if (!sym) break;
         float tx, ty;
         sym->apply(static_cast<float>(x_), static_cast<float>(y_), tx, ty);
-        if (std::hypot(x - tx, y - ty) <= radius_m_ &&
-            std::fabs(wrap(yaw_offset_rad - yaw_offset_ - sym->angle_rad)) <= p_.region_yaw_rad) {
-            return true;
-        }
+        if (near_pose(x, y, yaw_offset_rad, tx, ty, yaw_offset_ + sym->angle_rad)) return true;
     }
     return false;
 }
@@ -133,10 +124,13 @@ double TwinGuard::log_ratio(const ParticleSet &p, const LocalizerMap &map, const
     return best;
 }
 
+bool TwinGuard::near_pose(double x, double y, double yaw_offset_rad, double cx, double cy, double cyaw) const {
+    const double dx = x - cx, dy = y - cy;
+    return dx * dx + dy * dy <= radius_m_ * radius_m_ && std::fabs(wrap_angle(yaw_offset_rad - cyaw)) <= p_.region_yaw_rad;
+}
+
 bool TwinGuard::in_region(const ParticleSet &p, size_t i, double cx, double cy, double yaw) const {
-    if (p.floor[i] != floor_) return false;
-    const double dx = p.x[i] - cx, dy = p.y[i] - cy;
-    return dx * dx + dy * dy <= radius_m_ * radius_m_ && std::fabs(wrap(p.yaw_offset[i] - yaw)) <= p_.region_yaw_rad;
+    return p.floor[i] == floor_ && near_pose(p.x[i], p.y[i], p.yaw_offset[i], cx, cy, yaw);
 }
 
 size_t TwinGuard::reseed(ParticleSet &p, const LocalizerMap &map) {
@@ -148,7 +142,7 @@ size_t TwinGuard::reseed(ParticleSet &p, const LocalizerMap &map) {
         const FloorData &fd = map.floors[static_cast<size_t>(floor_)];
         float tx, ty;
         sym->apply(static_cast<float>(x_), static_cast<float>(y_), tx, ty);
-        const double tyaw = wrap(yaw_offset_ + sym->angle_rad);
+        const double tyaw = yaw_offset_ + sym->angle_rad;  // near_pose wraps the difference
         double w_dom = 0, w_twin = 0, target = 0;
         region_.clear();
         const float *r = p.twin_llr[k].data();
