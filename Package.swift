@@ -90,17 +90,19 @@ let package = Package(
         .executableTarget(name: "WayfinderFuzz", dependencies: ["Maps", "SessionFormat", "Localizer", "SignDetection"],
                          path: "App/Fuzz"),
 
+        // The test targets' shared deterministic generator (Tests/TestRandom).
+        .target(name: "TestRandom", path: "Tests/TestRandom"),
         .testTarget(name: "MapsTests", dependencies: ["Maps"], path: "Tests/MapsTests"),
-        .testTarget(name: "SessionFormatTests", dependencies: ["SessionFormat"], path: "Tests/SessionFormatTests"),
-        .testTarget(name: "LocalizerTests", dependencies: ["Localizer", "Maps"], path: "Tests/LocalizerTests"),
+        .testTarget(name: "SessionFormatTests", dependencies: ["TestRandom", "SessionFormat"], path: "Tests/SessionFormatTests"),
+        .testTarget(name: "LocalizerTests", dependencies: ["TestRandom", "Localizer", "Maps"], path: "Tests/LocalizerTests"),
         .testTarget(name: "SignDetectionTests", dependencies: ["SignDetection", "Maps"], path: "Tests/SignDetectionTests"),
-        .testTarget(name: "NavigationTests", dependencies: ["Navigation", "Maps"], path: "Tests/NavigationTests"),
-        .testTarget(name: "WayfinderCoreTests", dependencies: ["WayfinderCore"], path: "Tests/WayfinderCoreTests"),
+        .testTarget(name: "NavigationTests", dependencies: ["TestRandom", "Navigation", "Maps"], path: "Tests/NavigationTests"),
+        .testTarget(name: "WayfinderCoreTests", dependencies: ["TestRandom", "WayfinderCore"], path: "Tests/WayfinderCoreTests"),
         .testTarget(name: "SimulationTests", dependencies: ["Simulation", "Maps", "SessionFormat"],
                     path: "Tests/SimulationTests"),
         .testTarget(name: "EvaluationTests", dependencies: ["Evaluation", "Simulation", "Maps", "SessionFormat"],
                     path: "Tests/EvaluationTests"),
-        .testTarget(name: "CLITests", dependencies: ["WayfinderCLI"], path: "Tests/CLITests"),
+        .testTarget(name: "CLITests", dependencies: ["TestRandom", "WayfinderCLI"], path: "Tests/CLITests"),
     ],
     cxxLanguageStandard: .cxx17
 )

@@ -1,5 +1,6 @@
 import Foundation
 import XCTest
+import TestRandom
 
 /// Issue 14, "nothing lost": `wayfinder simulate` killed while it writes leaves, in every file, whole lines
 /// that are a prefix of the complete bundle (at most the last line cut off), the files consistent in time
@@ -49,7 +50,7 @@ final class SimulateKillTests: XCTestCase {
         }
         while o < observationTimes.count { position["observations.jsonl"]!.append(next); next += 1; o += 1 }
 
-        var rng = KillRandom(seed: 2026)
+        var rng = SplitMix64(seed: 2026)
         var midWrite = 0
         for attempt in 0..<8 {
             let out = scratch.appendingPathComponent("killed-\(attempt)")
@@ -106,19 +107,4 @@ final class SimulateKillTests: XCTestCase {
         print("SimulateKillTests: \(midWrite) of 8 kills landed mid-write")
         XCTAssertGreaterThanOrEqual(midWrite, 4, "too few kills landed while the bundle was being written")
     }
-}
-
-/// SplitMix64 with a uniform draw (fixed seeds).
-struct KillRandom {
-    var state: UInt64
-    init(seed: UInt64) { state = seed }
-    mutating func next() -> UInt64 {
-        state &+= 0x9E37_79B9_7F4A_7C15
-        var z = state
-        z = (z ^ (z >> 30)) &* 0xBF58_476D_1CE4_E5B9
-        z = (z ^ (z >> 27)) &* 0x94D0_49BB_1331_11EB
-        return z ^ (z >> 31)
-    }
-    /// Uniform in [a, b).
-    mutating func uniform(_ a: Double, _ b: Double) -> Double { a + (b - a) * Double(next() >> 11) / Double(1 << 53) }
 }

@@ -3,6 +3,7 @@ import Maps
 import XCTest
 
 @testable import Localizer
+import TestRandom
 
 /// Tests of the Swift wrapper over the C++ particle filter: a small L-shaped building made in code, a
 /// synthetic walk with known truth (fixed seeds), and errors for bad input.
@@ -38,23 +39,6 @@ final class ParticleLocalizerTests: XCTestCase {
         var heading: Double
     }
 
-    /// SplitMix64: deterministic test randomness.
-    struct TestRNG {
-        var state: UInt64
-        mutating func next() -> UInt64 {
-            state &+= 0x9E37_79B9_7F4A_7C15
-            var z = state
-            z = (z ^ (z >> 30)) &* 0xBF58_476D_1CE4_E5B9
-            z = (z ^ (z >> 27)) &* 0x94D0_49BB_1331_11EB
-            return z ^ (z >> 31)
-        }
-        mutating func uniform() -> Double { Double(next() >> 11) / Double(1 << 53) }
-        mutating func normal() -> Double {
-            let u = max(uniform(), 1e-12), v = uniform()
-            return (-2 * log(u)).squareRoot() * cos(2 * .pi * v)
-        }
-    }
-
     static func wrap(_ a: Double) -> Double { atan2(sin(a), cos(a)) }
 
     /// Walks the waypoints at 1.2 m/s, 10 Hz, turning in place at 1.5 rad/s; VIO frame rotated by 0.7 rad
@@ -62,7 +46,7 @@ final class ParticleLocalizerTests: XCTestCase {
     /// for signs in a 38 deg field of view, within 10 m, facing the camera (walls ignored: the corridors'
     /// signs are all in line of sight where they face the walker).
     static func walk(_ building: Building, _ waypoints: [Point2], seed: UInt64 = 3) -> [Frame] {
-        var rng = TestRNG(state: seed)
+        var rng = SplitMix64(seed: seed)
         let vioYaw = 0.7
         var frames: [Frame] = []
         var p = waypoints[0], h = 0.0, t = 0.0
@@ -76,7 +60,7 @@ final class ParticleLocalizerTests: XCTestCase {
                 let r = (dx * dx + dy * dy).squareRoot()
                 let b = wrap(atan2(dy, dx) - h)
                 let facingCamera = sign.facing.x * (p.x - sign.position.x) + sign.facing.y * (p.y - sign.position.y) > 0
-                guard r > 0.5, r < 10, abs(b) < 0.33, facingCamera, rng.uniform() < 0.9 else { continue }
+                guard r > 0.5, r < 10, abs(b) < 0.33, facingCamera, rng.unit() < 0.9 else { continue }
                 sightings.append(SignSighting(kind: "exit", rangeMeters: r * (1 + 0.08 * rng.normal()),
                                               bearingRad: b + 0.035 * rng.normal(), score: 0.95))
             }

@@ -15,6 +15,7 @@
 import Foundation
 import Maps
 @testable import Navigation
+import TestRandom
 
 struct FloorPlanFixture {
     struct FloorSpec { var id: String; var name: String; var elevationMeters: Double; var map: String }

@@ -4,6 +4,7 @@ import Foundation
 import Maps
 import XCTest
 @testable import Navigation
+import TestRandom
 
 final class NavigatorTests: XCTestCase {
     /// a(0,8) to b(16,8), down to c(16,4), east to d(36,4), down to e(36,0); 2 m grid.

@@ -4,6 +4,7 @@ import Foundation
 import Maps
 import XCTest
 @testable import Navigation
+import TestRandom
 
 final class NoisyWalkTests: XCTestCase {
     private func walkNoisy(_ building: Building, from poi: String, to destination: String, seeds: ClosedRange<UInt64>,

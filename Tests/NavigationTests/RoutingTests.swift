@@ -4,22 +4,7 @@ import Foundation
 import Maps
 import XCTest
 @testable import Navigation
-
-/// Deterministic 64-bit generator (SplitMix64) so random tests are reproducible.
-struct SplitMix64 {
-    var state: UInt64
-    init(seed: UInt64) { state = seed }
-    mutating func next() -> UInt64 {
-        state &+= 0x9E37_79B9_7F4A_7C15
-        var z = state
-        z = (z ^ (z >> 30)) &* 0xBF58_476D_1CE4_E5B9
-        z = (z ^ (z >> 27)) &* 0x94D0_49BB_1331_11EB
-        return z ^ (z >> 31)
-    }
-    /// Uniform in [0, 1).
-    mutating func unit() -> Double { Double(next() >> 11) / Double(1 << 53) }
-    mutating func int(_ n: Int) -> Int { Int(next() % UInt64(n)) }
-}
+import TestRandom
 
 /// A jittered grid graph on one floor: `side` x `side` nodes `spacing` meters apart, each joined to its
 /// right and upper neighbours with probability `keep`.

@@ -1,6 +1,7 @@
 import Foundation
 import XCTest
 @testable import SessionFormat
+import TestRandom
 
 /// The facts of ../shared/reference/arkit-frames.md, checked on CameraPose and on a real full-rate
 /// ARKit recording (../shared/data/arkit_data_logger_sample/ARKit_camera_pose.txt: iPhone XS, 60 Hz,

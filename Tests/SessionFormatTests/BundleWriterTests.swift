@@ -1,6 +1,7 @@
 import Foundation
 import XCTest
 @testable import SessionFormat
+import TestRandom
 
 /// The writer: round trips, refusal to overwrite, validation before writing, crash safety, images.
 final class BundleWriterTests: XCTestCase {

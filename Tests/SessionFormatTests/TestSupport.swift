@@ -1,6 +1,7 @@
 import Foundation
 import XCTest
 @testable import SessionFormat
+import TestRandom
 
 /// A fresh empty directory under the temporary directory, removed when the test ends.
 func makeTemporaryDirectory(_ test: XCTestCase, _ label: String = "bundle") throws -> URL {
@@ -87,19 +88,6 @@ func bundleError(_ body: () throws -> Any, file: StaticString = #filePath, line:
         XCTFail("expected a BundleError, got \(error)", file: file, line: line)
     }
     return nil
-}
-
-/// SplitMix64: small deterministic generator for the tests (fixed seeds).
-struct SplitMix64: RandomNumberGenerator {
-    var state: UInt64
-    init(seed: UInt64) { state = seed }
-    mutating func next() -> UInt64 {
-        state &+= 0x9E37_79B9_7F4A_7C15
-        var z = state
-        z = (z ^ (z >> 30)) &* 0xBF58_476D_1CE4_E5B9
-        z = (z ^ (z >> 27)) &* 0x94D0_49BB_1331_11EB
-        return z ^ (z >> 31)
-    }
 }
 
 /// Median of a non-empty array.

@@ -3,6 +3,7 @@ import XCTest
 import Maps
 import SessionFormat
 @testable import WayfinderCore
+import TestRandom
 
 /// Issue 14, "nothing lost": the phone's recorder (`WalkRecorder` over `BundleWriter`) must lose at most the
 /// last line per file whenever the app is killed. The test runs the recorder in a child process (this
@@ -134,17 +135,4 @@ final class RecorderKillTests: XCTestCase {
 /// The kind of the `BundleError` reading `dir` throws, nil when it reads.
 private func bundleKind(_ dir: URL) -> BundleError.Kind? {
     do { _ = try SessionBundle.read(from: dir); return nil } catch let e as BundleError { return e.kind } catch { return nil }
-}
-
-/// SplitMix64: small deterministic generator (fixed seeds).
-struct SplitMix64: RandomNumberGenerator {
-    var state: UInt64
-    init(seed: UInt64) { state = seed }
-    mutating func next() -> UInt64 {
-        state &+= 0x9E37_79B9_7F4A_7C15
-        var z = state
-        z = (z ^ (z >> 30)) &* 0xBF58_476D_1CE4_E5B9
-        z = (z ^ (z >> 27)) &* 0x94D0_49BB_1331_11EB
-        return z ^ (z >> 31)
-    }
 }
