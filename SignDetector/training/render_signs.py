@@ -1431,6 +1431,23 @@ def sample_camera(rng: np.random.Generator, test: bool = False, phone: bool = Fa
     return pitch, roll, yaw, cam_h
 
 
+def _exit_scene_if_visible(R, t, intr: dict, center, normal, w_m: float, h_m: float, margin: int, style, iso: bool,
+                           angles) -> Optional[Tuple[np.ndarray, List[SignSpec], dict]]:
+    """sample_scene's result for an Exit face at `center` (world) facing `normal`, or None when a corner is
+    behind the camera (depth < 0.3 m) or within `margin` pixels of the frame's edge. angles = (pitch, roll, yaw)."""
+    corners = quad_corners_world(center, normal, w_m, h_m)
+    uv, depth = project_points(corners, R, t, intr)
+    if (depth < 0.3).any() or (uv[:, 0] < margin).any() or (uv[:, 1] < margin).any() or \
+            (uv[:, 0] > intr["width"] - 1 - margin).any() or (uv[:, 1] > intr["height"] - 1 - margin).any():
+        return None
+    T = np.eye(4)
+    T[:3, :3], T[:3, 3] = R, t
+    spec = SignSpec(center_cam=R.T @ (center - t), normal_cam=R.T @ normal, width_m=w_m, height_m=h_m,
+                    kind="exit", style=style, iso=iso)
+    pitch, roll, yaw = angles
+    return T, [spec], dict(pitch=pitch, roll=roll, yaw=yaw)
+
+
 def sample_scene(rng: np.random.Generator, intr: dict, distance_m: Optional[float] = None, test: bool = False,
                  max_tries: int = 200, phone: bool = False, upright: bool = False) -> Tuple[np.ndarray, List[SignSpec], dict]:
     """Draw a camera pose and one Exit sign visible in the frame.
@@ -1460,17 +1477,9 @@ def sample_scene(rng: np.random.Generator, intr: dict, distance_m: Optional[floa
         # sign faces back towards the camera with an off-axis angle
         off = rng.uniform(-0.7, 0.7) if test else (rng.uniform(-1.1, 1.1) if rng.random() < 0.15 else rng.uniform(-0.7, 0.7))
         normal = rot_y(off) @ (-hdir)
-        corners = quad_corners_world(center, normal, w_m, h_m)
-        uv, depth = project_points(corners, R, t, intr)
-        margin = 4
-        if (depth < 0.3).any() or (uv[:, 0] < margin).any() or (uv[:, 1] < margin).any() or \
-                (uv[:, 0] > intr["width"] - 1 - margin).any() or (uv[:, 1] > intr["height"] - 1 - margin).any():
-            continue
-        T = np.eye(4)
-        T[:3, :3], T[:3, 3] = R, t
-        spec = SignSpec(center_cam=R.T @ (center - t), normal_cam=R.T @ normal, width_m=w_m, height_m=h_m,
-                        kind="exit", style=None, iso=iso)
-        return T, [spec], dict(pitch=pitch, roll=roll, yaw=yaw)
+        scene = _exit_scene_if_visible(R, t, intr, center, normal, w_m, h_m, 4, None, iso, (pitch, roll, yaw))
+        if scene is not None:
+            return scene
     raise RuntimeError("sample_scene: could not place a visible sign at %.1f m" % (distance_m or -1))
 
 
@@ -1494,17 +1503,10 @@ def _sample_scene_phone(rng, intr, distance_m, test, max_tries, upright):
         center = t + Z * hdir
         center[1] = bottom + h_m / 2
         normal = rot_y(rng.uniform(-1.13, 1.13)) @ (-hdir)
-        corners = quad_corners_world(center, normal, w_m, h_m)
-        uv, depth = project_points(corners, R, t, intr)
         margin = max(4, int(0.02 * intr["width"]))  # room for the rolling-shutter shift
-        if (depth < 0.3).any() or (uv[:, 0] < margin).any() or (uv[:, 1] < margin).any() or \
-                (uv[:, 0] > intr["width"] - 1 - margin).any() or (uv[:, 1] > intr["height"] - 1 - margin).any():
-            continue
-        T = np.eye(4)
-        T[:3, :3], T[:3, 3] = R, t
-        spec = SignSpec(center_cam=R.T @ (center - t), normal_cam=R.T @ normal, width_m=w_m, height_m=h_m,
-                        kind="exit", style=style, iso=iso)
-        return T, [spec], dict(pitch=pitch, roll=roll, yaw=yaw)
+        scene = _exit_scene_if_visible(R, t, intr, center, normal, w_m, h_m, margin, style, iso, (pitch, roll, yaw))
+        if scene is not None:
+            return scene
     raise RuntimeError("sample_scene: could not place a visible sign at %.1f m" % (distance_m or -1))
 
 
