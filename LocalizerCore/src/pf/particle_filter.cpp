@@ -885,16 +885,9 @@ int ParticleFilter::update_compass(double heading_in_map_rad, double accuracy_ra
     const size_t n = p_.size();
     log_likelihood_.resize(n);
     compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, log_likelihood_.data());
-    for (size_t k = 0; k < p_.twin_arrays; ++k) {
-        twin_ll_.resize(n);
-        if (!score_twins(k, [&] {
-                compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad,
-                                        twin_ll_.data());
-            })) {
-            continue;
-        }
-        twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_ll_.data());
-    }
+    accumulate_twin_ratios([&](float *out) {
+        compass_.log_likelihood(p_, static_cast<float>(vio_yaw_), heading_in_map_rad, accuracy_rad, out);
+    });
     compass_.mark_applied();
     ++compass_update_count_;
     // Each particle's history keeps its compass log-weight relative to the best history (max 0), floored at

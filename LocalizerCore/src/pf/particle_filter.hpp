@@ -211,6 +211,18 @@ private:
         p_.yaw_offset.swap(twin_yaw_);
         return true;
     }
+    /// For each of the floor's symmetries: `score(out)` adds the measurement's log-likelihoods of the particles'
+    /// twins into `out` (zeroed, size n; the twin poses are swapped in by score_twins), then the twin ratios
+    /// take the difference against `log_likelihood_` (TwinGuard::accumulate). The plane and compass updates.
+    template <class Score>
+    void accumulate_twin_ratios(Score &&score) {
+        for (size_t k = 0; k < p_.twin_arrays; ++k) {
+            twin_ll_.assign(p_.size(), 0.0f);
+            if (score_twins(k, [&] { score(twin_ll_.data()); })) {
+                twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_ll_.data());
+            }
+        }
+    }
     std::vector<float> twin_ll_;  // twin log-likelihoods of one symmetry (planes, compass)
     std::array<std::vector<float>, ParticleSet::kMaxTwins> twin_lls_;  // twin sign log-likelihoods per symmetry
     /// After a measurement update: reseeds the dominant hypothesis's twins (TwinGuard::reseed) and marks the

@@ -30,16 +30,9 @@ int ParticleFilter::update_planes(const wf_plane_observation *obs, size_t count,
         const float max_ll = plane_log_likelihood(p_, planes_.fields, planes_.table, planes_.params, z.data(), z.size(),
                                                   log_likelihood_.data());
         // On a symmetric floor, each particle's twin is scored against the same planes (pf/twin_guard).
-        for (size_t k = 0; k < p_.twin_arrays; ++k) {
-            twin_ll_.assign(n, 0.0f);
-            if (!score_twins(k, [&] {
-                    plane_log_likelihood(p_, planes_.fields, planes_.table, planes_.params, z.data(), z.size(),
-                                         twin_ll_.data());
-                })) {
-                continue;
-            }
-            twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_ll_.data());
-        }
+        accumulate_twin_ratios([&](float *out) {
+            plane_log_likelihood(p_, planes_.fields, planes_.table, planes_.params, z.data(), z.size(), out);
+        });
         if (std::isfinite(max_ll)) {
             // Evidence for the ambiguity guard, as for signs (relative to the best particle, bounded).
             float *ev = p_.evidence.data();
