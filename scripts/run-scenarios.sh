@@ -16,7 +16,11 @@
 # scenario suite and the convergence study with the compass ignored (`--no-compass`, gates
 # scenarios-no-compass.json and convergence-study-no-compass.json): issue 15 asks for no confidently-wrong lock
 # with the compass absent too (older recordings, a phone without a usable compass). Only the SKERI walks change:
-# the office map has no north, so its walks never use the compass.
+# the office map has no north, so its walks never use the compass. Last, the scenario suite with filter seeds 2
+# and 3 and the convergence study with seed 2 (`--seed`; gates scenarios-seed-2.json, scenarios-seed-3.json,
+# convergence-study-seed-2.json): every other gate replays with seed 1, and a wrong lock that one seed happens
+# to avoid (the office's turned twin locked in 5 of 8 seeds but not in seed 1, docs/benchmarks.md "Eighth stop")
+# must not pass unseen.
 # Usage: scripts/run-scenarios.sh [--write-baseline]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -28,7 +32,10 @@ for suite in "Tests/Scenarios:Tests/Baselines/scenarios.json" "Tests/Convergence
              "Tests/Scenarios:Tests/Baselines/scenarios-real-cascade.json:real-cascade" \
              "Tests/Scenarios:Tests/Baselines/scenarios-cascade-bias-15.json:real-cascade:-0.15" \
              "Tests/Scenarios:Tests/Baselines/scenarios-no-compass.json:::--no-compass" \
-             "Tests/ConvergenceStudy:Tests/Baselines/convergence-study-no-compass.json:::--no-compass"; do
+             "Tests/ConvergenceStudy:Tests/Baselines/convergence-study-no-compass.json:::--no-compass" \
+             "Tests/Scenarios:Tests/Baselines/scenarios-seed-2.json:::--seed=2" \
+             "Tests/Scenarios:Tests/Baselines/scenarios-seed-3.json:::--seed=3" \
+             "Tests/ConvergenceStudy:Tests/Baselines/convergence-study-seed-2.json:::--seed=2"; do
   IFS=: read -r dir baseline detector bias flag <<<"$suite"
   args=(--scenarios "$dir" --skeri "$shared")
   if [ -n "$detector" ]; then args+=(--sim-detector "$detector"); fi

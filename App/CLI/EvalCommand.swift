@@ -13,7 +13,7 @@ enum EvalCommand: Subcommand {
     Usage: wayfinder eval BUNDLE... --map MAP [--detector recorded|cascade|unet|auto] [--models DIR] [--json] [--explain]
                           [--baseline FILE] [--write-baseline FILE] [--seed N]
            wayfinder eval --scenarios DIR [--skeri DIR] [--survey-placards] [--sim-detector NAME] [--json] [--explain]
-                          [--baseline FILE] [--write-baseline FILE]
+                          [--baseline FILE] [--write-baseline FILE] [--seed N]
 
     Replays each bundle (which must have truth.jsonl) through the real pipeline and prints, per walk:
     time and distance to first convergence, median/90th/95th percentile position error after convergence,
@@ -22,6 +22,7 @@ enum EvalCommand: Subcommand {
     distance at arrival; then the aggregate. --json prints JSON instead. --baseline fails (exit 1) when an
     aggregate figure is worse than the baseline by more than its tolerance; --write-baseline writes one.
     --scenarios simulates and scores every scenario definition (*.json) in DIR in memory.
+    --seed N sets the particle filter's seed for every replay (default 1; the simulated walks do not change).
     --survey-placards adds a room-number placard beside every room-like place of the map before simulating and
     replaying (a study of identifying signs: PlacardSurvey, docs/benchmarks.md "Placards").
     --sim-detector (with --scenarios) simulates the walks behind another detector's noise (below;
