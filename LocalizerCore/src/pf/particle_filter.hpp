@@ -217,8 +217,11 @@ private:
     template <class Score>
     void accumulate_twin_ratios(Score &&score) {
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
-            twin_ll_.assign(p_.size(), 0.0f);
-            if (score_twins(k, [&] { score(twin_ll_.data()); })) {
+            const auto scored = [&] {
+                twin_ll_.assign(p_.size(), 0.0f);
+                score(twin_ll_.data());
+            };
+            if (score_twins(k, scored)) {
                 twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_ll_.data());
             }
         }
