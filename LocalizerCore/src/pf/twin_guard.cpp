@@ -113,10 +113,18 @@ double TwinGuard::log_ratio(const ParticleSet &p, const LocalizerMap &map, const
     for (size_t k = 0; k < p.twin_arrays && symmetry_of(map, f, k); ++k) {
         double w = 0, wt = 0;
         const float *r = p.twin_llr[k].data();
+        // Copies of a particle (next to each other after a resampling) share their ratio: its exponential is
+        // computed once per run of equal ratios (the same value as computing it again).
+        float last_r = std::numeric_limits<float>::quiet_NaN();
+        double last_exp = 0;
         for (size_t j = 0; j < count; ++j) {
             const uint32_t i = members[j];
             w += p.weight[i];
-            wt += static_cast<double>(p.weight[i]) * std::exp(-static_cast<double>(r[i]));
+            if (!(r[i] == last_r)) {
+                last_r = r[i];
+                last_exp = std::exp(-static_cast<double>(last_r));
+            }
+            wt += static_cast<double>(p.weight[i]) * last_exp;
         }
         if (!(w > 0)) continue;
         best = std::min(best, std::log(w) - std::log(std::max(wt, 1e-300)));
