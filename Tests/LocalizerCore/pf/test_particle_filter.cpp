@@ -278,6 +278,43 @@ TEST(ParticleFilter, TheCompassPriorCountsInTheTwinRatios) {
     EXPECT_GT(against, 10);
 }
 
+// A compass reading (not only the prior) counts in the twin ratios too, through the update's twin pass: a
+// particle heading where the compass points gains on its twin, one heading the other way loses, and with the
+// guard off the ratios stay untouched.
+TEST(ParticleFilter, ACompassReadingCountsInTheTwinRatios) {
+    for (const bool guard : {true, false}) {
+        auto world = wf::test::symmetric_world();
+        auto o = test_options();
+        ParticleFilter pf(wf::test::build_map(world, o), o, 5);
+        ASSERT_EQ(pf.set_parameter("twin.enabled", guard ? 1 : 0), WF_LOC_OK);
+        ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+        ASSERT_EQ(pf.predict({0, 0, 0, 0.0, WF_VIO_TRACKING_NORMAL}), WF_LOC_OK);  // VIO yaw 0
+        ASSERT_EQ(pf.update_compass(0.0, 0.2, 0.0), WF_LOC_OK);                    // heading east
+        ASSERT_EQ(pf.compass_update_count(), 1u);
+        const ParticleSet &p = pf.particles();
+        ASSERT_EQ(p.twin_arrays, 1u);
+        int along = 0, against = 0, nonzero = 0;
+        for (size_t i = 0; i < p.size(); ++i) {
+            nonzero += p.twin_llr[0][i] != 0.0f ? 1 : 0;
+            const double h = std::remainder(static_cast<double>(p.yaw_offset[i]), 2 * wf::test::kPi);
+            if (!guard) continue;
+            if (std::fabs(h) < 0.2) {
+                EXPECT_GT(p.twin_llr[0][i], 1.0f) << i;
+                ++along;
+            } else if (std::fabs(h) > wf::test::kPi - 0.2) {
+                EXPECT_LT(p.twin_llr[0][i], -1.0f) << i;
+                ++against;
+            }
+        }
+        if (guard) {
+            EXPECT_GT(along, 10);
+            EXPECT_GT(against, 10);
+        } else {
+            EXPECT_EQ(nonzero, 0) << "the guard is off: no twin is scored";
+        }
+    }
+}
+
 // The same symmetric corridor with a compass: the mirror hypothesis faces the other way, so the compass
 // (applied once per 4 m, capped) refutes it and the filter localizes on the truth. With a compass biased by a
 // constant 40 degrees (steel nearby) it must never be confidently wrong; and with the compass switched off it
