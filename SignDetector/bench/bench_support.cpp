@@ -177,9 +177,16 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
     return d;
 }
 
-std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad, FaceEdgeOptions faceEdges) {
+std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad, FaceEdgeOptions faceEdges,
+                                         const std::vector<CatalogueEntry>* catalogue) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    std::vector<wf_sign_kind> entries;
+    if (catalogue != nullptr) {
+        for (const auto& e : *catalogue) entries.push_back(e.entry);
+        opts.catalogue = entries.data();
+        opts.catalogue_count = entries.size();
+    }
     opts.kind = WF_DETECTOR_UNET;
     opts.unet_path = path.c_str();
     opts.unet_coarse_min_elevation_rad = coarseMinElevationRad;

@@ -100,9 +100,13 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
                                             FaceEdgeOptions faceEdges = {}, int searchMaxLongSidePx = 0);
 /// Creates a U-Net detector (class names from classes.json next to the model). `coarseMinElevationRad`: as
 /// wf_detector_options::unet_coarse_min_elevation_rad (0 = the default cut, <= -1.5 = the whole frame).
-/// `faceEdges` as for makeCascade (refinement -1 = the mask's own edges).
+/// `faceEdges` as for makeCascade (refinement -1 = the mask's own edges). `catalogue` (borrowed for the call;
+/// may be null): the sign kinds, as the product passes the map's (a multi-class U-Net's kinds other than the Exit
+/// sign are verified against their own face sizes, and lift the coarse pass's elevation cut).
+struct CatalogueEntry;
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0,
-                                         FaceEdgeOptions faceEdges = {});
+                                         FaceEdgeOptions faceEdges = {},
+                                         const std::vector<CatalogueEntry>* catalogue = nullptr);
 
 /// Runs a detector on a prepared frame; returns the status and fills `observations`.
 int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations);

@@ -203,6 +203,8 @@ int main(int argc, char** argv) {
     if (limit >= 0 && static_cast<long>(frames.size()) > limit) frames.resize(limit);
 
     std::vector<Row> rows;
+    std::vector<CatalogueEntry> officeCatalogue;  // read on first use (U-Net rows)
+    std::string catalogueError;
     std::stringstream rowIds(rowsArg);
     for (std::string id; std::getline(rowIds, id, ',');) {
         Row r;
@@ -254,7 +256,13 @@ int main(int argc, char** argv) {
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
             r.title = "U-Net multi-scale, 1920x1440";
-            if (fileExists(model)) r.detector = makeUnet(model, 0, faceEdges);
+            // The bundled office's sign kinds, as the product passes the map's (a class of the model for a kind
+            // other than the Exit sign is verified with its face's limits and lifts the coarse elevation cut).
+            if (officeCatalogue.empty() && !readMapCatalogue(officeMapPath(), &officeCatalogue, &catalogueError)) {
+                std::cerr << "wf_detector_eval: " << catalogueError << "\n";
+                return 1;
+            }
+            if (fileExists(model)) r.detector = makeUnet(model, 0, faceEdges, &officeCatalogue);
         } else if (id == "reference") {
             model = reference;
             r.size = cv::Size(640, 480);

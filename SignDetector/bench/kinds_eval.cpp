@@ -2,6 +2,7 @@
 // placards) on a rendered held-out set, through the product's one call per frame (wf_detector_sense).
 //
 //   wf_kinds_eval --testset DIR [--models DIR] [--map MAP.json] [--limit N] [--repeat K]
+//                 [--unet MODEL.onnx [--unet-baseline MODEL.onnx]]
 //   (WF_KINDS_ROTATION=N sets wf_detector_options.cascade_wall_kinds_per_frame: N wall kinds searched per frame)
 //
 // DIR: SignDetector/training/render_signs.py --split test_kinds (VGA frames, labels.jsonl with "kind" and, for
@@ -9,6 +10,9 @@
 // kind), turned into wf_sign_kind as the Swift wrapper does. Two detectors, each frame run `--repeat` times:
 //   exit-only   the Exit cascade alone (what the phone ran before)
 //   all-kinds   the Exit cascade plus <kind>_cascade.xml for every other kind of the catalogue found in --models
+// With --unet (the U-Net path; classes.json beside each model):
+//   exit-only   the --unet-baseline U-Net (default --models/sign_unet.onnx) with no cascade beside it
+//   all-kinds   the --unet U-Net with the cascades of the catalogue's kinds it has no class for beside it
 // Prints Markdown: per kind and true distance, found / signs, median |range error| % and the signed median
 // (bias); for placards how often the text was read right, read wrong, not read; false sightings per frame by
 // kind (a sighting of a kind with no labelled sign of that kind under it; "confused" when it lies on a sign of
@@ -16,6 +20,7 @@
 // add <= 20 %").
 #include "bench_support.hpp"
 #include "text_reader.hpp"
+#include "unet_detector.hpp"
 #include "unroll.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -71,6 +76,7 @@ struct KindStats {
 
 int main(int argc, char** argv) {
     std::string testset, models = productModelsDir(), map = officeMapPath();
+    std::string unet, unetBaseline;
     int limit = 0, repeat = 1;
     for (int i = 1; i < argc; ++i) {
         const std::string a = argv[i];
@@ -80,8 +86,11 @@ int main(int argc, char** argv) {
         else if (a == "--map") map = next();
         else if (a == "--limit") limit = std::atoi(next().c_str());
         else if (a == "--repeat") repeat = std::max(1, std::atoi(next().c_str()));
+        else if (a == "--unet") unet = next();
+        else if (a == "--unet-baseline") unetBaseline = next();
         else {
-            std::fprintf(stderr, "usage: wf_kinds_eval --testset DIR [--models DIR] [--map MAP.json] [--limit N] [--repeat K]\n");
+            std::fprintf(stderr, "usage: wf_kinds_eval --testset DIR [--models DIR] [--map MAP.json] [--limit N] [--repeat K] "
+                                 "[--unet MODEL.onnx [--unet-baseline MODEL.onnx]]\n");
             return 2;
         }
     }
@@ -101,9 +110,20 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "wf_kinds_eval: %s\n", error.c_str());
         return 1;
     }
+    // The U-Net's own classes (none on the cascade path): no cascade for those kinds.
+    std::vector<std::string> unetClasses;
+    if (!unet.empty()) {
+        const std::string classesPath = unet.substr(0, unet.find_last_of('/') + 1) + "classes.json";
+        if (!wf::sign::readClassList(classesPath, &unetClasses, &error)) {
+            std::fprintf(stderr, "wf_kinds_eval: %s\n", error.c_str());
+            return 1;
+        }
+        if (unetBaseline.empty()) unetBaseline = models + "/sign_unet.onnx";
+    }
     std::vector<std::string> paths{models + "/exit_sign_cascade.xml"}, kinds{"exit"};
     for (const auto& e : catalogue) {
         if (e.kind == "exit") continue;
+        if (std::find(unetClasses.begin(), unetClasses.end(), e.kind) != unetClasses.end()) continue;
         const std::string path = models + "/" + e.kind + "_cascade.xml";
         if (fileExists(path)) {
             paths.push_back(path);
@@ -114,8 +134,17 @@ int main(int argc, char** argv) {
     }
     const char* rotation = std::getenv("WF_KINDS_ROTATION");
     const int wallKindsPerFrame = rotation ? std::atoi(rotation) : 0;
-    auto exitOnly = makeWithCatalogue({paths[0]}, {"exit"}, catalogue, "", wallKindsPerFrame);
-    auto all = makeWithCatalogue(paths, kinds, catalogue, "", wallKindsPerFrame);
+    std::unique_ptr<DetectorHandle> exitOnly, all;
+    if (unet.empty()) {
+        exitOnly = makeWithCatalogue({paths[0]}, {"exit"}, catalogue, "", wallKindsPerFrame);
+        all = makeWithCatalogue(paths, kinds, catalogue, "", wallKindsPerFrame);
+    } else {
+        const std::vector<std::string> besidePaths(paths.begin() + 1, paths.end()), besideKinds(kinds.begin() + 1, kinds.end());
+        exitOnly = makeWithCatalogue({}, {}, catalogue, unetBaseline, wallKindsPerFrame);
+        all = makeWithCatalogue(besidePaths, besideKinds, catalogue, unet, wallKindsPerFrame);
+        std::printf("U-Net path: exit-only = %s; all kinds = %s with %zu cascade(s) beside it\n\n", unetBaseline.c_str(),
+                    unet.c_str(), besidePaths.size());
+    }
     for (auto* d : {exitOnly.get(), all.get()}) {
         if (!*d) {
             std::fprintf(stderr, "wf_kinds_eval: %s\n", d->error.c_str());

@@ -141,6 +141,7 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
     } else if (cut != 0) {
         r.unet.coarseMinElevationRad = cut;
     }
+    r.unetCoarseCutGiven = cut != 0;
     // Placement prior: on unless -1.
     const int prior = opts.cascade_placement_prior;
     if (prior < -1 || prior > 1) {
@@ -251,6 +252,7 @@ int Detector::loadUnet(std::string* error) {
         }
     }
     kinds_.assign(unet_.classNames().begin() + 1, unet_.classNames().end());
+    configureUnetClasses();
     if (options_.cascadePaths.empty()) return WF_STATUS_OK;
     // Cascades beside the U-Net: kinds it has no class for (pictograms, placards).
     if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_STATUS_MODEL_LOAD;
@@ -262,6 +264,32 @@ int Detector::loadUnet(std::string* error) {
         kinds_.push_back(kind);
     }
     return WF_STATUS_OK;
+}
+
+void Detector::configureUnetClasses() {
+    const std::vector<std::string>& names = unet_.classNames();
+    options_.unet.classChecks.assign(names.size(), UnetClassCheck{});
+    bool eyeLevelKinds = false;
+    for (size_t c = 1; c < names.size(); ++c) {
+        const SignKindSpec* spec = findKind(options_.catalogue, names[c]);
+        if (spec == nullptr || spec->colourGated()) continue;  // Exit-like: the Exit sign's limits
+        // The Exit limits scaled to this face: aspect 0.5-1.9 x the facing face's (a face turned 60 degrees is half
+        // as wide; slices of a ragged mask a little short), height 0.57-2.4 x the face's (Exit: 0.12-0.5 m of
+        // 0.21 m), no colour check (white on blue or dark grey plates).
+        UnetClassCheck& check = options_.unet.classChecks[c];
+        const double aspect = spec->faceWidthMeters / spec->faceHeightMeters;
+        check.set = true;
+        check.minAspect = 0.4 * aspect;
+        check.maxAspect = 1.9 * aspect;
+        check.minSignHeightM = 0.57 * spec->faceHeightMeters;
+        check.maxSignHeightM = 2.4 * spec->faceHeightMeters;
+        check.minColourFraction = 0;
+        eyeLevelKinds = true;
+    }
+    // Pictograms and placards hang at eye level beside doors (bottom edge 1.3-1.45 m): a near one lies well below the
+    // horizon (a placard's bottom edge 0.8 m away, phone at 1.6 m: -0.36 rad), under the Exit-sign cut. So the coarse
+    // pass reads the whole frame, unless the caller set the cut.
+    if (eyeLevelKinds && !options_.unetCoarseCutGiven) options_.unet.coarseMinElevationRad = std::nan("");
 }
 
 void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& unrolling, double pitchRad,
@@ -470,14 +498,23 @@ FrameResult Detector::detect(const wf_frame& frame) {
             }
         } else {
             detections = unet_.detect(toRgb(frame.image), unrolling, options_.unet, frame.pitch_rad);
+            cv::Mat grayUnrolled;
             if (!plainKinds_.empty()) {
-                // Cascades beside the U-Net (kinds it has no class for), refined and read as in the cascade detector.
-                const cv::Mat grayUnrolled = unrolling.apply(gray);
+                // Cascades beside the U-Net (kinds it has no class for), refined as in the cascade detector.
+                grayUnrolled = unrolling.apply(gray);
                 std::vector<Detection> extra;
                 detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &extra);
                 extra = refinedBoxes(std::move(extra), frame.image, unrolling);
-                readLegends(grayUnrolled, &extra);
                 detections.insert(detections.end(), extra.begin(), extra.end());
+            }
+            // Legends of the plates found (the U-Net's placard class or a placard cascade beside it).
+            const bool plates = std::any_of(detections.begin(), detections.end(), [&](const Detection& d) {
+                const SignKindSpec* spec = findKind(options_.catalogue, d.kind);
+                return spec != nullptr && spec->readsText;
+            });
+            if (plates && textReader_.loaded()) {
+                if (grayUnrolled.empty()) grayUnrolled = unrolling.apply(gray);
+                readLegends(grayUnrolled, &detections);
             }
         }
         for (const auto& d : detections) {

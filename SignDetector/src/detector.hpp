@@ -25,6 +25,9 @@ struct ResolvedOptions {
     int unetInputSize = 224;
     CascadeParams cascade;
     UnetParams unet;
+    /// wf_detector_options.unet_coarse_min_elevation_rad was set (not 0): the coarse pass's elevation cut stays as
+    /// given even when the U-Net has classes for kinds mounted at eye level (Detector::loadUnet).
+    bool unetCoarseCutGiven = false;
     double minScore = 0;
     double rollSnapToleranceRad = 0;
     /// Face-edge refinement of every detection (both detectors; the U-Net's copy is unet.faceEdges).
@@ -133,6 +136,10 @@ private:
 
     /// Reads the legend of every detection whose kind reads text, from `grayUnrolled` (the whole unrolled frame).
     void readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections);
+    /// The U-Net's classes of kinds other than the Exit sign (the catalogue's kinds without the colour gate):
+    /// their verification limits from their face size (UnetParams::classChecks) and, unless the caller set it,
+    /// no coarse-pass elevation cut (they hang at eye level).
+    void configureUnetClasses();
 
     ResolvedOptions options_;
     CascadeDetector cascade_;

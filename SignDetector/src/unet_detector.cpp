@@ -317,6 +317,19 @@ double colourfulFraction(const cv::Mat& rgb, const cv::Mat& mask, int minChroma)
     return total > 0 ? double(colourful) / total : 0.0;
 }
 
+UnetParams UnetParams::forClass(int classIndex) const {
+    UnetParams p = *this;
+    if (classIndex >= 0 && classIndex < static_cast<int>(classChecks.size()) && classChecks[classIndex].set) {
+        const UnetClassCheck& c = classChecks[classIndex];
+        p.minAspect = c.minAspect;
+        p.maxAspect = c.maxAspect;
+        p.minSignHeightM = c.minSignHeightM;
+        p.maxSignHeightM = c.maxSignHeightM;
+        p.minColourFraction = c.minColourFraction;
+    }
+    return p;
+}
+
 UnetVerdict verifyZoomedSign(const SliceMeasurement& inUnrolled, double meanProbability, double unrolledFyPx,
                              const UnetParams& params, double colourFraction) {
     if (!(meanProbability >= params.minMeanProbability)) return UnetVerdict::kLowProbability;
@@ -411,9 +424,11 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
             }
         }
         const double meanProbability = cv::mean(p, core)[0];  // score: over the core, not the grown edge
-        const double colour = colourfulFraction(square, component, params.colourChromaLevels);
+        const UnetParams checks = params.forClass(candidate.classIndex);
+        const double colour =
+            checks.minColourFraction > 0 ? colourfulFraction(square, component, checks.colourChromaLevels) : 1.0;
         const UnetVerdict v =
-            verifyZoomedSign(inUnrolled, meanProbability, unrolling.unrolledIntrinsics().fy, params, colour);
+            verifyZoomedSign(inUnrolled, meanProbability, unrolling.unrolledIntrinsics().fy, checks, colour);
         if (verdict) *verdict = v;
         if (v != UnetVerdict::kAccepted) return false;
         out->kind = classNames_[candidate.classIndex];

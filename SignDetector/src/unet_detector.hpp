@@ -16,6 +16,21 @@
 
 namespace wf::sign {
 
+/// Verification limits of one class of a multi-class U-Net (a sign kind of another shape or colour than the Exit
+/// sign: pictograms, placards), replacing UnetParams' Exit-sign limits of the same names for that class.
+struct UnetClassCheck {
+    /// false = the class uses UnetParams' own limits.
+    bool set = false;
+    /// Plausible extent width / median height.
+    double minAspect = 0.8;
+    double maxAspect = 3.0;
+    /// Plausible physical face height, meters (with UnetParams' minRangeM, maxRangeM).
+    double minSignHeightM = 0.12;
+    double maxSignHeightM = 0.5;
+    /// Minimum colourful fraction of the mask (0 = not checked: white-on-dark pictograms have no chroma).
+    double minColourFraction = 0.05;
+};
+
 /// Multi-scale parameters.
 struct UnetParams {
     /// Probability above which a pixel belongs to a class.
@@ -98,6 +113,13 @@ struct UnetParams {
     /// test set every true sign had >= 0.14 (motion-blurred and dim ones included). 0 = off.
     double minColourFraction = 0.05;
     int colourChromaLevels = 20;
+
+    /// Per-class verification limits, indexed by class (missing or unset entries: the limits above, which are
+    /// the Exit sign's). Filled by the detector from the sign-kind catalogue (Detector::loadUnet).
+    std::vector<UnetClassCheck> classChecks;
+
+    /// These parameters with class `classIndex`'s verification limits in place of the Exit sign's.
+    UnetParams forClass(int classIndex) const;
 };
 
 /// A coarse-pass candidate, in unrolled pixels.

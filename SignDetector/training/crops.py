@@ -143,6 +143,12 @@ def coarse_sample(rng: np.random.Generator, with_sign: bool, size: int = 224, ph
     phone: phone-style source frame (render_signs phone style, sensor from phone_sensor)."""
     T, signs, intr_raw, ph = _scene(rng, with_sign, phone)
     kw = dict(phone=ph) if ph is not None else {}
+    return _letterboxed(rng, T, signs, intr_raw, size, **kw)
+
+
+def _letterboxed(rng: np.random.Generator, T: np.ndarray, signs, intr_raw: dict, size: int,
+                 **kw) -> Tuple[np.ndarray, np.ndarray]:
+    """The unrolled frame of camera T (sensor intr_raw) letterboxed to size x size: (image, mask)."""
     intr_u = unrolled_intrinsics(intr_raw, T)
     s, nw, nh, px, py = letterbox_params(intr_u["width"], intr_u["height"], size)
     # render the letterboxed area at 2x then area-downsample (as a resize of the full frame would)
@@ -155,6 +161,28 @@ def coarse_sample(rng: np.random.Generator, with_sign: bool, size: int = 224, ph
     out[py:py + nh, px:px + nw] = img
     outm[py:py + nh, px:px + nw] = mask
     return out, outm
+
+
+def kind_sample(rng: np.random.Generator, kind: str, zoom: bool, size: int = 224) -> Tuple[np.ndarray, np.ndarray]:
+    """A U-Net training sample of a wall sign kind (one of rs.WALL_KINDS), mask classes rs.CLASSES: the whole
+    unrolled frame letterboxed to size x size (zoom False, as coarse_sample), or a square crop centred (with
+    jitter N(0, 0.12) of the side) on the kind's face, side 2.5-5 x its larger projected side (zoom True: the
+    run-time zoom crops zoomFactor x max(blob width, height) of a square face). The scene is
+    rs.sample_kind_scene's (ranges rs.KIND_RANGE_M, a second wall sign of another kind 30 %, an Exit sign
+    across the corridor 30 %, the usual distractors), from a 1920 x 1440 or the phone's 640 x 480 sensor
+    (_cascade_sensor, blur sizes kept at their angular size)."""
+    intr_raw = _cascade_sensor(rng)
+    T, signs, _ = rs.sample_kind_scene(rng, intr_raw, kind, extra_kinds=[k for k in rs.WALL_KINDS if k != kind])
+    unit = intr_raw["width"] / rs.RAW_INTRINSICS["width"]
+    if not zoom:
+        return _letterboxed(rng, T, signs, intr_raw, size, degrade_unit=unit)
+    intr_u = unrolled_intrinsics(intr_raw, T)
+    uv, w, h = sign_box_unrolled(_virtual(T, 0.0), intr_u, signs[0], T)
+    side = rng.uniform(2.5, 5.0) * max(w, h)
+    c = uv.mean(axis=0) + rng.normal(0, 0.12, 2) * side
+    img, mask, _ = render_view(rng, T, signs, intr_u, c[0] - side / 2, c[1] - side / 2, side, side, size, size,
+                               residual_roll=math.radians(rng.normal(0, 2)), degrade_unit=unit)
+    return img, mask
 
 
 def zoom_sample(rng: np.random.Generator, positive: bool, size: int = 224, phone: bool = False) -> Tuple[np.ndarray, np.ndarray]:

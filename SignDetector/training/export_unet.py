@@ -87,6 +87,7 @@ def main(argv=None) -> int:
         return 1
     ck = torch.load(a.checkpoint, map_location="cpu")
     model = SignUNet(ck["width"], ck["num_classes"])
+    classes = ck.get("classes", CLASSES)  # checkpoints before the wall kinds hold background and exit only
     model.load_state_dict(ck["state_dict"])
     model.eval()
     os.makedirs(a.out, exist_ok=True)
@@ -101,7 +102,7 @@ def main(argv=None) -> int:
     ops = sorted({n.op_type for n in m.graph.node})
     print("onnx: %s (%.2f MB), opset %d, ops %s" % (onnx_path, os.path.getsize(onnx_path) / 1e6, a.opset, ops))
     with open(os.path.join(a.out, "classes.json"), "w") as f:
-        json.dump({"classes": CLASSES}, f)
+        json.dump({"classes": classes}, f)
         f.write("\n")
 
     X = sample_inputs()
@@ -146,9 +147,9 @@ def main(argv=None) -> int:
             mlmodel = ct.convert(traced, inputs=[ct.TensorType(name="image", shape=(1, 3, 224, 224))],
                                  outputs=[ct.TensorType(name="logits")], convert_to="mlprogram",
                                  minimum_deployment_target=ct.target.iOS15, compute_precision=ct.precision.FLOAT32)
-            mlmodel.short_description = "Exit-sign segmentation U-Net (MobileNetV2 encoder); classes background, exit"
+            mlmodel.short_description = "Sign segmentation U-Net (MobileNetV2 encoder); classes %s" % ", ".join(classes)
             mlmodel.input_description["image"] = "1x3x224x224 RGB float in [0,1]"
-            mlmodel.output_description["logits"] = "1x2x224x224 class logits (background, exit)"
+            mlmodel.output_description["logits"] = "1x%dx224x224 class logits (%s)" % (len(classes), ", ".join(classes))
             ml_path = os.path.join(a.out, "SignUNet.mlpackage")
             if os.path.exists(ml_path):
                 shutil.rmtree(ml_path)

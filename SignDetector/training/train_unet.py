@@ -135,11 +135,21 @@ class SignUNet(nn.Module):
 # Data
 # --------------------------------------------------------------------------------------------------
 
+#: Sample types (render_samples' `kinds` array).
+SAMPLE_TYPES = ["coarse", "coarse_empty", "zoom", "zoom_neg", "kind_coarse", "kind_zoom"]
+
+
 def render_one(args) -> tuple:
-    """Sample i of (seed, split_code) (see render_samples): (image, mask, kind)."""
+    """Sample i of (seed, split_code) (see render_samples): (image, mask, sample type)."""
     import crops
-    seed, split_code, i, phone_frac = args
+    import render_signs as rs
+    seed, split_code, i, phone_frac, kinds_frac = args
     rng = np.random.default_rng([seed, split_code, i])
+    if kinds_frac > 0 and rng.random() < kinds_frac:  # a wall sign kind: half whole frames, half zooms
+        kind = str(rng.choice(list(rs.WALL_KINDS)))
+        zoom = rng.random() < 0.5
+        x, y = crops.kind_sample(rng, kind, zoom)
+        return x, y, 5 if zoom else 4
     r = rng.random()
     phone = phone_frac > 0 and rng.random() < phone_frac
     if r < 0.30:
@@ -157,16 +167,19 @@ def render_one(args) -> tuple:
     return x, y, k
 
 
-def render_samples(n: int, seed: int, split_code: int, log, phone_frac: float = 0.0, workers: int = 1) -> tuple:
-    """n samples: 30 % coarse with a sign, 10 % coarse sign-free, 42 % zoomed on a sign, 18 % zoomed
-    negatives; each in the phone style with probability phone_frac (0 keeps the original samples:
-    the phone draw is skipped). Sample i uses generator (seed, split_code, i), so the set does not
+def render_samples(n: int, seed: int, split_code: int, log, phone_frac: float = 0.0, workers: int = 1,
+                   kinds_frac: float = 0.0) -> tuple:
+    """n samples: with probability kinds_frac a wall sign kind (crops.kind_sample: a kind drawn uniformly from
+    render_signs.WALL_KINDS, whole frame or zoom half and half; 0 skips the draw, keeping the Exit-only
+    sets bit for bit), else an Exit sample: 30 % coarse with a sign, 10 % coarse sign-free, 42 % zoomed on a
+    sign, 18 % zoomed negatives; each in the phone style with probability phone_frac (0 keeps the original
+    samples: the phone draw is skipped). Sample i uses generator (seed, split_code, i), so the set does not
     depend on `workers`."""
     X = np.zeros((n, 224, 224, 3), np.uint8)
     Y = np.zeros((n, 224, 224), np.uint8)
     kinds = np.zeros(n, np.int8)
     t0 = time.time()
-    jobs = [(seed, split_code, i, phone_frac) for i in range(n)]
+    jobs = [(seed, split_code, i, phone_frac, kinds_frac) for i in range(n)]
     if workers > 1:
         import multiprocessing as mp
         with mp.get_context("fork").Pool(workers) as pool:
@@ -182,14 +195,17 @@ def render_samples(n: int, seed: int, split_code: int, log, phone_frac: float = 
     return X, Y, kinds
 
 
-def load_or_render(cache_dir: str, n: int, seed: int, split_code: int, log, phone_frac: float = 0.0, workers: int = 1):
+def load_or_render(cache_dir: str, n: int, seed: int, split_code: int, log, phone_frac: float = 0.0, workers: int = 1,
+                   kinds_frac: float = 0.0):
+    """render_samples' set, cached in cache_dir (one .npz per seed, split, n and fractions)."""
     os.makedirs(cache_dir, exist_ok=True)
     tag = "" if phone_frac <= 0 else "_phone%02d" % int(round(100 * phone_frac))
+    tag += "" if kinds_frac <= 0 else "_kinds%02d" % int(round(100 * kinds_frac))
     path = os.path.join(cache_dir, "unet_samples_seed%d_split%d_n%d%s.npz" % (seed, split_code, n, tag))
     if os.path.exists(path):
         z = np.load(path)
         return z["X"], z["Y"], z["kinds"]
-    X, Y, kinds = render_samples(n, seed, split_code, log, phone_frac, workers)
+    X, Y, kinds = render_samples(n, seed, split_code, log, phone_frac, workers, kinds_frac)
     np.savez(path, X=X, Y=Y, kinds=kinds)
     return X, Y, kinds
 
@@ -238,11 +254,11 @@ def heavy_augment(x: torch.Tensor, g: torch.Generator) -> torch.Tensor:
 
 
 def random_crops(x: torch.Tensor, y: torch.Tensor, size: int, g: torch.Generator):
-    """size x size crops (multiple of 32), containing exit pixels when the sample has any (80 %)."""
+    """size x size crops (multiple of 32), containing sign pixels when the sample has any (80 %)."""
     n = x.shape[0]
     xs, ys = [], []
     for k in range(n):
-        pos = torch.nonzero(y[k] == 1)
+        pos = torch.nonzero(y[k] > 0)
         if len(pos) and torch.rand(1, generator=g).item() < 0.8:
             cy, cx = pos[int(torch.randint(len(pos), (1,), generator=g))].tolist()
             y0 = min(max(cy - int(torch.randint(size, (1,), generator=g)), 0), 224 - size)
@@ -284,6 +300,9 @@ def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
         for mod, node in zip(order, nodes):
             w = torch.from_numpy(inits[node.input[1]].copy())
             b = torch.from_numpy(inits[node.input[2]].copy()) if len(node.input) > 2 else None
+            if mod is order[-1] and isinstance(mod, nn.ConvTranspose2d) and w.shape[1] < mod.weight.shape[1] \
+                    and tuple(w.shape[:1] + w.shape[2:]) == tuple(mod.weight.shape[:1] + mod.weight.shape[2:]):
+                w, b = _widen_head(w, b, mod.weight.shape[1])
             if tuple(w.shape) != tuple(mod.weight.shape):
                 raise ValueError("init_from_onnx: %s weight %s, model %s" % (node.name, tuple(w.shape), tuple(mod.weight.shape)))
             mod.weight.copy_(w)
@@ -298,6 +317,23 @@ def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
     return len(order)
 
 
+def _widen_head(w: torch.Tensor, b: torch.Tensor, k: int):
+    """Class logits head (ConvTranspose2d weight (cin, K0, 2, 2), bias K0) widened to k classes: the K0
+    exported classes kept; each new class starts as a copy of the last exported (sign) class, bias 2 lower
+    (at first a new class scores e^-2 of the sign class where both respond), plus 1 % noise so that the new
+    classes do not stay identical (seeded by torch's generator)."""
+    k0 = w.shape[1]
+    ww = torch.empty(w.shape[0], k, *w.shape[2:])
+    ww[:, :k0] = w
+    bb = torch.zeros(k)
+    if b is not None:
+        bb[:k0] = b
+    for c in range(k0, k):
+        ww[:, c] = w[:, k0 - 1] * (1 + 0.01 * torch.randn(w[:, k0 - 1].shape))
+        bb[c] = bb[k0 - 1] - 2.0
+    return ww, bb
+
+
 def freeze_bn(model: nn.Module) -> None:
     """Keep every BatchNorm in inference mode (running statistics fixed) while the rest trains."""
     for mod in model.modules():
@@ -306,33 +342,54 @@ def freeze_bn(model: nn.Module) -> None:
 
 
 def loss_fn(logits, y):
-    """Cross-entropy + (1 - soft Dice of the exit class over the batch)."""
+    """Cross-entropy + (1 - soft Dice over the batch), the Dice of each sign class (1..K-1, smoothing 1)
+    averaged over the classes (K = 2: the exit class's alone, as the Exit-only models were trained)."""
     ce = F.cross_entropy(logits, y)
-    p = logits.softmax(1)[:, 1]
-    t = (y == 1).float()
-    dice = (2 * (p * t).sum() + 1.0) / (p.sum() + t.sum() + 1.0)
+    prob = logits.softmax(1)
+    dices = []
+    for c in range(1, logits.shape[1]):
+        p = prob[:, c]
+        t = (y == c).float()
+        dices.append((2 * (p * t).sum() + 1.0) / (p.sum() + t.sum() + 1.0))
+    dice = torch.stack(dices).mean()
     return ce + (1 - dice), ce.item(), dice.item()
 
 
 @torch.no_grad()
-def evaluate(model, X, Y, kinds, bs=32):
-    """IoU of the exit class over all pixels, per sample kind and overall."""
+def evaluate(model, X, Y, kinds, bs=32, class_names=None):
+    """IoU of the exit class over all pixels, per sample type (SAMPLE_TYPES) and overall; false-positive
+    pixels on the sign-free types; with more than 2 classes also each sign class's IoU over all samples
+    (`class_iou`, keyed by class_names)."""
     model.eval()
-    inter = np.zeros(4)
-    union = np.zeros(4)
+    nt = len(SAMPLE_TYPES)
+    inter = np.zeros(nt)
+    union = np.zeros(nt)
+    k_classes = None
+    ci = cu = None
     for i in range(0, len(X), bs):
         x = torch.from_numpy(X[i:i + bs]).permute(0, 3, 1, 2).float() / 255.0
-        pred = model(x).argmax(1).numpy()
+        logits = model(x)
+        if k_classes is None:
+            k_classes = logits.shape[1]
+            ci, cu = np.zeros(k_classes), np.zeros(k_classes)
+        pred = logits.argmax(1).numpy()
         t = Y[i:i + bs] == 1
         p = pred == 1
-        for k in range(4):
+        for k in range(nt):
             sel = kinds[i:i + bs] == k
             inter[k] += (p[sel] & t[sel]).sum()
             union[k] += (p[sel] | t[sel]).sum()
+        for c in range(1, k_classes):
+            tc, pc = Y[i:i + bs] == c, pred == c
+            ci[c] += (tc & pc).sum()
+            cu[c] += (tc | pc).sum()
     model.train()
     iou_all = inter.sum() / max(union.sum(), 1)
-    per = {name: (inter[k] / union[k] if union[k] else float("nan")) for k, name in enumerate(["coarse", "coarse_empty", "zoom", "zoom_neg"])}
+    per = {name: (inter[k] / union[k] if union[k] else float("nan")) for k, name in enumerate(SAMPLE_TYPES)}
     fp_pixels = {"coarse_empty": union[1], "zoom_neg": union[3]}
+    if k_classes and k_classes > 2:
+        names = class_names or ["class%d" % c for c in range(k_classes)]
+        per["class_iou"] = {names[c]: (ci[c] / cu[c] if cu[c] else float("nan")) for c in range(1, k_classes)}
     return iou_all, per, fp_pixels
 
 
@@ -352,6 +409,10 @@ def main(argv=None) -> int:
     ap.add_argument("--warmup", type=int, default=100, help="linear learning-rate warm-up steps")
     ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
     ap.add_argument("--phone-frac", type=float, default=0.0, help="fraction of samples rendered in the phone style")
+    ap.add_argument("--kinds-frac", type=float, default=0.0,
+                    help="fraction of samples showing a wall sign kind (restroom, elevator, stairs, placard); > 0 trains "
+                         "the classes of render_signs.CLASSES (background, exit and the four kinds) instead of "
+                         "background and exit")
     ap.add_argument("--heavy-aug", action="store_true", help="add heavy_augment (gamma, resolution, blur, noise, saturation)")
     ap.add_argument("--workers", type=int, default=1, help="rendering processes")
     ap.add_argument("--budget-minutes", type=float, default=None,
@@ -360,7 +421,7 @@ def main(argv=None) -> int:
     ap.add_argument("--export-reserve", type=float, default=3.0)
     ap.add_argument("--export", default=None, help="after training, export ONNX + Core ML into this directory (export_unet.py)")
     ap.add_argument("--init-onnx", default=None, help="warm start from an exported model (init_from_onnx); BatchNorm frozen")
-    ap.add_argument("--recipe", choices=["ci60", "ft30"], default=None,
+    ap.add_argument("--recipe", choices=["ci60", "ft30", "kinds45"], default=None,
                     help="ci60: the documented 60-minute CPU recipe (render 3600 samples, half phone style, heavy "
                          "augmentation, train from scratch, export to OUT/export)")
     a = ap.parse_args(argv)
@@ -380,6 +441,17 @@ def main(argv=None) -> int:
             a.budget_minutes = 30.0
         if a.export is None:
             a.export = os.path.join(a.out, "export")
+    if a.recipe == "kinds45":  # the committed model widened to the wall sign kinds' classes, fine-tuned on both
+        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3000, 240, 16, 128, 1e-3, 50
+        a.phone_frac, a.kinds_frac, a.heavy_aug, a.workers, a.threads = 0.5, 0.4, True, 2, 2
+        if a.init_onnx is None:
+            a.init_onnx = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "sign_unet.onnx")
+        if a.budget_minutes is None:
+            a.budget_minutes = 45.0
+        if a.export is None:
+            a.export = os.path.join(a.out, "export")
+    import render_signs as rs
+    class_names = list(rs.CLASSES) if a.kinds_frac > 0 else ["background", "exit"]
     torch.manual_seed(a.seed)
     torch.set_num_threads(a.threads)
     os.makedirs(a.out, exist_ok=True)
@@ -392,11 +464,11 @@ def main(argv=None) -> int:
         logf.write(line + "\n")
         logf.flush()
 
-    Xtr, Ytr, Ktr = load_or_render(a.cache, a.n_train, a.seed, 1, log, a.phone_frac, a.workers)
-    Xva, Yva, Kva = load_or_render(a.cache, a.n_val, a.seed, 2, log, a.phone_frac, a.workers)
+    Xtr, Ytr, Ktr = load_or_render(a.cache, a.n_train, a.seed, 1, log, a.phone_frac, a.workers, a.kinds_frac)
+    Xva, Yva, Kva = load_or_render(a.cache, a.n_val, a.seed, 2, log, a.phone_frac, a.workers, a.kinds_frac)
     log("data: %d train, %d val (exit pixel fraction %.4f)" % (len(Xtr), len(Xva), float((Ytr == 1).mean())))
     t_data = time.time() - t0
-    model = SignUNet(a.width)
+    model = SignUNet(a.width, len(class_names))
     if a.resume:
         model.load_state_dict(torch.load(a.resume, map_location="cpu")["state_dict"])
         log("resumed weights from %s" % a.resume)
@@ -452,10 +524,11 @@ def main(argv=None) -> int:
                 log("epoch %d step %d lr %.2e loss %.4f (ema %.4f) ce %.4f dice %.3f" % (epoch, step, lr, loss.item(), ema, ce, dice))
         epoch += 1
     t_train = time.time() - t_train0
-    iou, per, fp = evaluate(model, Xva, Yva, Kva)
+    iou, per, fp = evaluate(model, Xva, Yva, Kva, class_names=class_names)
     log("val IoU(exit) %.4f per kind %s; false-positive pixels on sign-free crops %s" % (iou, json.dumps(per), json.dumps(fp)))
-    torch.save({"state_dict": model.state_dict(), "width": a.width, "num_classes": NUM_CLASSES}, os.path.join(a.out, "sign_unet.pt"))
-    summary = dict(resume=a.resume, seed=a.seed, n_train=a.n_train, n_val=a.n_val, width=a.width, batch=a.batch, crop=a.crop, lr=a.lr, steps=step, epochs=epoch,
+    torch.save({"state_dict": model.state_dict(), "width": a.width, "num_classes": len(class_names),
+                "classes": class_names}, os.path.join(a.out, "sign_unet.pt"))
+    summary = dict(resume=a.resume, classes=class_names, kinds_frac=a.kinds_frac, seed=a.seed, n_train=a.n_train, n_val=a.n_val, width=a.width, batch=a.batch, crop=a.crop, lr=a.lr, steps=step, epochs=epoch,
                    params=nparam, data_seconds=t_data, train_seconds=t_train, final_loss_ema=ema, val_iou=iou, val_iou_per_kind=per)
     with open(os.path.join(a.out, "summary.json"), "w") as f:
         json.dump(summary, f, indent=1)

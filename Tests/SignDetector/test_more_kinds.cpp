@@ -244,6 +244,63 @@ TEST(MoreKinds, CascadesRunBesideTheUnetForKindsItHasNoClassFor) {
     EXPECT_NE(std::string(wf_thread_last_error()).find("'exit'"), std::string::npos) << wf_thread_last_error();
 }
 
+TEST(MoreKinds, AUnetClassOfAnEyeLevelKindIsSearchedBelowTheExitCutWithItsOwnLimits) {
+    // The tiny three-class U-Net reports the drawn sign (a red plate) as "restroom". Its bottom edge 1 m below the
+    // camera 2.5 m away, its centre at -0.34 rad elevation, it lies under the coarse pass's Exit-sign cut (-0.10 rad,
+    // rounded down by up to 32 network rows: about 0.17 rad at this frame's scale).
+    const std::string unet = wf::sign::testing::tinyKindsUnetPath();
+    Frame f;
+    f.camera.rollRad = -kPi / 2;
+    f.camera.pitchRad = 0.05;
+    f.camera = f.camera.resized({1920, 1440});
+    f.bgr = synthetic::renderBackground(f.camera, 11);
+    synthetic::SignPlacement placement;
+    placement.rangeMeters = 2.5;
+    placement.bottomAboveCameraMeters = -1.0;
+    placement.style = synthetic::SignStyle::WhiteLettersOnRed;
+    f.truth = synthetic::drawSign(f.bgr, f.camera, placement);
+    ASSERT_TRUE(f.truth.visible);
+    cv::cvtColor(f.bgr, f.bgr, cv::COLOR_BGR2RGB);
+    f.frame.image = wf_image{f.bgr.data, f.bgr.cols, f.bgr.rows, f.bgr.step, WF_PIXEL_RGB8, nullptr, 0};
+    f.frame.intrinsics = wf_intrinsics{f.camera.fx, f.camera.fy, f.camera.cx, f.camera.cy};
+    f.frame.pitch_rad = f.camera.pitchRad;
+    f.frame.roll_rad = f.camera.rollRad;
+    auto restroomsFound = [&](const std::vector<wf_sign_kind>& catalogue, double cut) {
+        wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+        opts.kind = WF_DETECTOR_UNET;
+        opts.unet_path = unet.c_str();
+        opts.catalogue = catalogue.data();
+        opts.catalogue_count = catalogue.size();
+        opts.unet_coarse_min_elevation_rad = cut;
+        wf_detector* d = nullptr;
+        EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+        if (d == nullptr) return -1;
+        int n = 0;
+        for (const wf_sign_sighting& s : sense(d, f.frame)) {
+            if (std::string(s.kind) != "restroom") continue;
+            ++n;
+            EXPECT_NEAR(s.range_m, 2.5, 0.25);
+        }
+        wf_detector_free(d);
+        return n;
+    };
+    const wf_sign_kind exitKind{"exit", 0.21, 0.33, "red", "white", 0, 0, 0, 0, 0};
+    // The catalogue's restroom (white on blue: not Exit-like) lifts the cut: the sign is found and ranged.
+    EXPECT_EQ(restroomsFound({exitKind, restroomKind(0, 0, 0)}, 0), 1);
+    // A cut the caller sets stays: the sign is below it.
+    EXPECT_EQ(restroomsFound({exitKind, restroomKind(0, 0, 0)}, -0.10), 0);
+    // A restroom described as Exit-like (red) keeps the Exit limits and cut.
+    wf_sign_kind redRestroom = restroomKind(0, 0, 0);
+    redRestroom.face_colour = "red";
+    EXPECT_EQ(restroomsFound({exitKind, redRestroom}, 0), 0);
+    // The class's own limits apply: a restroom face said to be 0.21 m tall and 0.06 m wide (aspect 0.29: limits
+    // 0.11-0.54) refuses the drawn 0.33 m wide face, which the Exit limits (0.8-3.0) would take.
+    wf_sign_kind narrow = restroomKind(0, 0, 0);
+    narrow.face_width_m = 0.06;
+    EXPECT_EQ(restroomsFound({exitKind, narrow}, -1.5), 0);
+    EXPECT_EQ(restroomsFound({exitKind, redRestroom}, -1.5), 1);
+}
+
 TEST(MoreKinds, TheTextReaderLoadsOnlyForAReportedKindThatReadsText) {
     wf_detector* d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 0)});
     EXPECT_EQ(wf_detector_reads_text(d), 0);

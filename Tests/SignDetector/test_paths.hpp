@@ -10,6 +10,10 @@ inline std::string referenceCascadePath() {
     return std::string(WF_SHARED_DIR) + "/data/skeri_inavigate/models/exit_sign_cascade.xml";
 }
 inline std::string tinyUnetPath() { return std::string(WF_REPO_ROOT) + "/Tests/SignDetector/data/tiny_red_unet.onnx"; }
+/// A three-class stand-in (background, exit, restroom) whose red pixels are the restroom class (make_tiny_unet.py).
+inline std::string tinyKindsUnetPath() {
+    return std::string(WF_REPO_ROOT) + "/Tests/SignDetector/data/tiny_kinds/sign_unet.onnx";
+}
 inline std::string testDataDir() { return std::string(WF_REPO_ROOT) + "/Tests/SignDetector/data"; }
 
 }  // namespace wf::sign::testing

@@ -266,6 +266,43 @@ TEST(UnetVerification, FarSmallSignIsAccepted) {
     EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, params), UnetVerdict::kAccepted);
 }
 
+TEST(UnetVerification, AClassCheckReplacesTheExitLimitsForItsClassOnly) {
+    // A white-on-dark square pictogram (0.23 m) 3 m away, turned 55 degrees: aspect 0.57, no chroma.
+    UnetParams params;
+    params.classChecks.resize(3);
+    UnetClassCheck& square = params.classChecks[2];
+    square.set = true;
+    square.minAspect = 0.4;
+    square.maxAspect = 1.9;
+    square.minSignHeightM = 0.13;
+    square.maxSignHeightM = 0.55;
+    square.minColourFraction = 0;
+    const double fy = 1602;
+    SliceMeasurement m;
+    m.valid = true;
+    m.medianHeightPx = fy * 0.23 / 3;
+    m.extentWidthPx = m.medianHeightPx * std::cos(55 * CV_PI / 180);
+    const double colourless = 0.0;
+    // The Exit sign's limits (class 1, and class 0 / out-of-range indices) refuse it twice over.
+    for (int c : {0, 1, 5, -1}) {
+        const UnetParams p = params.forClass(c);
+        EXPECT_DOUBLE_EQ(p.minAspect, 0.8) << c;
+        EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, p, colourless), UnetVerdict::kColourless) << c;
+        EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, p), UnetVerdict::kImplausibleAspect) << c;
+    }
+    // Its own class's limits accept it; the probability threshold and range limits still apply.
+    const UnetParams own = params.forClass(2);
+    EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, own, colourless), UnetVerdict::kAccepted);
+    EXPECT_EQ(verifyZoomedSign(m, 0.7, fy, own, colourless), UnetVerdict::kLowProbability);
+    SliceMeasurement far = m;
+    far.medianHeightPx = fy * 0.23 / 40;  // a 0.13 m face would be beyond 20 m
+    far.extentWidthPx = far.medianHeightPx;
+    EXPECT_EQ(verifyZoomedSign(far, 0.95, fy, own, colourless), UnetVerdict::kImplausibleHeight);
+    // An unset entry keeps the Exit limits.
+    params.classChecks[2].set = false;
+    EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, params.forClass(2)), UnetVerdict::kImplausibleAspect);
+}
+
 TEST(UnetDetector, FarBandPassFindsAFarSignAndNeedsThePitch) {
     UnetDetector d = loadTiny();
     const double pitch = 0.05;

@@ -2,6 +2,7 @@
 augmentation is deterministic per generator seed and keeps images in range, and rendered training
 samples do not depend on the number of rendering processes. Skipped without torch (training-time
 dependency)."""
+import json
 import os
 import sys
 
@@ -18,7 +19,8 @@ def test_init_from_onnx_reproduces_the_exported_model():
     ort = pytest.importorskip("onnxruntime")
     import export_unet
     import train_unet as tu
-    m = tu.SignUNet(0.35)
+    with open(os.path.join(MODELS, "classes.json")) as f:
+        m = tu.SignUNet(0.35, len(json.load(f)["classes"]))
     assert tu.init_from_onnx(m, os.path.join(MODELS, "sign_unet.onnx")) == 68
     m.train()
     tu.freeze_bn(m)  # training mode elsewhere, BatchNorm frozen: still the exported function
@@ -47,3 +49,43 @@ def test_rendered_samples_do_not_depend_on_workers():
     X1, Y1, K1 = tu.render_samples(4, 11, 9, lambda m: None, phone_frac=0.5, workers=1)
     X2, Y2, K2 = tu.render_samples(4, 11, 9, lambda m: None, phone_frac=0.5, workers=2)
     assert np.array_equal(X1, X2) and np.array_equal(Y1, Y2) and np.array_equal(K1, K2)
+
+
+def test_kind_samples_carry_their_own_classes():
+    """With kinds_frac 1 every sample shows a wall sign kind (types kind_coarse / kind_zoom) and its mask holds
+    that kind's class of render_signs.CLASSES; kinds_frac 0 skips the draw (the Exit-only sets are unchanged)."""
+    pytest.importorskip("torch")
+    import render_signs as rs
+    import train_unet as tu
+    X, Y, K = tu.render_samples(6, 11, 9, lambda m: None, kinds_frac=1.0)
+    assert set(K.tolist()) <= {4, 5}
+    for y in Y:
+        assert set(np.unique(y).tolist()) <= set(range(len(rs.CLASSES)))
+    # zoomed samples are centred on their kind's face: a wall-kind class covers a real share of the crop
+    zooms = [y for y, k in zip(Y, K) if k == 5]
+    assert zooms and all(((y >= 2) & (y <= 5)).mean() > 0.002 for y in zooms)
+    X0, Y0, K0 = tu.render_samples(3, 11, 9, lambda m: None)
+    X1, Y1, K1 = tu.render_samples(3, 11, 9, lambda m: None, kinds_frac=0.0)
+    assert np.array_equal(X0, X1) and np.array_equal(K0, K1) and set(K0.tolist()) <= {0, 1, 2, 3}
+
+
+def test_a_widened_head_keeps_the_exported_classes():
+    """init_from_onnx into a model with more classes than the exported one: the exported classes' logits are
+    reproduced, each new class starts below the last exported (sign) class."""
+    torch = pytest.importorskip("torch")
+    ort = pytest.importorskip("onnxruntime")
+    import export_unet
+    import train_unet as tu
+    with open(os.path.join(MODELS, "classes.json")) as f:
+        k0 = len(json.load(f)["classes"])
+    torch.manual_seed(0)
+    m = tu.SignUNet(0.35, k0 + 2)
+    assert tu.init_from_onnx(m, os.path.join(MODELS, "sign_unet.onnx")) == 68
+    m.eval()
+    x = export_unet.sample_inputs(2)
+    with torch.no_grad():
+        y = m(torch.from_numpy(x)).numpy()
+    s = ort.InferenceSession(os.path.join(MODELS, "sign_unet.onnx"), providers=["CPUExecutionProvider"])
+    ref = np.concatenate([s.run(None, {"image": x[i:i + 1]})[0] for i in range(len(x))])
+    assert np.abs(y[:, :k0] - ref).max() < 1e-3
+    assert (y[:, k0:] < y[:, k0 - 1:k0]).mean() > 0.95
