@@ -27,7 +27,12 @@
 //   cascade_phone_bgra/VGA, .../HR          the frames as 32BGRA pixel buffers
 //   cascade_phone_bgra_all_kinds/VGA        the same plus every other kind of the office's catalogue with a model
 //                                           (models/<kind>_cascade.xml: pictograms, placards; their legends read)
-//   unet_coarse_zoom_all_kinds/HR           the U-Net with those cascades beside it
+//   unet_coarse_zoom_all_kinds/HR           the U-Net with the office's catalogue and the cascades of the kinds it
+//                                           has no class for beside it (none when its classes.json lists them all)
+//   unet_coarse_zoom_exit_only_model/HR     $WF_BENCH_UNET_EXIT_ONLY (an Exit-only U-Net, classes.json beside it;
+//                                           e.g. the model before the wall kinds, `git show 0930cf0:SignDetector/
+//                                           models/sign_unet.onnx`) with the same catalogue: the baseline of the
+//                                           extra classes' cost
 //   cascade_reference/VGA, .../HR           the reference app's cascade, same frames, same settings
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
 //                                           tiny test model (then it times only the pipeline around the net)
@@ -48,6 +53,7 @@
 #include <opencv2/imgcodecs.hpp>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <iostream>
@@ -235,6 +241,7 @@ public:
         // Issue 16: "extra sign classes add <= 20 %" (pictogram and placard cascades beside the Exit detector).
         ratio("cascade_phone_bgra_all_kinds/VGA", "cascade_phone_bgra/VGA");
         ratio("unet_coarse_zoom_all_kinds/HR", "unet_coarse_zoom/HR");
+        ratio("unet_coarse_zoom_all_kinds/HR", "unet_coarse_zoom_exit_only_model/HR");
     }
 
 private:
@@ -350,10 +357,24 @@ int main(int argc, char** argv) {
         pipeline("unet_coarse_zoom_no_edge_refinement/HR", unetRough.get(), &hr);
         pipeline("unet_coarse_zoom_whole_frame/HR", unetWholeFrame.get(), &hr);
         benchmark::RegisterBenchmark("unet_forward/224", runForward, &unetModelPath)->Unit(benchmark::kMillisecond);
-        if (!kindPaths.empty()) {
-            static auto unetKinds = makeWithCatalogue(kindPaths, kindNames, catalogue, unetModel);
+        if (!catalogue.empty()) {
+            // Cascades beside the U-Net only for the kinds it has no class for.
+            std::vector<std::string> classes, besidePaths, besideNames;
+            std::string classError;
+            readClassList(unetModel.substr(0, unetModel.find_last_of('/') + 1) + "classes.json", &classes, &classError);
+            for (size_t i = 0; i < kindNames.size(); ++i) {
+                if (std::find(classes.begin(), classes.end(), kindNames[i]) != classes.end()) continue;
+                besidePaths.push_back(kindPaths[i]);
+                besideNames.push_back(kindNames[i]);
+            }
+            static auto unetKinds = makeWithCatalogue(besidePaths, besideNames, catalogue, unetModel);
             if (*unetKinds) pipeline("unet_coarse_zoom_all_kinds/HR", unetKinds.get(), &hr);
             else std::fprintf(stderr, "all-kinds U-Net not benchmarked: %s\n", unetKinds->error.c_str());
+            if (const char* exitOnly = std::getenv("WF_BENCH_UNET_EXIT_ONLY")) {
+                static auto unetExitOnly = makeUnet(exitOnly, 0, FaceEdgeOptions{}, &catalogue);
+                if (*unetExitOnly) pipeline("unet_coarse_zoom_exit_only_model/HR", unetExitOnly.get(), &hr);
+                else std::fprintf(stderr, "Exit-only U-Net not benchmarked: %s\n", unetExitOnly->error.c_str());
+            }
         }
     } else {
         std::fprintf(stderr, "U-Net not benchmarked: %s\n", unet->error.c_str());

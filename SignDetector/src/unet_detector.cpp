@@ -268,11 +268,37 @@ std::vector<UnetCandidate> UnetDetector::farBandCandidates(RawPyramid& raw, cons
     return found;
 }
 
+cv::Mat signProbability(const std::vector<cv::Mat>& prob) {
+    CV_Assert(prob.size() >= 2);
+    if (prob.size() == 2) return prob[1];
+    cv::Mat fg;
+    cv::subtract(1.0, prob[0], fg);
+    return fg;
+}
+
+int dominantClass(const std::vector<cv::Mat>& prob, const cv::Mat& mask) {
+    int best = 1;
+    double bestSum = -1;
+    for (size_t c = 1; c < prob.size(); ++c) {
+        const double sum = cv::mean(prob[c], mask)[0];  // the same pixels for every class: mean orders as sum
+        if (sum > bestSum) {
+            bestSum = sum;
+            best = static_cast<int>(c);
+        }
+    }
+    return best;
+}
+
 std::vector<UnetCandidate> UnetDetector::blobs(const std::vector<cv::Mat>& prob, cv::Point2d originEdge, double sx,
                                                double sy, const UnetParams& params) const {
     std::vector<UnetCandidate> candidates;
-    for (size_t c = 1; c < prob.size(); ++c) {
-        cv::Mat mask = prob[c] > params.maskThreshold;
+    // Two classes: the sign class's map. More: one map of "any sign" (1 - background): at coarse scale a small
+    // plate's pixels can be shared among look-alike classes (a far elevator plate read partly restroom, partly
+    // stairs) and no class alone passes the threshold; the zoomed pass decides the class (refine).
+    const std::vector<cv::Mat> maps = prob.size() == 2 ? std::vector<cv::Mat>{prob[0], prob[1]}
+                                                       : std::vector<cv::Mat>{prob[0], signProbability(prob)};
+    for (size_t c = 1; c < maps.size(); ++c) {
+        cv::Mat mask = maps[c] > params.maskThreshold;
         // Closing bridges the gaps that letters cut into a plate at coarse scale (one blob per sign).
         cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
         cv::Mat labels, stats, centroids;
@@ -283,9 +309,10 @@ std::vector<UnetCandidate> UnetDetector::blobs(const std::vector<cv::Mat>& prob,
             const int bx = stats.at<int>(i, cv::CC_STAT_LEFT), by = stats.at<int>(i, cv::CC_STAT_TOP);
             const int bw = stats.at<int>(i, cv::CC_STAT_WIDTH), bh = stats.at<int>(i, cv::CC_STAT_HEIGHT);
             UnetCandidate cand;
-            cand.classIndex = static_cast<int>(c);
+            const cv::Mat member = labels == i;
+            cand.classIndex = prob.size() == 2 ? static_cast<int>(c) : dominantClass(prob, member);
             cand.areaPx = area * sx * sy;
-            cand.meanProbability = cv::mean(prob[c], labels == i)[0];
+            cand.meanProbability = cv::mean(maps[c], member)[0];
             // Edges of the blob in network pixels -> unrolled edge coordinates.
             cand.boxInUnrolled = cv::Rect2d(originEdge.x + bx * sx, originEdge.y + by * sy, bw * sx, bh * sy);
             candidates.push_back(cand);
@@ -372,7 +399,9 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         }
         const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(c0, r0), scale, scale, cv::Size(win, winH));
         const std::vector<cv::Mat> prob = probabilities(square);
-        const cv::Mat& p = prob[candidate.classIndex];
+        // The sign's pixels: of the candidate's class with two classes; of any sign class with more (the class is
+        // the one holding most of the component's probability, below).
+        const cv::Mat p = prob.size() == 2 ? prob[candidate.classIndex] : signProbability(prob);
         const cv::Mat mask = p > params.maskThreshold;
         // Components of the closed mask group the pieces of one plate; slices use the raw mask inside it.
         cv::Mat closed;
@@ -423,16 +452,18 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
                 continue;
             }
         }
-        const double meanProbability = cv::mean(p, core)[0];  // score: over the core, not the grown edge
-        const UnetParams checks = params.forClass(candidate.classIndex);
+        const int classIndex = prob.size() == 2 ? candidate.classIndex : dominantClass(prob, core);
+        // Score: the class's mean probability over the core, not the grown edge.
+        const double meanProbability = cv::mean(prob[classIndex], core)[0];
+        const UnetParams checks = params.forClass(classIndex);
         const double colour =
             checks.minColourFraction > 0 ? colourfulFraction(square, component, checks.colourChromaLevels) : 1.0;
         const UnetVerdict v =
             verifyZoomedSign(inUnrolled, meanProbability, unrolling.unrolledIntrinsics().fy, checks, colour);
         if (verdict) *verdict = v;
         if (v != UnetVerdict::kAccepted) return false;
-        out->kind = classNames_[candidate.classIndex];
-        out->kindIndex = candidate.classIndex;
+        out->kind = classNames_[classIndex];
+        out->kindIndex = classIndex;
         out->score = meanProbability;
         out->measurement = inUnrolled;
         // The mask's edges are learned from renders; the face's edges in the zoomed input are measured.
@@ -462,11 +493,10 @@ std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolli
     for (const auto& b : farBandCandidates(raw, unrolling, params, pitchRad)) {
         bool seen = false;
         for (size_t i = 0; i < coarse.size() && !seen; ++i) {
-            seen = found[i] && coarse[i].classIndex == b.classIndex &&
-                   (coarse[i].boxInUnrolled & b.boxInUnrolled).area() > 0;
+            seen = found[i] && (coarse[i].boxInUnrolled & b.boxInUnrolled).area() > 0;
         }
         for (size_t i = 0; i < detections.size() && !seen; ++i) {
-            seen = detections[i].kindIndex == b.classIndex && (detections[i].measurement.box & b.boxInUnrolled).area() > 0;
+            seen = (detections[i].measurement.box & b.boxInUnrolled).area() > 0;
         }
         if (seen) continue;
         Detection d;

@@ -202,7 +202,8 @@ public:
                                                  double pitchRad);
 
     /// Zoomed pass on one candidate: a square crop (zoomFactor x blob, >= minCropPx; out-of-frame parts
-    /// black) resized to SxS; the mask component of the candidate's class nearest the crop centre is
+    /// black) resized to SxS; the mask component nearest the crop centre (of the candidate's class with two
+    /// classes; of any sign class with more, reported as the class holding most of its probability) is
     /// sliced and mapped back to unrolled pixels. Returns false when the zoomed pass finds nothing or the
     /// result fails verifyZoomedSign (`verdict`, optional, says why).
     bool refine(RawPyramid& raw, const Unrolling& unrolling, const UnetCandidate& candidate, const UnetParams& params,
@@ -247,6 +248,13 @@ private:
     std::vector<std::string> classNames_;
     int inputSize_ = 224;
 };
+
+/// Probability that a pixel shows a sign of any class, of per-class maps (index 0 = background): the sign class's
+/// map itself with two classes, else 1 - background (a new map).
+cv::Mat signProbability(const std::vector<cv::Mat>& prob);
+
+/// The sign class (index >= 1) with the largest summed probability under `mask` (CV_8UC1, nonzero = in).
+int dominantClass(const std::vector<cv::Mat>& prob, const cv::Mat& mask);
 
 /// Reads {"classes": ["background", "exit", ...]} (classes.json). Returns false and sets `error` on failure.
 bool readClassList(const std::string& path, std::vector<std::string>* classes, std::string* error);

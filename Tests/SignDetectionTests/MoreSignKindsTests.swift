@@ -38,6 +38,12 @@ final class MoreSignKindsTests: XCTestCase {
         XCTAssertEqual(cascade.cascades[1].path, dir + "/restroom_cascade.xml")
         let unet = DetectorConfiguration.bundled(kind: .unet, modelsDirectory: dir, catalogue: catalogue)
         XCTAssertEqual(unet.cascades.map(\.kind), ["restroom", "placard"], "beside the U-Net: the kinds it has no class for")
+        // A U-Net with the wall kinds as classes needs no cascade beside it.
+        FileManager.default.createFile(atPath: dir + "/classes.json", contents: Data(
+            #"{"classes":["background","exit","restroom","elevator","stairs","placard"]}"#.utf8))
+        let multiClass = DetectorConfiguration.bundled(kind: .unet, modelsDirectory: dir, catalogue: catalogue)
+        XCTAssertEqual(multiClass.classNames, ["background", "exit", "restroom", "elevator", "stairs", "placard"])
+        XCTAssertEqual(multiClass.cascades.map(\.kind), [], "every kind of the catalogue with a model is a class")
         let exitOnly = DetectorConfiguration.bundled(kind: .cascade, modelsDirectory: dir)
         XCTAssertEqual(exitOnly.cascades.map(\.kind), ["exit"])
     }
