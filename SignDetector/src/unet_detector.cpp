@@ -453,8 +453,10 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
             }
         }
         const int classIndex = prob.size() == 2 ? candidate.classIndex : dominantClass(prob, core);
-        // Score: the class's mean probability over the core, not the grown edge.
-        const double meanProbability = cv::mean(prob[classIndex], core)[0];
+        // Score: the mean probability of a sign over the core (not the grown edge); with more than two classes, of
+        // any sign (1 - background): which sign is the class decision above, and a face's pixels that lend a
+        // little of their probability to look-alike classes are no less a sign.
+        const double meanProbability = cv::mean(p, core)[0];
         const UnetParams checks = params.forClass(classIndex);
         const double colour =
             checks.minColourFraction > 0 ? colourfulFraction(square, component, checks.colourChromaLevels) : 1.0;

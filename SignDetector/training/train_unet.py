@@ -341,6 +341,17 @@ def freeze_bn(model: nn.Module) -> None:
             mod.eval()
 
 
+def distill_loss(logits: torch.Tensor, teacher_prob: torch.Tensor, keep: torch.Tensor) -> torch.Tensor:
+    """Learning without forgetting (Li and Hoiem 2016): cross-entropy of the student's K-class softmax against an
+    Exit-only teacher's (background, exit) probabilities, the other classes' targets 0, averaged over the pixels of
+    the samples `keep` (bool, N: the Exit samples; the teacher knows no wall kind). 0 when none is kept."""
+    if not bool(keep.any()):
+        return logits.sum() * 0.0
+    logp = F.log_softmax(logits[keep], 1)
+    t = teacher_prob[keep]
+    return -(t[:, 0] * logp[:, 0] + t[:, 1] * logp[:, 1]).mean()
+
+
 def loss_fn(logits, y):
     """Cross-entropy + (1 - soft Dice over the batch), the Dice of each sign class (1..K-1, smoothing 1)
     averaged over the classes (K = 2: the exit class's alone, as the Exit-only models were trained)."""
@@ -421,7 +432,16 @@ def main(argv=None) -> int:
     ap.add_argument("--export-reserve", type=float, default=3.0)
     ap.add_argument("--export", default=None, help="after training, export ONNX + Core ML into this directory (export_unet.py)")
     ap.add_argument("--init-onnx", default=None, help="warm start from an exported model (init_from_onnx); BatchNorm frozen")
-    ap.add_argument("--recipe", choices=["ci60", "ft30", "kinds45"], default=None,
+    ap.add_argument("--distill-onnx", default=None,
+                    help="an exported Exit-only model (background, exit) whose probabilities the Exit samples are also "
+                         "trained towards (distill_loss), so that adding classes does not change the Exit sign's")
+    ap.add_argument("--distill-weight", type=float, default=1.0)
+    ap.add_argument("--train-from", choices=["enc", "up16", "up8", "up4", "up2", "head"], default="enc",
+                    help="train this stage of the network and the ones after it; the earlier stages stay as loaded "
+                         "(e.g. up4: the encoder and the two coarsest decoder steps keep the Exit model's features)")
+    ap.add_argument("--freeze-bn", action="store_true",
+                    help="keep BatchNorm frozen (implied by --init-onnx; for --resume of a run that had it)")
+    ap.add_argument("--recipe", choices=["ci60", "ft30", "kinds45", "kinds25d", "kinds30t"], default=None,
                     help="ci60: the documented 60-minute CPU recipe (render 3600 samples, half phone style, heavy "
                          "augmentation, train from scratch, export to OUT/export)")
     a = ap.parse_args(argv)
@@ -450,6 +470,25 @@ def main(argv=None) -> int:
             a.budget_minutes = 45.0
         if a.export is None:
             a.export = os.path.join(a.out, "export")
+    if a.recipe == "kinds25d":  # continue kinds45 for 25 minutes at a lower rate, the Exit-only model as teacher
+        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3000, 240, 16, 128, 3e-4, 20
+        a.phone_frac, a.kinds_frac, a.heavy_aug, a.workers, a.threads, a.freeze_bn = 0.5, 0.4, True, 2, 2, True
+        if a.resume is None or a.distill_onnx is None:
+            ap.error("--recipe kinds25d needs --resume RUN/sign_unet.pt (a kinds45 run) and --distill-onnx EXIT_ONLY.onnx")
+        if a.budget_minutes is None:
+            a.budget_minutes = 25.0
+        if a.export is None:
+            a.export = os.path.join(a.out, "export")
+    if a.recipe == "kinds30t":  # the Exit model widened, only its last decoder steps trained, distilled towards itself
+        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3000, 240, 16, 128, 1e-3, 50
+        a.phone_frac, a.kinds_frac, a.heavy_aug, a.workers, a.threads = 0.5, 0.4, True, 2, 2
+        a.train_from, a.distill_weight = "up4", 2.0
+        if a.init_onnx is None or a.distill_onnx is None:
+            ap.error("--recipe kinds30t needs --init-onnx EXIT_ONLY.onnx and --distill-onnx EXIT_ONLY.onnx")
+        if a.budget_minutes is None:
+            a.budget_minutes = 30.0
+        if a.export is None:
+            a.export = os.path.join(a.out, "export")
     import render_signs as rs
     class_names = list(rs.CLASSES) if a.kinds_frac > 0 else ["background", "exit"]
     torch.manual_seed(a.seed)
@@ -474,9 +513,23 @@ def main(argv=None) -> int:
         log("resumed weights from %s" % a.resume)
     if a.init_onnx:
         log("initialised %d layers from %s (BatchNorm frozen)" % (init_from_onnx(model, a.init_onnx), a.init_onnx))
+    teacher = None
+    if a.distill_onnx:
+        teacher = SignUNet(a.width, 2)
+        init_from_onnx(teacher, a.distill_onnx)
+        teacher.eval()
+        for q in teacher.parameters():
+            q.requires_grad_(False)
+        log("distilling the Exit samples towards %s (weight %.2f)" % (a.distill_onnx, a.distill_weight))
+    stages = ["enc", "up16", "up8", "up4", "up2", "head"]
+    for name in stages[:stages.index(a.train_from)]:
+        for q in getattr(model, name).parameters():
+            q.requires_grad_(False)
+    if a.train_from != "enc":
+        log("training %s onwards; %s kept as loaded" % (a.train_from, ", ".join(stages[:stages.index(a.train_from)])))
     nparam = sum(p.numel() for p in model.parameters())
     log("model: %d parameters" % nparam)
-    opt = torch.optim.AdamW(model.parameters(), lr=a.lr, weight_decay=1e-4)
+    opt = torch.optim.AdamW([q for q in model.parameters() if q.requires_grad], lr=a.lr, weight_decay=1e-4)
     g = torch.Generator().manual_seed(a.seed)
     budget = a.minutes * 60.0
     if a.budget_minutes is not None:
@@ -490,6 +543,7 @@ def main(argv=None) -> int:
     ema = None
     Xt = torch.from_numpy(Xtr)
     Yt = torch.from_numpy(Ytr.astype(np.int64))
+    Kt = torch.from_numpy(Ktr.astype(np.int64))
     epoch = 0
     done = False
     while not done:
@@ -512,9 +566,14 @@ def main(argv=None) -> int:
             x, y = augment(x, y, g)
             if a.heavy_aug:
                 x = heavy_augment(x, g)
-            if a.init_onnx:
+            if a.init_onnx or a.freeze_bn:
                 freeze_bn(model)
-            loss, ce, dice = loss_fn(model(x), y)
+            logits = model(x)
+            loss, ce, dice = loss_fn(logits, y)
+            if teacher is not None:
+                with torch.no_grad():
+                    tp = teacher(x).softmax(1)
+                loss = loss + a.distill_weight * distill_loss(logits, tp, Kt[idx] < 4)
             opt.zero_grad()
             loss.backward()
             opt.step()
