@@ -441,7 +441,7 @@ def main(argv=None) -> int:
                          "(e.g. up4: the encoder and the two coarsest decoder steps keep the Exit model's features)")
     ap.add_argument("--freeze-bn", action="store_true",
                     help="keep BatchNorm frozen (implied by --init-onnx; for --resume of a run that had it)")
-    ap.add_argument("--recipe", choices=["ci60", "ft30", "kinds45", "kinds25d", "kinds30t"], default=None,
+    ap.add_argument("--recipe", choices=["ci60", "ft30", "kinds45", "kinds25d"], default=None,
                     help="ci60: the documented 60-minute CPU recipe (render 3600 samples, half phone style, heavy "
                          "augmentation, train from scratch, export to OUT/export)")
     a = ap.parse_args(argv)
@@ -477,16 +477,6 @@ def main(argv=None) -> int:
             ap.error("--recipe kinds25d needs --resume RUN/sign_unet.pt (a kinds45 run) and --distill-onnx EXIT_ONLY.onnx")
         if a.budget_minutes is None:
             a.budget_minutes = 25.0
-        if a.export is None:
-            a.export = os.path.join(a.out, "export")
-    if a.recipe == "kinds30t":  # the Exit model widened, only its last decoder steps trained, distilled towards itself
-        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3000, 240, 16, 128, 1e-3, 50
-        a.phone_frac, a.kinds_frac, a.heavy_aug, a.workers, a.threads = 0.5, 0.4, True, 2, 2
-        a.train_from, a.distill_weight = "up4", 2.0
-        if a.init_onnx is None or a.distill_onnx is None:
-            ap.error("--recipe kinds30t needs --init-onnx EXIT_ONLY.onnx and --distill-onnx EXIT_ONLY.onnx")
-        if a.budget_minutes is None:
-            a.budget_minutes = 30.0
         if a.export is None:
             a.export = os.path.join(a.out, "export")
     import render_signs as rs
