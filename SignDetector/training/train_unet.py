@@ -404,6 +404,43 @@ def evaluate(model, X, Y, kinds, bs=32, class_names=None):
     return iou_all, per, fp_pixels
 
 
+#: The documented recipes (docs/training.md): argparse settings, plus "budget_minutes" (default wall budget),
+#: "init_committed" (start from ../models/sign_unet.onnx unless --init-onnx is given) and "needs" (options the
+#: command line must give).
+RECIPES = {
+    # the 60-minute CPU recipe: render 3600 samples, half phone style, heavy augmentation, train from scratch
+    "ci60": dict(seed=11, n_train=3600, n_val=240, batch=16, crop=128, lr=3e-3, warmup=100, phone_frac=0.5,
+                 heavy_aug=True, workers=2, threads=2, budget_minutes=60.0),
+    # fine-tune the committed model on the ci60 samples (same seed, same cache)
+    "ft30": dict(seed=11, n_train=3600, n_val=240, batch=16, crop=128, lr=5e-4, warmup=20, phone_frac=0.5,
+                 heavy_aug=True, workers=2, threads=2, init_committed=True, budget_minutes=30.0),
+    # the committed (Exit) model widened to the wall sign kinds' classes, fine-tuned on both
+    "kinds45": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=1e-3, warmup=50, phone_frac=0.5,
+                    kinds_frac=0.4, heavy_aug=True, workers=2, threads=2, init_committed=True, budget_minutes=45.0),
+    # continue kinds45 at a lower rate, the Exit-only model as teacher
+    "kinds25d": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=3e-4, warmup=20, phone_frac=0.5,
+                     kinds_frac=0.4, heavy_aug=True, workers=2, threads=2, freeze_bn=True, budget_minutes=25.0,
+                     needs=("resume", "distill_onnx")),
+}
+
+
+def apply_recipe(a: argparse.Namespace, ap: argparse.ArgumentParser) -> None:
+    """Sets a's options to recipe a.recipe's (RECIPES); the budget and export directory only where not given."""
+    r = dict(RECIPES[a.recipe])
+    budget, committed, needs = r.pop("budget_minutes"), r.pop("init_committed", False), r.pop("needs", ())
+    for k, v in r.items():
+        setattr(a, k, v)
+    if committed and a.init_onnx is None:
+        a.init_onnx = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "sign_unet.onnx")
+    for k in needs:
+        if getattr(a, k) is None:
+            ap.error("--recipe %s needs --%s" % (a.recipe, k.replace("_", "-")))
+    if a.budget_minutes is None:
+        a.budget_minutes = budget
+    if a.export is None:
+        a.export = os.path.join(a.out, "export")
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description="Train the MobileNetV2 U-Net Exit-sign segmenter.")
     ap.add_argument("--out", required=True, help="run directory (checkpoint, log)")
@@ -441,44 +478,12 @@ def main(argv=None) -> int:
                          "(e.g. up4: the encoder and the two coarsest decoder steps keep the Exit model's features)")
     ap.add_argument("--freeze-bn", action="store_true",
                     help="keep BatchNorm frozen (implied by --init-onnx; for --resume of a run that had it)")
-    ap.add_argument("--recipe", choices=["ci60", "ft30", "kinds45", "kinds25d"], default=None,
-                    help="ci60: the documented 60-minute CPU recipe (render 3600 samples, half phone style, heavy "
-                         "augmentation, train from scratch, export to OUT/export)")
+    ap.add_argument("--recipe", choices=sorted(RECIPES), default=None,
+                    help="a documented recipe (RECIPES; e.g. ci60: render 3600 samples, half phone style, heavy "
+                         "augmentation, train from scratch in 60 minutes, export to OUT/export)")
     a = ap.parse_args(argv)
-    if a.recipe == "ci60":
-        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3600, 240, 16, 128, 3e-3, 100
-        a.phone_frac, a.heavy_aug, a.workers, a.threads = 0.5, True, 2, 2
-        if a.budget_minutes is None:
-            a.budget_minutes = 60.0
-        if a.export is None:
-            a.export = os.path.join(a.out, "export")
-    if a.recipe == "ft30":  # fine-tune the committed model on the ci60 samples (same seed, same cache)
-        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3600, 240, 16, 128, 5e-4, 20
-        a.phone_frac, a.heavy_aug, a.workers, a.threads = 0.5, True, 2, 2
-        if a.init_onnx is None:
-            a.init_onnx = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "sign_unet.onnx")
-        if a.budget_minutes is None:
-            a.budget_minutes = 30.0
-        if a.export is None:
-            a.export = os.path.join(a.out, "export")
-    if a.recipe == "kinds45":  # the committed model widened to the wall sign kinds' classes, fine-tuned on both
-        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3000, 240, 16, 128, 1e-3, 50
-        a.phone_frac, a.kinds_frac, a.heavy_aug, a.workers, a.threads = 0.5, 0.4, True, 2, 2
-        if a.init_onnx is None:
-            a.init_onnx = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "models", "sign_unet.onnx")
-        if a.budget_minutes is None:
-            a.budget_minutes = 45.0
-        if a.export is None:
-            a.export = os.path.join(a.out, "export")
-    if a.recipe == "kinds25d":  # continue kinds45 for 25 minutes at a lower rate, the Exit-only model as teacher
-        a.seed, a.n_train, a.n_val, a.batch, a.crop, a.lr, a.warmup = 11, 3000, 240, 16, 128, 3e-4, 20
-        a.phone_frac, a.kinds_frac, a.heavy_aug, a.workers, a.threads, a.freeze_bn = 0.5, 0.4, True, 2, 2, True
-        if a.resume is None or a.distill_onnx is None:
-            ap.error("--recipe kinds25d needs --resume RUN/sign_unet.pt (a kinds45 run) and --distill-onnx EXIT_ONLY.onnx")
-        if a.budget_minutes is None:
-            a.budget_minutes = 25.0
-        if a.export is None:
-            a.export = os.path.join(a.out, "export")
+    if a.recipe:
+        apply_recipe(a, ap)
     import render_signs as rs
     class_names = list(rs.CLASSES) if a.kinds_frac > 0 else ["background", "exit"]
     torch.manual_seed(a.seed)
