@@ -421,6 +421,10 @@ RECIPES = {
     "kinds25d": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=3e-4, warmup=20, phone_frac=0.5,
                      kinds_frac=0.4, heavy_aug=True, workers=2, threads=2, freeze_bn=True, budget_minutes=25.0,
                      needs=("resume", "distill_onnx")),
+    # the Exit model widened, fine-tuned gently on classic-style samples, distilled towards itself from the start
+    "kinds35": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=5e-4, warmup=20, phone_frac=0.0,
+                    kinds_frac=0.3, heavy_aug=True, workers=2, threads=2, budget_minutes=35.0,
+                    needs=("init_onnx", "distill_onnx")),
 }
 
 
