@@ -273,7 +273,7 @@ void Detector::configureUnetClasses() {
     for (size_t c = 1; c < names.size(); ++c) {
         const SignKindSpec* spec = findKind(options_.catalogue, names[c]);
         if (spec == nullptr || spec->colourGated()) continue;  // Exit-like: the Exit sign's limits
-        // The Exit limits scaled to this face: aspect 0.5-1.9 x the facing face's (a face turned 60 degrees is half
+        // The Exit limits scaled to this face: aspect 0.4-1.9 x the facing face's (a face turned 60 degrees is half
         // as wide; slices of a ragged mask a little short), height 0.57-2.4 x the face's (Exit: 0.12-0.5 m of
         // 0.21 m), no colour check (white on blue or dark grey plates).
         UnetClassCheck& check = options_.unet.classChecks[c];
