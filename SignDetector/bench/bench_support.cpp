@@ -1,6 +1,7 @@
 #include "bench_support.hpp"
 
 #include "range_formula.hpp"
+#include "unet_detector.hpp"
 
 #include <opencv2/imgproc.hpp>
 
@@ -194,6 +195,12 @@ std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseM
     opts.face_edge_transfer = faceEdges.transfer;
     if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
     return d;
+}
+
+bool readUnetClasses(const std::string& modelPath, std::vector<std::string>* classes, std::string* error) {
+    const size_t slash = modelPath.find_last_of('/');
+    const std::string dir = slash == std::string::npos ? "." : modelPath.substr(0, slash);
+    return readClassList(dir + "/classes.json", classes, error);
 }
 
 int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations) {

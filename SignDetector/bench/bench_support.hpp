@@ -108,6 +108,10 @@ std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseM
                                          FaceEdgeOptions faceEdges = {},
                                          const std::vector<CatalogueEntry>* catalogue = nullptr);
 
+/// The class names of the U-Net `modelPath` from the classes.json beside it (as the detector reads them). False
+/// with `error` naming the file when it cannot be read.
+bool readUnetClasses(const std::string& modelPath, std::vector<std::string>* classes, std::string* error);
+
 /// Runs a detector on a prepared frame; returns the status and fills `observations`.
 int detect(DetectorHandle& detector, const PreparedFrame& frame, std::vector<wf_detector_observation>* observations);
 

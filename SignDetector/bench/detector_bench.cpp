@@ -361,7 +361,7 @@ int main(int argc, char** argv) {
             // Cascades beside the U-Net only for the kinds it has no class for.
             std::vector<std::string> classes, besidePaths, besideNames;
             std::string classError;
-            readClassList(unetModel.substr(0, unetModel.find_last_of('/') + 1) + "classes.json", &classes, &classError);
+            readUnetClasses(unetModel, &classes, &classError);
             for (size_t i = 0; i < kindNames.size(); ++i) {
                 if (std::find(classes.begin(), classes.end(), kindNames[i]) != classes.end()) continue;
                 besidePaths.push_back(kindPaths[i]);

@@ -20,7 +20,6 @@
 // add <= 20 %").
 #include "bench_support.hpp"
 #include "text_reader.hpp"
-#include "unet_detector.hpp"
 #include "unroll.hpp"
 
 #include <opencv2/imgproc.hpp>
@@ -113,8 +112,7 @@ int main(int argc, char** argv) {
     // The U-Net's own classes (none on the cascade path): no cascade for those kinds.
     std::vector<std::string> unetClasses;
     if (!unet.empty()) {
-        const std::string classesPath = unet.substr(0, unet.find_last_of('/') + 1) + "classes.json";
-        if (!wf::sign::readClassList(classesPath, &unetClasses, &error)) {
+        if (!readUnetClasses(unet, &unetClasses, &error)) {
             std::fprintf(stderr, "wf_kinds_eval: %s\n", error.c_str());
             return 1;
         }

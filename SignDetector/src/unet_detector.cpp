@@ -277,6 +277,7 @@ cv::Mat signProbability(const std::vector<cv::Mat>& prob) {
 }
 
 int dominantClass(const std::vector<cv::Mat>& prob, const cv::Mat& mask) {
+    if (prob.size() <= 2) return 1;  // the one sign class
     int best = 1;
     double bestSum = -1;
     for (size_t c = 1; c < prob.size(); ++c) {
@@ -292,31 +293,28 @@ int dominantClass(const std::vector<cv::Mat>& prob, const cv::Mat& mask) {
 std::vector<UnetCandidate> UnetDetector::blobs(const std::vector<cv::Mat>& prob, cv::Point2d originEdge, double sx,
                                                double sy, const UnetParams& params) const {
     std::vector<UnetCandidate> candidates;
-    // Two classes: the sign class's map. More: one map of "any sign" (1 - background): at coarse scale a small
-    // plate's pixels can be shared among look-alike classes (a far elevator plate read partly restroom, partly
-    // stairs) and no class alone passes the threshold; the zoomed pass decides the class (refine).
-    const std::vector<cv::Mat> maps = prob.size() == 2 ? std::vector<cv::Mat>{prob[0], prob[1]}
-                                                       : std::vector<cv::Mat>{prob[0], signProbability(prob)};
-    for (size_t c = 1; c < maps.size(); ++c) {
-        cv::Mat mask = maps[c] > params.maskThreshold;
-        // Closing bridges the gaps that letters cut into a plate at coarse scale (one blob per sign).
-        cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
-        cv::Mat labels, stats, centroids;
-        const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
-        for (int i = 1; i < n; ++i) {
-            const int area = stats.at<int>(i, cv::CC_STAT_AREA);
-            if (area < std::max(1, params.minBlobAreaPx)) continue;
-            const int bx = stats.at<int>(i, cv::CC_STAT_LEFT), by = stats.at<int>(i, cv::CC_STAT_TOP);
-            const int bw = stats.at<int>(i, cv::CC_STAT_WIDTH), bh = stats.at<int>(i, cv::CC_STAT_HEIGHT);
-            UnetCandidate cand;
-            const cv::Mat member = labels == i;
-            cand.classIndex = prob.size() == 2 ? static_cast<int>(c) : dominantClass(prob, member);
-            cand.areaPx = area * sx * sy;
-            cand.meanProbability = cv::mean(maps[c], member)[0];
-            // Edges of the blob in network pixels -> unrolled edge coordinates.
-            cand.boxInUnrolled = cv::Rect2d(originEdge.x + bx * sx, originEdge.y + by * sy, bw * sx, bh * sy);
-            candidates.push_back(cand);
-        }
+    // One map of "any sign" (signProbability): with more than two classes a small plate's pixels can be shared among
+    // look-alike classes at coarse scale (a far elevator plate read partly restroom, partly stairs) and no class
+    // alone passes the threshold; the zoomed pass decides the class (refine).
+    const cv::Mat sign = signProbability(prob);
+    cv::Mat mask = sign > params.maskThreshold;
+    // Closing bridges the gaps that letters cut into a plate at coarse scale (one blob per sign).
+    cv::morphologyEx(mask, mask, cv::MORPH_CLOSE, cv::getStructuringElement(cv::MORPH_RECT, cv::Size(3, 3)));
+    cv::Mat labels, stats, centroids;
+    const int n = cv::connectedComponentsWithStats(mask, labels, stats, centroids, 8, CV_32S);
+    for (int i = 1; i < n; ++i) {
+        const int area = stats.at<int>(i, cv::CC_STAT_AREA);
+        if (area < std::max(1, params.minBlobAreaPx)) continue;
+        const int bx = stats.at<int>(i, cv::CC_STAT_LEFT), by = stats.at<int>(i, cv::CC_STAT_TOP);
+        const int bw = stats.at<int>(i, cv::CC_STAT_WIDTH), bh = stats.at<int>(i, cv::CC_STAT_HEIGHT);
+        UnetCandidate cand;
+        const cv::Mat member = labels == i;
+        cand.classIndex = dominantClass(prob, member);
+        cand.areaPx = area * sx * sy;
+        cand.meanProbability = cv::mean(sign, member)[0];
+        // Edges of the blob in network pixels -> unrolled edge coordinates.
+        cand.boxInUnrolled = cv::Rect2d(originEdge.x + bx * sx, originEdge.y + by * sy, bw * sx, bh * sy);
+        candidates.push_back(cand);
     }
     std::sort(candidates.begin(), candidates.end(), [](const UnetCandidate& a, const UnetCandidate& b) {
         if (a.areaPx != b.areaPx) return a.areaPx > b.areaPx;
@@ -399,9 +397,9 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         }
         const cv::Mat square = sampleUnrolled(raw, unrolling, cv::Point2d(c0, r0), scale, scale, cv::Size(win, winH));
         const std::vector<cv::Mat> prob = probabilities(square);
-        // The sign's pixels: of the candidate's class with two classes; of any sign class with more (the class is
-        // the one holding most of the component's probability, below).
-        const cv::Mat p = prob.size() == 2 ? prob[candidate.classIndex] : signProbability(prob);
+        // The sign's pixels: of any sign class (the class is the one holding most of the component's probability,
+        // below).
+        const cv::Mat p = signProbability(prob);
         const cv::Mat mask = p > params.maskThreshold;
         // Components of the closed mask group the pieces of one plate; slices use the raw mask inside it.
         cv::Mat closed;
@@ -452,7 +450,7 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
                 continue;
             }
         }
-        const int classIndex = prob.size() == 2 ? candidate.classIndex : dominantClass(prob, core);
+        const int classIndex = dominantClass(prob, core);
         // Score: the mean probability of a sign over the core (not the grown edge); with more than two classes, of
         // any sign (1 - background): which sign is the class decision above, and a face's pixels that lend a
         // little of their probability to look-alike classes are no less a sign.

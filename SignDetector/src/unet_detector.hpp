@@ -202,9 +202,8 @@ public:
                                                  double pitchRad);
 
     /// Zoomed pass on one candidate: a square crop (zoomFactor x blob, >= minCropPx; out-of-frame parts
-    /// black) resized to SxS; the mask component nearest the crop centre (of the candidate's class with two
-    /// classes; of any sign class with more, reported as the class holding most of its probability) is
-    /// sliced and mapped back to unrolled pixels. Returns false when the zoomed pass finds nothing or the
+    /// black) resized to SxS; the mask component of any sign class nearest the crop centre (reported as the class
+    /// holding most of its probability) is sliced and mapped back to unrolled pixels. Returns false when the zoomed pass finds nothing or the
     /// result fails verifyZoomedSign (`verdict`, optional, says why).
     bool refine(RawPyramid& raw, const Unrolling& unrolling, const UnetCandidate& candidate, const UnetParams& params,
                 Detection* out, UnetVerdict* verdict = nullptr);
@@ -253,7 +252,8 @@ private:
 /// map itself with two classes, else 1 - background (a new map).
 cv::Mat signProbability(const std::vector<cv::Mat>& prob);
 
-/// The sign class (index >= 1) with the largest summed probability under `mask` (CV_8UC1, nonzero = in).
+/// The sign class (index >= 1) with the largest summed probability under `mask` (CV_8UC1, nonzero = in); 1 with
+/// two classes.
 int dominantClass(const std::vector<cv::Mat>& prob, const cv::Mat& mask);
 
 /// Reads {"classes": ["background", "exit", ...]} (classes.json). Returns false and sets `error` on failure.
