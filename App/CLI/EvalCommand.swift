@@ -48,7 +48,7 @@ enum EvalCommand: Subcommand {
         let surveyPlacards = arguments.flag("survey-placards")
         let adjustMap: (Building) -> Building = { surveyPlacards ? PlacardSurvey.addingPlacards(to: $0) : $0 }
         let (simulation, simDetectorGiven) = try SimDetectorOption.parse(&arguments)
-        if simDetectorGiven && scenariosDir == nil { throw CLIError.usage("--sim-detector and --sim-range-bias only apply to --scenarios") }
+        if simDetectorGiven && scenariosDir == nil { throw CLIError.usage("--sim-detector, --sim-params and --sim-range-bias only apply to --scenarios") }
         var pipeline = PipelineOptions()
         try EvidenceSwitches.apply(&arguments, to: &pipeline)
         if let seed = try arguments.seedOption() { pipeline.seed = seed }

@@ -1,3 +1,4 @@
+import Foundation
 import Simulation
 
 /// The `--sim-detector NAME` option shared by `simulate` and `eval --scenarios`: which detector noise the
@@ -11,11 +12,16 @@ enum SimDetectorOption {
                        range bias +6.8 % and -25 %, their recall and false positives)
       --sim-range-bias F  replaces that detector's systematic range error: measured = true x (1 + F), F > -1
                        (-0.12 = reads 12 % short; a study of how much bias the localizer holds behind)
+      --sim-params FILE   lays a JSON object of noise-model parameters over those (keys of SimulationParameters,
+                       e.g. {"vio": {"scaleErrorRange": [0.03, 0.1]}}; Tests/StressProfiles): walks behind noise
+                       models other than the simulator's defaults. Applied after --sim-detector, before
+                       --sim-range-bias
     """
 
-    /// Removes `--sim-detector` and `--sim-range-bias` from `arguments` and returns the simulation parameters
-    /// they name (the standard ones when absent), and whether either was given. Throws a usage error for an
-    /// unknown name or a bias that is not a finite number above -1.
+    /// Removes `--sim-detector`, `--sim-params` and `--sim-range-bias` from `arguments` and returns the
+    /// simulation parameters they name (the standard ones when absent), and whether any was given. Throws a usage
+    /// error for an unknown name or a bias that is not a finite number above -1, and a failure naming the file
+    /// for a parameter file that cannot be read or applied (`SimulationParametersOverlay`).
     static func parse(_ arguments: inout ArgumentList) throws -> (parameters: SimulationParameters, given: Bool) {
         var parameters = SimulationParameters.standard
         let name = try arguments.option("sim-detector")
@@ -25,6 +31,16 @@ enum SimDetectorOption {
         case "real-cascade": parameters.detector = .realPhotoCascade
         default: throw CLIError.usage("--sim-detector must be standard, real-unet or real-cascade, got '\(name ?? "")'")
         }
+        let paramsPath = try arguments.option("sim-params")
+        if let paramsPath {
+            let data: Data
+            do { data = try Data(contentsOf: URL(fileURLWithPath: paramsPath)) } catch {
+                throw CLIError.failure("\(paramsPath): cannot read: \(error.localizedDescription)")
+            }
+            do { parameters = try SimulationParametersOverlay.apply(data, to: parameters) } catch {
+                throw CLIError.failure("\(paramsPath): \(error)")
+            }
+        }
         let bias = try arguments.option("sim-range-bias")
         if let bias {
             guard let value = Double(bias), value.isFinite, value > -1 else {
@@ -32,6 +48,6 @@ enum SimDetectorOption {
             }
             parameters.detector.rangeBias = value
         }
-        return (parameters, name != nil || bias != nil)
+        return (parameters, name != nil || bias != nil || paramsPath != nil)
     }
 }

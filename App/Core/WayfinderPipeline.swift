@@ -124,7 +124,8 @@ public final class WayfinderPipeline {
                                                                         positionInMap: $0.positionInMap,
                                                                         headingRad: $0.headingRad,
                                                                         positionStdMeters: $0.positionStdMeters)
-                                                      }))
+                                                      },
+                                                      perceivedWalls: estimate.isLocalized ? [] : perceivedWalls(frame)))
         }
         var update = PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
                                     events: events, warnings: warnings)
@@ -133,6 +134,17 @@ public final class WayfinderPipeline {
             if let spoken = navigator.lastSpokenAdvice, spoken.t == frame.t { update.spokenAdvice = spoken.advice }
         }
         return update
+    }
+
+    /// The live planes of the current floor as walls in the traveler's frame at this frame's camera pose (none
+    /// without a pose or with planes off): the guidance while unsure never leads into a wall the phone sees.
+    private func perceivedWalls(_ frame: PipelineFrame) -> [PerceivedWall] {
+        guard options.usePlanes, let pose = frame.cameraPose, !planeTable.anchors.isEmpty else { return [] }
+        let p = pose.positionInVIOPlane, yaw = pose.yawInVIOPlaneRad
+        return planeTable.observations.compactMap {
+            PerceivedWall(planeCenterEast: $0.centerEast, planeCenterNorth: $0.centerNorth, planeNormalYawRad: $0.normalYawRad,
+                          widthMeters: $0.widthMeters, cameraEast: p.east, cameraNorth: p.north, cameraYawRad: yaw)
+        }
     }
 
     /// Takes ARKit plane-anchor events (add / update / remove) that arrived since the last frame; they are

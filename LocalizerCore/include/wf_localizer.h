@@ -181,8 +181,10 @@ typedef struct wf_localizer_options {
     double scale_max;
     /** Noise multiplier while tracking is limited. Default 3. */
     double limited_tracking_noise_factor;
-    /** A delta longer than this (m) or turning more than jump_yaw_rad in one frame is a VIO relocalization /
-     *  origin reset: skipped, and noise inflated. Defaults 1.5 m, 45 deg. */
+    /** A delta longer than this (m) plus 2 m/s times the frame interval, or turning more than jump_yaw_rad plus
+     *  3 rad/s times the interval, is a VIO relocalization / origin reset: skipped, and noise inflated.
+     *  Defaults 0.5 m (0.57 m at 30 Hz: no camera on a walking person moves that far in one frame; ARKit's
+     *  relocalization snaps are 0.2-1.5 m), 45 deg. */
     double jump_distance_m;
     double jump_yaw_rad;
     /** Noise added after a skipped jump: position std (m) and yaw-offset std (rad). Defaults 0.5 m, 0.2 rad. */
@@ -284,7 +286,7 @@ typedef struct wf_localizer_options {
 #define WF_LOCALIZER_OPTIONS_INIT { WF_LOCALIZER_OPTIONS_VERSION, \
     20000, 2000, 100000, 1, 0.05, 2.326, 0.5, 0.17453292519943295, \
     0.5, 0.5, 1, 0.001, 0.1, 0.1, \
-    0.15, 0.03, 0.02, 0.04, 0.003, 0.03, 0.8, 1.25, 3.0, 1.5, 0.7853981633974483, 0.5, 0.2, 0.7, 1e-3, \
+    0.15, 0.03, 0.02, 0.04, 0.003, 0.03, 0.8, 1.25, 3.0, 0.5, 0.7853981633974483, 0.5, 0.2, 0.7, 1e-3, \
     0.8377580409572781, 12.0, 0.1, 0.12, 0.05235987755982988, 0.1, 0.2, 1, 5.0, 0.6, 0.8, \
     0.25, 0.5, 0.2, \
     1.0, 0.7853981633974483, 0.05, 0.8, 1.0, 1.0, 0.5, 2.0, 0.001, 4.0, 5.0, \

@@ -135,8 +135,10 @@ public struct DisambiguationPlanner: Sendable {
     }
 
     /// The advice for the given hypotheses (any order; weights as the localizer normalises them, over all
-    /// particles: the live ones must cover `minimumCoverage`).
-    public func advise(_ hypotheses: [PoseCandidate]) -> DisambiguationAdvice {
+    /// particles: the live ones must cover `minimumCoverage`). `perceivedWalls` are the walls the phone sees
+    /// now, in the traveler's frame: an action's walk also stops `wallMarginMeters` short of the first of them,
+    /// whatever the hypotheses say (none: the map's walls alone).
+    public func advise(_ hypotheses: [PoseCandidate], perceivedWalls: [PerceivedWall] = []) -> DisambiguationAdvice {
         let usable = hypotheses.filter { $0.weight.isFinite && $0.positionStdMeters <= options.maximumSpreadMeters &&
             $0.positionInMap.x.isFinite && $0.positionInMap.y.isFinite && $0.headingRad.isFinite &&
             building.floor(id: $0.floorId) != nil }
@@ -152,7 +154,11 @@ public struct DisambiguationPlanner: Sendable {
         var best: (advice: DisambiguationAdvice, utility: Double)?
         var fallback: DisambiguationAdvice?
         for action in ExploratoryAction.allCases {
-            let walk = safeWalkMeters(action, guarded)
+            var walk = safeWalkMeters(action, guarded)
+            if !perceivedWalls.isEmpty {
+                let seen = PerceivedWall.freeDistance(perceivedWalls, turnRad: action.turnRad, far: options.lookaheadMeters + 1)
+                walk = min(walk, max(0, seen - options.wallMarginMeters))
+            }
             guard walk >= options.minimumWalkMeters else { continue }
             let (gain, at) = informationGain(action, live, walkMeters: walk, total: total)
             let advice = DisambiguationAdvice(action: action, safeWalkMeters: walk, informationNats: gain,

@@ -22,12 +22,16 @@ public struct NavigationInput: Sendable, Equatable {
     /// The localizer's pose hypotheses (heaviest first). While not localized the navigator plans a safe,
     /// informative instruction over them (DisambiguationPlanner); empty = unknown ("Start walking").
     public var hypotheses: [PoseCandidate]
+    /// Walls the phone sees now (ARKit planes), in the traveler's frame: no exploratory instruction leads into
+    /// one (`PerceivedWall`). Empty when planes are off or none is known.
+    public var perceivedWalls: [PerceivedWall]
 
     /// Creates an input.
     public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, isLocalized: Bool,
-                confidence: Double = 1, hypotheses: [PoseCandidate] = []) {
+                confidence: Double = 1, hypotheses: [PoseCandidate] = [], perceivedWalls: [PerceivedWall] = []) {
         self.t = t; self.positionInMap = positionInMap; self.floorId = floorId; self.headingRad = headingRad
         self.isLocalized = isLocalized; self.confidence = confidence; self.hypotheses = hypotheses
+        self.perceivedWalls = perceivedWalls
     }
 }
 
@@ -946,7 +950,7 @@ public final class Navigator {
         let t = input.t
         if t - lastPlanT >= options.disambiguationIntervalSeconds - 1e-9 || lastAdvice == nil {
             lastPlanT = t
-            lastAdvice = planner.advise(input.hypotheses)
+            lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls)
         }
         guard let advice = lastAdvice else { return }
         currentAdvice = advice
@@ -959,7 +963,7 @@ public final class Navigator {
             // What is said must hold where the traveler is now, not a second ago: re-plan before speaking.
             if t - lastPlanT > 1e-9 {
                 lastPlanT = t
-                lastAdvice = planner.advise(input.hypotheses)
+                lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls)
             }
             guard let fresh = lastAdvice else { return }
             currentAdvice = fresh

@@ -151,4 +151,46 @@ final class DisambiguationPlannerTests: XCTestCase {
         }
         XCTAssertEqual(answer.count, 1)
     }
+
+    func testAWallThePhoneSeesVetoesTheInstructionEvenWhenTheHypothesesSayItIsFree() throws {
+        let planner = DisambiguationPlanner(building: corridor())
+        // Both hypotheses stand in the corridor facing along it, 10+ m free ahead and behind. The true place is
+        // not among them: the phone sees a wall 1.8 m away, 3 m wide, right across the planned direction.
+        let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(4, 1), headingRad: 0),
+                 PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(16, 1), headingRad: Double.pi)]
+        let planned = try XCTUnwrap(planner.advise(h).action)
+        let a = planned.turnRad, c = cos(a), s = sin(a)
+        func turned(_ forward: Double, _ left: Double) -> Point2 { Point2(x: forward * c - left * s, y: forward * s + left * c) }
+        let across = PerceivedWall(from: turned(1.8, -1.5), to: turned(1.8, 1.5))
+        let vetoed = planner.advise(h, perceivedWalls: [across])
+        XCTAssertNotEqual(vetoed.action, planned)
+        if let other = vetoed.action {
+            XCTAssertGreaterThanOrEqual(PerceivedWall.freeDistance([across], turnRad: other.turnRad, far: 11) - 1, vetoed.safeWalkMeters)
+        }
+        // A wall beside the planned way (parallel to it, 1 m to its left) leaves it free.
+        let beside = PerceivedWall(from: turned(-2, 1), to: turned(6, 1))
+        XCTAssertEqual(planner.advise(h, perceivedWalls: [beside]).action, planned)
+        // Walls seen on every side: no instruction, said plainly.
+        let box = [PerceivedWall(from: Point2(1.5, -1.5), to: Point2(1.5, 1.5)), PerceivedWall(from: Point2(-1.5, -1.5), to: Point2(-1.5, 1.5)),
+                   PerceivedWall(from: Point2(-2, 1.2), to: Point2(2, 1.2)), PerceivedWall(from: Point2(-2, -1.2), to: Point2(2, -1.2))]
+        let boxed = planner.advise(h, perceivedWalls: box)
+        XCTAssertNil(boxed.action)
+        XCTAssertEqual(boxed.phraseKey, "disambiguate.unsure")
+    }
+
+    func testAPlaneSeenFromTheCameraBecomesAWallInTheTravelersFrame() throws {
+        // Camera at VIO (2, 3) facing VIO north (yaw pi/2); a plane 4 m north of it, normal facing south (yaw
+        // -pi/2), 2 m wide: a wall 4 m ahead running from 1 m right to 1 m left.
+        let w = try XCTUnwrap(PerceivedWall(planeCenterEast: 2, planeCenterNorth: 7, planeNormalYawRad: -Double.pi / 2,
+                                            widthMeters: 2, cameraEast: 2, cameraNorth: 3, cameraYawRad: Double.pi / 2))
+        let ends = [w.from, w.to].sorted { $0.y < $1.y }
+        XCTAssertEqual(ends[0].x, 4, accuracy: 1e-9); XCTAssertEqual(ends[0].y, -1, accuracy: 1e-9)
+        XCTAssertEqual(ends[1].x, 4, accuracy: 1e-9); XCTAssertEqual(ends[1].y, 1, accuracy: 1e-9)
+        XCTAssertEqual(PerceivedWall.freeDistance([w], turnRad: 0, far: 11), 4, accuracy: 1e-9)
+        XCTAssertEqual(PerceivedWall.freeDistance([w], turnRad: Double.pi / 2, far: 11), 11)
+        XCTAssertNil(PerceivedWall(planeCenterEast: .nan, planeCenterNorth: 7, planeNormalYawRad: 0, widthMeters: 2,
+                                   cameraEast: 2, cameraNorth: 3, cameraYawRad: 0))
+        XCTAssertNil(PerceivedWall(planeCenterEast: 2, planeCenterNorth: 7, planeNormalYawRad: 0, widthMeters: 0,
+                                   cameraEast: 2, cameraNorth: 3, cameraYawRad: 0))
+    }
 }

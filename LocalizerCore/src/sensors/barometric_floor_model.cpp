@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "common/fast_math.hpp"
 
@@ -45,6 +46,28 @@ std::vector<int16_t> floor_change_destinations(const LocalizerMap &map, double d
     return dest;
 }
 
+void link_offset(const LocalizerMap &map, int16_t f, int16_t g, float x, float y, float max_offset_m, float &dx,
+                 float &dy) {
+    dx = dy = 0;
+    const FloorData &from = map.floors[f], &to = map.floors[g];
+    if (from.link_x.empty() || to.link_x.empty()) return;
+    const auto nearest = [](const FloorData &fd, float qx, float qy) {
+        size_t best = 0;
+        float best_d2 = std::numeric_limits<float>::infinity();
+        for (size_t k = 0; k < fd.link_x.size(); ++k) {
+            const float ex = fd.link_x[k] - qx, ey = fd.link_y[k] - qy, d2 = ex * ex + ey * ey;
+            if (d2 < best_d2) best_d2 = d2, best = k;
+        }
+        return best;
+    };
+    const size_t a = nearest(from, x, y);
+    const size_t b = nearest(to, from.link_x[a], from.link_y[a]);
+    const float ox = to.link_x[b] - from.link_x[a], oy = to.link_y[b] - from.link_y[a];
+    if (ox * ox + oy * oy > max_offset_m * max_offset_m) return;
+    dx = ox;
+    dy = oy;
+}
+
 double apply_floor_change(ParticleSet &p, const LocalizerMap &map, double delta_m, const BarometricFloorParams &params,
                           Rng &rng, const std::function<float()> &sample_yaw_offset) {
     const std::vector<int16_t> dest = floor_change_destinations(map, delta_m);
@@ -55,6 +78,14 @@ double apply_floor_change(ParticleSet &p, const LocalizerMap &map, double delta_
         const int16_t f = p.floor[i];
         const int16_t g = dest[f];
         if (g >= 0 && map.floors[f].distance_to_link(p.x[i], p.y[i]) <= radius) {
+            float dx, dy;
+            link_offset(map, f, g, p.x[i], p.y[i], static_cast<float>(params.shaft_offset_max_m), dx, dy);
+            // Beside the same link on the new floor's plan; kept in place when the shifted pose is not walkable
+            // there (the plan's cabin drawn smaller than the traveler's offset from it).
+            if (map.floors[g].is_walkable(p.x[i] + dx, p.y[i] + dy)) {
+                p.x[i] += dx;
+                p.y[i] += dy;
+            }
             p.floor[i] = g;
         } else if (g >= 0 && !map.floors[g].link_x.empty()) {
             // Cannot have ridden from here: re-drawn beside a vertical link of the destination floor, on

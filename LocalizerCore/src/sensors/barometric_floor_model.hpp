@@ -5,7 +5,10 @@
 //    more than `storey_threshold_m`; slow barometric drift below the tolerance is absorbed.
 //  - apply_floor_change moves the particles: each floor's destination is the floor whose elevation matches
 //    elevation + change (within half the change, at least 1 m). Particles within `link_radius_m` of a vertical
-//    link (elevator, stairs) change floor where they are; the others cannot explain the change and are
+//    link (elevator, stairs) change floor beside the same link on the destination floor: where the two floors'
+//    plans draw it (the destination's link nearest to it, if within `shaft_offset_max_m`) at different map
+//    coordinates, the particle moves by that offset, because the traveler did not move while riding (VIO sees no
+//    horizontal motion in an elevator cabin) but the floors' map frames differ; the others cannot explain the change and are
 //    re-drawn next to a vertical link of their destination floor (a share `far_from_link_weight` of their
 //    weight kept), so that the new floor is searched from where a traveler arriving by elevator or stairs
 //    must be, instead of by slow recovery injection.
@@ -25,7 +28,16 @@ struct BarometricFloorParams {
     double storey_threshold_m = 2.0, settle_tolerance_m = 0.3, settle_s = 1.5;
     /// Particles this close to a link change floor in place, meters; weight factor of the others.
     double link_radius_m = 3.0, far_from_link_weight = 0.05;
+    /// The same link drawn on two floors' plans lies at most this far apart, meters: a particle that rides moves
+    /// by the offset between its floor's nearest link and the destination's link nearest to that one, when they
+    /// are this close. A staircase whose landings are farther apart is walked, and VIO measures that walk.
+    double shaft_offset_max_m = 2.0;
 };
+
+/// Offset (meters, map frame) from floor `f`'s link nearest to (x, y) to the same link on floor `g` (g's link
+/// nearest to f's one); zero when either floor has no link or the two lie farther apart than `max_offset_m`.
+void link_offset(const LocalizerMap &map, int16_t f, int16_t g, float x, float y, float max_offset_m, float &dx,
+                 float &dy);
 
 /// Settled-altitude state machine. Value type.
 class BarometricFloorDetector {

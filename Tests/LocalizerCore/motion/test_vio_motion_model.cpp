@@ -83,6 +83,21 @@ TEST(VioDeltaTracker, ClassifiesMovesJumpsAndTrackingLoss) {
     EXPECT_EQ(tr.push({2.6, 0.1, 0.0, 1.25, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
 }
 
+// ARKit's relocalization snaps the world origin by 0.2-1.5 m within one frame (stress profile vio-rough,
+// docs/benchmarks.md "Eleventh stop": a 1.13 m snap taken as a step left a lock 3.4 m off). At 30 Hz a snap
+// of 0.6 m or more is a jump; a lanyard camera's fastest real frame step (0.25 m) and a slow caller's walk
+// (1 m in 0.5 s) are moves.
+TEST(VioDeltaTracker, ASnapNoWalkingCameraMakesInOneFrameIsAJump) {
+    auto o = wf::test::default_options();
+    VioDeltaTracker tr(o);
+    const double dt = 1.0 / 30.0;
+    tr.push({0.0, 0, 0, 0, WF_VIO_TRACKING_NORMAL});
+    EXPECT_EQ(tr.push({dt, 0.25, 0, 0, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
+    EXPECT_EQ(tr.push({2 * dt, 0.25 + 0.6, 0, 0, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kJump);
+    EXPECT_EQ(tr.push({3 * dt, 0.85, 1.13, 0, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kJump);
+    EXPECT_EQ(tr.push({3 * dt + 0.5, 0.85, 2.13, 0, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
+}
+
 // A relocalization jump keeps every particle's map heading and does not apply the displacement.
 TEST(VioMotionModel, JumpKeepsMapHeadingAndSkipsDisplacement) {
     auto world = wf::test::corridor_world();
