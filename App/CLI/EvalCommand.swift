@@ -12,7 +12,7 @@ enum EvalCommand: Subcommand {
     static let usage = """
     Usage: wayfinder eval BUNDLE... --map MAP [--detector recorded|cascade|unet|auto] [--models DIR] [--json] [--explain]
                           [--baseline FILE] [--write-baseline FILE] [--seed N]
-           wayfinder eval --scenarios DIR [--skeri DIR] [--survey-placards] [--sim-detector NAME] [--json] [--explain]
+           wayfinder eval --scenarios DIR [--skeri DIR] [--survey-placards] [--sim-detector NAME] [--sim-params FILE] [--json] [--explain]
                           [--baseline FILE] [--write-baseline FILE] [--seed N]
 
     Replays each bundle (which must have truth.jsonl) through the real pipeline and prints, per walk:

@@ -12,7 +12,7 @@ enum SimulateCommand: Subcommand {
                               [--orientation portrait|landscape] [--rate HZ] [--detector-rate HZ]
                               [--images] [--image-rate HZ] [--floor-only-start | --known-start]
                               [--tracking-loss T] [--tracking-loss-duration S] [--vio-reset T] [--wrong-turn]
-                              [--north-offset DEG] [--tour-minutes M] [--sim-detector NAME] [--scenario FILE]
+                              [--north-offset DEG] [--tour-minutes M] [--sim-detector NAME] [--sim-params FILE] [--scenario FILE]
                               [--overwrite]
 
     Simulates a person walking the shortest route from A to B (point-of-interest ids or names, or route-graph
