@@ -1,5 +1,6 @@
 import Foundation
 import Localizer
+import Navigation
 import SessionFormat
 
 /// The live set of ARKit plane anchors the pipeline scores against the walls, kept from `PlaneRecord` events
@@ -104,6 +105,16 @@ public enum PlaneConversion {
 
     /// The observation of an add/update record: center and normal projected on the VIO plane, width as
     /// recorded; nil for remove events or records without a horizontal normal.
+    /// The planes as walls in the traveler's frame at `pose` (x forward along the camera's VIO-plane yaw, y left;
+    /// `PerceivedWall`), for the guidance while unsure. Planes with a non-finite number or no width are left out.
+    static func perceivedWalls(_ planes: [PlaneObservation], at pose: CameraPose) -> [PerceivedWall] {
+        let p = pose.positionInVIOPlane, yaw = pose.yawInVIOPlaneRad
+        return planes.compactMap {
+            PerceivedWall(planeCenterEast: $0.centerEast, planeCenterNorth: $0.centerNorth, planeNormalYawRad: $0.normalYawRad,
+                          widthMeters: $0.widthMeters, cameraEast: p.east, cameraNorth: p.north, cameraYawRad: yaw)
+        }
+    }
+
     static func observation(of r: PlaneRecord) -> PlaneObservation? {
         guard r.event != .remove, let c = r.centerInVIOPlane, let yaw = r.normalYawInVIOPlaneRad,
               let width = r.widthMeters else { return nil }

@@ -140,11 +140,7 @@ public final class WayfinderPipeline {
     /// without a pose or with planes off): the guidance while unsure never leads into a wall the phone sees.
     private func perceivedWalls(_ frame: PipelineFrame) -> [PerceivedWall] {
         guard options.usePlanes, let pose = frame.cameraPose, !planeTable.anchors.isEmpty else { return [] }
-        let p = pose.positionInVIOPlane, yaw = pose.yawInVIOPlaneRad
-        return planeTable.observations.compactMap {
-            PerceivedWall(planeCenterEast: $0.centerEast, planeCenterNorth: $0.centerNorth, planeNormalYawRad: $0.normalYawRad,
-                          widthMeters: $0.widthMeters, cameraEast: p.east, cameraNorth: p.north, cameraYawRad: yaw)
-        }
+        return PlaneConversion.perceivedWalls(planeTable.observations, at: pose)
     }
 
     /// Takes ARKit plane-anchor events (add / update / remove) that arrived since the last frame; they are

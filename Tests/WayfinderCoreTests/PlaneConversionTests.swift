@@ -1,5 +1,6 @@
 import Foundation
 import XCTest
+import Navigation
 import Localizer
 import SessionFormat
 @testable import WayfinderCore
@@ -95,6 +96,25 @@ final class PlaneConversionTests: XCTestCase {
         table.observe(altitudeMeters: 0.0)   // back up: now it belongs to the lower floor
         XCTAssertEqual(table.observations.count, 1)
     }
+    /// A plane seen by ARKit becomes a wall in the traveler's own frame at the camera's pose: a camera at world
+    /// (1, 1.4, -2) facing VIO north (yaw pi/2, world -z) and a 2 m wide plane 3 m further north (world z -5),
+    /// its normal pointing back at the camera, is a wall 3 m ahead from 1 m right to 1 m left; turned to face
+    /// VIO east, the same plane is 3 m to the left.
+    func testAPlaneBecomesAWallInTheTravelersFrame() throws {
+        let plane = PlaneObservation(anchorId: 1, centerEast: 1, centerNorth: 5, normalYawRad: -.pi / 2, widthMeters: 2)
+        let north = CameraPose(positionInWorld: (1, 1.4, -2), yawRad: .pi / 2, pitchRad: 0.1, rollRad: -.pi / 2)
+        let ahead = try XCTUnwrap(PlaneConversion.perceivedWalls([plane], at: north).first)
+        XCTAssertEqual(PerceivedWall.freeDistance([ahead], turnRad: 0, far: 11), 3, accuracy: 1e-9)
+        XCTAssertEqual(min(ahead.from.y, ahead.to.y), -1, accuracy: 1e-9)
+        XCTAssertEqual(max(ahead.from.y, ahead.to.y), 1, accuracy: 1e-9)
+        let east = CameraPose(positionInWorld: (1, 1.4, -2), yawRad: 0, pitchRad: 0, rollRad: -.pi / 2)
+        let left = try XCTUnwrap(PlaneConversion.perceivedWalls([plane], at: east).first)
+        XCTAssertEqual(PerceivedWall.freeDistance([left], turnRad: .pi / 2, far: 11), 3, accuracy: 1e-9)
+        XCTAssertEqual(PerceivedWall.freeDistance([left], turnRad: 0, far: 11), 11)
+        var narrow = plane; narrow.widthMeters = 0
+        XCTAssertTrue(PlaneConversion.perceivedWalls([narrow], at: north).isEmpty)
+    }
+
     /// The switch: with planes on, a plane the core rejects (non-finite) surfaces as a frame warning; with
     /// `usePlanes` off the pipeline does not even look at plane events.
     func testUsePlanesSwitch() throws {

@@ -98,6 +98,22 @@ TEST(VioDeltaTracker, ASnapNoWalkingCameraMakesInOneFrameIsAJump) {
     EXPECT_EQ(tr.push({3 * dt + 0.5, 0.85, 2.13, 0, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
 }
 
+// A 60 Hz stream moves the cloud as the same walk at 30 Hz does: every other sample is merged into the next,
+// whose delta spans both (the motion noise is calibrated on 30 Hz sums of per-frame steps).
+TEST(VioDeltaTracker, SamplesFasterThanThirtyHertzAreMergedIntoTheNext) {
+    auto o = wf::test::default_options();
+    VioDeltaTracker tr(o);
+    tr.push({0.0, 0, 0, 0, WF_VIO_TRACKING_NORMAL});
+    EXPECT_EQ(tr.push({1.0 / 60, 0.02, 0, 0.01, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kNone);
+    EXPECT_DOUBLE_EQ(tr.last_east(), 0.0);  // the merged sample is not the reference
+    auto d = tr.push({2.0 / 60, 0.045, 0, 0.02, WF_VIO_TRACKING_NORMAL});
+    EXPECT_EQ(d.kind, DeltaKind::kMove);
+    EXPECT_NEAR(d.d_east, 0.045f, 1e-6f);
+    EXPECT_NEAR(d.d_yaw, 0.02f, 1e-6f);
+    // 30 Hz with 3 ms of timestamp jitter is never merged.
+    EXPECT_EQ(tr.push({2.0 / 60 + 1.0 / 30 - 0.003, 0.09, 0, 0.02, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
+}
+
 // A relocalization jump keeps every particle's map heading and does not apply the displacement.
 TEST(VioMotionModel, JumpKeepsMapHeadingAndSkipsDisplacement) {
     auto world = wf::test::corridor_world();
