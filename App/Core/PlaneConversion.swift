@@ -103,8 +103,6 @@ public enum PlaneConversion {
                            classification: classification)
     }
 
-    /// The observation of an add/update record: center and normal projected on the VIO plane, width as
-    /// recorded; nil for remove events or records without a horizontal normal.
     /// The planes as walls in the traveler's frame at `pose` (x forward along the camera's VIO-plane yaw, y left;
     /// `PerceivedWall`), for the guidance while unsure. Planes with a non-finite number or no width are left out.
     static func perceivedWalls(_ planes: [PlaneObservation], at pose: CameraPose) -> [PerceivedWall] {
@@ -115,6 +113,8 @@ public enum PlaneConversion {
         }
     }
 
+    /// The observation of an add/update record: center and normal projected on the VIO plane, width as
+    /// recorded; nil for remove events or records without a horizontal normal.
     static func observation(of r: PlaneRecord) -> PlaneObservation? {
         guard r.event != .remove, let c = r.centerInVIOPlane, let yaw = r.normalYawInVIOPlaneRad,
               let width = r.widthMeters else { return nil }

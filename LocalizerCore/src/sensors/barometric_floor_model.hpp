@@ -6,12 +6,12 @@
 //  - apply_floor_change moves the particles: each floor's destination is the floor whose elevation matches
 //    elevation + change (within half the change, at least 1 m). Particles within `link_radius_m` of a vertical
 //    link (elevator, stairs) change floor beside the same link on the destination floor: where the two floors'
-//    plans draw it (the destination's link nearest to it, if within `shaft_offset_max_m`) at different map
-//    coordinates, the particle moves by that offset, because the traveler did not move while riding (VIO sees no
-//    horizontal motion in an elevator cabin) but the floors' map frames differ; the others cannot explain the change and are
-//    re-drawn next to a vertical link of their destination floor (a share `far_from_link_weight` of their
-//    weight kept), so that the new floor is searched from where a traveler arriving by elevator or stairs
-//    must be, instead of by slow recovery injection.
+//    plans draw it at different map coordinates (the destination's link nearest to it, if within
+//    `shaft_offset_max_m`), the particle moves by that offset, because the traveler did not move while riding
+//    (VIO sees no horizontal motion in an elevator cabin) but the floors' map frames differ. The others cannot
+//    explain the change and are re-drawn next to a vertical link of their destination floor (a share
+//    `far_from_link_weight` of their weight kept), so that the new floor is searched from where a traveler
+//    arriving by elevator or stairs must be, instead of by slow recovery injection.
 #pragma once
 
 #include <cstdint>
