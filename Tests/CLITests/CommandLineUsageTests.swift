@@ -116,5 +116,24 @@ final class CommandLineUsageTests: XCTestCase {
             try assertUsageError(["eval", "--scenarios", "Tests/Scenarios", "--sim-range-bias", bias], names: "--sim-range-bias")
         }
         try assertUsageError(["eval", bundle, "--map", map, "--sim-range-bias", "-0.1"], names: "--sim-detector")
+        try assertUsageError(["eval", bundle, "--map", map, "--sim-params", "Tests/StressProfiles/vio-rough.json"],
+                             names: "--sim-params")
+    }
+
+    /// A stress-profile file that cannot be read, or names a key the simulator does not have, is a bad-input
+    /// failure (exit 1) naming the file and the problem; nothing is simulated.
+    func testABadParameterFileNamesTheFileAndTheKey() throws {
+        let out = try CLI.makeTemporaryDirectory("sim-params")
+        let missing = out.appendingPathComponent("absent.json").path
+        let base = ["simulate", "--from", "room-101", "--to", "room-103", "--seed", "1", "-o", out.appendingPathComponent("b").path]
+        var r = try CLI.run(base + ["--sim-params", missing])
+        r.assertExit(1)
+        r.assertStderr(contains: missing, "cannot read")
+        let misspelt = out.appendingPathComponent("typo.json")
+        try Data(#"{"vio": {"scaleErorRange": [0.01, 0.1]}}"#.utf8).write(to: misspelt)
+        r = try CLI.run(base + ["--sim-params", misspelt.path])
+        r.assertExit(1)
+        r.assertStderr(contains: misspelt.path, "vio.scaleErorRange")
+        XCTAssertFalse(FileManager.default.fileExists(atPath: out.appendingPathComponent("b").path))
     }
 }
