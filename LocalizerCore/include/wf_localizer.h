@@ -435,7 +435,8 @@ int wf_localizer_init_start_point(wf_localizer *loc, int32_t floor_index, double
 int wf_localizer_set_compass_prior(wf_localizer *loc, double heading_in_map_rad, double sigma_rad);
 
 /** Motion update from one VIO sample (before init it only records the sample). Non-finite samples return
- *  WF_LOC_ERR_NON_FINITE_INPUT and are ignored. */
+ *  WF_LOC_ERR_NON_FINITE_INPUT and are ignored. A sample less than 1/30 s - 4 ms after the last one used is
+ *  merged into the next (the motion noise is calibrated at 30 Hz; docs/localizer.md "Motion model"). */
 int wf_localizer_predict(wf_localizer *loc, const wf_vio_sample *sample);
 
 /** Measurement update with the `count` sightings of one frame at time t (count 0 = a frame with no
