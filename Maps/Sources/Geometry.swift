@@ -2,6 +2,7 @@
 // map validation. Algorithms: point-segment distance by clamped projection; segment intersection by the
 // orientation (cross-product sign) test with collinear-overlap handling (Cormen et al., "Introduction to
 // Algorithms", 3rd ed., section 33.1).
+import Foundation
 
 /// An axis-aligned rectangle in the map frame, meters.
 public struct Rect2: Hashable, Sendable, Codable {
@@ -96,6 +97,18 @@ public enum Geometry {
         let u = (qpx * ry - qpy * rx) / denom
         guard t >= 0, t <= 1, u >= 0, u <= 1 else { return nil }
         return (t, Point2(p1.x + t * rx, p1.y + t * ry))
+    }
+
+    /// Distance from `p` along `directionRad` (radians CCW from +x) to the first of `segments` the ray meets,
+    /// meters; `far` when none is nearer (a ray cast over `segmentIntersection`).
+    public static func freeDistance<S: Sequence>(from p: Point2, directionRad: Double, far: Double, segments: S) -> Double
+        where S.Element == (Point2, Point2) {
+        let end = Point2(x: p.x + far * cos(directionRad), y: p.y + far * sin(directionRad))
+        var best = far
+        for (a, b) in segments {
+            if let hit = segmentIntersection(p, end, a, b) { best = min(best, hit.t * far) }
+        }
+        return best
     }
 }
 

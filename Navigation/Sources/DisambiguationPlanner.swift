@@ -255,13 +255,8 @@ public struct DisambiguationPlanner: Sendable {
     /// Distance from `p` along `directionRad` to the first wall, meters (`lookaheadMeters` + 1 when none is
     /// that close).
     func freeDistance(_ floor: Floor, from p: Point2, directionRad: Double) -> Double {
-        let far = options.lookaheadMeters + 1
-        let end = Point2(x: p.x + far * cos(directionRad), y: p.y + far * sin(directionRad))
-        var best = far
-        for wall in floor.walls {
-            if let hit = Geometry.segmentIntersection(p, end, wall.from, wall.to) { best = min(best, hit.t * far) }
-        }
-        return best
+        Geometry.freeDistance(from: p, directionRad: directionRad, far: options.lookaheadMeters + 1,
+                              segments: floor.walls.lazy.map { ($0.from, $0.to) })
     }
 
     private func projection(of q: Point2, from p: Point2, directionRad: Double) -> Double {

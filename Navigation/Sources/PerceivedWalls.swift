@@ -5,8 +5,8 @@ import Maps
 /// segment in the traveler's own frame: x forward along the camera's horizontal heading, y to the left,
 /// meters. It needs no hypothesis: while the localizer is unsure, an exploratory instruction that would lead
 /// into a wall the phone sees is not given, whichever place the hypotheses put the traveler in (if the true
-/// place is not among them, the map cannot warn; the camera still can). Written here: a ray cast against a
-/// handful of segments.
+/// place is not among them, the map cannot warn; the camera still can). The ray cast is the map's
+/// (`Geometry.freeDistance`).
 public struct PerceivedWall: Sendable, Equatable {
     /// One end, meters (x forward, y left).
     public var from: Point2
@@ -36,11 +36,7 @@ public struct PerceivedWall: Sendable, Equatable {
     /// Distance from the traveler along the direction `turnRad` (radians CCW from straight ahead) to the first
     /// of `walls`, meters; `far` when none is nearer.
     public static func freeDistance(_ walls: [PerceivedWall], turnRad: Double, far: Double) -> Double {
-        let origin = Point2(x: 0, y: 0), end = Point2(x: far * cos(turnRad), y: far * sin(turnRad))
-        var best = far
-        for w in walls {
-            if let hit = Geometry.segmentIntersection(origin, end, w.from, w.to) { best = min(best, hit.t * far) }
-        }
-        return best
+        Geometry.freeDistance(from: Point2(x: 0, y: 0), directionRad: turnRad, far: far,
+                              segments: walls.lazy.map { ($0.from, $0.to) })
     }
 }

@@ -30,13 +30,22 @@ std::string meters(double v) {
 
 }  // namespace
 
-float FloorData::distance_to_link(float x, float y) const {
-    float best = std::numeric_limits<float>::infinity();
+int32_t FloorData::nearest_link(float x, float y, float *distance_m) const {
+    int32_t best = -1;
+    float best_d = std::numeric_limits<float>::infinity();
     for (size_t i = 0; i < link_x.size(); ++i) {
         const float dx = link_x[i] - x, dy = link_y[i] - y;
-        best = std::min(best, std::sqrt(dx * dx + dy * dy));
+        const float d = std::sqrt(dx * dx + dy * dy);
+        if (d < best_d) best_d = d, best = static_cast<int32_t>(i);
     }
+    if (distance_m) *distance_m = best_d;
     return best;
+}
+
+float FloorData::distance_to_link(float x, float y) const {
+    float d;
+    nearest_link(x, y, &d);
+    return d;
 }
 
 void compute_visibility(FloorData &f, float max_range_all_m, float max_view_angle_from_normal_rad) {

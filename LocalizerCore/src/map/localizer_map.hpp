@@ -59,6 +59,9 @@ struct FloorData {
         const int32_t c = grid.index(x, y);
         return c >= 0 && walkable[c] != 0;
     }
+    /// Index of the vertical link point nearest (x, y), or -1 when the floor has none; its distance in meters in
+    /// `*distance_m` when given (infinity when there is none).
+    int32_t nearest_link(float x, float y, float *distance_m = nullptr) const;
     /// Distance to the nearest vertical link point, meters (infinity when there is none).
     float distance_to_link(float x, float y) const;
 };

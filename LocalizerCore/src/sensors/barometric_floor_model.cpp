@@ -46,23 +46,15 @@ std::vector<int16_t> floor_change_destinations(const LocalizerMap &map, double d
     return dest;
 }
 
-void link_offset(const LocalizerMap &map, int16_t f, int16_t g, float x, float y, float max_offset_m, float &dx,
+void link_offset(const LocalizerMap &map, int16_t f, int32_t link, int16_t g, float max_offset_m, float &dx,
                  float &dy) {
     dx = dy = 0;
-    const FloorData &from = map.floors[f], &to = map.floors[g];
-    if (from.link_x.empty() || to.link_x.empty()) return;
-    const auto nearest = [](const FloorData &fd, float qx, float qy) {
-        size_t best = 0;
-        float best_d2 = std::numeric_limits<float>::infinity();
-        for (size_t k = 0; k < fd.link_x.size(); ++k) {
-            const float ex = fd.link_x[k] - qx, ey = fd.link_y[k] - qy, d2 = ex * ex + ey * ey;
-            if (d2 < best_d2) best_d2 = d2, best = k;
-        }
-        return best;
-    };
-    const size_t a = nearest(from, x, y);
-    const size_t b = nearest(to, from.link_x[a], from.link_y[a]);
-    const float ox = to.link_x[b] - from.link_x[a], oy = to.link_y[b] - from.link_y[a];
+    const FloorData &from = map.floors[f];
+    const float ax = from.link_x[static_cast<size_t>(link)], ay = from.link_y[static_cast<size_t>(link)];
+    const FloorData &to = map.floors[g];
+    const int32_t b = to.nearest_link(ax, ay);
+    if (b < 0) return;
+    const float ox = to.link_x[static_cast<size_t>(b)] - ax, oy = to.link_y[static_cast<size_t>(b)] - ay;
     if (ox * ox + oy * oy > max_offset_m * max_offset_m) return;
     dx = ox;
     dy = oy;
@@ -77,9 +69,11 @@ double apply_floor_change(ParticleSet &p, const LocalizerMap &map, double delta_
     for (size_t i = 0; i < p.size(); ++i) {
         const int16_t f = p.floor[i];
         const int16_t g = dest[f];
-        if (g >= 0 && map.floors[f].distance_to_link(p.x[i], p.y[i]) <= radius) {
+        float link_distance = std::numeric_limits<float>::infinity();
+        const int32_t link = g >= 0 ? map.floors[f].nearest_link(p.x[i], p.y[i], &link_distance) : -1;
+        if (link >= 0 && link_distance <= radius) {
             float dx, dy;
-            link_offset(map, f, g, p.x[i], p.y[i], static_cast<float>(params.shaft_offset_max_m), dx, dy);
+            link_offset(map, f, link, g, static_cast<float>(params.shaft_offset_max_m), dx, dy);
             // Beside the same link on the new floor's plan; kept in place when the shifted pose is not walkable
             // there (the plan's cabin drawn smaller than the traveler's offset from it).
             if (map.floors[g].is_walkable(p.x[i] + dx, p.y[i] + dy)) {

@@ -34,9 +34,10 @@ struct BarometricFloorParams {
     double shaft_offset_max_m = 2.0;
 };
 
-/// Offset (meters, map frame) from floor `f`'s link nearest to (x, y) to the same link on floor `g` (g's link
-/// nearest to f's one); zero when either floor has no link or the two lie farther apart than `max_offset_m`.
-void link_offset(const LocalizerMap &map, int16_t f, int16_t g, float x, float y, float max_offset_m, float &dx,
+/// Offset (meters, map frame) from floor `f`'s link point `link` (an index into its link points) to the same
+/// link on floor `g` (g's link nearest to it); zero when g has no link or the two lie farther apart than
+/// `max_offset_m`.
+void link_offset(const LocalizerMap &map, int16_t f, int32_t link, int16_t g, float max_offset_m, float &dx,
                  float &dy);
 
 /// Settled-altitude state machine. Value type.

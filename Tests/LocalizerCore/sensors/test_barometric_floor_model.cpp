@@ -45,15 +45,15 @@ TEST(BarometricFloorModel, TheSameShaftDrawnElsewhereOnTheNewPlanMovesTheRidersB
     const auto o = wf::test::default_options();
     const auto map = wf::test::build_map(w, o);
     float dx, dy;
-    link_offset(map, 0, 1, 9.0f, 10.5f, 2.0f, dx, dy);
+    link_offset(map, 0, map.floors[0].nearest_link(9.0f, 10.5f), 1, 2.0f, dx, dy);
     EXPECT_NEAR(dx, 0.5f, 1e-6f);
     EXPECT_NEAR(dy, -1.2f, 1e-6f);
     // The staircase's landings are 6 m apart: no offset (the walk up the flight is VIO's to measure).
-    link_offset(map, 0, 1, 2.5f, 2.5f, 2.0f, dx, dy);
+    link_offset(map, 0, map.floors[0].nearest_link(2.5f, 2.5f), 1, 2.0f, dx, dy);
     EXPECT_EQ(dx, 0.0f);
     EXPECT_EQ(dy, 0.0f);
     // Nor with a smaller allowance than the shaft's offset.
-    link_offset(map, 0, 1, 9.0f, 10.5f, 1.0f, dx, dy);
+    link_offset(map, 0, map.floors[0].nearest_link(9.0f, 10.5f), 1, 1.0f, dx, dy);
     EXPECT_EQ(dx, 0.0f);
     EXPECT_EQ(dy, 0.0f);
 
