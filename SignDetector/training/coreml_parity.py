@@ -99,6 +99,11 @@ def run_program(fn, inputs: Dict[str, np.ndarray]) -> Dict[str, np.ndarray]:
                     want = [int(s) for s in I["output_shape"].val]
                     if list(y.shape[2:]) != want[-2:]:
                         raise ValueError("coreml_parity: conv_transpose output %s, program says %s" % (list(y.shape), want))
+        elif t == "upsample_nearest_neighbor":  # integer factors only (the kinds branch's 2x step)
+            fh, fw = float(I["scale_factor_height"].val), float(I["scale_factor_width"].val)
+            if fh != int(fh) or fw != int(fw):
+                raise NotImplementedError("coreml_parity: fractional nearest-neighbour factors %g, %g" % (fh, fw))
+            y = val(I["x"]).repeat_interleave(int(fh), dim=2).repeat_interleave(int(fw), dim=3)
         else:
             raise NotImplementedError("coreml_parity: op %s (%s) is not supported" % (t, op.name))
         env[op.outputs[0].name] = y

@@ -86,10 +86,21 @@ def main(argv=None) -> int:
         print("export: checkpoint %s not found" % a.checkpoint, file=sys.stderr)
         return 1
     ck = torch.load(a.checkpoint, map_location="cpu")
-    model = SignUNet(ck["width"], ck["num_classes"])
     classes = ck.get("classes", CLASSES)  # checkpoints before the wall kinds hold background and exit only
-    model.load_state_dict(ck["state_dict"])
-    model.eval()
+    if ck.get("kinds_branch"):  # the Exit model and the wall kinds' decoder: exported with the heads folded
+        import kinds_branch
+        trained = kinds_branch.KindsBranchUNet(ck["width"], tuple(ck["kinds_branch"]), ck["num_classes"] - 1)
+        trained.load_state_dict(ck["state_dict"])
+        trained.eval()
+        model = kinds_branch.FoldedKindsBranchUNet(trained).eval()
+        with torch.no_grad():
+            x = torch.from_numpy(sample_inputs(1))
+            print("folded heads vs the trained combination: max abs logit difference %.3g" %
+                  float((model(x) - trained(x)).abs().max()))
+    else:
+        model = SignUNet(ck["width"], ck["num_classes"])
+        model.load_state_dict(ck["state_dict"])
+        model.eval()
     os.makedirs(a.out, exist_ok=True)
     onnx_path = os.path.join(a.out, "sign_unet.onnx")
     dummy = torch.zeros(1, 3, 224, 224)

@@ -271,17 +271,9 @@ def random_crops(x: torch.Tensor, y: torch.Tensor, size: int, g: torch.Generator
     return torch.stack(xs), torch.stack(ys)
 
 
-def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
-    """Warm start: copy the weights of an exported model (export_unet.py: BatchNorm folded into the
-    convolutions) into `model`. ONNX Conv / ConvTranspose nodes are matched in graph order with the
-    model's Conv2d / ConvTranspose2d modules in forward-call order (shapes checked); each folded
-    convolution's bias goes into the BatchNorm after it, which becomes the identity (mean 0, variance
-    1 - eps, scale 1) and must stay frozen (freeze_bn). Returns the number of layers copied."""
-    import onnx
-    from onnx import numpy_helper
-    m = onnx.load(onnx_path)
-    inits = {i.name: numpy_helper.to_array(i) for i in m.graph.initializer}
-    nodes = [n for n in m.graph.node if n.op_type in ("Conv", "ConvTranspose")]
+def conv_call_order(model: nn.Module) -> list:
+    """The model's Conv2d / ConvTranspose2d modules in the order a forward pass calls them (the order of an
+    exported graph's Conv / ConvTranspose nodes)."""
     order = []
     hooks = [mod.register_forward_hook(lambda mod, i, o: order.append(mod)) for mod in model.modules()
              if isinstance(mod, (nn.Conv2d, nn.ConvTranspose2d))]
@@ -292,19 +284,36 @@ def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
     model.train(was)
     for h in hooks:
         h.remove()
-    if len(order) != len(nodes):
-        raise ValueError("init_from_onnx: %s has %d convolutions, the model %d" % (onnx_path, len(nodes), len(order)))
+    return order
+
+
+def exported_convs(onnx_path: str) -> list:
+    """(weight, bias or None) of each Conv / ConvTranspose node of an exported model, in graph order."""
+    import onnx
+    from onnx import numpy_helper
+    m = onnx.load(onnx_path)
+    inits = {i.name: numpy_helper.to_array(i) for i in m.graph.initializer}
+    return [(torch.from_numpy(inits[n.input[1]].copy()),
+             torch.from_numpy(inits[n.input[2]].copy()) if len(n.input) > 2 else None)
+            for n in m.graph.node if n.op_type in ("Conv", "ConvTranspose")]
+
+
+def copy_convs(model: nn.Module, order: list, convs: list, source: str) -> int:
+    """Copies convs[i] (weight, bias: BatchNorm folded in) into order[i]; each folded convolution's bias goes into
+    the BatchNorm after it, which becomes the identity (mean 0, variance 1 - eps, scale 1) and must stay frozen
+    (freeze_bn). A head with fewer classes than the model's last ConvTranspose2d is widened (_widen_head)."""
+    if len(order) != len(convs):
+        raise ValueError("init_from_onnx: %s has %d convolutions, the model %d" % (source, len(convs), len(order)))
     mods = list(model.modules())
     bn_after = {id(mods[i]): mods[i + 1] for i in range(len(mods) - 1) if isinstance(mods[i + 1], nn.BatchNorm2d)}
     with torch.no_grad():
-        for mod, node in zip(order, nodes):
-            w = torch.from_numpy(inits[node.input[1]].copy())
-            b = torch.from_numpy(inits[node.input[2]].copy()) if len(node.input) > 2 else None
+        for k, (mod, (w, b)) in enumerate(zip(order, convs)):
             if mod is order[-1] and isinstance(mod, nn.ConvTranspose2d) and w.shape[1] < mod.weight.shape[1] \
                     and tuple(w.shape[:1] + w.shape[2:]) == tuple(mod.weight.shape[:1] + mod.weight.shape[2:]):
                 w, b = _widen_head(w, b, mod.weight.shape[1])
             if tuple(w.shape) != tuple(mod.weight.shape):
-                raise ValueError("init_from_onnx: %s weight %s, model %s" % (node.name, tuple(w.shape), tuple(mod.weight.shape)))
+                raise ValueError("init_from_onnx: %s convolution %d weight %s, model %s" %
+                                 (source, k, tuple(w.shape), tuple(mod.weight.shape)))
             mod.weight.copy_(w)
             bn = bn_after.get(id(mod))
             if bn is not None:
@@ -315,6 +324,19 @@ def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
             elif mod.bias is not None and b is not None:
                 mod.bias.copy_(b)
     return len(order)
+
+
+def init_from_onnx(model: nn.Module, onnx_path: str) -> int:
+    """Warm start: copy the weights of an exported model (export_unet.py: BatchNorm folded into the
+    convolutions) into `model`. ONNX Conv / ConvTranspose nodes are matched in graph order with the
+    model's Conv2d / ConvTranspose2d modules in forward-call order (shapes checked); see copy_convs.
+    Returns the number of layers copied."""
+    order, convs = conv_call_order(model), exported_convs(onnx_path)
+    if isinstance(model, SignUNet) and model.head.out_channels == 2 and len(convs) > len(order):
+        # a kinds-branch export (kinds_branch.py): its Exit trunk, the Exit head unfolded from the joint head
+        import kinds_branch
+        convs = kinds_branch.trunk_convs_of_exported(convs, len(order), model.head.in_channels)
+    return copy_convs(model, order, convs, onnx_path)
 
 
 def _widen_head(w: torch.Tensor, b: torch.Tensor, k: int):
@@ -421,6 +443,10 @@ RECIPES = {
     "kinds25d": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=3e-4, warmup=20, phone_frac=0.5,
                      kinds_frac=0.4, heavy_aug=True, workers=2, threads=2, freeze_bn=True, budget_minutes=25.0,
                      needs=("resume", "distill_onnx")),
+    # the wall kinds as a light second decoder beside the committed Exit model, which stays frozen (kinds_branch.py)
+    "kindsbranch": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=3e-3, warmup=100, phone_frac=0.5,
+                        kinds_frac=0.4, heavy_aug=True, workers=2, threads=2, init_committed=True, kinds_branch=True,
+                        budget_minutes=35.0),
     # the Exit model widened, fine-tuned gently on classic-style samples, distilled towards itself from the start
     "kinds35": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=5e-4, warmup=20, phone_frac=0.0,
                     kinds_frac=0.3, heavy_aug=True, workers=2, threads=2, budget_minutes=35.0,
@@ -480,6 +506,11 @@ def main(argv=None) -> int:
     ap.add_argument("--train-from", choices=["enc", "up16", "up8", "up4", "up2", "head"], default="enc",
                     help="train this stage of the network and the ones after it; the earlier stages stay as loaded "
                          "(e.g. up4: the encoder and the two coarsest decoder steps keep the Exit model's features)")
+    ap.add_argument("--kinds-branch", action="store_true",
+                    help="train the wall kinds as a second, narrower decoder (kinds_branch.py) beside the Exit model given by "
+                         "--init-onnx, which stays frozen; needs --kinds-frac > 0")
+    ap.add_argument("--branch-dec", default=None,
+                    help="the kinds branch's decoder widths at strides 16, 8, 4, comma-separated (default 16,12,8)")
     ap.add_argument("--freeze-bn", action="store_true",
                     help="keep BatchNorm frozen (implied by --init-onnx; for --resume of a run that had it)")
     ap.add_argument("--recipe", choices=sorted(RECIPES), default=None,
@@ -506,11 +537,24 @@ def main(argv=None) -> int:
     Xva, Yva, Kva = load_or_render(a.cache, a.n_val, a.seed, 2, log, a.phone_frac, a.workers, a.kinds_frac)
     log("data: %d train, %d val (exit pixel fraction %.4f)" % (len(Xtr), len(Xva), float((Ytr == 1).mean())))
     t_data = time.time() - t0
-    model = SignUNet(a.width, len(class_names))
+    branch_dec = None
+    if a.kinds_branch:
+        import kinds_branch
+        if a.kinds_frac <= 0 or a.init_onnx is None:
+            ap.error("--kinds-branch needs --kinds-frac > 0 and --init-onnx (the Exit model it stands beside)")
+        branch_dec = tuple(int(v) for v in a.branch_dec.split(",")) if a.branch_dec else kinds_branch.DEFAULT_BRANCH_DEC
+        if len(branch_dec) != 3 or min(branch_dec) < 1:
+            ap.error("--branch-dec needs three positive widths, got %s" % a.branch_dec)
+        model = kinds_branch.KindsBranchUNet(a.width, branch_dec, len(class_names) - 1)
+    else:
+        model = SignUNet(a.width, len(class_names))
     if a.resume:
         model.load_state_dict(torch.load(a.resume, map_location="cpu")["state_dict"])
         log("resumed weights from %s" % a.resume)
-    if a.init_onnx:
+    if a.init_onnx and a.kinds_branch:
+        log("kinds branch %s beside the frozen Exit model: %s loaded from %s" %
+            (",".join(map(str, branch_dec)), kinds_branch.init_from_exported(model, a.init_onnx), a.init_onnx))
+    elif a.init_onnx:
         log("initialised %d layers from %s (BatchNorm frozen)" % (init_from_onnx(model, a.init_onnx), a.init_onnx))
     teacher = None
     if a.distill_onnx:
@@ -526,8 +570,8 @@ def main(argv=None) -> int:
             q.requires_grad_(False)
     if a.train_from != "enc":
         log("training %s onwards; %s kept as loaded" % (a.train_from, ", ".join(stages[:stages.index(a.train_from)])))
-    nparam = sum(p.numel() for p in model.parameters())
-    log("model: %d parameters" % nparam)
+    nparam = sum(p.numel() for p in model.parameters() if p.requires_grad)
+    log("model: %d trained parameters" % nparam)
     opt = torch.optim.AdamW([q for q in model.parameters() if q.requires_grad], lr=a.lr, weight_decay=1e-4)
     g = torch.Generator().manual_seed(a.seed)
     budget = a.minutes * 60.0
@@ -565,7 +609,7 @@ def main(argv=None) -> int:
             x, y = augment(x, y, g)
             if a.heavy_aug:
                 x = heavy_augment(x, g)
-            if a.init_onnx or a.freeze_bn:
+            if (a.init_onnx or a.freeze_bn) and not a.kinds_branch:  # the branch's own BatchNorm trains
                 freeze_bn(model)
             logits = model(x)
             loss, ce, dice = loss_fn(logits, y)
@@ -584,8 +628,10 @@ def main(argv=None) -> int:
     t_train = time.time() - t_train0
     iou, per, fp = evaluate(model, Xva, Yva, Kva, class_names=class_names)
     log("val IoU(exit) %.4f per kind %s; false-positive pixels on sign-free crops %s" % (iou, json.dumps(per), json.dumps(fp)))
-    torch.save({"state_dict": model.state_dict(), "width": a.width, "num_classes": len(class_names),
-                "classes": class_names}, os.path.join(a.out, "sign_unet.pt"))
+    ck = {"state_dict": model.state_dict(), "width": a.width, "num_classes": len(class_names), "classes": class_names}
+    if branch_dec is not None:
+        ck["kinds_branch"] = list(branch_dec)
+    torch.save(ck, os.path.join(a.out, "sign_unet.pt"))
     summary = dict(resume=a.resume, classes=class_names, kinds_frac=a.kinds_frac, seed=a.seed, n_train=a.n_train, n_val=a.n_val, width=a.width, batch=a.batch, crop=a.crop, lr=a.lr, steps=step, epochs=epoch,
                    params=nparam, data_seconds=t_data, train_seconds=t_train, final_loss_ema=ema, val_iou=iou, val_iou_per_kind=per)
     with open(os.path.join(a.out, "summary.json"), "w") as f:

@@ -20,10 +20,19 @@ def test_init_from_onnx_reproduces_the_exported_model():
     import export_unet
     import train_unet as tu
     with open(os.path.join(MODELS, "classes.json")) as f:
-        m = tu.SignUNet(0.35, len(json.load(f)["classes"]))
-    assert tu.init_from_onnx(m, os.path.join(MODELS, "sign_unet.onnx")) == 68
-    m.train()
-    tu.freeze_bn(m)  # training mode elsewhere, BatchNorm frozen: still the exported function
+        k = len(json.load(f)["classes"])
+    if k == 2:
+        m = tu.SignUNet(0.35, k)
+        assert tu.init_from_onnx(m, os.path.join(MODELS, "sign_unet.onnx")) == 68
+        m.train()
+        tu.freeze_bn(m)  # training mode elsewhere, BatchNorm frozen: still the exported function
+    else:  # the Exit model with the wall kinds' decoder beside it (kinds_branch.py)
+        import kinds_branch as kb
+        branch = kb.KindsBranchUNet(0.35, kb.DEFAULT_BRANCH_DEC, k - 1)
+        assert kb.init_from_exported(branch, os.path.join(MODELS, "sign_unet.onnx")) == "trunk and branch"
+        branch.train()
+        tu.freeze_bn(branch)
+        m = kb.FoldedKindsBranchUNet(branch)
     x = export_unet.sample_inputs(2)
     with torch.no_grad():
         y = m(torch.from_numpy(x)).numpy()
