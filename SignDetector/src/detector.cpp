@@ -268,7 +268,7 @@ int Detector::loadUnet(std::string* error) {
 
 void Detector::configureUnetClasses() {
     const std::vector<std::string>& names = unet_.classNames();
-    options_.unet.classChecks.assign(names.size(), UnetClassCheck{});
+    options_.unet.classLimits.assign(names.size(), std::nullopt);
     bool eyeLevelKinds = false;
     for (size_t c = 1; c < names.size(); ++c) {
         const SignKindSpec* spec = findKind(options_.catalogue, names[c]);
@@ -276,14 +276,14 @@ void Detector::configureUnetClasses() {
         // The Exit limits scaled to this face: aspect 0.4-1.9 x the facing face's (a face turned 60 degrees is half
         // as wide; slices of a ragged mask a little short), height 0.57-2.4 x the face's (Exit: 0.12-0.5 m of
         // 0.21 m), no colour check (white on blue or dark grey plates).
-        UnetClassCheck& check = options_.unet.classChecks[c];
+        UnetSignLimits limits;
         const double aspect = spec->faceWidthMeters / spec->faceHeightMeters;
-        check.set = true;
-        check.minAspect = 0.4 * aspect;
-        check.maxAspect = 1.9 * aspect;
-        check.minSignHeightM = 0.57 * spec->faceHeightMeters;
-        check.maxSignHeightM = 2.4 * spec->faceHeightMeters;
-        check.minColourFraction = 0;
+        limits.minAspect = 0.4 * aspect;
+        limits.maxAspect = 1.9 * aspect;
+        limits.minSignHeightM = 0.57 * spec->faceHeightMeters;
+        limits.maxSignHeightM = 2.4 * spec->faceHeightMeters;
+        limits.minColourFraction = 0;
+        options_.unet.classLimits[c] = limits;
         eyeLevelKinds = true;
     }
     // Pictograms and placards hang at eye level beside doors (bottom edge 1.3-1.45 m): a near one lies well below the

@@ -137,7 +137,7 @@ private:
     /// Reads the legend of every detection whose kind reads text, from `grayUnrolled` (the whole unrolled frame).
     void readLegends(const cv::Mat& grayUnrolled, std::vector<Detection>* detections);
     /// The U-Net's classes of kinds other than the Exit sign (the catalogue's kinds without the colour gate):
-    /// their verification limits from their face size (UnetParams::classChecks) and, unless the caller set it,
+    /// their verification limits from their face size (UnetParams::classLimits) and, unless the caller set it,
     /// no coarse-pass elevation cut (they hang at eye level).
     void configureUnetClasses();
 

@@ -344,13 +344,8 @@ double colourfulFraction(const cv::Mat& rgb, const cv::Mat& mask, int minChroma)
 
 UnetParams UnetParams::forClass(int classIndex) const {
     UnetParams p = *this;
-    if (classIndex >= 0 && classIndex < static_cast<int>(classChecks.size()) && classChecks[classIndex].set) {
-        const UnetClassCheck& c = classChecks[classIndex];
-        p.minAspect = c.minAspect;
-        p.maxAspect = c.maxAspect;
-        p.minSignHeightM = c.minSignHeightM;
-        p.maxSignHeightM = c.maxSignHeightM;
-        p.minColourFraction = c.minColourFraction;
+    if (classIndex >= 0 && classIndex < static_cast<int>(classLimits.size()) && classLimits[classIndex]) {
+        p.limits = *classLimits[classIndex];
     }
     return p;
 }
@@ -358,14 +353,15 @@ UnetParams UnetParams::forClass(int classIndex) const {
 UnetVerdict verifyZoomedSign(const SliceMeasurement& inUnrolled, double meanProbability, double unrolledFyPx,
                              const UnetParams& params, double colourFraction) {
     if (!(meanProbability >= params.minMeanProbability)) return UnetVerdict::kLowProbability;
-    if (!(colourFraction >= params.minColourFraction)) return UnetVerdict::kColourless;
+    const UnetSignLimits& limits = params.limits;
+    if (!(colourFraction >= limits.minColourFraction)) return UnetVerdict::kColourless;
     const double height = inUnrolled.medianHeightPx;
     if (!inUnrolled.valid || !(height > 0)) return UnetVerdict::kImplausibleHeight;
     const double aspect = inUnrolled.extentWidthPx / height;
-    if (!(aspect >= params.minAspect && aspect <= params.maxAspect)) return UnetVerdict::kImplausibleAspect;
-    const double minHeight = params.maxRangeM > 0 ? unrolledFyPx * params.minSignHeightM / params.maxRangeM : 0.0;
+    if (!(aspect >= limits.minAspect && aspect <= limits.maxAspect)) return UnetVerdict::kImplausibleAspect;
+    const double minHeight = params.maxRangeM > 0 ? unrolledFyPx * limits.minSignHeightM / params.maxRangeM : 0.0;
     const double maxHeight =
-        params.minRangeM > 0 ? unrolledFyPx * params.maxSignHeightM / params.minRangeM : std::numeric_limits<double>::infinity();
+        params.minRangeM > 0 ? unrolledFyPx * limits.maxSignHeightM / params.minRangeM : std::numeric_limits<double>::infinity();
     if (!(height >= minHeight && height <= maxHeight)) return UnetVerdict::kImplausibleHeight;
     return UnetVerdict::kAccepted;
 }
@@ -457,7 +453,7 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
         const double meanProbability = cv::mean(p, core)[0];
         const UnetParams checks = params.forClass(classIndex);
         const double colour =
-            checks.minColourFraction > 0 ? colourfulFraction(square, component, checks.colourChromaLevels) : 1.0;
+            checks.limits.minColourFraction > 0 ? colourfulFraction(square, component, checks.colourChromaLevels) : 1.0;
         const UnetVerdict v =
             verifyZoomedSign(inUnrolled, meanProbability, unrolling.unrolledIntrinsics().fy, checks, colour);
         if (verdict) *verdict = v;

@@ -12,22 +12,29 @@
 
 #include <limits>
 #include <string>
+#include <optional>
 #include <vector>
 
 namespace wf::sign {
 
-/// Verification limits of one class of a multi-class U-Net (a sign kind of another shape or colour than the Exit
-/// sign: pictograms, placards), replacing UnetParams' Exit-sign limits of the same names for that class.
-struct UnetClassCheck {
-    /// false = the class uses UnetParams' own limits.
-    bool set = false;
-    /// Plausible extent width / median height.
+/// Plausibility limits of a zoomed sign's mask, checked before it is reported (verifyZoomedSign). The defaults are
+/// the Exit sign's; a class of a multi-class U-Net whose kind has another shape or colour (pictograms, placards)
+/// gets its own (UnetParams::classLimits, filled by the detector from the sign-kind catalogue).
+struct UnetSignLimits {
+    /// Plausible extent width / median height. The Exit face is 0.33 x 0.21 m (1.57); turned +-55 degrees from
+    /// facing the camera it is ~0.9; slices of a ragged mask can be a little short.
     double minAspect = 0.8;
     double maxAspect = 3.0;
-    /// Plausible physical face height, meters (with UnetParams' minRangeM, maxRangeM).
+    /// Plausible physical face height, meters: with UnetParams' minRangeM and maxRangeM, the median height in
+    /// pixels must lie in [fy' minSignHeightM / maxRangeM, fy' maxSignHeightM / minRangeM] (fy' = unrolled focal
+    /// length).
     double minSignHeightM = 0.12;
     double maxSignHeightM = 0.5;
-    /// Minimum colourful fraction of the mask (0 = not checked: white-on-dark pictograms have no chroma).
+    /// Minimum fraction of the sign's mask pixels (in the zoomed input) whose chroma max(R, G, B) -
+    /// min(R, G, B) is >= UnetParams::colourChromaLevels (0-255): Exit signs have red or green letters or plates;
+    /// a ceiling light (white, ~0) zoomed from a far-band blob otherwise passes as a 0.95 sign. On the rendered
+    /// test set every true sign had >= 0.14 (motion-blurred and dim ones included). 0 = off (white-on-dark
+    /// pictograms have no chroma).
     double minColourFraction = 0.05;
 };
 
@@ -97,26 +104,17 @@ struct UnetParams {
     /// Minimum mean class probability over the sign's mask component. On the rendered test set every
     /// true sign scored >= 0.94, false alarms 0.5-0.9.
     double minMeanProbability = 0.92;
-    /// Plausible aspect of an Exit sign: extent width / median height. The face is 0.33 x 0.21 m (1.57);
-    /// turned +-55 degrees from facing the camera it is ~0.9; slices of a ragged mask can be a little short.
-    double minAspect = 0.8;
-    double maxAspect = 3.0;
-    /// Plausible physical face height, meters, and range, meters: the median height in pixels must lie in
-    /// [fy' minSignHeightM / maxRangeM, fy' maxSignHeightM / minRangeM] (fy' = unrolled focal length).
-    double minSignHeightM = 0.12;
-    double maxSignHeightM = 0.5;
+    /// The Exit sign's plausibility limits (aspect, face height, colour).
+    UnetSignLimits limits;
+    /// Plausible range, meters (with the limits' face heights).
     double minRangeM = 0.5;
     double maxRangeM = 20.0;
-    /// Minimum fraction of the sign's mask pixels (in the zoomed input) whose chroma max(R, G, B) -
-    /// min(R, G, B) is >= colourChromaLevels (0-255): Exit signs have red or green letters or plates; a
-    /// ceiling light (white, ~0) zoomed from a far-band blob otherwise passes as a 0.95 sign. On the rendered
-    /// test set every true sign had >= 0.14 (motion-blurred and dim ones included). 0 = off.
-    double minColourFraction = 0.05;
+    /// Chroma a mask pixel needs to count as colourful (limits.minColourFraction), 0-255.
     int colourChromaLevels = 20;
 
-    /// Per-class verification limits, indexed by class (missing or unset entries: the limits above, which are
-    /// the Exit sign's). Filled by the detector from the sign-kind catalogue (Detector::loadUnet).
-    std::vector<UnetClassCheck> classChecks;
+    /// Per-class plausibility limits, indexed by class (missing or empty entries: `limits`, the Exit sign's).
+    /// Filled by the detector from the sign-kind catalogue (Detector::configureUnetClasses).
+    std::vector<std::optional<UnetSignLimits>> classLimits;
 
     /// These parameters with class `classIndex`'s verification limits in place of the Exit sign's.
     UnetParams forClass(int classIndex) const;

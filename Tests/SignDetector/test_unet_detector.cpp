@@ -269,14 +269,14 @@ TEST(UnetVerification, FarSmallSignIsAccepted) {
 TEST(UnetVerification, AClassCheckReplacesTheExitLimitsForItsClassOnly) {
     // A white-on-dark square pictogram (0.23 m) 3 m away, turned 55 degrees: aspect 0.57, no chroma.
     UnetParams params;
-    params.classChecks.resize(3);
-    UnetClassCheck& square = params.classChecks[2];
-    square.set = true;
+    params.classLimits.resize(3);
+    UnetSignLimits square;
     square.minAspect = 0.4;
     square.maxAspect = 1.9;
     square.minSignHeightM = 0.13;
     square.maxSignHeightM = 0.55;
     square.minColourFraction = 0;
+    params.classLimits[2] = square;
     const double fy = 1602;
     SliceMeasurement m;
     m.valid = true;
@@ -286,7 +286,7 @@ TEST(UnetVerification, AClassCheckReplacesTheExitLimitsForItsClassOnly) {
     // The Exit sign's limits (class 1, and class 0 / out-of-range indices) refuse it twice over.
     for (int c : {0, 1, 5, -1}) {
         const UnetParams p = params.forClass(c);
-        EXPECT_DOUBLE_EQ(p.minAspect, 0.8) << c;
+        EXPECT_DOUBLE_EQ(p.limits.minAspect, 0.8) << c;
         EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, p, colourless), UnetVerdict::kColourless) << c;
         EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, p), UnetVerdict::kImplausibleAspect) << c;
     }
@@ -299,7 +299,7 @@ TEST(UnetVerification, AClassCheckReplacesTheExitLimitsForItsClassOnly) {
     far.extentWidthPx = far.medianHeightPx;
     EXPECT_EQ(verifyZoomedSign(far, 0.95, fy, own, colourless), UnetVerdict::kImplausibleHeight);
     // An unset entry keeps the Exit limits.
-    params.classChecks[2].set = false;
+    params.classLimits[2].reset();
     EXPECT_EQ(verifyZoomedSign(m, 0.95, fy, params.forClass(2)), UnetVerdict::kImplausibleAspect);
 }
 
