@@ -363,15 +363,22 @@ def freeze_bn(model: nn.Module) -> None:
             mod.eval()
 
 
-def distill_loss(logits: torch.Tensor, teacher_prob: torch.Tensor, keep: torch.Tensor) -> torch.Tensor:
+def distill_loss(logits: torch.Tensor, teacher_prob: torch.Tensor, keep: torch.Tensor,
+                 foreground_weight: float = 0.0) -> torch.Tensor:
     """Learning without forgetting (Li and Hoiem 2016): cross-entropy of the student's K-class softmax against an
     Exit-only teacher's (background, exit) probabilities, the other classes' targets 0, averaged over the pixels of
-    the samples `keep` (bool, N: the Exit samples; the teacher knows no wall kind). 0 when none is kept."""
+    the samples `keep` (bool, N: the Exit samples; the teacher knows no wall kind). 0 when none is kept.
+    foreground_weight F > 0 weights each pixel by 1 + F x the teacher's exit probability (normalised to mean 1):
+    a far sign is a few dozen pixels of a coarse sample, which an unweighted mean hardly sees."""
     if not bool(keep.any()):
         return logits.sum() * 0.0
     logp = F.log_softmax(logits[keep], 1)
     t = teacher_prob[keep]
-    return -(t[:, 0] * logp[:, 0] + t[:, 1] * logp[:, 1]).mean()
+    ce = -(t[:, 0] * logp[:, 0] + t[:, 1] * logp[:, 1])
+    if foreground_weight <= 0:
+        return ce.mean()
+    w = 1.0 + foreground_weight * t[:, 1]
+    return (w * ce).sum() / w.sum()
 
 
 def loss_fn(logits, y):
@@ -447,6 +454,10 @@ RECIPES = {
     "kindsbranch": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=3e-3, warmup=100, phone_frac=0.5,
                         kinds_frac=0.4, heavy_aug=True, workers=2, threads=2, init_committed=True, kinds_branch=True,
                         budget_minutes=35.0),
+    # kinds45 distilled towards the Exit model from the start, its sign pixels weighted (far Exit signs at coarse scale)
+    "kinds45fd": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=1e-3, warmup=50, phone_frac=0.5,
+                      kinds_frac=0.4, heavy_aug=True, workers=2, threads=2, distill_foreground=30.0,
+                      init_committed=True, budget_minutes=45.0, needs=("distill_onnx",)),
     # the Exit model widened, fine-tuned gently on classic-style samples, distilled towards itself from the start
     "kinds35": dict(seed=11, n_train=3000, n_val=240, batch=16, crop=128, lr=5e-4, warmup=20, phone_frac=0.0,
                     kinds_frac=0.3, heavy_aug=True, workers=2, threads=2, budget_minutes=35.0,
@@ -503,6 +514,8 @@ def main(argv=None) -> int:
                     help="an exported Exit-only model (background, exit) whose probabilities the Exit samples are also "
                          "trained towards (distill_loss), so that adding classes does not change the Exit sign's")
     ap.add_argument("--distill-weight", type=float, default=1.0)
+    ap.add_argument("--distill-foreground", type=float, default=0.0,
+                    help="weight the distillation's pixels by 1 + this x the teacher's exit probability (distill_loss)")
     ap.add_argument("--train-from", choices=["enc", "up16", "up8", "up4", "up2", "head"], default="enc",
                     help="train this stage of the network and the ones after it; the earlier stages stay as loaded "
                          "(e.g. up4: the encoder and the two coarsest decoder steps keep the Exit model's features)")
@@ -616,7 +629,7 @@ def main(argv=None) -> int:
             if teacher is not None:
                 with torch.no_grad():
                     tp = teacher(x).softmax(1)
-                loss = loss + a.distill_weight * distill_loss(logits, tp, Kt[idx] < 4)
+                loss = loss + a.distill_weight * distill_loss(logits, tp, Kt[idx] < 4, a.distill_foreground)
             opt.zero_grad()
             loss.backward()
             opt.step()

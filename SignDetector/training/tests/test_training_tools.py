@@ -98,3 +98,22 @@ def test_a_widened_head_keeps_the_exported_classes():
     ref = np.concatenate([s.run(None, {"image": x[i:i + 1]})[0] for i in range(len(x))])
     assert np.abs(y[:, :k0] - ref).max() < 1e-3
     assert (y[:, k0:] < y[:, k0 - 1:k0]).mean() > 0.95
+
+
+def test_foreground_weighted_distillation_emphasises_the_teachers_sign_pixels():
+    torch = pytest.importorskip("torch")
+    import train_unet as tu
+    g = torch.Generator().manual_seed(3)
+    logits = torch.randn(2, 6, 8, 8, generator=g)
+    teacher = torch.zeros(2, 2, 8, 8)
+    teacher[:, 0] = 1.0
+    teacher[:, :, 2, 3] = torch.tensor([0.1, 0.9]).view(1, 2)  # one sign pixel per sample
+    keep = torch.tensor([True, True])
+    plain = tu.distill_loss(logits, teacher, keep)
+    assert torch.allclose(tu.distill_loss(logits, teacher, keep, 0.0), plain)
+    # the sign pixel's cross-entropy alone, and the weighted loss moves towards it
+    logp = torch.log_softmax(logits, 1)
+    sign_ce = -(0.1 * logp[:, 0, 2, 3] + 0.9 * logp[:, 1, 2, 3]).mean()
+    weighted = tu.distill_loss(logits, teacher, keep, 30.0)
+    assert abs(float(weighted - sign_ce)) < abs(float(plain - sign_ce))
+    assert float(tu.distill_loss(logits, teacher, torch.tensor([False, False]), 30.0)) == 0.0
