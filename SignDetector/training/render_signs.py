@@ -1038,6 +1038,29 @@ def paste_quad(img: np.ndarray, mask: Optional[np.ndarray], emissive_layer: np.n
 # Frame rendering
 # --------------------------------------------------------------------------------------------------
 
+def _distractor_placement(rng: np.random.Generator, R: np.ndarray, t: np.ndarray, cor: Optional["Corridor"],
+                          min_distance_m: float, max_bearing_rad: float, normal_spread_rad: float):
+    """Where a distractor (poster, light, marker...) goes: min_distance_m..14 m ahead within +-max_bearing_rad of the
+    camera's heading (camera_to_world R, position t), 0.9-2.7 m up; in a corridor 60 % of them on a side wall facing
+    into it (None when that spot lies behind the camera: no distractor), the others facing the camera within
+    +-normal_spread_rad. Returns (center, normal) in world coordinates. The draws' order is part of each test set."""
+    dist = rng.uniform(min_distance_m, 14.0)
+    ang = rng.uniform(-max_bearing_rad, max_bearing_rad)
+    yaw = math.atan2(-R[0, 2], -R[2, 2])
+    hx, hz = -math.sin(yaw + ang), -math.cos(yaw + ang)
+    center = np.array([t[0] + dist * hx, rng.uniform(0.9, 2.7), t[2] + dist * hz])
+    if cor is not None and rng.random() < 0.6:  # on a side wall, facing into the corridor
+        left = rng.random() < 0.5
+        center[0] = cor.x_left + 0.01 if left else cor.x_right - 0.01
+        normal = np.array([1.0, 0, 0]) if left else np.array([-1.0, 0, 0])
+        if (center[2] - t[2]) > -0.5:
+            return None
+    else:
+        normal = np.array([t[0] - center[0], 0, t[2] - center[2]])
+        normal = rot_y(rng.uniform(-normal_spread_rad, normal_spread_rad)) @ (normal / (np.linalg.norm(normal) + 1e-9))
+    return center, normal
+
+
 def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec], rng: np.random.Generator,
                  n_distractors: Optional[int] = None, occlusion_prob: float = 0.15, degrade: bool = True,
                  background: Optional[str] = None, degrade_scale: Optional[float] = None,
@@ -1083,20 +1106,10 @@ def render_frame(camera_to_world: np.ndarray, intr: dict, signs_cam: Sequence[Si
     nd = int(rng.integers(0, 6)) if n_distractors is None else n_distractors
     for _ in range(nd):
         tex, dw, dh = make_distractor_texture(rng)
-        dist = rng.uniform(1.5, 14.0)
-        ang = rng.uniform(-0.6, 0.6)
-        yaw = math.atan2(-R[0, 2], -R[2, 2])
-        hx, hz = -math.sin(yaw + ang), -math.cos(yaw + ang)
-        center = np.array([t[0] + dist * hx, rng.uniform(0.9, 2.7), t[2] + dist * hz])
-        if cor is not None and rng.random() < 0.6:  # on a side wall, facing into the corridor
-            left = rng.random() < 0.5
-            center[0] = cor.x_left + 0.01 if left else cor.x_right - 0.01
-            normal = np.array([1.0, 0, 0]) if left else np.array([-1.0, 0, 0])
-            if (center[2] - t[2]) > -0.5:
-                continue
-        else:
-            normal = np.array([t[0] - center[0], 0, t[2] - center[2]])
-            normal = rot_y(rng.uniform(-0.7, 0.7)) @ (normal / (np.linalg.norm(normal) + 1e-9))
+        placed = _distractor_placement(rng, R, t, cor, 1.5, 0.6, 0.7)
+        if placed is None:
+            continue
+        center, normal = placed
         if tex.emissive and tex.mask_class == 0 and rng.random() < 0.5 and cor is not None:
             center[1] = cor.ceiling_m - 0.02
         corners = quad_corners_world(center, normal, dw, dh)
@@ -1346,20 +1359,10 @@ def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec]
     nd = int(rng.integers(0, 7)) if n_distractors is None else n_distractors
     for _ in range(nd):
         tex, dw, dh = make_phone_distractor_texture(rng)
-        dist = rng.uniform(1.0, 14.0)
-        ang = rng.uniform(-0.7, 0.7)
-        yaw = math.atan2(-R[0, 2], -R[2, 2])
-        hx, hz = -math.sin(yaw + ang), -math.cos(yaw + ang)
-        center = np.array([t[0] + dist * hx, rng.uniform(0.9, 2.7), t[2] + dist * hz])
-        if cor is not None and rng.random() < 0.6:
-            left = rng.random() < 0.5
-            center[0] = cor.x_left + 0.01 if left else cor.x_right - 0.01
-            normal = np.array([1.0, 0, 0]) if left else np.array([-1.0, 0, 0])
-            if (center[2] - t[2]) > -0.5:
-                continue
-        else:
-            normal = np.array([t[0] - center[0], 0, t[2] - center[2]])
-            normal = rot_y(rng.uniform(-0.9, 0.9)) @ (normal / (np.linalg.norm(normal) + 1e-9))
+        placed = _distractor_placement(rng, R, t, cor, 1.0, 0.7, 0.9)
+        if placed is None:
+            continue
+        center, normal = placed
         if tex.emission is not None and cor is not None and rng.random() < 0.5:
             center[1] = cor.ceiling_m - 0.02
         corners = quad_corners_world(center, normal, dw, dh)
