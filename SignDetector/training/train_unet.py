@@ -301,16 +301,21 @@ def exported_convs(onnx_path: str) -> list:
 def copy_convs(model: nn.Module, order: list, convs: list, source: str) -> int:
     """Copies convs[i] (weight, bias: BatchNorm folded in) into order[i]; each folded convolution's bias goes into
     the BatchNorm after it, which becomes the identity (mean 0, variance 1 - eps, scale 1) and must stay frozen
-    (freeze_bn). A head with fewer classes than the model's last ConvTranspose2d is widened (_widen_head)."""
+    (freeze_bn). A head with fewer classes than the model's last ConvTranspose2d is widened (_widen_head); one with
+    more is cut to the model's first classes (a six-class export loads into the two-class Exit model)."""
     if len(order) != len(convs):
         raise ValueError("init_from_onnx: %s has %d convolutions, the model %d" % (source, len(convs), len(order)))
     mods = list(model.modules())
     bn_after = {id(mods[i]): mods[i + 1] for i in range(len(mods) - 1) if isinstance(mods[i + 1], nn.BatchNorm2d)}
     with torch.no_grad():
         for k, (mod, (w, b)) in enumerate(zip(order, convs)):
-            if mod is order[-1] and isinstance(mod, nn.ConvTranspose2d) and w.shape[1] < mod.weight.shape[1] \
+            if mod is order[-1] and isinstance(mod, nn.ConvTranspose2d) and w.shape[1] != mod.weight.shape[1] \
                     and tuple(w.shape[:1] + w.shape[2:]) == tuple(mod.weight.shape[:1] + mod.weight.shape[2:]):
-                w, b = _widen_head(w, b, mod.weight.shape[1])
+                if w.shape[1] < mod.weight.shape[1]:
+                    w, b = _widen_head(w, b, mod.weight.shape[1])
+                else:  # fewer classes than exported: the first ones (background, exit, ...) kept
+                    k = mod.weight.shape[1]
+                    w, b = w[:, :k].contiguous(), (b[:k].contiguous() if b is not None else None)
             if tuple(w.shape) != tuple(mod.weight.shape):
                 raise ValueError("init_from_onnx: %s convolution %d weight %s, model %s" %
                                  (source, k, tuple(w.shape), tuple(mod.weight.shape)))

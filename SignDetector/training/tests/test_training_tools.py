@@ -117,3 +117,23 @@ def test_foreground_weighted_distillation_emphasises_the_teachers_sign_pixels():
     weighted = tu.distill_loss(logits, teacher, keep, 30.0)
     assert abs(float(weighted - sign_ce)) < abs(float(plain - sign_ce))
     assert float(tu.distill_loss(logits, teacher, torch.tensor([False, False]), 30.0)) == 0.0
+
+
+def test_a_six_class_export_loads_into_the_two_class_model_as_its_first_classes(tmp_path):
+    torch = pytest.importorskip("torch")
+    pytest.importorskip("onnx")
+    import export_unet
+    import onnx
+    import train_unet as tu
+    torch.manual_seed(4)
+    six = tu.SignUNet(0.35, 6).eval()
+    path = str(tmp_path / "six.onnx")
+    torch.onnx.export(six, torch.zeros(1, 3, 64, 64), path, input_names=["image"], output_names=["logits"],
+                      opset_version=12, do_constant_folding=True, dynamo=False)
+    onnx.save(export_unet.simplify_for_opencv(onnx.load(path)), path)
+    two = tu.SignUNet(0.35, 2)
+    assert tu.init_from_onnx(two, path) == 68
+    two.eval()
+    x = torch.rand(1, 3, 64, 64, generator=torch.Generator().manual_seed(5))
+    with torch.no_grad():
+        assert float((two(x) - six(x)[:, :2]).abs().max()) < 1e-3
