@@ -951,6 +951,8 @@ constexpr NamedParameter kParameters[] = {
     {"lock.rival_margin_nats", 0, 1e3},
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
+    {"plane.weight", 0, 10},
+    {"plane.min_interval_s", 0, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
     {"sign.range_bias_sigma", 0, 1},
     {"twin.enabled", 0, 1},
@@ -960,7 +962,8 @@ constexpr NamedParameter kParameters[] = {
 
 const char *ParticleFilter::parameter_names() {
     return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,compass.max_total_nats,"
-           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,lock.core_radius_m,sign.negative_info_min_range_m,"
+           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,lock.core_radius_m,plane.weight,plane.min_interval_s,"
+           "sign.negative_info_min_range_m,"
            "sign.range_bias_sigma,twin.enabled";
 }
 
@@ -988,6 +991,8 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
     else if (name == "lock.jump_m") h.lock_jump_m = value;
     else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
+    else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
+    else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
     else if (name == "sign.range_bias_sigma") sign_model_.range_bias_sigma = static_cast<float>(value);
     else if (name == "twin.enabled") {
@@ -1010,6 +1015,8 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
+    else if (name == "plane.weight") value = planes_.params.weight;
+    else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;
     else if (name == "sign.range_bias_sigma") value = sign_model_.range_bias_sigma;
     else if (name == "twin.enabled") value = twin_.params().enabled ? 1 : 0;

@@ -281,6 +281,40 @@ TEST(ParticleFilterPlanes, WallPlanesConcentrateWeightOnHeadingsAlongTheCorridor
     EXPECT_EQ(pf.particles().weight, w0);
 }
 
+// The named parameters plane.weight and plane.min_interval_s reach the update: weight 0 makes planes carry no
+// information; a shorter interval admits an anchor again sooner.
+TEST(ParticleFilterPlanes, PlaneWeightAndIntervalAreNamedParameters) {
+    auto world = wf::test::corridor_world();
+    const auto o = filter_options();
+    const std::vector<wf_plane_observation> obs = {plane(1, 0, 1, -kPiF / 2, 3), plane(2, 0.5, -1, kPiF / 2, 2.5)};
+    auto along_after_planes = [&](double weight) {
+        ParticleFilter pf(wf::test::build_map(world, o), o, 42);
+        EXPECT_EQ(pf.set_parameter("plane.weight", weight), WF_LOC_OK);
+        EXPECT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+        wf_vio_sample s{0.0, 0.0, 0.0, 0.0, WF_VIO_TRACKING_NORMAL};
+        EXPECT_EQ(pf.predict(s), WF_LOC_OK);
+        const double before = weight_along_axis(pf, 0.2);
+        EXPECT_EQ(pf.update_planes(obs.data(), obs.size(), 0.1), WF_LOC_OK);
+        return weight_along_axis(pf, 0.2) / before;
+    };
+    EXPECT_NEAR(along_after_planes(0.0), 1.0, 1e-3);
+    EXPECT_GT(along_after_planes(0.5), 1.5);
+    EXPECT_GT(along_after_planes(1.0), along_after_planes(0.5));
+
+    ParticleFilter pf(wf::test::build_map(world, o), o, 42);
+    double v = 0;
+    ASSERT_EQ(pf.get_parameter("plane.min_interval_s", v), WF_LOC_OK);
+    EXPECT_DOUBLE_EQ(v, 1.0);
+    ASSERT_EQ(pf.set_parameter("plane.min_interval_s", 0.2), WF_LOC_OK);
+    EXPECT_EQ(pf.set_parameter("plane.weight", -1.0), WF_LOC_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    wf_vio_sample s{0.0, 0.0, 0.0, 0.0, WF_VIO_TRACKING_NORMAL};
+    ASSERT_EQ(pf.predict(s), WF_LOC_OK);
+    ASSERT_EQ(pf.update_planes(obs.data(), obs.size(), 0.1), WF_LOC_OK);
+    ASSERT_EQ(pf.update_planes(obs.data(), obs.size(), 0.4), WF_LOC_OK);  // 0.3 s later: admitted at 0.2 s
+    EXPECT_EQ(pf.plane_model().last_applied, 2u);
+}
+
 TEST(ParticleFilterPlanes, BadPlanesLeaveTheFilterUnchanged) {
     auto world = wf::test::corridor_world();
     const auto o = filter_options();
