@@ -11,8 +11,8 @@
 #include <opencv2/dnn.hpp>
 
 #include <limits>
-#include <string>
 #include <optional>
+#include <string>
 #include <vector>
 
 namespace wf::sign {

@@ -1,14 +1,15 @@
-"""The wall sign kinds as a second, light decoder beside a frozen Exit-sign U-Net ("kinds branch").
+"""The wall sign kinds as a second, light decoder beside a frozen Exit-sign U-Net ("kinds branch"; an experiment,
+not installed: docs/training.md "The wall kinds as a branch beside the frozen Exit model").
 
 Why: a six-class U-Net trained on this machine's CPU budget (docs/training.md, tenth and eleventh stops) either lost
 the Exit model's sensitivity to small Exit signs (kinds45, kinds25d, ci60k30) or learned too little of the wall
 kinds (kinds35): the Exit sign and the four wall kinds compete for one small network. Here they do not compete:
-the Exit model (`SignUNet`, two classes) is loaded and frozen, and only a narrower U-Net decoder of its own reads
-the frozen encoder's features and gives logits over (background, restroom, elevator, stairs, placard). The Exit
-channel is therefore the shipped model's to the last bit, and the extra classes cost one narrow decoder
-(about 14 % of the network's multiply-adds at the default widths), not a second network. This is ordinary
-multi-task learning with a shared, frozen trunk (e.g. Kokkinos 2017, "UberNet"); written here because no library
-ships this network.
+the Exit model (`SignUNet`, two classes) is loaded and frozen, and only a narrower U-Net decoder of its own
+(strides 16, 8, 4, then a nearest-neighbour 2x step) reads the frozen encoder's features and gives logits over
+(background, restroom, elevator, stairs, placard). The Exit sign's odds are therefore the shipped model's (to float
+rounding), and the extra classes cost one narrow decoder (about 10 % of the network's multiply-adds at the default
+widths), not a second network. Ordinary multi-task learning with a shared, frozen trunk (e.g. Kokkinos 2017,
+"UberNet"); written here because no library ships this network.
 
 Combined output (what the C++ detector and Core ML read: six class logits, render_signs.CLASSES order):
 with e = (e0, e1) the Exit model's logits and k = (k0, k1..k4) the branch's,
@@ -18,9 +19,10 @@ with e = (e0, e1) the Exit model's logits and k = (k0, k1..k4) the branch's,
 Its softmax keeps the Exit model's odds of exit against background exactly (e^(e1 - e0)) and gives a wall kind j the
 branch's odds e^(kj - k0) against background; where the branch sees no wall kind the exit probability is the Exit
 model's, and the probability of any sign, 1 - P(background), is never below it (the coarse pass keeps every Exit
-blob the Exit model gives). The combination is linear, so at export each head is folded into a six-channel
-transposed convolution and the two are added (`FoldedKindsBranchUNet`): the graph has only the operators the Exit
-model already uses (Conv, ConvTranspose, Relu, Add, Concat).
+blob the Exit model gives). The combination is linear in both heads' inputs, so the export
+(`FoldedKindsBranchUNet`) has one transposed convolution over the concatenated stride-2 features of the Exit
+decoder and the branch; the graph's operators are the Exit model's (Conv, ConvTranspose, Relu, Add, Concat, Sub,
+Div) and Resize (nearest), all read by OpenCV 4.6 and converted to Core ML.
 """
 from __future__ import annotations
 
