@@ -961,10 +961,13 @@ constexpr NamedParameter kParameters[] = {
 }  // namespace
 
 const char *ParticleFilter::parameter_names() {
-    return "compass.enabled,compass.kappa,compass.outlier_share,compass.min_distance_m,compass.max_nats,compass.max_total_nats,"
-           "lock.rival_weight,lock.rival_margin_nats,lock.jump_m,lock.core_radius_m,plane.weight,plane.min_interval_s,"
-           "sign.negative_info_min_range_m,"
-           "sign.range_bias_sigma,twin.enabled";
+    // Joined once from kParameters, so the list cannot miss a name the table has.
+    static const std::string names = [] {
+        std::string joined;
+        for (const NamedParameter &p : kParameters) joined += (joined.empty() ? "" : ",") + std::string(p.name);
+        return joined;
+    }();
+    return names.c_str();
 }
 
 int ParticleFilter::set_parameter(const std::string &name, double value) {
