@@ -74,6 +74,17 @@ def simplify_for_opencv(m):
     return m
 
 
+def export_onnx(model, path: str, opset: int = 12, input_hw: tuple = (224, 224)):
+    """Exports `model` (eval mode) to ONNX at `path` ("image" in, "logits" out, constants folded, made loadable by
+    OpenCV 4.6: simplify_for_opencv) and returns the saved onnx.ModelProto."""
+    import onnx
+    torch.onnx.export(model, torch.zeros(1, 3, *input_hw), path, input_names=["image"], output_names=["logits"],
+                      opset_version=opset, do_constant_folding=True, dynamo=False)
+    m = simplify_for_opencv(onnx.load(path))
+    onnx.save(m, path)
+    return m
+
+
 def main(argv=None) -> int:
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--checkpoint", required=True)
@@ -104,11 +115,8 @@ def main(argv=None) -> int:
     os.makedirs(a.out, exist_ok=True)
     onnx_path = os.path.join(a.out, "sign_unet.onnx")
     dummy = torch.zeros(1, 3, 224, 224)
-    torch.onnx.export(model, dummy, onnx_path, input_names=["image"], output_names=["logits"], opset_version=a.opset,
-                      do_constant_folding=True, dynamo=False)
+    m = export_onnx(model, onnx_path, a.opset)
     import onnx
-    m = simplify_for_opencv(onnx.load(onnx_path))
-    onnx.save(m, onnx_path)
     onnx.checker.check_model(m)
     ops = sorted({n.op_type for n in m.graph.node})
     print("onnx: %s (%.2f MB), opset %d, ops %s" % (onnx_path, os.path.getsize(onnx_path) / 1e6, a.opset, ops))

@@ -105,8 +105,7 @@ class KindsBranchUNet(nn.Module):
             t.eval()
         with torch.no_grad():
             feats = t.enc((x - t.mean) / t.std)
-            f2, f4, f8, f16, f32 = feats
-            y = t.up2(t.up4(t.up8(t.up16(f32, f16), f8), f4), f2)
+            y = t.decoder_features(feats)
         return y, feats
 
     def trunk_outputs(self, x):
@@ -130,10 +129,7 @@ class FoldedKindsBranchUNet(nn.Module):
     def __init__(self, m: KindsBranchUNet):
         super().__init__()
         t = m.trunk
-        self.register_buffer("mean", t.mean.clone())
-        self.register_buffer("std", t.std.clone())
-        self.enc = t.enc
-        self.up16, self.up8, self.up4, self.up2 = t.up16, t.up8, t.up4, t.up2
+        self.trunk = t  # its head is not called: the joint head below replaces it
         self.branch = m.branch
         he, hk = t.head, m.branch.head
         self.head = nn.ConvTranspose2d(he.in_channels + hk.in_channels, m.a_e.shape[0], he.kernel_size, he.stride)
@@ -143,11 +139,9 @@ class FoldedKindsBranchUNet(nn.Module):
             self.head.bias.copy_(m.a_e @ he.bias + m.a_k @ hk.bias)
 
     def forward(self, x):
-        x = (x - self.mean) / self.std
-        feats = self.enc(x)
-        f2, f4, f8, f16, f32 = feats
-        y = self.up2(self.up4(self.up8(self.up16(f32, f16), f8), f4), f2)
-        return self.head(torch.cat([y, self.branch.features(feats)], 1))
+        t = self.trunk
+        feats = t.enc((x - t.mean) / t.std)
+        return self.head(torch.cat([t.decoder_features(feats), self.branch.features(feats)], 1))
 
 
 def _conv_modules(module: nn.Module) -> list:

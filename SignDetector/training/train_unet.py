@@ -121,14 +121,13 @@ class SignUNet(nn.Module):
         # last 2x step straight to class logits (a full-resolution conv stack costs more than the encoder)
         self.head = nn.ConvTranspose2d(dec[3], num_classes, 2, 2)
 
+    def decoder_features(self, feats):
+        """The decoder's last features (stride 2, dec[3] channels) from the encoder's (f2, f4, f8, f16, f32)."""
+        f2, f4, f8, f16, f32 = feats
+        return self.up2(self.up4(self.up8(self.up16(f32, f16), f8), f4), f2)
+
     def forward(self, x):
-        x = (x - self.mean) / self.std
-        f2, f4, f8, f16, f32 = self.enc(x)
-        y = self.up16(f32, f16)
-        y = self.up8(y, f8)
-        y = self.up4(y, f4)
-        y = self.up2(y, f2)
-        return self.head(y)
+        return self.head(self.decoder_features(self.enc((x - self.mean) / self.std)))
 
 
 # --------------------------------------------------------------------------------------------------

@@ -56,10 +56,7 @@ def test_an_exported_model_loads_back_whole_and_as_the_exit_trunk(tmp_path):
     import train_unet as tu
     m = _random_model(torch, 5)
     path = str(tmp_path / "combined.onnx")
-    torch.onnx.export(kb.FoldedKindsBranchUNet(m).eval(), torch.zeros(1, 3, 64, 64), path, input_names=["image"],
-                      output_names=["logits"], opset_version=12, do_constant_folding=True, dynamo=False)
-    import onnx
-    onnx.save(export_unet.simplify_for_opencv(onnx.load(path)), path)
+    export_unet.export_onnx(kb.FoldedKindsBranchUNet(m).eval(), path, input_hw=(64, 64))
     x = torch.rand(1, 3, 64, 64, generator=torch.Generator().manual_seed(6))
     back = kb.KindsBranchUNet(0.35, (8, 8, 8))
     assert kb.init_from_exported(back, path) == "trunk and branch"

@@ -123,14 +123,11 @@ def test_a_six_class_export_loads_into_the_two_class_model_as_its_first_classes(
     torch = pytest.importorskip("torch")
     pytest.importorskip("onnx")
     import export_unet
-    import onnx
     import train_unet as tu
     torch.manual_seed(4)
     six = tu.SignUNet(0.35, 6).eval()
     path = str(tmp_path / "six.onnx")
-    torch.onnx.export(six, torch.zeros(1, 3, 64, 64), path, input_names=["image"], output_names=["logits"],
-                      opset_version=12, do_constant_folding=True, dynamo=False)
-    onnx.save(export_unet.simplify_for_opencv(onnx.load(path)), path)
+    export_unet.export_onnx(six, path, input_hw=(64, 64))
     two = tu.SignUNet(0.35, 2)
     assert tu.init_from_onnx(two, path) == 68
     two.eval()
