@@ -49,6 +49,13 @@ struct RowSettings {
     EdgeLocator locator = EdgeLocator::kGradientPeak;
 };
 
+/// A rise found by outermostRise: its edge's index (NaN: none), or the index to restart the search from when the
+/// rise was the background's (restartAt >= 0; the rise's top sample).
+struct Rise {
+    double edge = kNaN;
+    int restartAt = -1;
+};
+
 /// The outermost significant, persistent rise of `d` (distance from the background colour, index 0 = outermost
 /// sample, the first `stripRows` samples are the background strip). Returns the edge's index (fractional, between
 /// sample centres; s.locator: the peak of the parabola through the three steps around the steepest one, or the
@@ -60,9 +67,13 @@ struct RowSettings {
 /// either side of the edge itself, and the window is near-symmetric about the peak (no shift for a symmetric blur).
 /// It counts when it rises by at least max(minRiseLevels, minRiseNoiseFactor x noise) and d stays at or above its
 /// half level over most of the persistenceRows after its top (a line on the wall returns to the wall's colour).
-double outermostRise(const std::vector<double>& d, double noise, const RowSettings& s) {
+/// `isBackground(foot, top)` (sample indices) says whether the wall beside the face shows the same change: then
+/// the search stops there and asks to be restarted behind the rise.
+template <class Veto>
+Rise outermostRise(const std::vector<double>& d, double noise, const RowSettings& s, const Veto& isBackground) {
     const int n = static_cast<int>(d.size());
-    if (n < 3) return kNaN;
+    Rise none;
+    if (n < 3) return none;
     const double threshold = std::max(s.minRiseLevels, s.minRiseNoiseFactor * noise);
     auto step = [&](int k) { return d[k + 1] - d[k]; };  // between samples k and k + 1
     for (int k = std::max(0, s.stripRows - 1); k + 1 < n; ++k) {
@@ -92,18 +103,28 @@ double outermostRise(const std::vector<double>& d, double noise, const RowSettin
             k = b - 1;  // past this rise
             continue;
         }
+        Rise found;
+        if (isBackground(a, b)) {
+            found.restartAt = b;
+            return found;
+        }
         if (s.locator == EdgeLocator::kGradientPeak) {
             const double l = k > 0 ? step(k - 1) : 0.0, r = k + 2 < n ? step(k + 1) : 0.0;
             const double den = l - 2 * peak + r;
             const double delta = den < 0 ? std::clamp(0.5 * (l - r) / den, -0.5, 0.5) : 0.0;
-            return k + 0.5 + delta;
+            found.edge = k + 0.5 + delta;
+            return found;
         }
+        found.edge = a;
         for (int j = a + 1; j <= b; ++j) {
-            if (d[j] >= half) return (j - 1) + (half - d[j - 1]) / std::max(1e-9, d[j] - d[j - 1]);
+            if (d[j] >= half) {
+                found.edge = (j - 1) + (half - d[j - 1]) / std::max(1e-9, d[j] - d[j - 1]);
+                break;
+            }
         }
-        return a;
+        return found;
     }
-    return kNaN;
+    return none;
 }
 
 /// Distance profile from the background strip of rows `rows` (in order, outermost first) of column `u` of `light`
@@ -169,6 +190,48 @@ struct RoughGeometry {
     int first = 0, last = -1;
 };
 
+/// Columns of the wall beside the face, relative to the rough extent: `gap` columns outside it, `width` wide.
+struct SideColumns {
+    int gap = 1, width = 2;
+};
+
+SideColumns sideColumns(double roughHeightPx, const FaceEdgeParams& params) {
+    SideColumns c;
+    c.gap = 1 + static_cast<int>(std::lround(std::max(0.0, params.sideGapFraction) * roughHeightPx));
+    c.width = std::max(2, static_cast<int>(std::lround(std::max(0.0, params.sideWidthFraction) * roughHeightPx)));
+    return c;
+}
+
+/// Per row of `light`, the per-channel median colour of columns [x0, x0 + width) (CV_32FC(ch) rows x 1), or an
+/// empty Mat when those columns are not all inside `light`.
+cv::Mat sideColours(const cv::Mat& light, int x0, int width) {
+    if (x0 < 0 || x0 + width > light.cols || width <= 0) return cv::Mat();
+    const int ch = light.channels();
+    cv::Mat out(light.rows, 1, CV_32FC(ch));
+    std::vector<double> values(static_cast<size_t>(width));
+    for (int r = 0; r < light.rows; ++r) {
+        const float* p = light.ptr<float>(r);
+        for (int c = 0; c < ch; ++c) {
+            for (int i = 0; i < width; ++i) values[i] = p[(x0 + i) * ch + c];
+            out.ptr<float>(r)[c] = static_cast<float>(medianOf(values));
+        }
+    }
+    return out;
+}
+
+/// ||(a1 - a0) - (b1 - b0)|| and ||a1 - a0|| for ch-channel colours.
+void colourChanges(const float* a0, const float* a1, const float* b0, const float* b1, int ch, double* difference,
+                   double* change) {
+    double dd = 0, cc = 0;
+    for (int c = 0; c < ch; ++c) {
+        const double da = a1[c] - a0[c], db = b1[c] - b0[c];
+        dd += (da - db) * (da - db);
+        cc += da * da;
+    }
+    *difference = std::sqrt(dd);
+    *change = std::sqrt(cc);
+}
+
 RoughGeometry roughGeometry(const SliceMeasurement& rough) {
     RoughGeometry g;
     g.height = rough.medianHeightPx;
@@ -194,7 +257,8 @@ cv::Rect faceEdgeSearchRect(const SliceMeasurement& rough, const FaceEdgeParams&
     const double margin = std::max(0.0, params.searchMarginFraction) * g.height;
     const double half = 0.5 * std::max(0.0, rough.extentWidthPx);
     const double slopeRise = half * std::max(0.0, params.maxEdgeSlope);
-    const int x0 = g.first - 1, x1 = g.last + 1;
+    const SideColumns side = sideColumns(g.height, params);
+    const int x0 = g.first - side.gap - side.width, x1 = g.last + side.gap + side.width;
     const int y0 = static_cast<int>(std::floor(g.top - margin - slopeRise)) - 1;
     const int y1 = static_cast<int>(std::ceil(g.bottom + margin + slopeRise)) + 1;
     return cv::Rect(x0, y0, std::max(0, x1 - x0 + 1), std::max(0, y1 - y0 + 1));
@@ -232,8 +296,48 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
     s.locator = params.locator;
     const double margin = std::max(0.0, params.searchMarginFraction) * g.height;
 
-    std::vector<SliceEdges> edges;
+    // The wall beside the face, per row: left and right of the rough extent (empty where outside the image).
+    const SideColumns side = sideColumns(g.height, params);
+    const cv::Mat sideLeft = sideColours(light, g.first - side.gap - side.width - roi.x, side.width);
+    const cv::Mat sideRight = sideColours(light, g.last + side.gap + 1 - roi.x, side.width);
+    // Is the rise between profile samples `foot` and `top` (ROI rows row0 + step * index) the background's? Either
+    // side changes colour the same way across the same rows, widened by the blur's half-width each way (the
+    // background's line need not be level with the slice).
+    auto sameChangeBeside = [&](int u, int row0, int step, int n, int foot, int top) {
+        if (!(params.sideSameChangeFraction > 0)) return false;
+        const int ch = light.channels();
+        const int rowFoot = row0 + step * foot, rowTop = row0 + step * top;
+        const int outer = row0 + step * std::max(0, foot - s.blurRows);
+        const int inner = row0 + step * std::min(n - 1, top + s.blurRows);
+        const float* a0 = light.ptr<float>(rowFoot) + u * ch;
+        const float* a1 = light.ptr<float>(rowTop) + u * ch;
+        for (const cv::Mat* sideMat : {&sideLeft, &sideRight}) {
+            if (sideMat->empty()) continue;
+            double difference = 0, change = 0;
+            colourChanges(a0, a1, sideMat->ptr<float>(outer), sideMat->ptr<float>(inner), ch, &difference, &change);
+            if (difference < params.sideSameChangeFraction * change) return true;
+        }
+        return false;
+    };
+    // The edge on one side of a slice: the outermost rise of the distance from the wall's colour, searched again
+    // behind every rise the wall beside the face shares (at most 3 restarts). Returns a sample index or NaN.
     std::vector<double> d;
+    auto findEdge = [&](int u, int row0, int step, int n) {
+        int start = 0;
+        for (int attempt = 0; attempt < 4; ++attempt) {
+            if (n - start < s.stripRows + 2) return kNaN;
+            double noise = 0;
+            distanceProfile(light, u, row0 + step * start, step, n - start, s.stripRows, &d, &noise);
+            const Rise rise = outermostRise(d, noise, s, [&](int foot, int top) {
+                return sameChangeBeside(u, row0, step, n, start + foot, start + top);
+            });
+            if (rise.restartAt < 0) return std::isnan(rise.edge) ? kNaN : start + rise.edge;
+            start += rise.restartAt;
+        }
+        return kNaN;
+    };
+
+    std::vector<SliceEdges> edges;
     const std::vector<int> columns = sliceColumns(g.first, g.last, slices);
     result.searchedSlices = static_cast<int>(columns.size());
     for (int column : columns) {
@@ -250,12 +354,9 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
         if (topEnd > roi.y + roi.height - 1 || bottomEnd < roi.y) continue;
         const int nTop = topEnd - topStart + 1, nBottom = bottomStart - bottomEnd + 1;
         if (nTop < s.stripRows + 2 || nBottom < s.stripRows + 2) continue;
-        double noise = 0;
-        distanceProfile(light, u, topStart - roi.y, +1, nTop, s.stripRows, &d, &noise);
-        const double topIndex = outermostRise(d, noise, s);
+        const double topIndex = findEdge(u, topStart - roi.y, +1, nTop);
         if (std::isnan(topIndex)) continue;
-        distanceProfile(light, u, bottomStart - roi.y, -1, nBottom, s.stripRows, &d, &noise);
-        const double bottomIndex = outermostRise(d, noise, s);
+        const double bottomIndex = findEdge(u, bottomStart - roi.y, -1, nBottom);
         if (std::isnan(bottomIndex)) continue;
         SliceEdges e;
         e.column = column;

@@ -10,8 +10,10 @@
 // distance ||c(v) - B|| from the wall's colour B (the face's boundary: the outermost thing on it), and returns the
 // sub-pixel position of that rise's gradient peak (or its half-way crossing, EdgeLocator). Only the few samples
 // at the edge are used, so a slowly varying halo or bloom around a lit face, vignetting or a colour cast move it
-// little; slices whose edges do not lie on straight lines (a face's edges are straight) are dropped. Learned mask
-// edges and cascade boxes depend on the training renders; this edge depends only on the image.
+// little; slices whose edges do not lie on straight lines (a face's edges are straight) are dropped. A rise that the
+// wall beside the face shows too, at the same rows and with the same change of colour (a ceiling line, the top of a
+// door frame, a wall's edge running behind the sign), belongs to the background: the search restarts behind it.
+// Learned mask edges and cascade boxes depend on the training renders; this edge depends only on the image.
 #pragma once
 
 #include "slice_measurement.hpp"
@@ -66,6 +68,17 @@ struct FaceEdgeParams {
     /// The foot and the top of a rise are followed at most this fraction of H (at least 2 rows) from the row
     /// where it reaches the threshold: the blur's half-width; stops earlier where the profile stops rising.
     double blurFraction = 0.12;
+    /// A face's boundary ends where the face ends: a colour change that the wall beside the face shows at the same
+    /// rows (a ceiling line, a wall's edge, a door frame running behind the sign) belongs to the background, not to
+    /// the face. The wall beside the face is sampled in columns this far outside the rough extent (fraction of H,
+    /// plus one pixel: past a halo and a box's slack) ...
+    double sideGapFraction = 0.2;
+    /// ... over this many columns (fraction of H, at least 2), per row the per-channel median of each side.
+    double sideWidthFraction = 0.2;
+    /// A rise is taken for the background's and the search restarts behind it (the wall's colour re-taken just
+    /// inside it) when a side shows the same change of colour across the same rows: the difference of the two
+    /// colour changes is below this fraction of the slice's change. 0 turns the check off.
+    double sideSameChangeFraction = 0.5;
     /// A face's edges are straight lines: slices whose top or bottom edge lies farther than the larger of these
     /// (pixels; fraction of H) from robust lines through all slices' edges are dropped (they caught a letter, the
     /// halo or the wall).
@@ -111,7 +124,8 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
                                const FaceEdgeParams& params);
 
 /// The rows and columns of unrolled pixels that refineFaceEdges reads for `rough` (unrolled pixels): the rough
-/// extent plus one column each side, the rough edges plus the search margin and one row; integer pixel rect.
+/// extent plus one column each side and the side samples' columns (sideGapFraction, sideWidthFraction), the rough
+/// edges plus the search margin and one row; integer pixel rect.
 cv::Rect faceEdgeSearchRect(const SliceMeasurement& rough, const FaceEdgeParams& params);
 
 /// Refines a measurement in unrolled pixels from the raw frame: samples the unrolled pixels of

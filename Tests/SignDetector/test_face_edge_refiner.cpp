@@ -1,6 +1,6 @@
 // Tests of src/face_edge_refiner: sub-pixel edges of a synthetic face (area-sampled, blurred, noisy, with letters
-// and a halo), a too-tall and a too-short box fixed, wall texture ignored, fallbacks, and the in-frame sampling
-// through the unrolling (quarter turn and a tilted roll).
+// and a halo), a too-tall and a too-short box fixed, wall texture and a ceiling line beside the face ignored,
+// fallbacks, and the in-frame sampling through the unrolling (quarter turn and a tilted roll).
 #include "face_edge_refiner.hpp"
 
 #include "image_input.hpp"
@@ -110,6 +110,32 @@ TEST(FaceEdgeRefiner, IgnoresAThinLineOnTheWallAndAHalo) {
     ASSERT_TRUE(r.refined);
     EXPECT_NEAR(r.measurement.medianHeightPx, bottom - top, 0.5);
     EXPECT_NEAR(r.measurement.medianBottomEdgePx, bottom, 0.4);
+}
+
+TEST(FaceEdgeRefiner, SkipsABackgroundLineThatRunsOnBesideTheFace) {
+    // A far sign at VGA (15.5 px tall) mounted 3 px below a ceiling line: above the line the ceiling (lighter) spans
+    // the whole image. The cascade box is 35 % too tall, so the search starts on the ceiling; the ceiling-to-wall
+    // change is a significant, persistent rise from the ceiling's colour, but the wall beside the face shows the
+    // same change at the same rows, so it is the background's: the search restarts on the wall and finds the face.
+    const double top = 22.5, bottom = 38.0;
+    cv::Mat img = syntheticFace({90, 60}, 25.5, 48.5, top, bottom, {95, 110, 100}, {230, 225, 220}, 0.8, 1.5, 13);
+    img.rowRange(0, 20).setTo(cv::Scalar(200, 205, 210));
+    const SliceMeasurement rough = roughBox(25, 17, 24, 23);
+    const FaceEdgeResult r = refineFaceEdges(img, rough, SliceParams{}, FaceEdgeParams{});
+    ASSERT_TRUE(r.refined);
+    EXPECT_NEAR(r.measurement.medianHeightPx, bottom - top, 0.4);
+    EXPECT_NEAR(r.measurement.medianBottomEdgePx, bottom, 0.3);
+    // Without the look beside the face, the ceiling line is taken for the face's top edge (2-3 px too high).
+    FaceEdgeParams noSide;
+    noSide.sideSameChangeFraction = 0;
+    const FaceEdgeResult without = refineFaceEdges(img, rough, SliceParams{}, noSide);
+    ASSERT_TRUE(without.refined);
+    EXPECT_GT(without.measurement.medianHeightPx, bottom - top + 1.5);
+    // The side columns outside the image (the face at the image's left edge): the check uses the other side.
+    const cv::Mat shifted = img.colRange(20, 90).clone();
+    const FaceEdgeResult edge = refineFaceEdges(shifted, roughBox(5, 17, 24, 23), SliceParams{}, FaceEdgeParams{});
+    ASSERT_TRUE(edge.refined);
+    EXPECT_NEAR(edge.measurement.medianHeightPx, bottom - top, 0.4);
 }
 
 TEST(FaceEdgeRefiner, KeepsTheRoughMeasurementWithoutAnEdgeOrWhenOff) {
