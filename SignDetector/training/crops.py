@@ -224,6 +224,41 @@ def cascade_positive(rng: np.random.Generator, win=(24, 16)) -> np.ndarray:
     return cv2.resize(g, win, interpolation=cv2.INTER_AREA)
 
 
+def _phone_frame_vga(rng: np.random.Generator, with_sign: bool, width: int = 640, **kw):
+    """A phone-style source frame (_scene, phone=True) unrolled and rendered whole with its long side `width`, as
+    the cascade searches it (auto exposure meters the whole frame, so a lit face is exposed as in the frame, not as
+    in a crop around it): (grey image, T, signs, unrolled intrinsics, scale from unrolled to rendered pixels)."""
+    T, signs, intr_raw, ph = _scene(rng, with_sign, True)
+    intr_u = unrolled_intrinsics(intr_raw, T)
+    s = width / max(intr_u["width"], intr_u["height"])
+    ow, oh = int(round(intr_u["width"] * s)), int(round(intr_u["height"] * s))
+    img, _, _ = render_view(rng, T, signs, intr_u, 0, 0, intr_u["width"], intr_u["height"], ow, oh, phone=ph, **kw)
+    return cv2.cvtColor(img, cv2.COLOR_RGB2GRAY), T, signs, intr_u, s
+
+
+def cascade_positive_phone(rng: np.random.Generator, win=(24, 16)) -> np.ndarray:
+    """Grey win[0] x win[1] window around an Exit face (US text or ISO running man) of a phone-style frame
+    (render_signs phone style: LED faces, auto exposure, rolling shutter, walking blur, glare, glossy floor; the
+    1920 x 1440 or the 640 x 480 sensor, phone_sensor), cut from the whole unrolled frame rendered at VGA scale
+    (_phone_frame_vga) with cascade_positive's framing (window width 1.1 x max(face width, 1.5 x face height),
+    scale jitter exp(N(0, 0.05)), centre jitter N(0, 0.03) of the window), but never smaller than the window the
+    cascade searches (win[0] px wide: a far face fills less of it, as at run time), area-resized to win."""
+    g, T, signs, intr_u, s = _phone_frame_vga(rng, True, residual_roll=math.radians(rng.normal(0, 1.5)))
+    uv, w, h = sign_box_unrolled(_virtual(T, 0.0), intr_u, signs[0], T)
+    ww = max(float(win[0]), max(w, 1.5 * h) * s * 1.1 * math.exp(rng.normal(0, 0.05)))
+    wh = ww * win[1] / win[0]
+    c = uv.mean(axis=0) * s + rng.normal(0, 0.03, 2) * np.array([ww, wh])
+    size = (int(round(ww)), int(round(wh)))
+    crop = cv2.getRectSubPix(g, size, (float(c[0]), float(c[1])))
+    return cv2.resize(crop, win, interpolation=cv2.INTER_AREA)
+
+
+def negative_frame_phone(rng: np.random.Generator, width: int = 640) -> np.ndarray:
+    """Grey unrolled sign-free phone-style frame (its clutter: posters, ceiling lights, fiducial markers, doors,
+    glossy floors) at VGA scale (long side `width`), 2-9 distractors."""
+    return _phone_frame_vga(rng, False, width, n_distractors=int(rng.integers(2, 10)))[0]
+
+
 def negative_frame(rng: np.random.Generator, width: int = 640) -> np.ndarray:
     """Grey unrolled sign-free frame at VGA-like scale (longer side = width), many distractors."""
     intr_raw = rs.RAW_INTRINSICS

@@ -29,6 +29,11 @@ frames with their black corners by default, --kind-negatives), plus "confuser"
 windows: windows framed like the positives around faces of every other kind (Exit included), those the
 cascade so far accepts, up to half of --num-neg per stage (load_kind_samples).
 
+Phone style (Exit, --phone-pos N --phone-neg-frames M): N windows around Exit faces of phone-style frames
+(crops.cascade_positive_phone: LED faces, auto exposure, walking blur, rolling shutter, glare, ISO running-man
+signs beside the text ones) are added to the positives and M phone-style sign-free frames (posters, ceiling
+lights, fiducial markers, glossy floors) to the negative frames.
+
 Usage: python3 train_cascade.py --out ../models/exit_sign_cascade.xml --seed 7
        python3 train_cascade.py --kind placard --out ../models/placard_cascade.xml --seed 7 --num-pos 2000
 """
@@ -415,6 +420,22 @@ def mine_negatives_exact(xml_path: str, stages: List[Stage], rects_all: np.ndarr
     return out[rng.permutation(len(out))[:n]], scanned
 
 
+def _render_one(job) -> np.ndarray:
+    fn, seed, stream, i = job
+    return fn(np.random.default_rng([seed, stream, i]))
+
+
+def rendered(fn, seed: int, stream: int, n: int, workers: int = 1) -> List[np.ndarray]:
+    """[fn(default_rng([seed, stream, i])) for i in range(n)], in `workers` processes (the same samples for any
+    count: every sample has its own generator)."""
+    jobs = [(fn, seed, stream, i) for i in range(n)]
+    if workers <= 1 or n < 2:
+        return [_render_one(j) for j in jobs]
+    import multiprocessing as mp
+    with mp.get_context("fork").Pool(workers) as pool:
+        return pool.map(_render_one, jobs, chunksize=16)
+
+
 def kind_windows(cache_dir: str, kind: str, seed: int, n: int, win: Tuple[int, int], log) -> np.ndarray:
     """The first n windows of `kind` (crops.kind_window, generators (seed, 20 + KIND_CODES[kind], i)),
     cached in cache_dir and extended when more are asked for."""
@@ -649,6 +670,13 @@ def main(argv=None) -> int:
                     help="put the new stages after this many of the cascade's first stages (default 0: in front)")
     ap.add_argument("--prepend-uniform", action="store_true",
                     help="equal starting weights for the negatives (default: weighted by the cascade's cost)")
+    ap.add_argument("--phone-pos", type=int, default=0,
+                    help="Exit: phone-style positive windows added to --num-pos (crops.cascade_positive_phone, "
+                         "generators (seed, 16, i))")
+    ap.add_argument("--phone-neg-frames", type=int, default=0,
+                    help="Exit: phone-style sign-free frames added to --neg-frames (crops.negative_frame_phone, "
+                         "generators (seed, 17, i))")
+    ap.add_argument("--workers", type=int, default=1, help="processes rendering the samples (same samples for any count)")
     ap.add_argument("--cache", default=os.path.join(os.path.dirname(os.path.abspath(__file__)), "data"))
     a = ap.parse_args(argv)
     t0 = time.time()
@@ -671,13 +699,29 @@ def main(argv=None) -> int:
         pos, frames = z["pos"], list(z["frames"])
         log("loaded %s" % cache)
     else:
-        pos = np.stack([crops.cascade_positive(np.random.default_rng([a.seed, 10, i])) for i in range(a.num_pos)])
+        pos = np.stack(rendered(crops.cascade_positive, a.seed, 10, a.num_pos, a.workers))
         log("rendered %d positives" % len(pos))
-        frames = [crops.negative_frame(np.random.default_rng([a.seed, 11, i])) for i in range(a.neg_frames)]
+        frames = rendered(crops.negative_frame, a.seed, 11, a.neg_frames, a.workers)
         log("rendered %d negative frames" % len(frames))
         arr = np.empty(len(frames), object)
         arr[:] = frames
         np.savez(cache, pos=pos, frames=arr)
+    if a.kind == "exit" and (a.phone_pos > 0 or a.phone_neg_frames > 0):
+        phone_cache = os.path.join(a.cache, "cascade_phone_samples_seed%d_p%d_f%d.npz" % (a.seed, a.phone_pos, a.phone_neg_frames))
+        if os.path.exists(phone_cache):
+            z = np.load(phone_cache, allow_pickle=True)
+            phone_pos, phone_frames = z["pos"], list(z["frames"])
+            log("loaded %s" % phone_cache)
+        else:
+            phone_pos = np.stack(rendered(crops.cascade_positive_phone, a.seed, 16, a.phone_pos, a.workers)) \
+                if a.phone_pos > 0 else np.zeros((0, WIN_H, WIN_W), np.uint8)
+            phone_frames = rendered(crops.negative_frame_phone, a.seed, 17, a.phone_neg_frames, a.workers)
+            arr = np.empty(len(phone_frames), object)
+            arr[:] = phone_frames
+            np.savez(phone_cache, pos=phone_pos, frames=arr)
+            log("rendered %d phone-style positives, %d phone-style negative frames" % (len(phone_pos), len(phone_frames)))
+        pos = np.concatenate([pos, phone_pos])
+        frames = list(frames) + list(phone_frames)
     t_train0 = time.time()
     rects = enumerate_features()
     offsets = (np.arange(len(rects), dtype=np.int32) * 256)

@@ -1,7 +1,7 @@
 """train_unet.py tools: the warm start from an exported ONNX model reproduces that model, heavy
 augmentation is deterministic per generator seed and keeps images in range, and rendered training
-samples do not depend on the number of rendering processes. Skipped without torch (training-time
-dependency)."""
+samples (the U-Net's and the phone-style cascade windows) do not depend on the number of rendering processes.
+The torch tests are skipped without torch (training-time dependency)."""
 import json
 import os
 import sys
@@ -134,3 +134,17 @@ def test_a_six_class_export_loads_into_the_two_class_model_as_its_first_classes(
     x = torch.rand(1, 3, 64, 64, generator=torch.Generator().manual_seed(5))
     with torch.no_grad():
         assert float((two(x) - six(x)[:, :2]).abs().max()) < 1e-3
+
+
+def test_phone_cascade_samples_are_seeded_sized_and_independent_of_workers():
+    """train_cascade.py --phone-pos / --phone-neg-frames: phone-style Exit windows at the cascade's 24 x 16 and
+    sign-free VGA frames, the same for a seed whatever the number of rendering processes."""
+    import crops
+    import train_cascade as tc
+    a = tc.rendered(crops.cascade_positive_phone, 7, 16, 4, workers=1)
+    b = tc.rendered(crops.cascade_positive_phone, 7, 16, 4, workers=2)
+    assert all(x.shape == (16, 24) and x.dtype == np.uint8 for x in a)
+    assert all(np.array_equal(x, y) for x, y in zip(a, b))
+    assert not np.array_equal(a[0], a[1])
+    g = crops.negative_frame_phone(np.random.default_rng([7, 17, 0]))
+    assert g.ndim == 2 and max(g.shape) == 640
