@@ -31,6 +31,16 @@ enum ReplayCommand: Subcommand {
                        (the exploratory instruction in force) and spokenAdvice (when one is said);
                        hypothesisList (weight, x, y, headingRad, evidenceNats) while not localized or
                        while more than one hypothesis is held
+      --trace-particles FILE
+                       write the particle cloud (an even subsample) every --trace-particles-every seconds, one
+                       JSON line per moment: {"t": s, "count": n, "columns": ["xMeters", "yMeters", "headingRad",
+                       "scale", "weight", "floorId"], "particles": [[x, y, heading, scale, weight, floor], ...]};
+                       heading is the camera's in the map (VIO yaw + the particle's yaw offset), weight is
+                       normalised over the whole cloud, not over the subsample
+      --trace-particles-every S
+                       seconds between particle dumps (default 0.5; the last frame is always dumped)
+      --trace-particles-count N
+                       particles per dump, at most (default 5000)
     \(EvidenceSwitches.usage)
     Speech (espeak-ng, Debian package espeak-ng, installed by scripts/setup.sh):
       --speak          after the replay, play the walk in real time: each announcement is printed and spoken
@@ -52,6 +62,21 @@ enum ReplayCommand: Subcommand {
     Exit codes: 0 ok, 1 bad input (map, bundle), 2 usage.
     """
 
+    /// One JSON line per particle cloud for `--trace-particles`: time, particle count and one row per particle
+    /// (x and y in meters to the millimetre, camera heading in radians, VIO scale, normalised weight, floor id).
+    static func particleTraceLines(_ timeline: [ParticleSnapshot]) -> [String] {
+        timeline.map { snap in
+            let rows = snap.particles.map { p -> String in
+                let floor = String(data: (try? JSONEncoder().encode(p.floorId)) ?? Data("\"\"".utf8), encoding: .utf8) ?? "\"\""
+                return String(format: "[%.3f,%.3f,%.4f,%.4f,%.6g,", p.position.x, p.position.y, p.headingRad, p.scale, p.weight)
+                    + floor + "]"
+            }
+            return String(format: "{\"t\":%.4f,\"count\":%d,", snap.t, snap.particles.count)
+                + "\"columns\":[\"xMeters\",\"yMeters\",\"headingRad\",\"scale\",\"weight\",\"floorId\"],"
+                + "\"particles\":[" + rows.joined(separator: ",") + "]}"
+        }
+    }
+
     static func run(_ arguments: inout ArgumentList) throws -> Int32 {
         let mapPath = try arguments.requiredOption("map")
         var pipeline = PipelineOptions()
@@ -60,6 +85,11 @@ enum ReplayCommand: Subcommand {
         pipeline.floorId = try arguments.option("floor") ?? MapSpec.floor(of: mapPath)
         if let seed = try arguments.seedOption() { pipeline.seed = seed }
         let tracePath = try arguments.option("trace")
+        let particleTracePath = try arguments.option("trace-particles")
+        let particleTraceEverySeconds = try arguments.doubleOption("trace-particles-every") ?? 0.5
+        let particleTraceCount = try arguments.intOption("trace-particles-count") ?? 5000
+        guard particleTraceEverySeconds > 0 else { throw CLIError.usage("--trace-particles-every must be > 0") }
+        guard particleTraceCount > 0 else { throw CLIError.usage("--trace-particles-count must be > 0") }
         let speak = arguments.flag("speak")
         let audioPath = try arguments.option("audio")
         let espeakPath = try arguments.option("espeak")
@@ -87,6 +117,10 @@ enum ReplayCommand: Subcommand {
         }
         var options = Replay.Options(pipeline: Replay.options(for: bundle, overriding: pipeline))
         options.snapshotParticleCount = 0
+        if particleTracePath != nil {
+            options.particleTimelineIntervalSeconds = particleTraceEverySeconds
+            options.particleTimelineCount = particleTraceCount
+        }
         let result: ReplayResult
         do {
             result = try Replay.run(bundle: bundle, building: building, options: options) { fraction in
@@ -135,6 +169,13 @@ enum ReplayCommand: Subcommand {
                 throw CLIError.failure("cannot write trace \(tracePath): \(error.localizedDescription)")
             }
             note("replay: trace written to \(tracePath) (\(result.trace.count) lines)")
+        }
+        if let particleTracePath {
+            let text = particleTraceLines(result.particleTimeline).joined(separator: "\n") + "\n"
+            do { try Data(text.utf8).write(to: URL(fileURLWithPath: particleTracePath), options: .atomic) } catch {
+                throw CLIError.failure("cannot write particle trace \(particleTracePath): \(error.localizedDescription)")
+            }
+            note("replay: particle trace written to \(particleTracePath) (\(result.particleTimeline.count) lines)")
         }
         return 0
     }

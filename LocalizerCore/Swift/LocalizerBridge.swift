@@ -121,7 +121,7 @@ enum LocalizerBridge {
                 let f = Int(p.floor_index)
                 return ParticleSample(position: Point2(x: Double(p.x), y: Double(p.y)), headingRad: Double(p.heading_rad),
                                       floorId: f >= 0 && f < floorIds.count ? floorIds[f] : "",
-                                      weight: Double(p.weight))
+                                      weight: Double(p.weight), scale: Double(p.scale))
             }
         }
     }

@@ -234,10 +234,18 @@ public struct ParticleSample: Sendable {
     public var floorId: String
     /// Normalised weight (over all particles).
     public var weight: Double
+    /// VIO scale factor (map meters per VIO meter).
+    public var scale: Double
 
-    /// Creates a particle sample.
+    /// Creates a particle sample with VIO scale 1.
     public init(position: Point2, headingRad: Double, floorId: String, weight: Double) {
+        self.init(position: position, headingRad: headingRad, floorId: floorId, weight: weight, scale: 1)
+    }
+
+    /// Creates a particle sample with its VIO scale factor.
+    public init(position: Point2, headingRad: Double, floorId: String, weight: Double, scale: Double) {
         self.position = position; self.headingRad = headingRad; self.floorId = floorId; self.weight = weight
+        self.scale = scale
     }
 }
 

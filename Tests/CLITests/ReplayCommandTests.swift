@@ -13,6 +13,10 @@ final class ReplayCommandTests: XCTestCase {
         let description: String
         let traceLines: [String]
         let frameCount: Int
+        /// Lines of the `--trace-particles` file (every 2 s, at most 40 particles each).
+        let particleLines: [String]
+        /// Time of the sample's last frame, seconds.
+        let lastFrameT: Double
     }
 
     private static let sampleReplay: Result<SampleReplay, CLITestSetupError> = {
@@ -24,13 +28,20 @@ final class ReplayCommandTests: XCTestCase {
             let dir = try CLI.makeTemporaryDirectory("replay")
             defer { try? FileManager.default.removeItem(at: dir) }
             let trace = dir.appendingPathComponent("trace.jsonl")
+            let particles = dir.appendingPathComponent("particles.jsonl")
             let r = try CLI.run(["replay", CLI.sampleBundlePath, "--map", CLI.officeMapPath, "--seed", "1",
-                                 "--trace", trace.path], timeoutSeconds: 180)
+                                 "--trace", trace.path, "--trace-particles", particles.path,
+                                 "--trace-particles-every", "2", "--trace-particles-count", "40"], timeoutSeconds: 180)
             let traceText = (try? String(contentsOf: trace, encoding: .utf8)) ?? ""
-            let frames = try String(contentsOf: sample.appendingPathComponent("frames.jsonl"), encoding: .utf8)
-                .split(separator: "\n").count
+            let particleText = (try? String(contentsOf: particles, encoding: .utf8)) ?? ""
+            let frameLines = try String(contentsOf: sample.appendingPathComponent("frames.jsonl"), encoding: .utf8)
+                .split(separator: "\n")
+            let lastFrame = try JSONSerialization.jsonObject(with: Data((frameLines.last ?? "{}").utf8)) as? [String: Any]
             return .success(SampleReplay(exitCode: r.exitCode, stdout: r.stdout, stderr: r.stderr, description: r.description,
-                                         traceLines: traceText.split(separator: "\n").map(String.init), frameCount: frames))
+                                         traceLines: traceText.split(separator: "\n").map(String.init),
+                                         frameCount: frameLines.count,
+                                         particleLines: particleText.split(separator: "\n").map(String.init),
+                                         lastFrameT: (lastFrame?["t"] as? NSNumber)?.doubleValue ?? .nan))
         } catch {
             return .failure(.failed("\(error)"))
         }
@@ -130,6 +141,42 @@ final class ReplayCommandTests: XCTestCase {
         let printed = r.stdout.split(separator: "\n").filter { !$0.contains("(haptic:") }.count
         XCTAssertEqual(spoken, printed, r.description)
         XCTAssertTrue(r.stderr.contains("trace written"), "no trace confirmation on stderr: \(r.description)")
+    }
+
+    /// `--trace-particles`: one JSON object per dump, every 2 s and at the last frame, each with its time, the
+    /// documented columns and at most the asked number of rows of (x, y, heading, scale, weight, floor id).
+    func testParticleTraceHasOneLinePerDumpWithTheDocumentedColumns() throws {
+        let r = try replay()
+        XCTAssertFalse(r.particleLines.isEmpty, "no particle trace: \(r.description)")
+        XCTAssertTrue(r.stderr.contains("particle trace written"), r.description)
+        var times: [Double] = []
+        for (i, line) in r.particleLines.enumerated() {
+            guard let object = try JSONSerialization.jsonObject(with: Data(line.utf8)) as? [String: Any] else {
+                XCTFail("particle line \(i + 1) is not a JSON object"); continue
+            }
+            XCTAssertEqual(Set(object.keys), ["t", "count", "columns", "particles"], "particle line \(i + 1)")
+            XCTAssertEqual(object["columns"] as? [String], ["xMeters", "yMeters", "headingRad", "scale", "weight", "floorId"])
+            let rows = try XCTUnwrap(object["particles"] as? [[Any]], "particle line \(i + 1)")
+            XCTAssertEqual(rows.count, (object["count"] as? NSNumber)?.intValue, "particle line \(i + 1)")
+            XCTAssertTrue((1...40).contains(rows.count), "particle line \(i + 1): \(rows.count) rows")
+            for row in rows {
+                XCTAssertEqual(row.count, 6, "particle line \(i + 1)")
+                let numbers = row.prefix(5).compactMap { ($0 as? NSNumber)?.doubleValue }
+                XCTAssertEqual(numbers.count, 5, "particle line \(i + 1): \(row)")
+                XCTAssertTrue(numbers.allSatisfy(\.isFinite), "particle line \(i + 1): \(row)")
+                if numbers.count == 5 {
+                    XCTAssertTrue(abs(numbers[2]) <= Double.pi + 1e-3, "heading \(numbers[2])")
+                    XCTAssertTrue(numbers[3] > 0.5 && numbers[3] < 2, "scale \(numbers[3])")
+                    XCTAssertTrue((0...1).contains(numbers[4]), "weight \(numbers[4])")
+                }
+                XCTAssertEqual(row[5] as? String, "1", "the sample walks the office's floor 1")
+            }
+            times.append(try XCTUnwrap((object["t"] as? NSNumber)?.doubleValue))
+        }
+        // Every 2 s from the first frame, and the last frame.
+        XCTAssertEqual(times, times.sorted(), "dump times go back")
+        for (a, b) in zip(times, times.dropFirst().dropLast()) { XCTAssertEqual(b - a, 2, accuracy: 0.05) }
+        XCTAssertEqual(times.last ?? .nan, r.lastFrameT, accuracy: 1e-3)
     }
 
     func testMissingMapExitsOneNamingTheFile() throws {
