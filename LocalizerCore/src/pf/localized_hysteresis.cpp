@@ -36,7 +36,10 @@ bool LocalizedHysteresis::update(const HysteresisInput &in) {
         }
         return localized_;
     }
-    const bool ambiguous = in.unrefuted_rival_weight > 0 || in.twin_log_ratio < p_.rival_refute_nats;
+    // Sightings the dominant hypothesis calls false positives, less likely than the refutation margin allows:
+    // some pose outside the cloud explains them, a rival no particle represents.
+    const bool unexplained = p_.explain_sightings && in.unexplained_sighting_nats >= p_.rival_refute_nats;
+    const bool ambiguous = in.unrefuted_rival_weight > 0 || in.twin_log_ratio < p_.rival_refute_nats || unexplained;
     if (in.dominant_weight > p_.localize_weight && in.std_m < p_.localize_std_m && !ambiguous && !jumped) {
         if (!has_candidate_) {
             has_candidate_ = true;

@@ -21,6 +21,12 @@
 //  - on a symmetric floor, its twin explains the evidence better by more than `lock_rival_margin_nats`.
 // On a symmetric floor, becoming localized also needs the evidence against the dominant hypothesis's twins to
 // reach rival_refute_nats (pf/twin_guard).
+// Becoming localized also needs the dominant hypothesis to account for the sightings of the hold period: the
+// sighting frames it explains only as false positives (pf/particle_filter.cpp, note_unexplained_sightings)
+// must not be less likely under the detector's false-positive model than e^-rival_refute_nats. Such sightings
+// were made by some sign, so some pose the cloud does not hold explains them (a rival no particle
+// represents); a lock meanwhile is a lock on the best of the wrong places (docs/localizer.md "Thirteenth
+// stop").
 #pragma once
 
 #include <cstdint>
@@ -45,6 +51,9 @@ struct LocalizedHysteresisParams {
     /// cluster that really spreads still breaks the lock (a 2-D Gaussian of std 2.1 m keeps 97 % of its
     /// weight and a core std above 2 m: test_cluster_core).
     double lock_core_radius_m = 6.0;
+    /// Nonzero: becoming localized needs the dominant hypothesis to explain the hold period's sightings
+    /// (HysteresisInput::unexplained_sighting_nats); 0 turns the rule off (for studies).
+    bool explain_sightings = true;
 };
 
 /// What the flag looks at, from one clustering of the particles.
@@ -68,6 +77,10 @@ struct HysteresisInput {
     /// rival_refute_nats (the twin is a rival that no particle may happen to represent); a lock drops when it
     /// falls below -lock_rival_margin_nats (the twin explains the evidence better).
     double twin_log_ratio = 1e300;
+    /// Sighting frames of the last localize_hold_s that the dominant hypothesis explains only as false
+    /// positives: the sum of -log(false-positive probability) over their sightings, nats (0 when it explains
+    /// every one). Becoming localized needs it below rival_refute_nats.
+    double unexplained_sighting_nats = 0;
 };
 
 /// The flag's state machine. Value type; reset() on every init of the filter.

@@ -210,6 +210,7 @@ void ParticleFilter::reset_filter_state() {
     arm_corroboration(false);
     was_localized_ = false;
     last_sighting_t_ = -std::numeric_limits<double>::infinity();
+    unexplained_frames_.clear();
     estimate_dirty_ = true;
     dominant_members_valid_ = false;
     // A compass prior given before the first VIO yaw is applied at the next predict.
@@ -439,6 +440,36 @@ int ParticleFilter::predict(const wf_vio_sample &s) {
     return WF_LOC_OK;
 }
 
+void ParticleFilter::note_unexplained_sightings(const std::vector<PreparedSighting> &z, double t) {
+    if (z.empty() || !dominant_members_valid_ || !hysteresis_.params().explain_sightings) return;
+    // A particle explains the frame when its signs at least double the likelihood the sightings have as false
+    // positives alone (for one sighting: the sign term outweighs the clutter term, as for the range-bias
+    // statistics).
+    const float explained_above = clutter_only_log_likelihood(sign_model_, z.data(), z.size()) + std::log(2.0f);
+    double w_all = 0, w_unexplained = 0;
+    for (uint32_t i : dominant_members_) {
+        const double w = p_.weight[i];
+        w_all += w;
+        if (!(log_likelihood_[i] >= explained_above)) w_unexplained += w;
+    }
+    if (!(w_all > 0) || w_unexplained < 0.5 * w_all) return;
+    double nats = 0;
+    for (const PreparedSighting &s : z) nats -= std::log(std::max(static_cast<double>(s.clutter_probability), 1e-6));
+    unexplained_frames_.emplace_back(t, nats);
+}
+
+double ParticleFilter::unexplained_sighting_nats(double t) {
+    const double since = t - hysteresis_.params().localize_hold_s;
+    size_t drop = 0;
+    while (drop < unexplained_frames_.size() && !(unexplained_frames_[drop].first > since)) ++drop;
+    unexplained_frames_.erase(unexplained_frames_.begin(), unexplained_frames_.begin() + static_cast<std::ptrdiff_t>(drop));
+    double nats = 0;
+    for (const auto &f : unexplained_frames_) {
+        if (f.first <= t) nats += f.second;
+    }
+    return nats;
+}
+
 int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, double t) {
     if (!initialized_) return fail(WF_LOC_ERR_NOT_INITIALIZED, "update_signs before an init");
     if (count > 0 && obs == nullptr) return fail(WF_LOC_ERR_INVALID_ARGUMENT, "observations is NULL with count > 0");
@@ -461,6 +492,7 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         }
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
                                                  log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data());
+        note_unexplained_sightings(z, t);
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
             if (twin_scored[k]) twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_lls_[k].data());
         }
@@ -951,6 +983,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.rival_margin_nats", 0, 1e3},
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
+    {"lock.explain_sightings", 0, 1},
     {"plane.weight", 0, 10},
     {"plane.min_interval_s", 0, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
@@ -994,6 +1027,10 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
     else if (name == "lock.jump_m") h.lock_jump_m = value;
     else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
+    else if (name == "lock.explain_sightings") {
+        h.explain_sightings = value != 0;
+        if (value == 0) unexplained_frames_.clear();
+    }
     else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
     else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
@@ -1018,6 +1055,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
+    else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
     else if (name == "plane.weight") value = planes_.params.weight;
     else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;
@@ -1131,6 +1169,7 @@ void ParticleFilter::compute_estimate() {
             set_pose_from_core(e, core);
         }
     }
+    hin.unexplained_sighting_nats = unexplained_sighting_nats(t_last_);
     const bool localized = hysteresis_.update(hin);
     // A new lock is corroborated. A lock that sightings break (within a second of one) must be earned again
     // against fresh rivals: the cloud that was wrong may have no particle left where the traveler is. (A

@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "common/rng.hpp"
@@ -115,6 +116,14 @@ private:
     /// Adds (ll - max ll), floored at -50 nats, to each particle's recent evidence, forgetting the old with the
     /// evidence time constant since the last evidence at time t.
     void accumulate_evidence(const float *ll, float max_ll, double t);
+    /// After a sign update's likelihoods (log_likelihood_) and before the reweighting: when the particles of
+    /// the last estimate's dominant cluster holding at least half its weight explain the frame's sightings only
+    /// as false positives (their likelihood is less than twice the clutter-only likelihood), records the frame
+    /// with the sum of -log(false-positive probability) of its sightings, for the localized flag
+    /// (HysteresisInput::unexplained_sighting_nats).
+    void note_unexplained_sightings(const std::vector<PreparedSighting> &z, double t);
+    /// Sum of the recorded frames of the last localize_hold_s before time t, nats; older ones are dropped.
+    double unexplained_sighting_nats(double t);
     void compute_estimate();
     /// Replaces `fraction` of the particles with poses drawn from the current sightings (last_sightings_) on the
     /// estimate's floor, holding that share of the weight and the best evidence present: rival explanations of
@@ -153,6 +162,9 @@ private:
     std::vector<float> log_likelihood_;
     std::vector<float> tempering_w_, tempering_d_;  // tempering_exponent's subsample
     std::vector<PreparedSighting> last_sightings_;  // sightings of the update being resampled
+    /// Sighting frames the dominant hypothesis explained only as false positives: (time s, nats), oldest first
+    /// (note_unexplained_sightings).
+    std::vector<std::pair<double, double>> unexplained_frames_;
     std::vector<uint32_t> indices_;
     /// Hypothesis-preserving resampling: particle indices grouped by cluster (group g is
     /// group_members_[group_start_[g] .. group_start_[g + 1])).

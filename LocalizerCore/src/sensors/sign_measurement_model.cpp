@@ -46,6 +46,13 @@ namespace {
 constexpr int kMaxCandidates = 64;
 }
 
+float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighting *sightings, size_t count) {
+    const float u_clutter = 1.0f / (m.max_range_m * 2.0f * m.half_fov_rad);
+    float ll = 0.0f;
+    for (size_t o = 0; o < count; ++o) ll += std::log(sightings[o].clutter_probability * u_clutter);
+    return ll;
+}
+
 WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
                           const PreparedSighting *sightings, size_t count, float *log_likelihood,
                           float *bias_s1_out, float *bias_s0_out) {

@@ -76,6 +76,11 @@ struct PreparedSighting {
 std::vector<PreparedSighting> prepare_sightings(const wf_sign_observation *obs, size_t count, const SignModelParams &m,
                                                 int32_t kind_count, size_t *non_finite);
 
+/// Log-likelihood of the frame's sightings for a particle that sees no sign of their kinds: each sighting a
+/// false positive, p_clutter * u with u = 1 / (max_range_m * field of view). The same float expressions as
+/// sign_log_likelihood uses for such a particle (so the values are equal).
+float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighting *sightings, size_t count);
+
 /// Log-likelihood of the frame's sightings for every particle (heading = vio_yaw + yaw_offset), written to
 /// `log_likelihood` (size p.size()). Returns the maximum. With no sighting and negative information off,
 /// every value is 0. With `bias_s1_out` and `bias_s0_out` (p.bias_s1.data() and p.bias_s0.data(): updated in

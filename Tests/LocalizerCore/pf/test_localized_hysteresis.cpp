@@ -143,3 +143,40 @@ TEST(LocalizedHysteresis, TheTwinMustBeRefutedAndAWinningTwinBreaksTheLock) {
     in.twin_log_ratio = -1.1;
     EXPECT_FALSE(h.update(in));
 }
+
+// Sightings that the dominant hypothesis explains only as false positives: when their false-positive
+// probabilities multiply to less than e^-rival_refute_nats over the hold period, some pose the cloud does not
+// hold explains them (a rival no particle represents), and the flag waits. Below the margin (an occasional
+// false positive) it turns on as before; the rule does not break a lock (the rivals do), and it can be turned
+// off for studies.
+TEST(LocalizedHysteresis, SightingsTheDominantCallsFalsePositivesKeepItOff) {
+    LocalizedHysteresis h;
+    for (int k = 0; k <= 30; ++k) {
+        HysteresisInput in = sure(0.1 * k);
+        in.unexplained_sighting_nats = 4.0;  // e.g. two sightings of a detector score 0.95 (p_fp 0.145 each)
+        EXPECT_FALSE(h.update(in)) << "t = " << in.t;
+    }
+    // One false positive in the hold period (2.3 nats at score 1): the flag comes on after the hold time.
+    LocalizedHysteresis g;
+    for (int k = 0; k <= 10; ++k) {
+        HysteresisInput in = sure(3.0 + 0.1 * k);
+        in.unexplained_sighting_nats = 2.3;
+        EXPECT_EQ(g.update(in), k == 10) << "t = " << in.t;
+    }
+    // A lock is not broken by them.
+    LocalizedHysteresis l = locked();
+    HysteresisInput in = sure(2.0);
+    in.unexplained_sighting_nats = 20;
+    EXPECT_TRUE(l.update(in));
+    // Off: they are ignored.
+    wf::loc::LocalizedHysteresisParams off;
+    off.explain_sightings = false;
+    LocalizedHysteresis f(off);
+    bool on = false;
+    for (int k = 0; k <= 12; ++k) {
+        HysteresisInput x = sure(0.1 * k);
+        x.unexplained_sighting_nats = 50;
+        on = f.update(x);
+    }
+    EXPECT_TRUE(on);
+}

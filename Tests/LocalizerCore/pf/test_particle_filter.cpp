@@ -922,3 +922,52 @@ TEST(ParticleFilter, OneMisreadSightingDoesNotBreakTheLock) {
     EXPECT_GE(injected_walks, 4) << "the outlier must trigger recovery injection (else the test shows nothing)";
     EXPECT_GE(broken_before, 2) << "the whole-cluster rule should break some of these locks (else the test is moot)";
 }
+
+// The lock must account for the sightings of its hold period. A 30 m corridor whose only sign is an Exit at
+// its east end; the traveler names the start at its west end, where they are, trusted completely (no doubt
+// share) and with a good compass: the cloud is one blob at the truth, and without sightings it locks after the
+// hold time. For the first 3 s the detector reports, 10 times a second, an Exit sign 5 m ahead-right (score
+// 0.9); the only Exit is 24-28 m away, beyond the sign horizon, so every particle calls those sightings false
+// positives, the weights do not move, and the flag stays off: some pose outside the cloud explains them (the
+// quarter-turned lock of docs/localizer.md "Thirteenth stop" called 20 far Exit sightings false positives).
+// Once they have left the hold window, the flag comes on after the hold time; with the rule off it comes on
+// during them.
+TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
+    wf::test::World world;
+    wf::test::FloorSpec f;
+    f.box(0, 0, 30, 2);
+    for (float x = 1; x < 30; x += 2) f.seed(x, 1);
+    f.sign(wf::test::kExit, 30, 1, -1, 0);
+    world.floors.push_back(f);
+    wf::test::WalkParams wp;
+    wp.seed = 3;
+    const auto frames = wf::test::make_walk(world.floors[0], {{2, 1}, {28, 1}}, 0.0, wp);
+    auto first_localized_frame = [&](bool rule) {
+        auto o = test_options();
+        o.start_point_doubt_share = 0;
+        ParticleFilter pf(wf::test::build_map(world, o), o, 9);
+        EXPECT_EQ(pf.set_parameter("lock.explain_sightings", rule ? 1 : 0), WF_LOC_OK);
+        EXPECT_EQ(pf.predict(frames[0].vio), WF_LOC_OK);
+        EXPECT_EQ(pf.set_compass_prior(frames[0].true_heading, 0.05), WF_LOC_OK);
+        EXPECT_EQ(pf.init_start_point(0, frames[0].true_x, frames[0].true_y, 0.5), WF_LOC_OK);
+        for (size_t k = 1; k < frames.size() && k < 80; ++k) {
+            EXPECT_EQ(pf.predict(frames[k].vio), WF_LOC_OK);
+            std::vector<wf_sign_observation> z;
+            if (k < 30) z.push_back({wf::test::kExit, 5.0, -0.3, 0.9});
+            EXPECT_EQ(pf.update_signs(z.data(), z.size(), frames[k].vio.t), WF_LOC_OK);
+            const wf_localizer_estimate &e = pf.estimate();
+            if (e.localized) {
+                EXPECT_LT(position_error(e, frames[k]), 1.0) << "frame " << k;
+                return static_cast<int>(k);
+            }
+        }
+        return -1;
+    };
+    const int with_rule = first_localized_frame(true);
+    EXPECT_GE(with_rule, 30) << "locked while every sighting was called a false positive";
+    // The last one leaves the hold window 1 s later, and the flag needs the hold time after that.
+    EXPECT_LE(with_rule, 52) << "did not lock within 2.2 s after the unexplained sightings stopped";
+    const int without = first_localized_frame(false);
+    EXPECT_GE(without, 0);
+    EXPECT_LT(without, 30) << "without the rule the blob should lock during the sightings (else the test shows nothing)";
+}
