@@ -94,6 +94,22 @@ TEST(SignMeasurementModel, OutsideFieldOfViewIsClutter) {
     EXPECT_GT(ll_at(map, m, 8, 1, 1.5708f, ahead), clutter + 3);
 }
 
+// clutter_only_log_likelihood (the localized flag's test of a frame explained only as false positives, pf/
+// localized_hysteresis) is exactly the value the model gives a particle that sees no sign of the sighted kinds:
+// here two sightings of different scores from a pose facing a blank wall.
+TEST(SignMeasurementModel, ClutterOnlyLogLikelihoodIsTheValueOfAParticleSeeingNoSign) {
+    auto world = wf::test::corridor_world();
+    const auto o = wf::test::default_options();
+    const auto map = wf::test::build_map(world, o);
+    const SignModelParams m = no_negative(SignModelParams::from_options(o));
+    const std::vector<PreparedSighting> z = {{wf::test::kExit, 1.0f, 0.2f, 0.1f}, {wf::test::kExit, 4.0f, -0.1f, 0.6f}};
+    const float expected = std::log(0.1f / (12.0f * static_cast<float>(o.horizontal_fov_rad))) +
+                           std::log(0.6f / (12.0f * static_cast<float>(o.horizontal_fov_rad)));
+    EXPECT_NEAR(clutter_only_log_likelihood(m, z.data(), z.size()), expected, 1e-5f);
+    // From (8, 1) facing south (the wall 1 m away, no sign in view) the model gives exactly that value.
+    EXPECT_EQ(ll_at(map, m, 8, 1, -1.5708f, z), clutter_only_log_likelihood(m, z.data(), z.size()));
+}
+
 TEST(SignMeasurementModel, PrepareSkipsBadValuesAndUnknownKinds) {
     const SignModelParams m;
     const wf_sign_observation obs[] = {
