@@ -442,17 +442,18 @@ int ParticleFilter::predict(const wf_vio_sample &s) {
 
 void ParticleFilter::note_unexplained_sightings(const std::vector<PreparedSighting> &z, double t) {
     if (z.empty() || !dominant_members_valid_ || !hysteresis_.params().explain_sightings) return;
-    // A particle explains the frame when its signs at least double the likelihood the sightings have as false
-    // positives alone (for one sighting: the sign term outweighs the clutter term, as for the range-bias
-    // statistics).
-    const float explained_above = clutter_only_log_likelihood(sign_model_, z.data(), z.size()) + std::log(2.0f);
-    double w_all = 0, w_unexplained = 0;
+    // The dominant hypothesis's likelihood of the frame is the weighted mean of its particles' (its predictive
+    // distribution, spread and all). It explains the frame when that is at least twice the likelihood the
+    // sightings have as false positives alone (for one sighting: the sign term outweighs the clutter term, the
+    // range-bias statistics' test, applied to the hypothesis instead of one particle).
+    const double clutter_ll = clutter_only_log_likelihood(sign_model_, z.data(), z.size());
+    double w_all = 0, w_ratio = 0;
     for (uint32_t i : dominant_members_) {
         const double w = p_.weight[i];
         w_all += w;
-        if (!(log_likelihood_[i] >= explained_above)) w_unexplained += w;
+        w_ratio += w * std::exp(std::min(static_cast<double>(log_likelihood_[i]) - clutter_ll, 700.0));
     }
-    if (!(w_all > 0) || w_unexplained < 0.5 * w_all) return;
+    if (!(w_all > 0) || !(w_ratio < 2.0 * w_all)) return;
     double nats = 0;
     for (const PreparedSighting &s : z) nats -= std::log(std::max(static_cast<double>(s.clutter_probability), 1e-6));
     unexplained_frames_.emplace_back(t, nats);

@@ -116,10 +116,10 @@ private:
     /// Adds (ll - max ll), floored at -50 nats, to each particle's recent evidence, forgetting the old with the
     /// evidence time constant since the last evidence at time t.
     void accumulate_evidence(const float *ll, float max_ll, double t);
-    /// After a sign update's likelihoods (log_likelihood_) and before the reweighting: when the particles of
-    /// the last estimate's dominant cluster holding at least half its weight explain the frame's sightings only
-    /// as false positives (their likelihood is less than twice the clutter-only likelihood), records the frame
-    /// with the sum of -log(false-positive probability) of its sightings, for the localized flag
+    /// After a sign update's likelihoods (log_likelihood_) and before the reweighting: when the last estimate's
+    /// dominant cluster explains the frame's sightings only as false positives (the weighted mean of its
+    /// particles' likelihoods is less than twice the clutter-only likelihood), records the frame with the sum
+    /// of -log(false-positive probability) of its sightings, for the localized flag
     /// (HysteresisInput::unexplained_sighting_nats).
     void note_unexplained_sightings(const std::vector<PreparedSighting> &z, double t);
     /// Sum of the recorded frames of the last localize_hold_s before time t, nats; older ones are dropped.
