@@ -611,6 +611,11 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
                                        static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_, kld_dense_, kld_seen_);
         };
         const size_t max_n = static_cast<size_t>(opts_.max_particles);
+        // While not localized the cloud keeps at least min_particles_unlocalized_ (within max_particles): the KLD
+        // bound counts occupied bins, but a hypothesis that shares its bins with a look-alike needs particles
+        // of its own to survive (docs/localizer.md "Thirteenth stop").
+        const size_t min_n = std::min(max_n, std::max(static_cast<size_t>(opts_.min_particles),
+                                                      was_localized_ ? size_t{0} : min_particles_unlocalized_));
         const size_t k_enough = kld_bins_reaching(max_n, opts_.kld_epsilon, opts_.kld_z);
         bool at_max = false;
         if (k_enough != SIZE_MAX && 4 * k_enough < n) {
@@ -618,11 +623,10 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
             at_max = count_bins() >= k_enough;
         }
         if (at_max) {
-            target = std::max(max_n, static_cast<size_t>(opts_.min_particles));  // std::clamp's value
+            target = std::max(max_n, min_n);  // std::clamp's value
         } else {
             systematic_resample_with_total(p_.weight.data(), n, n, u0, weight_sum, indices_);
-            target = std::clamp(kld_sample_count(count_bins(), opts_.kld_epsilon, opts_.kld_z),
-                                static_cast<size_t>(opts_.min_particles), max_n);
+            target = std::clamp(kld_sample_count(count_bins(), opts_.kld_epsilon, opts_.kld_z), min_n, max_n);
         }
     }
     // Injection goes to the floor of the best hypothesis (the estimate's floor), else the init floor.
@@ -985,6 +989,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
     {"lock.explain_sightings", 0, 1},
+    {"kld.min_particles_unlocalized", 0, 1e7},
     {"plane.weight", 0, 10},
     {"plane.min_interval_s", 0, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
@@ -1032,6 +1037,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
         h.explain_sightings = value != 0;
         if (value == 0) unexplained_frames_.clear();
     }
+    else if (name == "kld.min_particles_unlocalized") min_particles_unlocalized_ = static_cast<size_t>(value);
     else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
     else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
@@ -1057,6 +1063,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
+    else if (name == "kld.min_particles_unlocalized") value = static_cast<double>(min_particles_unlocalized_);
     else if (name == "plane.weight") value = planes_.params.weight;
     else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;

@@ -155,6 +155,9 @@ private:
     wf_localizer_options opts_;
     MotionNoise motion_;
     SignModelParams sign_model_;
+    /// Named parameter kld.min_particles_unlocalized: the fewest particles a resampling keeps while the filter is
+    /// not localized (0 = opts_.min_particles only; capped at max_particles).
+    size_t min_particles_unlocalized_ = 0;
     Rng rng_;
     VioDeltaTracker tracker_;
     MotionNoiseAccumulator motion_acc_;

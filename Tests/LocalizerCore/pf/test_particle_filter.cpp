@@ -116,6 +116,36 @@ TEST_P(ConvergenceTest, ConvergesAndTracksOnLShapedCorridor) {
     EXPECT_NEAR(median(scales), 1.03, 0.04);  // the walk's VIO scale
 }
 
+// While the filter is not localized a resampling keeps at least kld.min_particles_unlocalized particles: the KLD
+// bound counts occupied bins, and a hypothesis that shares its bins with a look-alike needs particles of its own
+// to survive (docs/localizer.md "Thirteenth stop"). Once localized, KLD-sampling alone sets the count again.
+TEST(ParticleFilter, KeepsMoreParticlesWhileNotLocalized) {
+    auto world = wf::test::l_world();
+    auto o = test_options();  // min_particles 2000, max_particles 40000
+    o.particle_count = 20000;  // the floor-only start
+    const auto frames = l_walk(world);
+    ParticleFilter pf(wf::test::build_map(world, o), o, 1);
+    ASSERT_EQ(pf.set_parameter("kld.min_particles_unlocalized", 15000), WF_LOC_OK);
+    double v = 0;
+    ASSERT_EQ(pf.get_parameter("kld.min_particles_unlocalized", v), WF_LOC_OK);
+    EXPECT_DOUBLE_EQ(v, 15000);
+    EXPECT_EQ(pf.set_parameter("kld.min_particles_unlocalized", -1), WF_LOC_ERR_INVALID_ARGUMENT);
+    ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+    size_t fewest_unlocalized = SIZE_MAX, fewest_localized = SIZE_MAX;
+    bool was_localized = false;
+    for (const WalkFrame &f : frames) {
+        ASSERT_EQ(pf.predict(f.vio), WF_LOC_OK);
+        ASSERT_EQ(pf.update_signs(f.sightings.data(), f.sightings.size(), f.vio.t), WF_LOC_OK);
+        // The count a resampling chose while the flag was off before it.
+        size_t &fewest = was_localized ? fewest_localized : fewest_unlocalized;
+        fewest = std::min(fewest, pf.particles().size());
+        was_localized = pf.estimate().localized;
+    }
+    ASSERT_NE(fewest_localized, SIZE_MAX) << "never localized";
+    EXPECT_GE(fewest_unlocalized, 15000u);
+    EXPECT_LT(fewest_localized, 15000u);
+}
+
 // A detector that reads every range 20 % short (the cascade's box reads faces tall): the range-bias term
 // (sensors/sign_measurement_model, "Range bias") estimates the bias from the walk and tracks as with an unbiased
 // detector; without it (range_bias_sigma 0) the filter tracks the biased ranges. Filter seeds 1-3 measured a
