@@ -296,16 +296,17 @@ FaceEdgeResult refineFaceEdges(const cv::Mat& image, const SliceMeasurement& rou
     s.locator = params.locator;
     const double margin = std::max(0.0, params.searchMarginFraction) * g.height;
 
-    // The wall beside the face, per row: left and right of the rough extent (empty where outside the image).
+    // The wall beside the face, per row: left and right of the rough extent (empty where outside the image, and
+    // both empty when the check is off).
     const SideColumns side = sideColumns(g.height, params);
-    const cv::Mat sideLeft = sideColours(light, g.first - side.gap - side.width - roi.x, side.width);
-    const cv::Mat sideRight = sideColours(light, g.last + side.gap + 1 - roi.x, side.width);
+    const bool sideCheck = params.sideSameChangeFraction > 0;
+    const cv::Mat sideLeft =
+        sideCheck ? sideColours(light, g.first - side.gap - side.width - roi.x, side.width) : cv::Mat();
+    const cv::Mat sideRight = sideCheck ? sideColours(light, g.last + side.gap + 1 - roi.x, side.width) : cv::Mat();
     // Is the rise between profile samples `foot` and `top` (ROI rows row0 + step * index) the background's? Either
     // side changes colour the same way across the same rows, widened by the blur's half-width each way (the
     // background's line need not be level with the slice).
     auto sameChangeBeside = [&](int u, int row0, int step, int n, int foot, int top) {
-        if (!(params.sideSameChangeFraction > 0)) return false;
-        const int ch = light.channels();
         const int rowFoot = row0 + step * foot, rowTop = row0 + step * top;
         const int outer = row0 + step * std::max(0, foot - s.blurRows);
         const int inner = row0 + step * std::min(n - 1, top + s.blurRows);

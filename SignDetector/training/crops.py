@@ -224,6 +224,17 @@ def cascade_positive(rng: np.random.Generator, win=(24, 16)) -> np.ndarray:
     return cv2.resize(g, win, interpolation=cv2.INTER_AREA)
 
 
+def imap_in_processes(fn, jobs, workers: int = 1, chunksize: int = 8):
+    """fn(job) for each job, in order, in `workers` forked processes (1: in this one). The training sets render
+    each sample from its own generator, so their samples do not depend on `workers`."""
+    if workers <= 1 or len(jobs) < 2:
+        yield from map(fn, jobs)
+        return
+    import multiprocessing as mp
+    with mp.get_context("fork").Pool(workers) as pool:
+        yield from pool.imap(fn, jobs, chunksize=chunksize)
+
+
 def _phone_frame_vga(rng: np.random.Generator, with_sign: bool, width: int = 640, **kw):
     """A phone-style source frame (_scene, phone=True) unrolled and rendered whole with its long side `width`, as
     the cascade searches it (auto exposure meters the whole frame, so a lit face is exposed as in the frame, not as

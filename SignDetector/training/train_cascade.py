@@ -428,12 +428,7 @@ def _render_one(job) -> np.ndarray:
 def rendered(fn, seed: int, stream: int, n: int, workers: int = 1) -> List[np.ndarray]:
     """[fn(default_rng([seed, stream, i])) for i in range(n)], in `workers` processes (the same samples for any
     count: every sample has its own generator)."""
-    jobs = [(fn, seed, stream, i) for i in range(n)]
-    if workers <= 1 or n < 2:
-        return [_render_one(j) for j in jobs]
-    import multiprocessing as mp
-    with mp.get_context("fork").Pool(workers) as pool:
-        return pool.map(_render_one, jobs, chunksize=16)
+    return list(crops.imap_in_processes(_render_one, [(fn, seed, stream, i) for i in range(n)], workers, chunksize=16))
 
 
 def kind_windows(cache_dir: str, kind: str, seed: int, n: int, win: Tuple[int, int], log) -> np.ndarray:

@@ -178,19 +178,12 @@ def render_samples(n: int, seed: int, split_code: int, log, phone_frac: float = 
     Y = np.zeros((n, 224, 224), np.uint8)
     kinds = np.zeros(n, np.int8)
     t0 = time.time()
+    import crops
     jobs = [(seed, split_code, i, phone_frac, kinds_frac) for i in range(n)]
-    if workers > 1:
-        import multiprocessing as mp
-        with mp.get_context("fork").Pool(workers) as pool:
-            for i, (x, y, k) in enumerate(pool.imap(render_one, jobs, chunksize=8)):
-                X[i], Y[i], kinds[i] = x, y, k
-                if (i + 1) % 250 == 0:
-                    log("rendered %d/%d samples (%.0f s)" % (i + 1, n, time.time() - t0))
-    else:
-        for i, job in enumerate(jobs):
-            X[i], Y[i], kinds[i] = render_one(job)
-            if (i + 1) % 250 == 0:
-                log("rendered %d/%d samples (%.0f s)" % (i + 1, n, time.time() - t0))
+    for i, (x, y, k) in enumerate(crops.imap_in_processes(render_one, jobs, workers)):
+        X[i], Y[i], kinds[i] = x, y, k
+        if (i + 1) % 250 == 0:
+            log("rendered %d/%d samples (%.0f s)" % (i + 1, n, time.time() - t0))
     return X, Y, kinds
 
 

@@ -623,7 +623,7 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
             at_max = count_bins() >= k_enough;
         }
         if (at_max) {
-            target = std::max(max_n, min_n);  // std::clamp's value
+            target = max_n;  // std::clamp's value: min_n <= max_n
         } else {
             systematic_resample_with_total(p_.weight.data(), n, n, u0, weight_sum, indices_);
             target = std::clamp(kld_sample_count(count_bins(), opts_.kld_epsilon, opts_.kld_z), min_n, max_n);

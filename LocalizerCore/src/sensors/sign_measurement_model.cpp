@@ -98,11 +98,8 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
     // sighted kind (most particles of a spread-out cloud). Same float expressions as in the loop below, so a
     // particle without candidates gets exactly the value the loop would compute.
     std::vector<float> log_clutter_only(count);
-    float ll_no_candidate = 0.0f;
-    for (size_t o = 0; o < count; ++o) {
-        log_clutter_only[o] = std::log(sightings[o].clutter_probability * u_clutter);
-        ll_no_candidate += log_clutter_only[o];
-    }
+    for (size_t o = 0; o < count; ++o) log_clutter_only[o] = std::log(sightings[o].clutter_probability * u_clutter);
+    const float ll_no_candidate = clutter_only_log_likelihood(m, sightings, count);
 
     // Geometry of sign j seen from a particle at (px, py) with heading (c, s) = (cos, sin): the cheap test
     // `near` (in front, within range and the field of view, with margins), then the exact bearing and range

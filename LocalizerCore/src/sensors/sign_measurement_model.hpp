@@ -77,8 +77,8 @@ std::vector<PreparedSighting> prepare_sightings(const wf_sign_observation *obs, 
                                                 int32_t kind_count, size_t *non_finite);
 
 /// Log-likelihood of the frame's sightings for a particle that sees no sign of their kinds: each sighting a
-/// false positive, p_clutter * u with u = 1 / (max_range_m * field of view). The same float expressions as
-/// sign_log_likelihood uses for such a particle (so the values are equal).
+/// false positive, p_clutter * u with u = 1 / (max_range_m * field of view). sign_log_likelihood gives such a
+/// particle exactly this value (it calls this function).
 float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighting *sightings, size_t count);
 
 /// Log-likelihood of the frame's sightings for every particle (heading = vio_yaw + yaw_offset), written to
