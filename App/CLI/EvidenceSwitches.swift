@@ -12,6 +12,9 @@ enum EvidenceSwitches {
       --models DIR     detector models folder (default SignDetector/models)
       --no-compass     ignore the compass (no start prior, no compass evidence)
       --no-planes      ignore ARKit's vertical planes (planes.jsonl; simulated walls in --scenarios)
+      --no-north-check keep using the compass when it reads 60 degrees or more off the localized heading over
+                       15 m walked (by default the map's north is then reported as suspect and the compass
+                       evidence stops; docs/localizer.md "The north check")
       --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
                        may be repeated
     """
@@ -28,6 +31,7 @@ enum EvidenceSwitches {
         if let models = try arguments.option("models") { options.modelsDirectory = models }
         if arguments.flag("no-compass") { options.useCompass = false }
         if arguments.flag("no-planes") { options.usePlanes = false }
+        if arguments.flag("no-north-check") { options.compassNorthCheck = nil }
         while let assignment = try arguments.option("param") {
             let parts = assignment.split(separator: "=", maxSplits: 1).map(String.init)
             guard parts.count == 2, !parts[0].isEmpty, let value = Double(parts[1]), value.isFinite else {

@@ -12,7 +12,7 @@ enum ReplayCommand: Subcommand {
     static let usage = """
     Usage: wayfinder replay BUNDLE --map MAP [--to DEST] [--from START] [--floor FLOOR]
                             [--detector recorded|cascade|unet|auto] [--models DIR] [--seed N] [--trace OUT.jsonl]
-                            [--no-compass] [--no-planes] [--param NAME=V]
+                            [--no-compass] [--no-planes] [--no-north-check] [--param NAME=V]
                             [--speak] [--audio OUT.wav] [--espeak PATH]
                             [--units meters|feet|steps] [--stride M] [--clock-face] [--verbosity brief|normal|detailed]
                             [--language LANG]

@@ -72,6 +72,10 @@ public struct PipelineOptions: Sendable {
     /// once per few meters walked (LocalizerCore sensors/compass_model, calibrated in docs/compass.md). Needs
     /// the map's north. false = ignore the compass entirely (CLI `--no-compass`).
     public var useCompass: Bool = true
+    /// Watches whether the map's north agrees with the compass while localized (`CompassNorthCheck`): when
+    /// the compass reads a consistent 60 degrees or more off the localized heading over 15 m walked, the
+    /// pipeline warns and stops the compass evidence for the session. nil = off.
+    public var compassNorthCheck: CompassNorthCheck.Parameters? = CompassNorthCheck.Parameters()
     /// Internal localizer model parameters by name (`ParticleLocalizer.setParameter`), e.g.
     /// `["compass.kappa": 8]`; `useCompass == false` overrides its "compass.enabled".
     public var localizerParameters: [String: Double] = [:]

@@ -39,6 +39,9 @@ public final class WayfinderPipeline {
     private var lastDetectionT = -Double.infinity
     private var lastAltitude: Double?
     private var compassPriorApplied = false
+    private var northCheck: CompassNorthCheck?
+    /// Set when the north check found the map's north wrong: no more compass evidence this session.
+    private var compassOffByNorthCheck = false
     private var planeTable = PlaneAnchorTable()
     private var lastPlaneUpdateT = -Double.infinity
 
@@ -72,7 +75,14 @@ public final class WayfinderPipeline {
         }
         sightingSource = try SignSightingSource(options: options, catalogue: building.signCatalogue,
                                                 imagesAvailable: imagesAvailable)
+        if options.useCompass, building.compassHeadingOfMapNorthDeg != nil, let p = options.compassNorthCheck {
+            northCheck = CompassNorthCheck(parameters: p)
+        }
     }
+
+    /// The north check's verdict when it found the map's north wrong on this walk (see `CompassNorthCheck`);
+    /// nil while it has not (or when it is off).
+    public var compassNorthVerdict: CompassNorthCheck.Verdict? { northCheck?.verdict }
 
     /// Processes one frame: motion update, altitude, detection (at most every `detectionIntervalSeconds`),
     /// sign update, guidance.
@@ -113,6 +123,7 @@ public final class WayfinderPipeline {
         }
 
         let estimate = localizer.estimate
+        checkNorth(frame, estimate, &warnings)
         var events: [TimedGuidanceEvent] = []
         if let navigator {
             events = navigator.update(NavigationInput(t: frame.t, positionInMap: estimate.positionInMap,
@@ -179,7 +190,7 @@ public final class WayfinderPipeline {
     /// Gives the localizer every finite compass reading as evidence (it applies one at most once per few meters
     /// walked), converted to the map frame like the prior, with Core Location's accuracy when recorded.
     private func applyCompassEvidence(_ frame: PipelineFrame, _ warnings: inout [String]) {
-        guard options.useCompass, let northDeg = building.compassHeadingOfMapNorthDeg,
+        guard options.useCompass, !compassOffByNorthCheck, let northDeg = building.compassHeadingOfMapNorthDeg,
               let readingDeg = frame.compassHeadingDeg, frame.cameraPose != nil else { return }
         guard readingDeg.isFinite, readingDeg >= 0, readingDeg <= 360 else {
             warnings.append("t=\(frame.t): compass heading \(readingDeg) is outside 0...360 degrees; ignored")
@@ -189,6 +200,26 @@ public final class WayfinderPipeline {
         localizer.updateCompass(headingInMapRad: Self.headingInMapRad(readingDeg: readingDeg, northDeg: northDeg),
                                 accuracyRad: accuracyRad, t: frame.t)
         noteInputError("compass", &warnings)
+    }
+
+    /// Feeds the north check (the compass against the localized heading); when it finds the map's north wrong,
+    /// warns once and stops the compass evidence for the rest of the session.
+    private func checkNorth(_ frame: PipelineFrame, _ estimate: LocalizationEstimate, _ warnings: inout [String]) {
+        guard northCheck != nil, let northDeg = building.compassHeadingOfMapNorthDeg else { return }
+        let compassInMap = frame.compassHeadingDeg.flatMap { r -> Double? in
+            r.isFinite && r >= 0 && r <= 360 ? Self.headingInMapRad(readingDeg: r, northDeg: northDeg) : nil
+        }
+        let position = frame.cameraPose?.positionInVIOPlane
+        guard let verdict = northCheck?.observe(compassInMapRad: compassInMap,
+                                                localizedHeadingRad: estimate.isLocalized ? estimate.headingRad : nil,
+                                                cameraEastMeters: position?.east, cameraNorthMeters: position?.north)
+        else { return }
+        compassOffByNorthCheck = true
+        warnings.append(String(format: "t=%.1f: the compass reads %.0f degrees %@ the localized heading over %.0f m "
+                                   + "walked (%d readings, resultant %.2f): the map's north (compassHeadingOfMapNorthDeg "
+                                   + "%.1f) may be wrong; compass evidence off for the rest of the session",
+                               frame.t, abs(verdict.offsetDeg), verdict.offsetDeg > 0 ? "counter-clockwise of" : "clockwise of",
+                               verdict.walkedMeters, verdict.samples, verdict.resultant, northDeg))
     }
 
     /// A compass reading (degrees clockwise from magnetic north) as a camera heading in the map frame (radians

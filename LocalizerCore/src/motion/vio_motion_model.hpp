@@ -72,6 +72,8 @@ public:
     /// Last usable VIO camera position on the VIO plane, meters (valid when has_yaw()).
     double last_east() const { return last_.east_m; }
     double last_north() const { return last_.north_m; }
+    /// Time tracking was lost (the last usable sample's time), seconds; negative while tracking is available.
+    double lost_since() const { return lost_since_; }
     void reset() { has_last_ = false; lost_since_ = -1; }
 
 private:

@@ -54,6 +54,11 @@ struct LocalizedHysteresisParams {
     /// Nonzero: becoming localized needs the dominant hypothesis to explain the hold period's sightings
     /// (HysteresisInput::unexplained_sighting_nats); 0 turns the rule off (for studies).
     bool explain_sightings = true;
+    /// While VIO tracking is lost the traveler may walk on unobserved: once this speed times the time lost
+    /// exceeds unlocalize_std_m they may be that far from the locked pose, and the lock is void (the flag
+    /// drops and must be earned again). m/s; default 1.4, a brisk preferred walking speed (Bohannon 1997:
+    /// 1.3-1.5 m/s for adults under 60); 0 keeps the lock through any loss. "lock.lost_walk_speed_mps".
+    double lost_walk_speed_mps = 1.4;
 };
 
 /// What the flag looks at, from one clustering of the particles.

@@ -989,6 +989,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
     {"lock.explain_sightings", 0, 1},
+    {"lock.lost_walk_speed_mps", 0, 100},
     {"kld.min_particles_unlocalized", 0, 1e7},
     {"plane.weight", 0, 10},
     {"plane.min_interval_s", 0, 1e4},
@@ -1037,6 +1038,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
         h.explain_sightings = value != 0;
         if (value == 0) unexplained_frames_.clear();
     }
+    else if (name == "lock.lost_walk_speed_mps") h.lost_walk_speed_mps = value;
     else if (name == "kld.min_particles_unlocalized") min_particles_unlocalized_ = static_cast<size_t>(value);
     else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
     else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
@@ -1063,6 +1065,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
+    else if (name == "lock.lost_walk_speed_mps") value = h.lost_walk_speed_mps;
     else if (name == "kld.min_particles_unlocalized") value = static_cast<double>(min_particles_unlocalized_);
     else if (name == "plane.weight") value = planes_.params.weight;
     else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
@@ -1178,7 +1181,15 @@ void ParticleFilter::compute_estimate() {
         }
     }
     hin.unexplained_sighting_nats = unexplained_sighting_nats(t_last_);
-    const bool localized = hysteresis_.update(hin);
+    bool localized = hysteresis_.update(hin);
+    // Tracking lost for long enough that the traveler may have walked farther than the flag's spread limit from
+    // the locked pose: no estimate can claim the traveler's position now (tests: LostTrackingVoidsTheLock).
+    const double lost_since = tracker_.lost_since();
+    if (localized && lost_since >= 0 && hp.lost_walk_speed_mps > 0 &&
+        (t_last_ - lost_since) * hp.lost_walk_speed_mps > hp.unlocalize_std_m) {
+        hysteresis_.drop();
+        localized = false;
+    }
     // A new lock is corroborated. A lock that sightings break (within a second of one) must be earned again
     // against fresh rivals: the cloud that was wrong may have no particle left where the traveler is. (A
     // tracking loss arms the rule in predict(); a lock held through it stays armed until the rivals drawn at the

@@ -116,6 +116,43 @@ TEST_P(ConvergenceTest, ConvergesAndTracksOnLShapedCorridor) {
     EXPECT_NEAR(median(scales), 1.03, 0.04);  // the walk's VIO scale
 }
 
+// VIO tracking lost while localized: the traveler may walk on unobserved, so once they could be farther than the
+// flag's spread limit (unlocalize_std_m, 2 m) at a brisk walk (lock.lost_walk_speed_mps, 1.4 m/s: 1.43 s) the
+// lock is void; a shorter loss keeps it. With the parameter 0 the lock survives any loss (the old behaviour).
+TEST(ParticleFilter, LostTrackingVoidsTheLock) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    const auto frames = l_walk(world);
+    const size_t half = frames.size() / 2;
+    const std::vector<WalkFrame> first(frames.begin(), frames.begin() + static_cast<std::ptrdiff_t>(half));
+    for (double speed : {1.4, 0.0}) {
+        ParticleFilter pf(wf::test::build_map(world, o), o, 1);
+        ASSERT_EQ(pf.set_parameter("lock.lost_walk_speed_mps", speed), WF_LOC_OK);
+        ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+        const RunStats s = run(pf, first);
+        ASSERT_TRUE(s.last.localized) << "not localized by mid-walk";
+        const double t0 = first.back().vio.t;
+        // Lost for 3 s at 30 Hz (the pose is meaningless then; the samples carry the last one).
+        bool after_1s = false, after_3s = false;
+        for (int k = 1; k <= 90; ++k) {
+            wf_vio_sample lost = first.back().vio;
+            lost.t = t0 + k / 30.0;
+            lost.tracking = WF_VIO_TRACKING_NOT_AVAILABLE;
+            ASSERT_EQ(pf.predict(lost), WF_LOC_OK);
+            const bool localized = pf.estimate().localized;
+            if (k == 30) after_1s = localized;
+            if (k == 90) after_3s = localized;
+        }
+        EXPECT_TRUE(after_1s) << "speed " << speed;  // 1 s x 1.4 m/s < 2 m
+        EXPECT_EQ(after_3s, speed == 0.0) << "speed " << speed;
+    }
+    ParticleFilter pf(wf::test::build_map(world, o), o, 1);
+    double v = 0;
+    ASSERT_EQ(pf.get_parameter("lock.lost_walk_speed_mps", v), WF_LOC_OK);
+    EXPECT_EQ(v, 1.4);
+    EXPECT_EQ(pf.set_parameter("lock.lost_walk_speed_mps", -1), WF_LOC_ERR_INVALID_ARGUMENT);
+}
+
 // While the filter is not localized a resampling keeps at least kld.min_particles_unlocalized particles: the KLD
 // bound counts occupied bins, and a hypothesis that shares its bins with a look-alike needs particles of its own
 // to survive (docs/localizer.md "Thirteenth stop"). Once localized, KLD-sampling alone sets the count again.
