@@ -126,17 +126,22 @@ public final class WayfinderPipeline {
         checkNorth(frame, estimate, &warnings)
         var events: [TimedGuidanceEvent] = []
         if let navigator {
+            // While tracking is lost the hypotheses are where the traveler was when it was lost, not where they
+            // walk now: no exploratory instruction is planned from them (the navigator says it is unsure; the
+            // phone's tracking prompt asks for the camera).
+            let trackingLost = frame.tracking == .notAvailable
             events = navigator.update(NavigationInput(t: frame.t, positionInMap: estimate.positionInMap,
                                                       floorId: estimate.floorId, headingRad: estimate.headingRad,
                                                       isLocalized: estimate.isLocalized,
                                                       confidence: estimate.confidence,
-                                                      hypotheses: estimate.hypotheses.map {
+                                                      hypotheses: trackingLost ? [] : estimate.hypotheses.map {
                                                           PoseCandidate(weight: $0.weight, floorId: $0.floorId,
                                                                         positionInMap: $0.positionInMap,
                                                                         headingRad: $0.headingRad,
                                                                         positionStdMeters: $0.positionStdMeters)
                                                       },
-                                                      perceivedWalls: estimate.isLocalized ? [] : perceivedWalls(frame)))
+                                                      perceivedWalls: estimate.isLocalized || trackingLost
+                                                          ? [] : perceivedWalls(frame)))
         }
         var update = PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
                                     events: events, warnings: warnings)
