@@ -205,3 +205,29 @@ final class ReplayTests: XCTestCase {
             && $0.contains("use their recorded observations") }, "\(result.warnings)")
     }
 }
+
+/// While ARKit's tracking is lost the traveler walks on unseen: no exploratory instruction is planned from the
+/// hypotheses, which stand where tracking was lost (docs/navigation.md "Guidance while not localized").
+final class TrackingLossGuidanceTests: XCTestCase {
+    func testNoDirectionalAdviceWhileTrackingIsLost() throws {
+        var bundle = try TestData.sample()
+        let building = try TestData.office()
+        var options = Replay.Options(pipeline: Replay.options(for: bundle, overriding: PipelineOptions()))
+        options.pipeline.localizer.particleCount = 3000
+        options.snapshotParticleCount = 0
+        // The sample gives exploratory advice before it localizes: lose tracking over most of that time.
+        let reference = try Replay.run(bundle: bundle, building: building, options: options)
+        let directed = reference.trace.filter { ($0.advice ?? "unsure") != "unsure" }
+        XCTAssertFalse(directed.isEmpty, "the sample walk gives directional advice while unsure")
+        let lost = Set(bundle.frames.indices.filter { i in directed.contains { abs($0.t - bundle.frames[i].t) < 1e-9 } })
+        for i in lost { bundle.frames[i].tracking = .notAvailable }
+        let result = try Replay.run(bundle: bundle, building: building, options: options)
+        var lostFrames = 0
+        for (i, r) in result.trace.enumerated() where lost.contains(i) {
+            lostFrames += 1
+            XCTAssertEqual(r.advice ?? "unsure", "unsure", "t=\(r.t)")
+            XCTAssertNil(r.spokenAdvice, "t=\(r.t)")
+        }
+        XCTAssertEqual(lostFrames, lost.count)
+    }
+}
