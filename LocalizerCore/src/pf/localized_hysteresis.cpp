@@ -11,6 +11,16 @@ void LocalizedHysteresis::reset() {
 }
 
 bool LocalizedHysteresis::update(const HysteresisInput &in) {
+    advance(in);
+    // Tracking lost for long enough that the traveler may have walked farther than the flag's spread limit from
+    // the locked pose: no estimate can claim the traveler's position now (a lock held or just reached).
+    if (localized_ && p_.lost_walk_speed_mps > 0 && in.tracking_lost_s * p_.lost_walk_speed_mps > p_.unlocalize_std_m) {
+        drop();
+    }
+    return localized_;
+}
+
+void LocalizedHysteresis::advance(const HysteresisInput &in) {
     // A jump on the same floor means another hypothesis became the dominant cluster. A floor change that
     // the cloud followed (barometer) is not one.
     const bool jumped = has_last_ && in.floor == last_floor_ && std::hypot(in.x - last_x_, in.y - last_y_) > p_.lock_jump_m;
@@ -34,7 +44,7 @@ bool LocalizedHysteresis::update(const HysteresisInput &in) {
             localized_ = false;
             has_candidate_ = false;
         }
-        return localized_;
+        return;
     }
     // Sightings the dominant hypothesis calls false positives, less likely than the refutation margin allows:
     // some pose outside the cloud explains them, a rival no particle represents.
@@ -49,7 +59,6 @@ bool LocalizedHysteresis::update(const HysteresisInput &in) {
     } else {
         has_candidate_ = false;
     }
-    return localized_;
 }
 
 }  // namespace wf::loc

@@ -86,6 +86,9 @@ struct HysteresisInput {
     /// positives: the sum of -log(false-positive probability) over their sightings, nats (0 when it explains
     /// every one). Becoming localized needs it below rival_refute_nats.
     double unexplained_sighting_nats = 0;
+    /// Seconds VIO tracking has been lost (0 while it is available). Once lost_walk_speed_mps times this exceeds
+    /// unlocalize_std_m, the flag is off, whatever else holds.
+    double tracking_lost_s = 0;
 };
 
 /// The flag's state machine. Value type; reset() on every init of the filter.
@@ -95,7 +98,8 @@ public:
     const LocalizedHysteresisParams &params() const { return p_; }
     LocalizedHysteresisParams &mutable_params() { return p_; }
 
-    /// Advances the state with one estimate and returns the flag.
+    /// Advances the state with one estimate and returns the flag (off, with no candidate, while tracking has been
+    /// lost too long: HysteresisInput::tracking_lost_s).
     bool update(const HysteresisInput &in);
     /// Not localized, no candidate, no locked pose.
     void reset();
@@ -104,6 +108,9 @@ public:
     void drop() { localized_ = false; has_candidate_ = false; }
 
 private:
+    /// The flag's rules on the estimate alone (update() adds the tracking-lost rule).
+    void advance(const HysteresisInput &in);
+
     LocalizedHysteresisParams p_;
     bool localized_ = false;
     bool has_candidate_ = false;

@@ -1181,15 +1181,8 @@ void ParticleFilter::compute_estimate() {
         }
     }
     hin.unexplained_sighting_nats = unexplained_sighting_nats(t_last_);
-    bool localized = hysteresis_.update(hin);
-    // Tracking lost for long enough that the traveler may have walked farther than the flag's spread limit from
-    // the locked pose: no estimate can claim the traveler's position now (tests: LostTrackingVoidsTheLock).
-    const double lost_since = tracker_.lost_since();
-    if (localized && lost_since >= 0 && hp.lost_walk_speed_mps > 0 &&
-        (t_last_ - lost_since) * hp.lost_walk_speed_mps > hp.unlocalize_std_m) {
-        hysteresis_.drop();
-        localized = false;
-    }
+    hin.tracking_lost_s = tracker_.lost_since() >= 0 ? t_last_ - tracker_.lost_since() : 0;
+    const bool localized = hysteresis_.update(hin);
     // A new lock is corroborated. A lock that sightings break (within a second of one) must be earned again
     // against fresh rivals: the cloud that was wrong may have no particle left where the traveler is. (A
     // tracking loss arms the rule in predict(); a lock held through it stays armed until the rivals drawn at the

@@ -180,3 +180,29 @@ TEST(LocalizedHysteresis, SightingsTheDominantCallsFalsePositivesKeepItOff) {
     }
     EXPECT_TRUE(on);
 }
+
+// Tracking lost: the traveler may walk on unobserved. Once lost_walk_speed_mps (1.4 m/s) times the time lost
+// exceeds unlocalize_std_m (2 m, i.e. after 1.43 s) the flag is off, held lock or not; a shorter loss keeps it,
+// and 0 keeps it through any loss.
+TEST(LocalizedHysteresis, TrackingLostLongerThanTwoMetersOfWalkingVoidsTheLock) {
+    LocalizedHysteresis h = locked();
+    HysteresisInput in = sure(1.5);
+    in.tracking_lost_s = 1.4;
+    EXPECT_TRUE(h.update(in));
+    in.t = 1.6;
+    in.tracking_lost_s = 1.5;
+    EXPECT_FALSE(h.update(in));
+    // A lock is not reached while the loss lasts, however long the estimate looks sure.
+    for (int k = 0; k <= 30; ++k) {
+        in.t = 1.7 + 0.1 * k;
+        in.tracking_lost_s = 1.6 + 0.1 * k;
+        EXPECT_FALSE(h.update(in));
+    }
+    // With the rule off the lock survives any loss.
+    wf::loc::LocalizedHysteresisParams p;
+    p.lost_walk_speed_mps = 0;
+    LocalizedHysteresis off(p);
+    for (int k = 0; k <= 12; ++k) off.update(sure(0.1 * k));
+    in.tracking_lost_s = 60;
+    EXPECT_TRUE(off.update(in));
+}
