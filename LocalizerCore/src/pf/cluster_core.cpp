@@ -87,4 +87,15 @@ ClusterCore cluster_core(const ParticleSet &p, const std::vector<uint32_t> &memb
     return c;
 }
 
+double sighted_members(const ParticleSet &p, const std::vector<uint32_t> &members, std::vector<uint32_t> &out) {
+    const float *ps0 = p.bias_s0.data(), *pw = p.weight.data();
+    out.clear();
+    for (uint32_t i : members) {
+        if (ps0[i] > 0.0f) out.push_back(i);
+    }
+    double total = 0;
+    for (size_t i = 0; i < p.size(); ++i) total += ps0[i] > 0.0f ? static_cast<double>(pw[i]) : 0.0;
+    return total;
+}
+
 }  // namespace wf::loc

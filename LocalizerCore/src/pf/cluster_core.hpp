@@ -38,4 +38,10 @@ struct ClusterCore {
 ClusterCore cluster_core(const ParticleSet &p, const std::vector<uint32_t> &members, double radius_m,
                          std::vector<double> &scratch);
 
+/// The members whose history explains at least one sighting, in order, into `out`: the range-bias statistics
+/// ParticleSet::bias_s0 > 0 (the sign model adds to them only when a sighting is explained better than by
+/// clutter; a particle placed by recovery injection or an init starts at 0). Returns the total weight of every
+/// such particle of `p`, members or not.
+double sighted_members(const ParticleSet &p, const std::vector<uint32_t> &members, std::vector<uint32_t> &out);
+
 }  // namespace wf::loc

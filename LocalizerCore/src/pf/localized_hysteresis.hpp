@@ -16,7 +16,10 @@
 //  - the dominant cluster's weight fell below unlocalize_weight, unless that weight went to a rival holding
 //    >= `lock_rival_weight` whose evidence is more than `lock_rival_margin_nats` worse than the dominant's (a
 //    rival revived by injection starts with the worst evidence present: it does not break the lock until the
-//    sightings favour it); weight diffused over the floor (the sightings refuted the lock) breaks it;
+//    sightings favour it); weight diffused over the floor (the sightings refuted the lock) breaks it, but weight
+//    handed to fresh particles by recovery injection that have not yet explained a sighting is left out of that
+//    test when the lock's core has explained sightings (`discount_unsighted`: the core's weight against the
+//    weight that contests it);
 //  - the dominant cluster's weight fell below `lock_min_weight`, whatever the rivals;
 //  - on a symmetric floor, its twin explains the evidence better by more than `lock_rival_margin_nats`.
 // On a symmetric floor, becoming localized also needs the evidence against the dominant hypothesis's twins to
@@ -59,6 +62,14 @@ struct LocalizedHysteresisParams {
     /// drops and must be earned again). m/s; default 1.4, a brisk preferred walking speed (Bohannon 1997:
     /// 1.3-1.5 m/s for adults under 60); 0 keeps the lock through any loss. "lock.lost_walk_speed_mps".
     double lost_walk_speed_mps = 1.4;
+    /// Nonzero: while localized on a core that has explained sightings, the weight and spread tests read the
+    /// particles whose history explains a sighting (HysteresisInput::sighted_core_weight, contested_weight,
+    /// sighted_core_std_m), not the whole cloud: the weight recovery injection hands to fresh particles, which
+    /// have no sighting behind them, neither dilutes nor spreads the lock until one of them explains a sighting
+    /// (what `lock_rival_weight` does for a heavy rival, here for particles scattered over the floor and along
+    /// the locked corridor). lock_min_weight still reads the whole core. 0 turns the rule off (for studies).
+    /// "lock.discount_unsighted".
+    bool discount_unsighted = true;
 };
 
 /// What the flag looks at, from one clustering of the particles.
@@ -77,6 +88,12 @@ struct HysteresisInput {
     /// The dominant cluster's core (pf/cluster_core, radius lock_core_radius_m): weight (0..1) and position
     /// std (m). Read only while localized; negative: not computed (the whole cluster's figures are used).
     double core_weight = -1, core_std_m = -1;
+    /// The lock's figures among the particles whose history explains at least one sighting (pf/cluster_core,
+    /// sighted_members): the core of the dominant cluster's sighted particles, its weight (0..1 of the whole
+    /// cloud) and position std (m), and the sighted weight held outside it, which could belong to a rival.
+    /// Read only while localized; a negative contested_weight: not computed (the weight and spread tests then
+    /// read core_weight and core_std_m).
+    double sighted_core_weight = -1, sighted_core_std_m = -1, contested_weight = -1;
     /// Evidence for the dominant hypothesis against its symmetric twins (pf/twin_guard), nats: the lowest over
     /// the floor's symmetries; +infinity on a floor without any. Becoming localized needs it to reach
     /// rival_refute_nats (the twin is a rival that no particle may happen to represent); a lock drops when it

@@ -990,6 +990,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.core_radius_m", 0.5, 1e4},
     {"lock.explain_sightings", 0, 1},
     {"lock.lost_walk_speed_mps", 0, 100},
+    {"lock.discount_unsighted", 0, 1},
     {"kld.min_particles_unlocalized", 0, 1e7},
     {"plane.weight", 0, 10},
     {"plane.min_interval_s", 0, 1e4},
@@ -1039,6 +1040,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
         if (value == 0) unexplained_frames_.clear();
     }
     else if (name == "lock.lost_walk_speed_mps") h.lost_walk_speed_mps = value;
+    else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
     else if (name == "kld.min_particles_unlocalized") min_particles_unlocalized_ = static_cast<size_t>(value);
     else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
     else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
@@ -1066,6 +1068,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
     else if (name == "lock.lost_walk_speed_mps") value = h.lost_walk_speed_mps;
+    else if (name == "lock.discount_unsighted") value = h.discount_unsighted ? 1 : 0;
     else if (name == "kld.min_particles_unlocalized") value = static_cast<double>(min_particles_unlocalized_);
     else if (name == "plane.weight") value = planes_.params.weight;
     else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
@@ -1174,6 +1177,18 @@ void ParticleFilter::compute_estimate() {
         const ClusterCore core = cluster_core(p_, dominant_members_, hp.lock_core_radius_m, core_scratch_);
         if (core.weight > 0) {
             hin.core_weight = core.weight;
+            // The lock's sighted figures: its core among the particles whose history explains a sighting, and the
+            // sighted weight held elsewhere. Read when most of the core is sighted (with the range-bias
+            // statistics off no particle records a sighting, and the rule is off).
+            if (hp.discount_unsighted && sign_model_.range_bias_sigma > 0) {
+                const double sighted_total = sighted_members(p_, dominant_members_, sighted_members_);
+                const ClusterCore sighted = cluster_core(p_, sighted_members_, hp.lock_core_radius_m, core_scratch_);
+                if (sighted.weight > 0.5 * core.weight) {
+                    hin.sighted_core_weight = sighted.weight;
+                    hin.sighted_core_std_m = sighted.position_std_m();
+                    hin.contested_weight = std::max(0.0, sighted_total - sighted.weight);
+                }
+            }
             hin.core_std_m = core.position_std_m();
             hin.x = core.x;
             hin.y = core.y;

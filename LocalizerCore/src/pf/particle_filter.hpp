@@ -270,6 +270,8 @@ private:
     bool dominant_members_valid_ = false;
     /// cluster_core's histogram, reused.
     std::vector<double> core_scratch_;
+    /// The dominant cluster's members whose history explains a sighting (the lock's sighted core).
+    std::vector<uint32_t> sighted_members_;
     double full_estimate_t_ = 0;
 };
 

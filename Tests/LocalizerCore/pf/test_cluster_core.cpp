@@ -10,10 +10,11 @@
 using wf::loc::cluster_core;
 using wf::loc::ClusterCore;
 using wf::loc::ParticleSet;
+using wf::loc::sighted_members;
 
 namespace {
 
-void add(ParticleSet &p, float x, float y, float yaw, float w) {
+void add(ParticleSet &p, float x, float y, float yaw, float w, float bias_s0 = 0) {
     p.x.push_back(x);
     p.y.push_back(y);
     p.yaw_offset.push_back(yaw);
@@ -21,6 +22,8 @@ void add(ParticleSet &p, float x, float y, float yaw, float w) {
     p.weight.push_back(w);
     p.evidence.push_back(0);
     p.compass_ll.push_back(0);
+    p.bias_s1.push_back(0);
+    p.bias_s0.push_back(bias_s0);
     p.floor.push_back(0);
 }
 
@@ -76,4 +79,25 @@ TEST(ClusterCore, EmptyOrWeightlessMembersGiveAnEmptyCore) {
     const ClusterCore c = cluster_core(p, all_of(p), 5.0, scratch);
     EXPECT_EQ(c.weight, 0.0);
     EXPECT_EQ(c.count, 0u);
+}
+
+TEST(ClusterCore, SightedMembersAreThoseWhoseHistoryExplainsASighting) {
+    // Members 0-2 of a cluster, 1 and 2 with range-bias statistics (they explained sightings); particle 3 is
+    // not a member but is sighted too; particle 4 is a fresh injected one.
+    ParticleSet p;
+    add(p, 1, 1, 0, 0.1f, 0.0f);
+    add(p, 1, 2, 0, 0.2f, 3.5f);
+    add(p, 2, 1, 0, 0.3f, 0.7f);
+    add(p, 9, 9, 0, 0.15f, 1.0f);
+    add(p, 5, 5, 0, 0.25f, 0.0f);
+    std::vector<uint32_t> out{7};
+    const double total = sighted_members(p, {0, 1, 2}, out);
+    EXPECT_EQ(out, (std::vector<uint32_t>{1, 2}));
+    EXPECT_NEAR(total, 0.2 + 0.3 + 0.15, 1e-6);
+    // The sighted core of the members: particles 1 and 2 only.
+    std::vector<double> scratch;
+    const ClusterCore c = cluster_core(p, out, 6.0, scratch);
+    EXPECT_EQ(c.count, 2u);
+    EXPECT_NEAR(c.weight, 0.5, 1e-6);
+    EXPECT_NEAR(c.x, (0.2 * 1 + 0.3 * 2) / 0.5, 1e-6);
 }

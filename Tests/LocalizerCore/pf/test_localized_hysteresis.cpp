@@ -120,6 +120,38 @@ TEST(LocalizedHysteresis, WhileLockedTheCoreDecidesSpreadAndWeight) {
     }
 }
 
+TEST(LocalizedHysteresis, FreshInjectedParticlesNeitherDiluteNorSpreadASightedLock) {
+    // Recovery injection scattered fresh particles (no sighting behind them) over the floor and along the locked
+    // corridor: the core reads 0.47 of the weight and 2.2 m of spread, but its particles that have explained
+    // sightings sit within 1.0 m, and the sighted weight elsewhere is 0.02. The lock holds.
+    HysteresisInput in = sure(2.0);
+    in.core_weight = 0.47;
+    in.core_std_m = 2.2;
+    in.sighted_core_weight = 0.45;
+    in.sighted_core_std_m = 1.0;
+    in.contested_weight = 0.02;
+    LocalizedHysteresis h = locked();
+    EXPECT_TRUE(h.update(in));
+    // Without the rule the same input breaks it (weight and spread read over the whole core).
+    LocalizedHysteresis off = locked();
+    off.mutable_params().discount_unsighted = false;
+    EXPECT_FALSE(off.update(in));
+    // Sighted weight elsewhere (particles that explain sightings the lock does not): it breaks.
+    in.t = 2.1;
+    in.contested_weight = 0.5;
+    EXPECT_FALSE(h.update(in));
+    // The sighted particles themselves spread: it breaks.
+    LocalizedHysteresis g = locked();
+    in.contested_weight = 0.02;
+    in.sighted_core_std_m = 2.3;
+    EXPECT_FALSE(g.update(in));
+    // Below lock_min_weight the whole core decides, sighted or not.
+    LocalizedHysteresis k = locked();
+    in.sighted_core_std_m = 1.0;
+    in.core_weight = 0.2;
+    EXPECT_FALSE(k.update(in));
+}
+
 // On a symmetric floor (pf/twin_guard): no lock until the evidence against the dominant hypothesis's turned twin
 // reaches rival_refute_nats (4); a held lock drops once the twin is ahead by lock_rival_margin_nats (1); a ratio in
 // between leaves a lock as it is.
