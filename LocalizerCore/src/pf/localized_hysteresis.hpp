@@ -70,6 +70,12 @@ struct LocalizedHysteresisParams {
     /// the locked corridor). lock_min_weight still reads the whole core. 0 turns the rule off (for studies).
     /// "lock.discount_unsighted".
     bool discount_unsighted = true;
+    /// Nonzero: while localized, when the heaviest cluster is a rival away from the locked pose whose evidence is
+    /// more than lock_rival_margin_nats worse than that of a cluster (holding >= lock_rival_weight) still at the
+    /// locked pose, the filter keeps reporting and testing the locked cluster (pf/particle_filter.cpp,
+    /// compute_estimate): weight is not evidence, and such a rival breaks no lock while it is second either. 0
+    /// turns the rule off (for studies). "lock.follow_locked".
+    bool follow_locked_hypothesis = true;
 };
 
 /// What the flag looks at, from one clustering of the particles.
@@ -121,6 +127,14 @@ public:
     /// Not localized, no candidate, no locked pose.
     void reset();
     bool localized() const { return localized_; }
+    /// The pose of the last estimate (the locked core's while localized): position (m, map frame) and floor
+    /// index. False before the first estimate after a reset.
+    bool last_pose(double &x, double &y, int32_t &floor) const {
+        x = last_x_;
+        y = last_y_;
+        floor = last_floor_;
+        return has_last_;
+    }
     /// Forces the flag off (a non-finite estimate).
     void drop() { localized_ = false; has_candidate_ = false; }
 

@@ -8,6 +8,7 @@
 
 #include "common/fast_math.hpp"
 #include "common/lane_sums.hpp"
+#include "pf/locked_hypothesis.hpp"
 #include "pf/reweighting.hpp"
 
 namespace wf::loc {
@@ -991,6 +992,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.explain_sightings", 0, 1},
     {"lock.lost_walk_speed_mps", 0, 100},
     {"lock.discount_unsighted", 0, 1},
+    {"lock.follow_locked", 0, 1},
     {"kld.min_particles_unlocalized", 0, 1e7},
     {"plane.weight", 0, 10},
     {"plane.min_interval_s", 0, 1e4},
@@ -1041,6 +1043,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     }
     else if (name == "lock.lost_walk_speed_mps") h.lost_walk_speed_mps = value;
     else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
+    else if (name == "lock.follow_locked") h.follow_locked_hypothesis = value != 0;
     else if (name == "kld.min_particles_unlocalized") min_particles_unlocalized_ = static_cast<size_t>(value);
     else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
     else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
@@ -1069,6 +1072,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
     else if (name == "lock.lost_walk_speed_mps") value = h.lost_walk_speed_mps;
     else if (name == "lock.discount_unsighted") value = h.discount_unsighted ? 1 : 0;
+    else if (name == "lock.follow_locked") value = h.follow_locked_hypothesis ? 1 : 0;
     else if (name == "kld.min_particles_unlocalized") value = static_cast<double>(min_particles_unlocalized_);
     else if (name == "plane.weight") value = planes_.params.weight;
     else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
@@ -1106,7 +1110,13 @@ void ParticleFilter::compute_estimate() {
         estimate_ = e;
         return;
     }
-    const ClusterSummary &d = clusters.front();
+    // The dominant hypothesis: the heaviest cluster, or while localized the one still holding the locked pose
+    // when the heaviest is a rival the evidence refutes against it (pf/locked_hypothesis).
+    const LocalizedHysteresisParams &hp = hysteresis_.params();
+    LockedPose locked;
+    const bool has_lock = hysteresis_.localized() && hysteresis_.last_pose(locked.x, locked.y, locked.floor);
+    const size_t dom = dominant_cluster_index(clusters, has_lock ? &locked : nullptr, hp);
+    const ClusterSummary &d = clusters[dom];
     {
         const std::vector<int32_t> &cluster_of = clusterer_.particle_clusters();
         // Branch-free compaction (the members of a spread-out cloud's dominant cluster are scattered).
@@ -1114,7 +1124,7 @@ void ParticleFilter::compute_estimate() {
         size_t members = 0;
         for (size_t i = 0; i < cluster_of.size(); ++i) {
             dominant_members_[members] = static_cast<uint32_t>(i);
-            members += cluster_of[i] == 0 ? 1 : 0;
+            members += cluster_of[i] == static_cast<int32_t>(dom) ? 1 : 0;
         }
         dominant_members_.resize(members);
         dominant_members_valid_ = !dominant_members_.empty() && cluster_of.size() == p_.size();
@@ -1153,8 +1163,8 @@ void ParticleFilter::compute_estimate() {
     hin.x = d.x;
     hin.y = d.y;
     hin.floor = d.floor;
-    const LocalizedHysteresisParams &hp = hysteresis_.params();
-    for (size_t k = 1; k < clusters.size(); ++k) {
+    for (size_t k = 0; k < clusters.size(); ++k) {
+        if (k == dom) continue;
         const ClusterSummary &r = clusters[k];
         if (r.weight < opts_.rival_min_weight) break;  // sorted by weight
         // The dominant's own twin is judged by the twin ratio (the whole history, pf/twin_guard), not by the
@@ -1211,9 +1221,11 @@ void ParticleFilter::compute_estimate() {
     hypotheses_.clear();
     // Hypotheses: the clusters holding >= 1 % of the weight, and every lighter one that keeps the flag off (an
     // unrefuted rival): guidance while unsure must be safe under each live hypothesis, however light.
-    for (const ClusterSummary &c : clusters) {
+    // The dominant hypothesis first, then the others by weight.
+    for (size_t k = 0; k < clusters.size(); ++k) {
+        const ClusterSummary &c = clusters[k == 0 ? dom : (k <= dom ? k - 1 : k)];
         if (hypotheses_.size() >= 16 || c.weight < opts_.rival_min_weight) break;
-        const bool live_rival = &c != &clusters.front() &&
+        const bool live_rival = &c != &d &&
                                 (twin_.is_twin_of_dominant(map_, c.floor, c.x, c.y, c.yaw_offset)
                                      ? hin.twin_log_ratio < opts_.rival_refute_nats
                                      : d.evidence - c.evidence < opts_.rival_refute_nats);
