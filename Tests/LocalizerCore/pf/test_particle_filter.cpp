@@ -928,14 +928,19 @@ TEST(ParticleFilter, EstimateAfterResamplingSummarisesTheResamplingsPartition) {
 // Measured on the end-to-end study's conv-2-01 (U-Net): a 13.8 m sign read at 8.4 m broke a 0.95 lock for
 // 6.5 s. `lock.core_radius_m` = 1e4 (the whole cluster, the rule before) breaks the lock on 3 of these 6 walks
 // (up to 8 of the 30 frames after the outlier, errors up to 2.2 m): the check that the test exercises it.
+namespace {
+// What a lock went through in a window after a disturbance: frames without the flag, the largest error, and the
+// particles injected.
+struct After {
+    int unlocalized = 0;
+    double max_error_m = 0;
+    size_t injected = 0;
+};
+}  // namespace
+
 TEST(ParticleFilter, OneMisreadSightingDoesNotBreakTheLock) {
     auto world = wf::test::l_world();
-    // Frames without the flag in the 3 s after the outlier, and the largest error then.
-    struct After {
-        int unlocalized = 0;
-        double max_error_m = 0;
-        size_t injected = 0;
-    };
+    // The window: the 3 s after the outlier.
     auto walk_with_outlier = [&](uint64_t walk_seed, double core_radius_m) {
         const auto frames = l_walk(world, walk_seed);
         auto o = test_options();
@@ -1003,11 +1008,7 @@ TEST(ParticleFilter, OneMisreadSightingDoesNotBreakTheLock) {
 // (`lock.discount_unsighted` 0) walk 2's lock breaks for 109 of the 120 frames.
 TEST(ParticleFilter, SustainedInjectionDoesNotDiluteASightedLock) {
     auto world = wf::test::l_world();
-    struct After {
-        int unlocalized = 0;
-        double max_error_m = 0;
-        size_t injected = 0;
-    };
+    // The window: the 4 s blind spell.
     auto walk = [&](uint64_t walk_seed, bool rule) {
         const auto frames = l_walk(world, walk_seed);
         auto o = test_options();
