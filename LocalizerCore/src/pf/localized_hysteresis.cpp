@@ -32,17 +32,18 @@ void LocalizedHysteresis::advance(const HysteresisInput &in) {
         const double std_m = in.core_std_m >= 0 ? in.core_std_m : in.std_m;
         const double weight = in.core_weight >= 0 ? in.core_weight : in.dominant_weight;
         // Weight that recovery injection handed to fresh particles (no sighting behind them) is not weight the
-        // sightings took from the lock: the sighted core is weighed against the sighted weight that contests it,
-        // and its spread is that of its sighted particles.
+        // sightings took from the lock: a spread or a weight loss breaks it only when its sighted particles show
+        // it too (the sighted core weighed against the sighted weight that contests it). The rule only relaxes.
         const bool discount = p_.discount_unsighted && in.contested_weight >= 0 && in.sighted_core_weight > 0;
-        const double held = discount ? in.sighted_core_weight / (in.sighted_core_weight + in.contested_weight) : weight;
-        const bool spread = (discount ? in.sighted_core_std_m : std_m) > p_.unlocalize_std_m;
+        const double sighted_share = discount ? in.sighted_core_weight / (in.sighted_core_weight + in.contested_weight) : 0;
+        const bool spread = std_m > p_.unlocalize_std_m && (!discount || in.sighted_core_std_m > p_.unlocalize_std_m);
         // The weight left the locked cluster. Kept only when it went to a heavy rival that explains the recent
         // evidence clearly worse (revived by injection); a rival that explains it as well, or weight diffused
         // over the floor (the sightings refuted the lock), drops the flag; below lock_min_weight it always drops.
         const bool heavy_rival = in.strongest_rival_evidence_margin > -1e299;
         const bool only_poor_rival = heavy_rival && in.strongest_rival_evidence_margin < -p_.lock_rival_margin_nats;
-        const bool weak = held < p_.unlocalize_weight && !only_poor_rival;
+        const bool weak = weight < p_.unlocalize_weight && !only_poor_rival &&
+                          (!discount || sighted_share < p_.unlocalize_weight);
         const bool lost = weight < p_.lock_min_weight;
         const bool twin_ahead = in.twin_log_ratio < -p_.lock_rival_margin_nats;
         if (spread || weak || lost || jumped || twin_ahead) {

@@ -17,9 +17,9 @@
 //    >= `lock_rival_weight` whose evidence is more than `lock_rival_margin_nats` worse than the dominant's (a
 //    rival revived by injection starts with the worst evidence present: it does not break the lock until the
 //    sightings favour it); weight diffused over the floor (the sightings refuted the lock) breaks it, but weight
-//    handed to fresh particles by recovery injection that have not yet explained a sighting is left out of that
-//    test when the lock's core has explained sightings (`discount_unsighted`: the core's weight against the
-//    weight that contests it);
+//    handed to fresh particles by recovery injection that have not yet explained a sighting does not, when the
+//    lock's core has explained sightings (`discount_unsighted`: the sighted core must also fall below the share);
+//  - the spread test likewise, when the core's sighted particles stay within unlocalize_std_m;
 //  - the dominant cluster's weight fell below `lock_min_weight`, whatever the rivals;
 //  - on a symmetric floor, its twin explains the evidence better by more than `lock_rival_margin_nats`.
 // On a symmetric floor, becoming localized also needs the evidence against the dominant hypothesis's twins to
@@ -62,13 +62,13 @@ struct LocalizedHysteresisParams {
     /// drops and must be earned again). m/s; default 1.4, a brisk preferred walking speed (Bohannon 1997:
     /// 1.3-1.5 m/s for adults under 60); 0 keeps the lock through any loss. "lock.lost_walk_speed_mps".
     double lost_walk_speed_mps = 1.4;
-    /// Nonzero: while localized on a core that has explained sightings, the weight and spread tests read the
-    /// particles whose history explains a sighting (HysteresisInput::sighted_core_weight, contested_weight,
-    /// sighted_core_std_m), not the whole cloud: the weight recovery injection hands to fresh particles, which
-    /// have no sighting behind them, neither dilutes nor spreads the lock until one of them explains a sighting
-    /// (what `lock_rival_weight` does for a heavy rival, here for particles scattered over the floor and along
-    /// the locked corridor). lock_min_weight still reads the whole core. 0 turns the rule off (for studies).
-    /// "lock.discount_unsighted".
+    /// Nonzero: while localized on a core that has explained sightings, the weight and spread tests break the
+    /// lock only when the particles whose history explains a sighting show it too (HysteresisInput::
+    /// sighted_core_weight against contested_weight, sighted_core_std_m): the weight recovery injection hands to
+    /// fresh particles, which have no sighting behind them, neither dilutes nor spreads the lock until one of
+    /// them explains a sighting (what `lock_rival_weight` does for a heavy rival, here for particles scattered
+    /// over the floor and along the locked corridor). The rule only relaxes those two tests; lock_min_weight
+    /// still reads the whole core. 0 turns the rule off (for studies). "lock.discount_unsighted".
     bool discount_unsighted = true;
     /// Nonzero: while localized, when the heaviest cluster is a rival away from the locked pose whose evidence is
     /// more than lock_rival_margin_nats worse than that of a cluster (holding >= lock_rival_weight) still at the

@@ -1188,9 +1188,12 @@ void ParticleFilter::compute_estimate() {
         if (core.weight > 0) {
             hin.core_weight = core.weight;
             // The lock's sighted figures: its core among the particles whose history explains a sighting, and the
-            // sighted weight held elsewhere. Read when most of the core is sighted (with the range-bias
+            // sighted weight held elsewhere. Needed only when the whole core's spread or weight would break the
+            // lock (the rule only relaxes those tests); read when most of the core is sighted (with the range-bias
             // statistics off no particle records a sighting, and the rule is off).
-            if (hp.discount_unsighted && sign_model_.range_bias_sigma > 0) {
+            const bool core_would_break =
+                core.weight < hp.unlocalize_weight || core.position_std_m() > hp.unlocalize_std_m;
+            if (hp.discount_unsighted && sign_model_.range_bias_sigma > 0 && core_would_break) {
                 const double sighted_total = sighted_members(p_, dominant_members_, sighted_members_);
                 const ClusterCore sighted = cluster_core(p_, sighted_members_, hp.lock_core_radius_m, core_scratch_);
                 if (sighted.weight > 0.5 * core.weight) {
