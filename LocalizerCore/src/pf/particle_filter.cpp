@@ -1191,8 +1191,8 @@ void ParticleFilter::compute_estimate() {
             // sighted weight held elsewhere. Needed only when the whole core's spread or weight would break the
             // lock (the rule only relaxes those tests); read when most of the core is sighted (with the range-bias
             // statistics off no particle records a sighting, and the rule is off).
-            const bool core_would_break =
-                core.weight < hp.unlocalize_weight || core.position_std_m() > hp.unlocalize_std_m;
+            const double core_std_m = core.position_std_m();
+            const bool core_would_break = core.weight < hp.unlocalize_weight || core_std_m > hp.unlocalize_std_m;
             if (hp.discount_unsighted && sign_model_.range_bias_sigma > 0 && core_would_break) {
                 const double sighted_total = sighted_members(p_, dominant_members_, sighted_members_);
                 const ClusterCore sighted = cluster_core(p_, sighted_members_, hp.lock_core_radius_m, core_scratch_);
@@ -1202,7 +1202,7 @@ void ParticleFilter::compute_estimate() {
                     hin.contested_weight = std::max(0.0, sighted_total - sighted.weight);
                 }
             }
-            hin.core_std_m = core.position_std_m();
+            hin.core_std_m = core_std_m;
             hin.x = core.x;
             hin.y = core.y;
             set_pose_from_core(e, core);

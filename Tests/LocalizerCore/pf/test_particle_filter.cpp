@@ -922,12 +922,6 @@ TEST(ParticleFilter, EstimateAfterResamplingSummarisesTheResamplingsPartition) {
     EXPECT_LT(worst_position_m, 0.1);
 }
 
-// One misread far sign (a sighting that fits no pose near the lock) must not break a steady lock: recovery
-// injection scatters particles along the corridor, some join the locked cluster by connectivity, and its
-// whole-cluster spread jumps past unlocalize_std_m; the lock reads the cluster's core (pf/cluster_core).
-// Measured on the end-to-end study's conv-2-01 (U-Net): a 13.8 m sign read at 8.4 m broke a 0.95 lock for
-// 6.5 s. `lock.core_radius_m` = 1e4 (the whole cluster, the rule before) breaks the lock on 3 of these 6 walks
-// (up to 8 of the 30 frames after the outlier, errors up to 2.2 m): the check that the test exercises it.
 namespace {
 // What a lock went through in a window after a disturbance: frames without the flag, the largest error, and the
 // particles injected.
@@ -938,6 +932,12 @@ struct After {
 };
 }  // namespace
 
+// One misread far sign (a sighting that fits no pose near the lock) must not break a steady lock: recovery
+// injection scatters particles along the corridor, some join the locked cluster by connectivity, and its
+// whole-cluster spread jumps past unlocalize_std_m; the lock reads the cluster's core (pf/cluster_core).
+// Measured on the end-to-end study's conv-2-01 (U-Net): a 13.8 m sign read at 8.4 m broke a 0.95 lock for
+// 6.5 s. `lock.core_radius_m` = 1e4 (the whole cluster, the rule before) breaks the lock on 3 of these 6 walks
+// (up to 8 of the 30 frames after the outlier, errors up to 2.2 m): the check that the test exercises it.
 TEST(ParticleFilter, OneMisreadSightingDoesNotBreakTheLock) {
     auto world = wf::test::l_world();
     // The window: the 3 s after the outlier.
