@@ -35,17 +35,56 @@ MotionNoise MotionNoise::from_options(const wf_localizer_options &o) {
     return n;
 }
 
+void VioDeltaTracker::remember(const wf_vio_sample &s) {
+    recent_t_[recent_head_] = s.t;
+    recent_e_[recent_head_] = s.east_m;
+    recent_n_[recent_head_] = s.north_m;
+    recent_head_ = (recent_head_ + 1) % kRecent;
+    recent_count_ = std::min(recent_count_ + 1, kRecent);
+}
+
+void VioDeltaTracker::add_walk_on(VioDelta &d, double lost_s) const {
+    if (walk_on_.share <= 0 || lost_s > walk_on_.max_lost_s) return;
+    const double speed = std::hypot(walk_v_east_, walk_v_north_);
+    if (!(speed >= walk_on_.min_speed_mps && speed <= walk_on_.max_speed_mps)) return;
+    d.walk_on_east = static_cast<float>(walk_v_east_ * lost_s);
+    d.walk_on_north = static_cast<float>(walk_v_north_ * lost_s);
+    d.walk_on_share = static_cast<float>(walk_on_.share);
+    d.walk_on_along_sigma_per_m = static_cast<float>(walk_on_.along_sigma_per_m);
+    d.walk_on_cross_sigma_m = static_cast<float>(walk_on_.cross_sigma_m);
+}
+
 VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
     VioDelta d;
     if (s.tracking == WF_VIO_TRACKING_NOT_AVAILABLE) {
-        // The pose is meaningless until tracking returns; remember when it was lost.
-        if (lost_since_ < 0) lost_since_ = has_last_ ? last_.t : s.t;
+        // The pose is meaningless until tracking returns; remember when it was lost, and how fast the
+        // traveler was walking then: the velocity over the last window_s of usable samples (none: standing).
+        if (lost_since_ < 0) {
+            lost_since_ = has_last_ ? last_.t : s.t;
+            walk_v_east_ = walk_v_north_ = 0;
+            if (has_last_ && recent_count_ > 1) {
+                const int newest = (recent_head_ + kRecent - 1) % kRecent;
+                int oldest = newest;
+                for (int k = 1; k < recent_count_; ++k) {
+                    const int i = (newest + kRecent - k) % kRecent;
+                    if (recent_t_[newest] - recent_t_[i] > walk_on_.window_s) break;
+                    oldest = i;
+                }
+                const double span = recent_t_[newest] - recent_t_[oldest];
+                if (span >= 0.5 * walk_on_.window_s) {
+                    walk_v_east_ = (recent_e_[newest] - recent_e_[oldest]) / span;
+                    walk_v_north_ = (recent_n_[newest] - recent_n_[oldest]) / span;
+                }
+            }
+        }
         return d;
     }
     if (!has_last_) {
         last_ = s;
         has_last_ = true;
         lost_since_ = -1;
+        recent_count_ = 0;
+        remember(s);
         return d;
     }
     const double dt = s.t - last_.t;
@@ -63,8 +102,12 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
             std::min(kMaxLostPositionSigmaM, opts_.jump_position_sigma_m + opts_.lost_tracking_speed_mps * lost_s));
         d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
         d.after_tracking_loss = true;
+        d.frame_kept_share = static_cast<float>(walk_on_.frame_kept_share);
+        add_walk_on(d, lost_s);
         lost_since_ = -1;
         last_ = s;
+        recent_count_ = 0;  // a new VIO frame may start here: no velocity across the seam
+        remember(s);
         return d;
     }
     if (dt < 0) {
@@ -73,6 +116,8 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         d.jump_position_sigma = static_cast<float>(opts_.jump_position_sigma_m);
         d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
         last_ = s;
+        recent_count_ = 0;
+        remember(s);
         return d;
     }
     if (dt < kMinSampleIntervalS) return VioDelta{};  // merged: the next sample's delta spans this one
@@ -85,8 +130,11 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         d.kind = DeltaKind::kJump;
         d.jump_position_sigma = static_cast<float>(opts_.jump_position_sigma_m);
         d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
+        recent_count_ = 0;  // the snap is not walking
+        remember(s);
         return d;
     }
+    remember(s);
     if (dist == 0.0 && dyaw == 0.0) return d;  // nothing moved
     d.kind = DeltaKind::kMove;
     d.noise_factor = s.tracking == WF_VIO_TRACKING_LIMITED ? static_cast<float>(opts_.limited_tracking_noise_factor)
@@ -111,9 +159,31 @@ WF_SIMD_CLONES double apply_motion(ParticleSet &p, const VioDelta &delta, const 
         // The VIO frame jumped: the camera's true map heading did not change, so the yaw offset absorbs the
         // VIO yaw jump; the displacement is dropped and replaced by inflated noise.
         const float sp = delta.jump_position_sigma, sy = delta.jump_yaw_sigma;
+        // Walk-on share (after a tracking loss): the pre-loss VIO displacement, in the pre-loss VIO frame, so
+        // rotated by the offset before this jump's yaw change; along- and cross-track spreads.
+        const float we = delta.walk_on_east, wn = delta.walk_on_north;
+        const float walk_len = std::sqrt(we * we + wn * wn);
+        const bool walk_on = delta.walk_on_share > 0 && walk_len > 0;
+        const float along_sigma = delta.walk_on_along_sigma_per_m, cross_sigma = delta.walk_on_cross_sigma_m;
+        const bool kept_frame = delta.frame_kept_share > 0;
         for (size_t i = 0; i < n; ++i) {
-            offs[i] = wrap_angle_f(offs[i] - delta.d_yaw + sy * rng.normal());
-            const float nx = xs[i] + sp * rng.normal(), ny = ys[i] + sp * rng.normal();
+            float nx, ny;
+            // A particle that takes the yaw change as a turn keeps its offset (the same draw of yaw noise).
+            const float d_yaw = kept_frame && rng.uniform(0.0, 1.0) < delta.frame_kept_share ? 0.0f : delta.d_yaw;
+            if (walk_on && rng.uniform(0.0, 1.0) < delta.walk_on_share) {
+                float sn, cs;
+                fast_sincos(offs[i], sn, cs);
+                const float ue = (cs * we - sn * wn) / walk_len, un = (sn * we + cs * wn) / walk_len;
+                const float along = scales[i] * walk_len * (1.0f + along_sigma * rng.normal());
+                const float cross = cross_sigma * rng.normal();
+                nx = xs[i] + along * ue - cross * un;
+                ny = ys[i] + along * un + cross * ue;
+                offs[i] = wrap_angle_f(offs[i] - d_yaw + sy * rng.normal());
+            } else {
+                offs[i] = wrap_angle_f(offs[i] - d_yaw + sy * rng.normal());
+                nx = xs[i] + sp * rng.normal();
+                ny = ys[i] + sp * rng.normal();
+            }
             if (fl[floors[i]].walls.crosses(xs[i], ys[i], nx, ny)) ws[i] *= kill;
             xs[i] = nx;
             ys[i] = ny;

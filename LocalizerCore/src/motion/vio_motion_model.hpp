@@ -57,6 +57,39 @@ struct VioDelta {
     float jump_position_sigma = 0, jump_yaw_sigma = 0;
     /// For kJump: tracking was lost (notAvailable) before this sample, so the traveler moved unobserved.
     bool after_tracking_loss = false;
+    /// For kJump after a tracking loss: where the traveler would be had they walked on at the velocity
+    /// VIO measured just before the loss (displacement on the pre-loss VIO plane, meters; 0 = no walk-on
+    /// hypothesis), and the share of particles that take it (WalkOnParams).
+    float walk_on_east = 0, walk_on_north = 0, walk_on_share = 0;
+    /// Along-track std of the walk-on displacement per meter of it, and its cross-track std, meters.
+    float walk_on_along_sigma_per_m = 0, walk_on_cross_sigma_m = 0;
+    /// For kJump after a tracking loss: the share of particles for which the VIO yaw change across the loss is
+    /// the traveler's own turn (ARKit kept its world frame: the orientation was tracked by the IMU meanwhile, or
+    /// tracking relocalized into the old map) rather than a new origin; their yaw offsets keep their values.
+    float frame_kept_share = 0;
+};
+
+/// The walk-on prior after a tracking loss (ours; the pedestrian's constant-velocity prior of pedestrian dead
+/// reckoning, e.g. Harle 2013, "A survey of indoor inertial positioning systems for pedestrians"): a traveler
+/// walking when ARKit lost tracking most likely walked on at about the same speed and along the same line. On
+/// tracking's return a share of the particles is moved by the pre-loss VIO velocity times the time lost
+/// (rotated by each particle's yaw offset, scaled by its scale), with an along-track spread for the unknown
+/// speed and a small cross-track one; the others take the isotropic lost-tracking noise as before (the
+/// traveler stopped or turned). Walls still weigh every move. Named parameters "motion.walk_on_*".
+struct WalkOnParams {
+    /// Share of the particles that walk on (0 = off: every particle takes the isotropic noise).
+    double share = 0.5;
+    /// Pre-loss window over which the velocity is measured, seconds (needs at least half of it tracked).
+    double window_s = 1.5;
+    /// Walking speeds, m/s: below min the traveler is taken as standing (no walk-on); above max the window held
+    /// a snap, not a walk.
+    double min_speed_mps = 0.3, max_speed_mps = 2.0;
+    /// Longest loss the walk-on covers, seconds: after longer ones a turn is as likely as not.
+    double max_lost_s = 10.0;
+    /// Along-track std per meter of walk-on (speed unknown within about a quarter) and cross-track std, meters.
+    double along_sigma_per_m = 0.25, cross_sigma_m = 0.3;
+    /// Share of the particles that take the VIO yaw change across the loss as a turn (VioDelta::frame_kept_share).
+    double frame_kept_share = 0.5;
 };
 
 class VioDeltaTracker {
@@ -74,10 +107,29 @@ public:
     double last_north() const { return last_.north_m; }
     /// Time tracking was lost (the last usable sample's time), seconds; negative while tracking is available.
     double lost_since() const { return lost_since_; }
-    void reset() { has_last_ = false; lost_since_ = -1; }
+    void reset() {
+        has_last_ = false;
+        lost_since_ = -1;
+        recent_count_ = 0;
+    }
+    /// The walk-on prior's parameters (named parameters "motion.walk_on_*").
+    WalkOnParams &mutable_walk_on() { return walk_on_; }
+    const WalkOnParams &walk_on() const { return walk_on_; }
 
 private:
+    /// Fills the walk-on fields of `d`, a jump after `lost_s` seconds lost.
+    void add_walk_on(VioDelta &d, double lost_s) const;
+    /// Remembers a usable sample for the pre-loss velocity (a ring of the last kRecent).
+    void remember(const wf_vio_sample &s);
+
+    static constexpr int kRecent = 64;
     wf_localizer_options opts_;
+    WalkOnParams walk_on_;
+    /// Recent usable samples (t, east, north), oldest first from recent_head_ - recent_count_.
+    double recent_t_[kRecent] = {}, recent_e_[kRecent] = {}, recent_n_[kRecent] = {};
+    int recent_head_ = 0, recent_count_ = 0;
+    /// Pre-loss VIO velocity on the VIO plane, m/s, measured when tracking was lost (0 when standing).
+    double walk_v_east_ = 0, walk_v_north_ = 0;
     wf_vio_sample last_{};
     bool has_last_ = false;
     /// Time tracking became unavailable (-1 while available).

@@ -994,6 +994,9 @@ constexpr NamedParameter kParameters[] = {
     {"lock.discount_unsighted", 0, 1},
     {"lock.follow_locked", 0, 1},
     {"kld.min_particles_unlocalized", 0, 1e7},
+    {"motion.walk_on_share", 0, 1},
+    {"motion.walk_on_max_lost_s", 0, 1e4},
+    {"motion.loss_frame_kept_share", 0, 1},
     {"plane.weight", 0, 10},
     {"plane.min_interval_s", 0, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
@@ -1045,6 +1048,9 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
     else if (name == "lock.follow_locked") h.follow_locked_hypothesis = value != 0;
     else if (name == "kld.min_particles_unlocalized") min_particles_unlocalized_ = static_cast<size_t>(value);
+    else if (name == "motion.walk_on_share") tracker_.mutable_walk_on().share = value;
+    else if (name == "motion.walk_on_max_lost_s") tracker_.mutable_walk_on().max_lost_s = value;
+    else if (name == "motion.loss_frame_kept_share") tracker_.mutable_walk_on().frame_kept_share = value;
     else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
     else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
@@ -1074,6 +1080,9 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.discount_unsighted") value = h.discount_unsighted ? 1 : 0;
     else if (name == "lock.follow_locked") value = h.follow_locked_hypothesis ? 1 : 0;
     else if (name == "kld.min_particles_unlocalized") value = static_cast<double>(min_particles_unlocalized_);
+    else if (name == "motion.walk_on_share") value = tracker_.walk_on().share;
+    else if (name == "motion.walk_on_max_lost_s") value = tracker_.walk_on().max_lost_s;
+    else if (name == "motion.loss_frame_kept_share") value = tracker_.walk_on().frame_kept_share;
     else if (name == "plane.weight") value = planes_.params.weight;
     else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;

@@ -114,6 +114,99 @@ TEST(VioDeltaTracker, SamplesFasterThanThirtyHertzAreMergedIntoTheNext) {
     EXPECT_EQ(tr.push({2.0 / 60 + 1.0 / 30 - 0.003, 0.09, 0, 0.02, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
 }
 
+// The walk-on prior (WalkOnParams): a traveler walking 1.2 m/s east when tracking is lost for 3 s would be
+// 3.6 m further east on its return. The velocity comes from the last 1.5 s of usable samples; a traveler
+// standing still, a loss longer than max_lost_s, or a window cut short by a snap gives no walk-on hypothesis.
+TEST(VioDeltaTracker, ATrackingLossWhileWalkingCarriesThePreLossVelocity) {
+    auto o = wf::test::default_options();
+    const double dt = 1.0 / 30.0;
+    auto walk_then_lose = [&](VioDeltaTracker &tr, double speed_mps, double lost_s) {
+        double t = 0;
+        for (int k = 0; k <= 60; ++k, t += dt) tr.push({t, speed_mps * t, 0, 0.1, WF_VIO_TRACKING_NORMAL});
+        const double t_lost = t - dt;
+        for (; t < t_lost + lost_s; t += dt) tr.push({t, 0, 0, 0, WF_VIO_TRACKING_NOT_AVAILABLE});
+        return tr.push({t_lost + lost_s, speed_mps * t_lost, 0, 0.9, WF_VIO_TRACKING_NORMAL});
+    };
+    VioDeltaTracker walking(o);
+    VioDelta d = walk_then_lose(walking, 1.2, 3.0);
+    ASSERT_EQ(d.kind, DeltaKind::kJump);
+    EXPECT_TRUE(d.after_tracking_loss);
+    EXPECT_NEAR(d.walk_on_east, 1.2f * 3.0f, 1e-3f);
+    EXPECT_NEAR(d.walk_on_north, 0.0f, 1e-6f);
+    EXPECT_FLOAT_EQ(d.walk_on_share, 0.5f);
+    EXPECT_FLOAT_EQ(d.frame_kept_share, 0.5f);
+    EXPECT_NEAR(d.d_yaw, 0.8f, 1e-6f);  // the VIO yaw change across the loss is reported as it is
+
+    VioDeltaTracker standing(o);
+    d = walk_then_lose(standing, 0.1, 3.0);  // below min_speed_mps
+    EXPECT_EQ(d.kind, DeltaKind::kJump);
+    EXPECT_EQ(d.walk_on_share, 0.0f);
+    EXPECT_EQ(d.walk_on_east, 0.0f);
+
+    VioDeltaTracker long_loss(o);
+    d = walk_then_lose(long_loss, 1.2, 12.0);  // beyond max_lost_s (10 s)
+    EXPECT_EQ(d.walk_on_share, 0.0f);
+
+    // A snap just before the loss: the window after it is too short to measure a walk.
+    VioDeltaTracker snapped(o);
+    snapped.push({0.0, 0, 0, 0, WF_VIO_TRACKING_NORMAL});
+    snapped.push({dt, 0.04, 0, 0, WF_VIO_TRACKING_NORMAL});
+    snapped.push({2 * dt, 1.5, 0, 0, WF_VIO_TRACKING_NORMAL});  // a jump
+    snapped.push({3 * dt, 1.54, 0, 0, WF_VIO_TRACKING_NORMAL});
+    snapped.push({4 * dt, 0, 0, 0, WF_VIO_TRACKING_NOT_AVAILABLE});
+    d = snapped.push({4 * dt + 2.0, 1.6, 0, 0, WF_VIO_TRACKING_NORMAL});
+    EXPECT_EQ(d.kind, DeltaKind::kJump);
+    EXPECT_EQ(d.walk_on_share, 0.0f);
+
+    // Switched off by its share.
+    VioDeltaTracker off(o);
+    off.mutable_walk_on().share = 0;
+    off.mutable_walk_on().frame_kept_share = 0;
+    d = walk_then_lose(off, 1.2, 3.0);
+    EXPECT_EQ(d.walk_on_share, 0.0f);
+    EXPECT_EQ(d.frame_kept_share, 0.0f);
+}
+
+// On tracking's return, half the particles walk on by the pre-loss displacement (rotated by their yaw offset,
+// scaled, spread 25 % along track and 0.3 m across), the others stay for the isotropic noise (zero here); and
+// half take the VIO yaw change as the traveler's turn (offset kept), the others as a new origin (offset
+// absorbs it). 20k particles, fixed seed; shares within 0.02 (binomial standard error 0.0035), the walk-on
+// mean within 0.05 m (standard error 0.006 m) and its along-track spread within 10 %.
+TEST(VioMotionModel, TrackingReturnSplitsTheCloudIntoWalkOnAndTurnHypotheses) {
+    auto world = wf::test::corridor_world();
+    const auto map = wf::test::build_map(world, wf::test::default_options());
+    const size_t n = 20000;
+    ParticleSet p = make_particles(n, 5, 1, 0.0f, 1.1f);
+    Rng rng(11);
+    VioDelta d;
+    d.kind = DeltaKind::kJump;
+    d.after_tracking_loss = true;
+    d.d_yaw = 1.0f;
+    d.jump_position_sigma = 0; d.jump_yaw_sigma = 0;
+    d.walk_on_east = 4.0f; d.walk_on_north = 0; d.walk_on_share = 0.5f;
+    d.walk_on_along_sigma_per_m = 0.25f; d.walk_on_cross_sigma_m = 0.3f;
+    d.frame_kept_share = 0.5f;
+    apply_motion(p, d, zero_noise(), map, rng);
+    size_t stayed = 0, walked = 0, kept = 0;
+    double sum_x = 0, sum_x2 = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (p.x[i] == 5.0f && p.y[i] == 1.0f) {
+            ++stayed;
+        } else {
+            ++walked;
+            sum_x += p.x[i];
+            sum_x2 += static_cast<double>(p.x[i]) * p.x[i];
+        }
+        kept += std::fabs(p.yaw_offset[i]) < 1e-6f ? 1 : 0;
+        if (std::fabs(p.yaw_offset[i]) >= 1e-6f) EXPECT_NEAR(p.yaw_offset[i], -1.0f, 1e-6f);
+    }
+    EXPECT_NEAR(static_cast<double>(stayed) / n, 0.5, 0.02);
+    EXPECT_NEAR(static_cast<double>(kept) / n, 0.5, 0.02);
+    const double mean = sum_x / walked, sd = std::sqrt(sum_x2 / walked - mean * mean);
+    EXPECT_NEAR(mean, 5.0 + 1.1 * 4.0, 0.05);           // scale 1.1 times the 4 m walk-on
+    EXPECT_NEAR(sd, 0.25 * 1.1 * 4.0, 0.1 * 0.25 * 1.1 * 4.0);
+}
+
 // A relocalization jump keeps every particle's map heading and does not apply the displacement.
 TEST(VioMotionModel, JumpKeepsMapHeadingAndSkipsDisplacement) {
     auto world = wf::test::corridor_world();
