@@ -157,7 +157,8 @@ WF_SIMD_CLONES double apply_motion(ParticleSet &p, const VioDelta &delta, const 
 
     if (delta.kind == DeltaKind::kJump) {
         // The VIO frame jumped: the camera's true map heading did not change, so the yaw offset absorbs the
-        // VIO yaw jump; the displacement is dropped and replaced by inflated noise.
+        // VIO yaw jump; the displacement is dropped and replaced by inflated noise. After a tracking loss the
+        // particles split (WalkOnParams): some take the yaw change as the traveler's turn, some walk on.
         const float sp = delta.jump_position_sigma, sy = delta.jump_yaw_sigma;
         // Walk-on share (after a tracking loss): the pre-loss VIO displacement, in the pre-loss VIO frame, so
         // rotated by the offset before this jump's yaw change; along- and cross-track spreads.

@@ -3,7 +3,8 @@
 //  - VioDeltaTracker turns the stream of VIO samples into per-frame deltas and classifies them: an ordinary
 //    move, a frame to skip (first sample, tracking not available), or a relocalization jump / origin reset
 //    (implausible displacement or turn between consecutive frames, or tracking coming back after being
-//    unavailable), which is skipped while the particles' uncertainty is inflated instead.
+//    unavailable), which is skipped while the particles' uncertainty is inflated instead; after a tracking loss
+//    part of the cloud walks on at the pre-loss velocity and part takes the yaw change as a turn (WalkOnParams).
 //  - apply_motion moves every particle: the VIO displacement is rotated by the particle's yaw offset and
 //    scaled by its scale factor; noise grows with distance walked and angle turned (the odometry model of
 //    Probabilistic Robotics section 5.4 in spirit: error driven by motion, not by time), as a random walk
