@@ -150,6 +150,10 @@ public struct VIOParameters: Codable, Sendable, Equatable {
     public var initializingSeconds = 0.7
     /// `limited`/`relocalizing` after a tracking loss, s.
     public var afterLossRelocalizingSeconds = 1.0
+    /// Whether the VIO pose follows the walk through a tracking loss (ARKit relocalized into its old map: the
+    /// pose after the loss is the true one in the old frame). False (the default): the pose resumes where it
+    /// stopped, the walk during the loss unmeasured.
+    public var poseKeptThroughLoss = false
     /// Distance of the session's world origin from the start (the first pose is near the origin), m.
     public var originOffsetMeters = 0.05
     /// The defaults.

@@ -112,7 +112,7 @@ struct VIOModel {
             if k > 0 {
                 let prev = states[k - 1]
                 let dx = s.position.x - prev.position.x, dy = s.position.y - prev.position.y
-                if !lost {
+                if !lost || p.poseKeptThroughLoss {
                     east += scale * (cos(theta) * dx - sin(theta) * dy)
                     north += scale * (sin(theta) * dx + cos(theta) * dy)
                     up += scale * (s.altitudeMeters - prev.altitudeMeters)

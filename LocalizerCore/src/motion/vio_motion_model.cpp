@@ -104,6 +104,12 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         d.after_tracking_loss = true;
         d.frame_kept_share = static_cast<float>(walk_on_.frame_kept_share);
         add_walk_on(d, lost_s);
+        const double moved = std::sqrt(de * de + dn * dn);
+        if (walk_on_.measured_share > 0 && moved >= walk_on_.min_measured_m &&
+            moved <= opts_.jump_position_sigma_m + walk_on_.max_speed_mps * lost_s) {
+            d.measured_share = static_cast<float>(walk_on_.measured_share);
+            d.measured_sigma_m = static_cast<float>(walk_on_.measured_sigma_m + walk_on_.measured_sigma_per_m * moved);
+        }
         lost_since_ = -1;
         last_ = s;
         recent_count_ = 0;  // a new VIO frame may start here: no velocity across the seam
@@ -167,11 +173,21 @@ WF_SIMD_CLONES double apply_motion(ParticleSet &p, const VioDelta &delta, const 
         const bool walk_on = delta.walk_on_share > 0 && walk_len > 0;
         const float along_sigma = delta.walk_on_along_sigma_per_m, cross_sigma = delta.walk_on_cross_sigma_m;
         const bool kept_frame = delta.frame_kept_share > 0;
+        const bool measured = delta.measured_share > 0;
         for (size_t i = 0; i < n; ++i) {
             float nx, ny;
             // A particle that takes the yaw change as a turn keeps its offset (the same draw of yaw noise).
             const float d_yaw = kept_frame && rng.uniform(0.0, 1.0) < delta.frame_kept_share ? 0.0f : delta.d_yaw;
-            if (walk_on && rng.uniform(0.0, 1.0) < delta.walk_on_share) {
+            if (measured && rng.uniform(0.0, 1.0) < delta.measured_share) {
+                // The displacement as VIO measured it, in the pre-loss frame (rotated by the offset before the
+                // yaw change), as an ordinary move, with the drift of the relocalization around it.
+                float sn, cs;
+                fast_sincos(offs[i], sn, cs);
+                const float sm = delta.measured_sigma_m;
+                nx = xs[i] + scales[i] * (cs * delta.d_east - sn * delta.d_north) + sm * rng.normal();
+                ny = ys[i] + scales[i] * (sn * delta.d_east + cs * delta.d_north) + sm * rng.normal();
+                offs[i] = wrap_angle_f(offs[i] - d_yaw + sy * rng.normal());
+            } else if (walk_on && rng.uniform(0.0, 1.0) < delta.walk_on_share) {
                 float sn, cs;
                 fast_sincos(offs[i], sn, cs);
                 const float ue = (cs * we - sn * wn) / walk_len, un = (sn * we + cs * wn) / walk_len;

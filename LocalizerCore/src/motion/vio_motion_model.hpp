@@ -4,7 +4,8 @@
 //    move, a frame to skip (first sample, tracking not available), or a relocalization jump / origin reset
 //    (implausible displacement or turn between consecutive frames, or tracking coming back after being
 //    unavailable), which is skipped while the particles' uncertainty is inflated instead; after a tracking loss
-//    part of the cloud walks on at the pre-loss velocity and part takes the yaw change as a turn (WalkOnParams).
+//    part of the cloud walks on at the pre-loss velocity, part takes the yaw change as a turn, and when the VIO
+//    displacement across the loss is a plausible walk, part takes it as measured (WalkOnParams).
 //  - apply_motion moves every particle: the VIO displacement is rotated by the particle's yaw offset and
 //    scaled by its scale factor; noise grows with distance walked and angle turned (the odometry model of
 //    Probabilistic Robotics section 5.4 in spirit: error driven by motion, not by time), as a random walk
@@ -68,6 +69,9 @@ struct VioDelta {
     /// the traveler's own turn (ARKit kept its world frame: the orientation was tracked by the IMU meanwhile, or
     /// tracking relocalized into the old map) rather than a new origin; their yaw offsets keep their values.
     float frame_kept_share = 0;
+    /// For kJump after a tracking loss whose VIO displacement (d_east, d_north) is a plausible walk: the share
+    /// of particles that take it as measured (ARKit relocalized into its old map), and its position std, meters.
+    float measured_share = 0, measured_sigma_m = 0;
 };
 
 /// The walk-on prior after a tracking loss (ours; the pedestrian's constant-velocity prior of pedestrian dead
@@ -91,6 +95,13 @@ struct WalkOnParams {
     double along_sigma_per_m = 0.25, cross_sigma_m = 0.3;
     /// Share of the particles that take the VIO yaw change across the loss as a turn (VioDelta::frame_kept_share).
     double frame_kept_share = 0.5;
+    /// Share of the particles that take the VIO displacement across the loss as measured, when it is a plausible
+    /// walk: at least min_measured_m (a smaller one is the isotropic share's "stood still") and at most
+    /// jump_position_sigma_m + max_speed_mps x the time lost. Drawn before the walk-on split; its position std
+    /// is measured_sigma_m + measured_sigma_per_m x the displacement (drift through the relocalization).
+    double measured_share = 0.4;
+    double min_measured_m = 0.5;
+    double measured_sigma_m = 0.2, measured_sigma_per_m = 0.1;
 };
 
 class VioDeltaTracker {

@@ -997,6 +997,7 @@ constexpr NamedParameter kParameters[] = {
     {"motion.walk_on_share", 0, 1},
     {"motion.walk_on_max_lost_s", 0, 1e4},
     {"motion.loss_frame_kept_share", 0, 1},
+    {"motion.loss_measured_share", 0, 1},
     {"plane.weight", 0, 10},
     {"plane.min_interval_s", 0, 1e4},
     {"sign.negative_info_min_range_m", 0, 1e3},
@@ -1051,6 +1052,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "motion.walk_on_share") tracker_.mutable_walk_on().share = value;
     else if (name == "motion.walk_on_max_lost_s") tracker_.mutable_walk_on().max_lost_s = value;
     else if (name == "motion.loss_frame_kept_share") tracker_.mutable_walk_on().frame_kept_share = value;
+    else if (name == "motion.loss_measured_share") tracker_.mutable_walk_on().measured_share = value;
     else if (name == "plane.weight") planes_.params.weight = static_cast<float>(value);
     else if (name == "plane.min_interval_s") planes_.params.min_interval_s = value;
     else if (name == "sign.negative_info_min_range_m") sign_model_.negative_info_min_range_m = static_cast<float>(value);
@@ -1083,6 +1085,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "motion.walk_on_share") value = tracker_.walk_on().share;
     else if (name == "motion.walk_on_max_lost_s") value = tracker_.walk_on().max_lost_s;
     else if (name == "motion.loss_frame_kept_share") value = tracker_.walk_on().frame_kept_share;
+    else if (name == "motion.loss_measured_share") value = tracker_.walk_on().measured_share;
     else if (name == "plane.weight") value = planes_.params.weight;
     else if (name == "plane.min_interval_s") value = planes_.params.min_interval_s;
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;

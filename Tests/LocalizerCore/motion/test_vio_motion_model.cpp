@@ -26,6 +26,16 @@ MotionNoise zero_noise() {
     return m;
 }
 
+/// A return from a tracking loss without the jump's own noise: only the splits move the particles.
+VioDelta noiseless_loss_return() {
+    VioDelta d;
+    d.kind = DeltaKind::kJump;
+    d.after_tracking_loss = true;
+    d.jump_position_sigma = 0;
+    d.jump_yaw_sigma = 0;
+    return d;
+}
+
 VioDelta move(float de, float dn, float dyaw = 0) {
     VioDelta d;
     d.kind = DeltaKind::kMove;
@@ -136,6 +146,7 @@ TEST(VioDeltaTracker, ATrackingLossWhileWalkingCarriesThePreLossVelocity) {
     EXPECT_FLOAT_EQ(d.walk_on_share, 0.5f);
     EXPECT_FLOAT_EQ(d.frame_kept_share, 0.5f);
     EXPECT_NEAR(d.d_yaw, 0.8f, 1e-6f);  // the VIO yaw change across the loss is reported as it is
+    EXPECT_EQ(d.measured_share, 0.0f);  // the pose resumed where it stopped: nothing measured to trust
 
     VioDeltaTracker standing(o);
     d = walk_then_lose(standing, 0.1, 3.0);  // below min_speed_mps
@@ -158,13 +169,63 @@ TEST(VioDeltaTracker, ATrackingLossWhileWalkingCarriesThePreLossVelocity) {
     EXPECT_EQ(d.kind, DeltaKind::kJump);
     EXPECT_EQ(d.walk_on_share, 0.0f);
 
+    // The pose followed the walk through the loss (ARKit relocalized into its old map): 3.6 m is a plausible
+    // walk in 3 s, so a share takes it as measured, with 0.2 m + 10 % of it as std; 30 m in 3 s is not.
+    auto walk_then_return_at = [&](VioDeltaTracker &tr, double east_m) {
+        double t = 0;
+        for (int k = 0; k <= 60; ++k, t += dt) tr.push({t, 1.2 * t, 0, 0.1, WF_VIO_TRACKING_NORMAL});
+        const double t_lost = t - dt;
+        for (; t < t_lost + 3.0; t += dt) tr.push({t, 0, 0, 0, WF_VIO_TRACKING_NOT_AVAILABLE});
+        return tr.push({t_lost + 3.0, 1.2 * t_lost + east_m, 0, 0.1, WF_VIO_TRACKING_NORMAL});
+    };
+    VioDeltaTracker relocalized(o);
+    d = walk_then_return_at(relocalized, 3.6);
+    EXPECT_FLOAT_EQ(d.measured_share, 0.4f);
+    EXPECT_NEAR(d.measured_sigma_m, 0.2f + 0.1f * 3.6f, 1e-4f);
+    EXPECT_NEAR(d.d_east, 3.6f, 1e-4f);
+    VioDeltaTracker reset_far(o);
+    d = walk_then_return_at(reset_far, 30.0);
+    EXPECT_EQ(d.measured_share, 0.0f);
+
     // Switched off by its share.
     VioDeltaTracker off(o);
     off.mutable_walk_on().share = 0;
     off.mutable_walk_on().frame_kept_share = 0;
-    d = walk_then_lose(off, 1.2, 3.0);
+    off.mutable_walk_on().measured_share = 0;
+    d = walk_then_return_at(off, 3.6);
     EXPECT_EQ(d.walk_on_share, 0.0f);
     EXPECT_EQ(d.frame_kept_share, 0.0f);
+    EXPECT_EQ(d.measured_share, 0.0f);
+}
+
+/// 20k particles at (5, 1) in the 20 m corridor, heading offset 0, scale 1.1: the cloud a tracking return splits.
+class TrackingReturn : public ::testing::Test {
+protected:
+    static constexpr size_t n = 20000;
+    wf::test::World world = wf::test::corridor_world();
+    LocalizerMap map = wf::test::build_map(world, wf::test::default_options());
+    ParticleSet p = make_particles(n, 5, 1, 0.0f, 1.1f);
+};
+
+// The measured share: 40 % of 20k particles take the VIO displacement across the loss as an ordinary move (4 m
+// east rotated by the offset, 0 here, times the scale 1.1), the rest stay for the isotropic noise (zero here);
+// share within 0.02 (binomial standard error 0.0035).
+TEST_F(TrackingReturn, TakesAPlausibleMeasuredWalkForAShare) {
+    Rng rng(12);
+    VioDelta d = noiseless_loss_return();
+    d.d_east = 4.0f;
+    d.measured_share = 0.4f;
+    d.measured_sigma_m = 0;
+    apply_motion(p, d, zero_noise(), map, rng);
+    size_t moved = 0;
+    for (size_t i = 0; i < n; ++i) {
+        if (p.x[i] != 5.0f) {
+            ++moved;
+            EXPECT_NEAR(p.x[i], 5.0f + 1.1f * 4.0f, 1e-5f);
+            EXPECT_FLOAT_EQ(p.y[i], 1.0f);
+        }
+    }
+    EXPECT_NEAR(static_cast<double>(moved) / n, 0.4, 0.02);
 }
 
 // On tracking's return, half the particles walk on by the pre-loss displacement (rotated by their yaw offset,
@@ -172,17 +233,10 @@ TEST(VioDeltaTracker, ATrackingLossWhileWalkingCarriesThePreLossVelocity) {
 // half take the VIO yaw change as the traveler's turn (offset kept), the others as a new origin (offset
 // absorbs it). 20k particles, fixed seed; shares within 0.02 (binomial standard error 0.0035), the walk-on
 // mean within 0.05 m (standard error 0.006 m) and its along-track spread within 10 %.
-TEST(VioMotionModel, TrackingReturnSplitsTheCloudIntoWalkOnAndTurnHypotheses) {
-    auto world = wf::test::corridor_world();
-    const auto map = wf::test::build_map(world, wf::test::default_options());
-    const size_t n = 20000;
-    ParticleSet p = make_particles(n, 5, 1, 0.0f, 1.1f);
+TEST_F(TrackingReturn, SplitsTheCloudIntoWalkOnAndTurnHypotheses) {
     Rng rng(11);
-    VioDelta d;
-    d.kind = DeltaKind::kJump;
-    d.after_tracking_loss = true;
+    VioDelta d = noiseless_loss_return();
     d.d_yaw = 1.0f;
-    d.jump_position_sigma = 0; d.jump_yaw_sigma = 0;
     d.walk_on_east = 4.0f; d.walk_on_north = 0; d.walk_on_share = 0.5f;
     d.walk_on_along_sigma_per_m = 0.25f; d.walk_on_cross_sigma_m = 0.3f;
     d.frame_kept_share = 0.5f;
