@@ -43,12 +43,29 @@ void VioDeltaTracker::remember(const wf_vio_sample &s) {
     recent_count_ = std::min(recent_count_ + 1, kRecent);
 }
 
+bool VioDeltaTracker::pre_loss_velocity(double &v_east, double &v_north) const {
+    if (recent_count_ < 2) return false;
+    const int newest = (recent_head_ + kRecent - 1) % kRecent;
+    int oldest = newest;
+    for (int k = 1; k < recent_count_; ++k) {
+        const int i = (newest + kRecent - k) % kRecent;
+        if (recent_t_[newest] - recent_t_[i] > walk_on_.window_s) break;
+        oldest = i;
+    }
+    const double span = recent_t_[newest] - recent_t_[oldest];
+    if (span < 0.5 * walk_on_.window_s) return false;
+    v_east = (recent_e_[newest] - recent_e_[oldest]) / span;
+    v_north = (recent_n_[newest] - recent_n_[oldest]) / span;
+    return true;
+}
+
 void VioDeltaTracker::add_walk_on(VioDelta &d, double lost_s) const {
-    if (walk_on_.share <= 0 || lost_s > walk_on_.max_lost_s) return;
-    const double speed = std::hypot(walk_v_east_, walk_v_north_);
+    double v_east = 0, v_north = 0;
+    if (walk_on_.share <= 0 || lost_s > walk_on_.max_lost_s || !pre_loss_velocity(v_east, v_north)) return;
+    const double speed = std::hypot(v_east, v_north);
     if (!(speed >= walk_on_.min_speed_mps && speed <= walk_on_.max_speed_mps)) return;
-    d.walk_on_east = static_cast<float>(walk_v_east_ * lost_s);
-    d.walk_on_north = static_cast<float>(walk_v_north_ * lost_s);
+    d.walk_on_east = static_cast<float>(v_east * lost_s);
+    d.walk_on_north = static_cast<float>(v_north * lost_s);
     d.walk_on_share = static_cast<float>(walk_on_.share);
     d.walk_on_along_sigma_per_m = static_cast<float>(walk_on_.along_sigma_per_m);
     d.walk_on_cross_sigma_m = static_cast<float>(walk_on_.cross_sigma_m);
@@ -57,26 +74,9 @@ void VioDeltaTracker::add_walk_on(VioDelta &d, double lost_s) const {
 VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
     VioDelta d;
     if (s.tracking == WF_VIO_TRACKING_NOT_AVAILABLE) {
-        // The pose is meaningless until tracking returns; remember when it was lost, and how fast the
-        // traveler was walking then: the velocity over the last window_s of usable samples (none: standing).
-        if (lost_since_ < 0) {
-            lost_since_ = has_last_ ? last_.t : s.t;
-            walk_v_east_ = walk_v_north_ = 0;
-            if (has_last_ && recent_count_ > 1) {
-                const int newest = (recent_head_ + kRecent - 1) % kRecent;
-                int oldest = newest;
-                for (int k = 1; k < recent_count_; ++k) {
-                    const int i = (newest + kRecent - k) % kRecent;
-                    if (recent_t_[newest] - recent_t_[i] > walk_on_.window_s) break;
-                    oldest = i;
-                }
-                const double span = recent_t_[newest] - recent_t_[oldest];
-                if (span >= 0.5 * walk_on_.window_s) {
-                    walk_v_east_ = (recent_e_[newest] - recent_e_[oldest]) / span;
-                    walk_v_north_ = (recent_n_[newest] - recent_n_[oldest]) / span;
-                }
-            }
-        }
+        // The pose is meaningless until tracking returns; remember when it was lost. The recent samples stay
+        // as they were: on the return they give the pre-loss velocity.
+        if (lost_since_ < 0) lost_since_ = has_last_ ? last_.t : s.t;
         return d;
     }
     if (!has_last_) {

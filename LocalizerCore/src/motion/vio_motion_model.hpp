@@ -131,6 +131,9 @@ public:
 private:
     /// Fills the walk-on fields of `d`, a jump after `lost_s` seconds lost.
     void add_walk_on(VioDelta &d, double lost_s) const;
+    /// VIO velocity on the VIO plane (m/s) over the last window_s of remembered samples; false when they span
+    /// less than half the window (too few usable samples since the last seam).
+    bool pre_loss_velocity(double &v_east, double &v_north) const;
     /// Remembers a usable sample for the pre-loss velocity (a ring of the last kRecent).
     void remember(const wf_vio_sample &s);
 
@@ -140,8 +143,6 @@ private:
     /// Recent usable samples (t, east, north), oldest first from recent_head_ - recent_count_.
     double recent_t_[kRecent] = {}, recent_e_[kRecent] = {}, recent_n_[kRecent] = {};
     int recent_head_ = 0, recent_count_ = 0;
-    /// Pre-loss VIO velocity on the VIO plane, m/s, measured when tracking was lost (0 when standing).
-    double walk_v_east_ = 0, walk_v_north_ = 0;
     wf_vio_sample last_{};
     bool has_last_ = false;
     /// Time tracking became unavailable (-1 while available).
