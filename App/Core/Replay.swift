@@ -80,6 +80,8 @@ public struct TraceHypothesis: Codable, Sendable, Equatable {
     public var headingRad: Double
     /// Recent evidence relative to the dominant hypothesis, nats (0 for the dominant; negative = worse).
     public var evidenceNats: Double
+    /// Position spread (largest axis std), meters; absent in traces written before it was recorded.
+    public var positionStdMeters: Double?
 }
 
 /// A sign sighting drawn as a ray from the estimated camera position, for the trainer's picture.
@@ -314,7 +316,7 @@ public enum Replay {
             if !e.isLocalized || e.hypotheses.count > 1 {
                 result.trace[result.trace.count - 1].hypothesisList = e.hypotheses.map {
                     TraceHypothesis(weight: $0.weight, x: $0.positionInMap.x, y: $0.positionInMap.y, headingRad: $0.headingRad,
-                                    evidenceNats: $0.evidenceNats)
+                                    evidenceNats: $0.evidenceNats, positionStdMeters: $0.positionStdMeters)
                 }
             }
             if let advice = update.advice { result.trace[result.trace.count - 1].advice = advice.action?.rawValue ?? "unsure" }

@@ -17,6 +17,18 @@ public struct UnsureGuidanceScore: Codable, Sendable, Equatable {
     /// Of those, instructions that would lead into a wall, onto stairs or through a door from the true pose:
     /// less than `safeWalkMeters` of free walking under the planner's clearance rules.
     public var unsafeInstructions: Int
+    /// Each unsafe instruction: when it was spoken, what it said and how far the true pose could walk.
+    public var unsafeMoments: [UnsafeMoment]
+
+    /// One instruction that was unsafe from the true pose (`wayfinder eval --explain` lists them).
+    public struct UnsafeMoment: Codable, Sendable, Equatable {
+        /// Time of the spoken instruction, seconds on the trace's clock.
+        public var t: Double
+        /// The instruction (`ExploratoryAction` raw value).
+        public var action: String
+        /// Free walking that instruction leaves from the true pose, meters (< `safeWalkMeters`).
+        public var freeWalkMeters: Double
+    }
 
     /// Free walking an instruction must leave from the true pose, meters (the planner asks 1 m more).
     public static let safeWalkMeters = 2.0
@@ -27,6 +39,7 @@ public struct UnsureGuidanceScore: Codable, Sendable, Equatable {
         directedSeconds = 0
         spokenInstructions = 0
         unsafeInstructions = 0
+        unsafeMoments = []
         let planner = DisambiguationPlanner(building: building)
         for (i, r) in trace.enumerated() {
             let dt = i + 1 < trace.count ? trace[i + 1].t - r.t : 0
@@ -39,8 +52,10 @@ public struct UnsureGuidanceScore: Codable, Sendable, Equatable {
             let s = truth.state(at: r.t)
             let truePose = PoseCandidate(weight: 1, floorId: s.floorId, positionInMap: Point2(x: s.x, y: s.y),
                                          headingRad: s.headingRad)
-            if planner.safeWalkMeters(action, [truePose]) < Self.safeWalkMeters - 1e-9 {
+            let free = planner.safeWalkMeters(action, [truePose])
+            if free < Self.safeWalkMeters - 1e-9 {
                 unsafeInstructions += 1
+                unsafeMoments.append(UnsafeMoment(t: r.t, action: spoken, freeWalkMeters: free))
             }
         }
     }

@@ -4,8 +4,8 @@ import Navigation
 import SessionFormat
 import WayfinderCore
 
-/// Text for people that explains a walk's navigation score: for every cue scored wrong and every true turn
-/// scored missing, where the traveler truly was, where the localizer put them, the true turns and the
+/// Text for people that explains a walk's navigation score: for every cue scored wrong, every true turn
+/// scored missing and every instruction unsafe from the true pose while not localized, where the traveler truly was, where the localizer put them, the true turns and the
 /// phrases around that moment. What `wayfinder eval --explain` prints.
 public enum WalkExplanation {
     /// Seconds of announcements and true turns listed on each side of an explained moment.
@@ -47,6 +47,11 @@ public enum WalkExplanation {
         for turn in n.missingTurns {
             out.append("  MISSING " + describe(turn, track, building) + ": " + place(turn.t))
             out += context(turn.t)
+        }
+        for moment in score.unsureGuidance?.unsafeMoments ?? [] {
+            out.append(String(format: "  UNSAFE %7.2f s '%@' (%.2f m free from the true pose): ", moment.t, moment.action,
+                              moment.freeWalkMeters) + place(moment.t))
+            out += context(moment.t)
         }
         return out
     }

@@ -9,7 +9,9 @@
 // (weight >= `minimumLiveWeight`), the planner casts the walking direction against the floor's walls:
 //  - safety: the walk must stay `wallMarginMeters` (plus twice the hypothesis' position std) short of the first wall, pass no stairs landing closer than
 //    `stairsClearanceMeters` and no door centre closer than `doorClearanceMeters`, under EVERY
-//    live hypothesis; the safe walk length is the shortest over them, capped at `lookaheadMeters`;
+//    live hypothesis, walked from the hypothesis' mean and from the edges of its spread (one position std
+//    ahead, behind and to each side: the traveler stands somewhere in the cluster); the safe walk length is
+//    the shortest over them, capped at `lookaheadMeters`;
 //  - information: every `stepMeters` along the walk each hypothesis predicts what the camera will see: the
 //    signs in its field of view (kind, range and side, bucketed) and how far the wall ahead is (ARKit planes
 //    see it). Hypotheses whose predictions differ will be told apart by the localizer; the partition's entropy
@@ -96,6 +98,15 @@ public struct DisambiguationOptions: Sendable {
     public var maximumSpreadMeters = 2.0
     /// The walk stops this far before the first wall ahead.
     public var wallMarginMeters = 1.0
+    /// A walk must also leave `spreadMinimumWalkMeters` from points this many position stds ahead of, behind,
+    /// left and right of the hypothesis' mean (0: from the mean only). Behind rough noise models, with clusters
+    /// 0.4-0.8 m wide, a traveler 0.25-0.36 m from the mean was told to turn into a doorway or past the end of
+    /// a wall (`wayfinder eval --explain`, docs/navigation.md).
+    public var spreadCheckStds = 0.75
+    /// The walk those points must leave, meters: what `wayfinder eval` asks of an instruction from the true pose.
+    public var spreadMinimumWalkMeters = 2.0
+    /// Those points stop this far before a wall between them and the mean (half a shoulder width), meters.
+    public var spreadWallClearanceMeters = 0.2
     /// A walk shorter than this is not worth an instruction (3 m: 1 m beyond the 2 m that `wayfinder eval`
     /// requires of an instruction from the true pose, so a hypothesis a few decimeters off stays safe).
     public var minimumWalkMeters = 3.0
@@ -173,35 +184,66 @@ public struct DisambiguationPlanner: Sendable {
     }
 
     /// Free walking length of `action` that is safe under every hypothesis, meters (walls, stairs, doors).
+    /// Each hypothesis is walked from its mean, and must also leave `spreadMinimumWalkMeters` from the edges
+    /// of its spread (`spreadStarts`): the traveler stands somewhere in the cluster, not at its mean.
     public func safeWalkMeters(_ action: ExploratoryAction, _ live: [PoseCandidate]) -> Double {
         var walk = options.lookaheadMeters
         for h in live {
             guard let floor = building.floor(id: h.floorId) else { return 0 }
             let direction = h.headingRad + action.turnRad
+            let spread = max(0, h.positionStdMeters)
             // The hypothesis' own spread widens the margin: its particles stand up to about two std from its mean.
-            let free = freeDistance(floor, from: h.positionInMap, directionRad: direction) - options.wallMarginMeters
-                - 2 * max(0, h.positionStdMeters)
-            walk = min(walk, free)
-            let end = Point2(x: h.positionInMap.x + walk * cos(direction), y: h.positionInMap.y + walk * sin(direction))
-            for node in building.graph.nodes where node.floorId == h.floorId && node.verticalLink == .stairs {
-                if Geometry.distance(from: node.position, toSegmentFrom: h.positionInMap, to: end) < options.stairsClearanceMeters {
-                    // Stop short of the landing: the walk up to its clearance circle is still safe.
-                    let along = max(0, projection(of: node.position, from: h.positionInMap, directionRad: direction) -
-                                    options.stairsClearanceMeters)
-                    walk = min(walk, along)
-                }
-            }
-            for door in floor.doors {
-                let reach = options.doorClearanceMeters
-                let doorEnd = Point2(x: h.positionInMap.x + walk * cos(direction), y: h.positionInMap.y + walk * sin(direction))
-                if Geometry.distance(from: door.position, toSegmentFrom: h.positionInMap, to: doorEnd) < reach {
-                    let along = max(0, projection(of: door.position, from: h.positionInMap, directionRad: direction) - reach)
-                    walk = min(walk, along)
-                }
-            }
+            walk = walkLength(floor, from: h.positionInMap, directionRad: direction,
+                              marginMeters: options.wallMarginMeters + 2 * spread, capMeters: walk)
             if walk < options.minimumWalkMeters { return max(0, walk) }
+            for start in spreadStarts(floor, h.positionInMap, spread: spread, directionRad: direction) {
+                let edge = walkLength(floor, from: start, directionRad: direction, marginMeters: options.wallMarginMeters,
+                                      capMeters: options.lookaheadMeters)
+                if edge < options.spreadMinimumWalkMeters { return max(0, min(walk, edge)) }
+            }
         }
         return max(0, walk)
+    }
+
+    /// How far a walk from `start` along `directionRad` goes, at most `capMeters`: it stops `marginMeters`
+    /// before the first wall, short of a stairs landing's clearance circle and before passing a door centre
+    /// closer than `doorClearanceMeters`. Meters, >= 0.
+    func walkLength(_ floor: Floor, from start: Point2, directionRad: Double, marginMeters: Double,
+                    capMeters: Double) -> Double {
+        var walk = min(capMeters, freeDistance(floor, from: start, directionRad: directionRad) - marginMeters)
+        let end = Point2(x: start.x + walk * cos(directionRad), y: start.y + walk * sin(directionRad))
+        for node in building.graph.nodes where node.floorId == floor.id && node.verticalLink == .stairs {
+            if Geometry.distance(from: node.position, toSegmentFrom: start, to: end) < options.stairsClearanceMeters {
+                // Stop short of the landing: the walk up to its clearance circle is still safe.
+                let reach = projection(of: node.position, from: start, directionRad: directionRad) - options.stairsClearanceMeters
+                walk = min(walk, max(0, reach))
+            }
+        }
+        for door in floor.doors {
+            let reach = options.doorClearanceMeters
+            let doorEnd = Point2(x: start.x + walk * cos(directionRad), y: start.y + walk * sin(directionRad))
+            if Geometry.distance(from: door.position, toSegmentFrom: start, to: doorEnd) < reach {
+                walk = min(walk, max(0, projection(of: door.position, from: start, directionRad: directionRad) - reach))
+            }
+        }
+        return max(0, walk)
+    }
+
+    /// The edges of one hypothesis' spread a walk is also checked from: the points `spreadCheckStds` x its
+    /// position std ahead of, behind, left and right of its mean along the walking direction, each pulled back
+    /// to `spreadWallClearanceMeters` before a wall between it and the mean (particles do not stand in walls);
+    /// none without a spread. Sigma points of the cluster, as the unscented transform places them (Julier &
+    /// Uhlmann 1997), on the axes of the walk.
+    func spreadStarts(_ floor: Floor, _ mean: Point2, spread: Double, directionRad: Double) -> [Point2] {
+        let reach = options.spreadCheckStds * spread
+        guard reach > 1e-9 else { return [] }
+        var starts: [Point2] = []
+        for turn in [0, Double.pi / 2, Double.pi, -Double.pi / 2] {
+            let d = directionRad + turn
+            let offset = min(reach, max(0, freeDistance(floor, from: mean, directionRad: d) - options.spreadWallClearanceMeters))
+            if offset > 1e-9 { starts.append(Point2(x: mean.x + offset * cos(d), y: mean.y + offset * sin(d))) }
+        }
+        return starts
     }
 
     /// Entropy of the partition of the hypotheses by their predicted views along the walk, and the first

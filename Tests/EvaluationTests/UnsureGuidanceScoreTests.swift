@@ -32,5 +32,8 @@ final class UnsureGuidanceScoreTests: XCTestCase {
         XCTAssertEqual(score.directedSeconds, 6, accuracy: 1e-6)
         XCTAssertEqual(score.spokenInstructions, 2)
         XCTAssertEqual(score.unsafeInstructions, 1)  // "ahead" from the true pose walks into the end wall
+        XCTAssertEqual(score.unsafeMoments.map(\.action), ["ahead"])
+        XCTAssertEqual(score.unsafeMoments.first?.t ?? -1, 4, accuracy: 1e-9)
+        XCTAssertLessThan(score.unsafeMoments.first?.freeWalkMeters ?? 9, 1.5 + 1e-6)  // the end wall 1.5 m ahead
     }
 }

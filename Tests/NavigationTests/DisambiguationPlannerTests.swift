@@ -99,6 +99,39 @@ final class DisambiguationPlannerTests: XCTestCase {
         XCTAssertNotEqual(door.action, .ahead)
     }
 
+    func testAWalkMustAlsoBeSafeFromTheEdgesOfTheHypothesisSpread() {
+        // A door in the north wall at x 6. The hypothesis stands at (6, 1.3) facing north: turning left walks
+        // west along the corridor, its mean 0.7 m from the door centre, so from the mean the walk is clear.
+        let planner = DisambiguationPlanner(building: corridor(doorAt: Point2(6, 2)))
+        let sharp = PoseCandidate(weight: 1, floorId: "1", positionInMap: Point2(6, 1.3), headingRad: Double.pi / 2)
+        XCTAssertEqual(planner.safeWalkMeters(.left, [sharp]), 5.0, accuracy: 1e-9)  // 6 m to the west wall - 1 m margin
+        // The same cluster 0.6 m wide: the traveler may stand 0.45 m nearer the door (0.75 std), in the doorway,
+        // and walking west from there passes the door centre 0.25 m away.
+        var wide = sharp
+        wide.positionStdMeters = 0.6
+        XCTAssertEqual(planner.safeWalkMeters(.left, [wide]), 0, accuracy: 1e-9)
+        XCTAssertNotEqual(planner.advise([wide]).action, .left)
+        let inTheDoorway = PoseCandidate(weight: 1, floorId: "1", positionInMap: Point2(6, 1.75), headingRad: Double.pi / 2)
+        XCTAssertLessThan(planner.safeWalkMeters(.left, [inTheDoorway]), 2.0)  // what `wayfinder eval` calls unsafe
+        // Turning right walks east, also past the door: vetoed the same way. Away from the door the wide
+        // cluster is still guided: at x 12 turning left leaves 8.8 m (the 11 m the ray looks - 1 m - 2 x 0.6 m).
+        XCTAssertEqual(planner.safeWalkMeters(.right, [wide]), 0, accuracy: 1e-9)
+        var elsewhere = wide
+        elsewhere.positionInMap = Point2(12, 1.3)
+        XCTAssertEqual(planner.safeWalkMeters(.left, [elsewhere]), 8.8, accuracy: 1e-9)
+    }
+
+    func testTheSpreadsEdgesStayOnTheWalkableSideOfAWall() {
+        // Mean 0.3 m from the south wall, std 1 m: the point towards that wall stops 0.2 m short of it.
+        let planner = DisambiguationPlanner(building: corridor())
+        let starts = planner.spreadStarts(planner.building.floors[0], Point2(10, 0.3), spread: 1.0, directionRad: 0)
+        XCTAssertEqual(starts.count, 4)
+        for p in starts { XCTAssertTrue(p.y > 0 && p.y < 2, "\(p)") }
+        XCTAssertEqual(starts.map(\.y).min() ?? -1, 0.2, accuracy: 1e-9)
+        XCTAssertEqual(starts.map(\.y).max() ?? -1, 1.05, accuracy: 1e-9)  // 0.75 std towards the north wall
+        XCTAssertTrue(planner.spreadStarts(planner.building.floors[0], Point2(10, 1), spread: 0, directionRad: 0).isEmpty)
+    }
+
     func testASpreadCloudGetsNoDirection() {
         // Three light hypotheses holding 30 % of the weight in all: the rest of the cloud is spread over the
         // floor, so no direction is known to be safe where the traveler really is.
