@@ -179,7 +179,7 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
 }
 
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad, FaceEdgeOptions faceEdges,
-                                         const std::vector<CatalogueEntry>* catalogue) {
+                                         const std::vector<CatalogueEntry>* catalogue, int transposedConvolution) {
     auto d = std::make_unique<DetectorHandle>();
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     std::vector<wf_sign_kind> entries;
@@ -193,6 +193,7 @@ std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseM
     opts.unet_coarse_min_elevation_rad = coarseMinElevationRad;
     opts.face_edge_refinement = faceEdges.refinement;
     opts.face_edge_transfer = faceEdges.transfer;
+    opts.unet_transposed_convolution = transposedConvolution;
     if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
     return d;
 }

@@ -106,7 +106,8 @@ std::unique_ptr<DetectorHandle> makeCascade(const std::string& path, int minWind
 struct CatalogueEntry;
 std::unique_ptr<DetectorHandle> makeUnet(const std::string& path, double coarseMinElevationRad = 0,
                                          FaceEdgeOptions faceEdges = {},
-                                         const std::vector<CatalogueEntry>* catalogue = nullptr);
+                                         const std::vector<CatalogueEntry>* catalogue = nullptr,
+                                         int transposedConvolution = 0);
 
 /// The class names of the U-Net `modelPath` from the classes.json beside it (as the detector reads them). False
 /// with `error` naming the file when it cannot be read.

@@ -37,6 +37,8 @@
 //   unet_coarse_zoom/HR                     $WF_BENCH_UNET, else SignDetector/models/sign_unet.onnx, else the
 //                                           tiny test model (then it times only the pipeline around the net)
 //   unet_coarse_zoom_whole_frame/HR         the same with the coarse pass over the whole frame (no elevation cut)
+//   unet_coarse_zoom_opencv_deconvolution/HR  the same with OpenCV's own Deconvolution layer for the upsampling
+//                                           (unet_transposed_convolution -1; the default is the sub-pixel layer)
 //   detectMultiScale_only_reference/VGA     the cascade call alone on pre-unrolled frames (pipeline overhead =
 //                                           cascade_reference/VGA minus this)
 //   unet_forward/224                        one 224 x 224 forward pass + softmax of that model
@@ -235,6 +237,7 @@ public:
         ratio("unet_coarse_zoom/HR", "cascade_reference/VGA");
         ratio("unet_coarse_zoom/HR", "cascade_ours/VGA");
         ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_whole_frame/HR");
+        ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_opencv_deconvolution/HR");
         ratio("cascade_phone_bgra/VGA", "cascade_phone_bgra_no_edge_refinement/VGA");
         ratio("cascade_phone_nv12/VGA", "cascade_phone_nv12_no_edge_refinement/VGA");
         ratio("unet_coarse_zoom/HR", "unet_coarse_zoom_no_edge_refinement/HR");
@@ -286,7 +289,7 @@ int main(int argc, char** argv) {
         std::fprintf(stderr, "no extra kinds: %s\n", catalogueError.c_str());
     }
     static std::unique_ptr<DetectorHandle> oursCascade, oursRough, oursNative, oursV4, oursV3, oursFull, refCascade, unet, unetRough,
-        unetWholeFrame;
+        unetWholeFrame, unetOpencvDeconvolution;
     if (fileExists(ours)) {
         oursCascade = makeCascade(ours);
         // The same search without face-edge refinement (the box's own height in every slice).
@@ -306,6 +309,7 @@ int main(int argc, char** argv) {
     unet = makeUnet(unetModel);
     unetRough = makeUnet(unetModel, 0, FaceEdgeOptions{-1, 0});
     unetWholeFrame = makeUnet(unetModel, -2.0);
+    unetOpencvDeconvolution = makeUnet(unetModel, 0, FaceEdgeOptions{}, nullptr, -1);
 
     std::printf("frames: %s\nour cascade: %s\nreference cascade: %s\nU-Net: %s\nOpenCV threads: %d\n\n",
                 description.c_str(), oursCascade && *oursCascade ? ours.c_str() : "(absent: SignDetector/models/exit_sign_cascade.xml)",
@@ -356,6 +360,7 @@ int main(int argc, char** argv) {
         pipeline("unet_coarse_zoom/HR", unet.get(), &hr);
         pipeline("unet_coarse_zoom_no_edge_refinement/HR", unetRough.get(), &hr);
         pipeline("unet_coarse_zoom_whole_frame/HR", unetWholeFrame.get(), &hr);
+        pipeline("unet_coarse_zoom_opencv_deconvolution/HR", unetOpencvDeconvolution.get(), &hr);
         benchmark::RegisterBenchmark("unet_forward/224", runForward, &unetModelPath)->Unit(benchmark::kMillisecond);
         if (!catalogue.empty()) {
             // Cascades beside the U-Net only for the kinds it has no class for.

@@ -8,6 +8,7 @@
 //   cascade-hr-native   the same frames searched at their own size (cascade_search_max_long_side_px = -1)
 //   cascade-vga-full, cascade-hr-full   the same without the colour gate (whole-frame search)
 //   unet         U-Net multi-scale (models/sign_unet.onnx) on 1920 x 1440 frames
+//   unet-deconv  the same with OpenCV's own Deconvolution layer for the upsampling (the sub-pixel layer's baseline)
 //   any row + "-rough": without face-edge refinement; + "-srgb": the refiner reads pixels as sRGB
 //   reference    the reference app's cascade (../shared/.../exit_sign_cascade.xml) on 640 x 480, its settings
 // A row whose model is missing is reported as skipped. Prints Markdown: median percent range error per
@@ -133,7 +134,7 @@ CornerRanges cornerRanges(const LabelledFrame& frame, const LabelledSign& sign) 
 
 void usage() {
     std::cerr << "usage: wf_detector_eval --testset DIR [--models DIR] [--reference CASCADE.xml] [--limit N]\n"
-                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3,\n"
+                 "                        [--every K] [--rows cascade-vga,cascade-hr,unet,unet-deconv,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3,\n"
                  "                        cascade-vga-v4,cascade-hr-v4] [--threads N]\n"
                  "  rows take a suffix: -rough = without face-edge refinement (the box's or mask's own edges),\n"
                  "  -native (cascade rows) = search the frame at its own size, not shrunk to VGA,\n"
@@ -252,17 +253,19 @@ int main(int argc, char** argv) {
                                                                  : v4      ? CascadeSearch::WideGateRegions
                                                                            : CascadeSearch::Defaults,
                                                                  faceEdges, native ? -1 : 0);
-        } else if (id == "unet") {
+        } else if (id == "unet" || id == "unet-deconv") {
+            // unet-deconv: OpenCV's own Deconvolution layer for the upsampling (the baseline of the sub-pixel layer).
+            const bool deconv = id == "unet-deconv";
             model = models + "/sign_unet.onnx";
             r.size = cv::Size(1920, 1440);
-            r.title = "U-Net multi-scale, 1920x1440";
+            r.title = deconv ? "U-Net multi-scale, 1920x1440, OpenCV's Deconvolution" : "U-Net multi-scale, 1920x1440";
             // The bundled office's sign kinds, as the product passes the map's (a class of the model for a kind
             // other than the Exit sign is verified with its face's limits and lifts the coarse elevation cut).
             if (officeCatalogue.empty() && !readMapCatalogue(officeMapPath(), &officeCatalogue, &catalogueError)) {
                 std::cerr << "wf_detector_eval: " << catalogueError << "\n";
                 return 1;
             }
-            if (fileExists(model)) r.detector = makeUnet(model, 0, faceEdges, &officeCatalogue);
+            if (fileExists(model)) r.detector = makeUnet(model, 0, faceEdges, &officeCatalogue, deconv ? -1 : 0);
         } else if (id == "reference") {
             model = reference;
             r.size = cv::Size(640, 480);

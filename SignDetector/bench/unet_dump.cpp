@@ -1,19 +1,24 @@
-// wf_unet_dump: runs an ONNX segmentation model with OpenCV 4.6's cv::dnn (the run-time path of the
-// detector) on raw float32 inputs and writes the raw float32 logits, for the ONNX Runtime parity check
-// (Tests/SignDetector/onnx_parity.py).
-//   wf_unet_dump MODEL.onnx SIZE INPUT.f32 OUTPUT.f32
+// wf_unet_dump: runs an ONNX segmentation model with OpenCV 4.6's cv::dnn as the detector does (sub-pixel
+// upsampling: src/subpixel_transposed_conv.hpp) on raw float32 inputs and writes the raw float32 logits, for
+// the ONNX Runtime parity check (Tests/SignDetector/onnx_parity.py).
+//   wf_unet_dump MODEL.onnx SIZE INPUT.f32 OUTPUT.f32 [--opencv-deconvolution]
 // INPUT.f32: 1 x 3 x SIZE x SIZE float32, C order. OUTPUT.f32: the 1 x K x SIZE x SIZE logits, C order.
+// --opencv-deconvolution: OpenCV's own Deconvolution layer for the transposed convolutions instead.
+#include "subpixel_transposed_conv.hpp"
+
 #include <opencv2/dnn.hpp>
 
 #include <cstdio>
 #include <fstream>
 #include <iostream>
+#include <iterator>
 #include <string>
 #include <vector>
 
 int main(int argc, char** argv) {
-    if (argc != 5) {
-        std::cerr << "usage: wf_unet_dump MODEL.onnx SIZE INPUT.f32 OUTPUT.f32\n";
+    const bool opencvDeconvolution = argc == 6 && std::string(argv[5]) == "--opencv-deconvolution";
+    if (argc != 5 && !opencvDeconvolution) {
+        std::cerr << "usage: wf_unet_dump MODEL.onnx SIZE INPUT.f32 OUTPUT.f32 [--opencv-deconvolution]\n";
         return 2;
     }
     try {
@@ -25,7 +30,13 @@ int main(int argc, char** argv) {
             std::cerr << "wf_unet_dump: cannot read " << n << " floats from " << argv[3] << "\n";
             return 1;
         }
-        cv::dnn::Net net = cv::dnn::readNetFromONNX(argv[1]);
+        std::ifstream modelFile(argv[1], std::ios::binary);
+        const std::vector<char> model((std::istreambuf_iterator<char>(modelFile)), std::istreambuf_iterator<char>());
+        if (model.empty()) {
+            std::cerr << "wf_unet_dump: cannot read " << argv[1] << "\n";
+            return 1;
+        }
+        cv::dnn::Net net = wf::sign::readOnnxNet(model.data(), model.size(), !opencvDeconvolution);
         net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
         net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
         const int shape[4] = {1, 3, size, size};

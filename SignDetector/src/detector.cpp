@@ -94,6 +94,12 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
         return WF_STATUS_INVALID_ARGUMENT;
     }
     r.unetInputSize = opts.unet_input_size > 0 ? opts.unet_input_size : 224;
+    if (opts.unet_transposed_convolution < -1 || opts.unet_transposed_convolution > 1) {
+        *error = "unet_transposed_convolution must be -1 (OpenCV's layer), 0 (default: sub-pixel) or 1 (sub-pixel), not " +
+                 std::to_string(opts.unet_transposed_convolution);
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.unetSubPixelUpsampling = opts.unet_transposed_convolution >= 0;
     r.unet.maskThreshold = positiveOr(opts.unet_mask_threshold, 0.5);
     if (r.unet.maskThreshold >= 1.0) {
         *error = "unet_mask_threshold must be in (0, 1)";
@@ -244,7 +250,9 @@ int Detector::loadUnet(std::string* error) {
         const std::string classesPath = directoryOf(options_.unetPath) + "/classes.json";
         if (std::ifstream(classesPath).good() && !readClassList(classesPath, &classes, error)) return WF_STATUS_MODEL_LOAD;
     }
-    if (!unet_.load(options_.unetPath, classes, options_.unetInputSize, error)) return WF_STATUS_MODEL_LOAD;
+    if (!unet_.load(options_.unetPath, classes, options_.unetInputSize, error, options_.unetSubPixelUpsampling)) {
+        return WF_STATUS_MODEL_LOAD;
+    }
     for (const auto& name : unet_.classNames()) {
         if (name.size() >= WF_KIND_NAME_CAPACITY) {
             *error = "class name '" + name + "' is longer than " + std::to_string(WF_KIND_NAME_CAPACITY - 1);

@@ -23,6 +23,9 @@ struct ResolvedOptions {
     std::string unetPath;
     std::vector<std::string> classNames;
     int unetInputSize = 224;
+    /// U-Net upsampling as a 1 x 1 convolution plus depth-to-space (UnetDetector::load): wf_detector_options.
+    /// unet_transposed_convolution.
+    bool unetSubPixelUpsampling = true;
     CascadeParams cascade;
     UnetParams unet;
     /// wf_detector_options.unet_coarse_min_elevation_rad was set (not 0): the coarse pass's elevation cut stays as

@@ -1,5 +1,7 @@
 #include "unet_detector.hpp"
 
+#include "subpixel_transposed_conv.hpp"
+
 #include <opencv2/imgproc.hpp>
 
 #include <algorithm>
@@ -36,7 +38,7 @@ bool readClassList(const std::string& path, std::vector<std::string>* classes, s
 }
 
 bool UnetDetector::load(const std::string& path, const std::vector<std::string>& classNames, int inputSize,
-                        std::string* error) {
+                        std::string* error, bool subPixelUpsampling) {
     if (!std::ifstream(path).good()) {
         *error = "U-Net model not found or unreadable: " + path;
         return false;
@@ -44,6 +46,7 @@ bool UnetDetector::load(const std::string& path, const std::vector<std::string>&
     try {
         std::ifstream file(path, std::ios::binary);
         modelBytes_.assign(std::istreambuf_iterator<char>(file), std::istreambuf_iterator<char>());
+        subPixelUpsampling_ = subPixelUpsampling;
         nets_.clear();
         net_ = makeNet();
     } catch (const cv::Exception& e) {
@@ -88,7 +91,7 @@ bool UnetDetector::load(const std::string& path, const std::vector<std::string>&
 }
 
 cv::dnn::Net UnetDetector::makeNet() const {
-    cv::dnn::Net net = cv::dnn::readNetFromONNX(modelBytes_.data(), modelBytes_.size());
+    cv::dnn::Net net = readOnnxNet(modelBytes_.data(), modelBytes_.size(), subPixelUpsampling_);
     net.setPreferableBackend(cv::dnn::DNN_BACKEND_OPENCV);
     net.setPreferableTarget(cv::dnn::DNN_TARGET_CPU);
     return net;

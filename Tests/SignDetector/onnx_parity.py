@@ -6,6 +6,9 @@ Runs each model on fixed inputs (seeded uniform noise, zeros, ones, a colour gra
 asserts max |logit difference| < 1e-3. Models checked:
   * SignDetector/models/sign_unet.onnx, the product model (skipped with a message while it is absent);
   * Tests/SignDetector/data/tiny_red_unet.onnx, the committed test model;
+  * a small random-weights network with the decoder's upsampling: a 2 x 2 stride-2 ConvTranspose (the detector
+    computes it as a 1 x 1 convolution plus depth-to-space, SignDetector/src/subpixel_transposed_conv.hpp) beside a
+    4 x 4 stride-2 one with padding (left to OpenCV's own layer);
   * a small random-weights network built here with the operators a MobileNetV2 U-Net exports to
     (strided and depthwise Conv, BatchNormalization, Relu, Resize x2, Concat skip, 1x1 Conv head). Not Clip:
     OpenCV 4.6's importer rejects Clip with min/max inputs (how opset >= 11 exports ReLU6), so the training
@@ -87,6 +90,33 @@ def mobilenet_like_model(size: int = 224, seed: int = 7) -> onnx.ModelProto:
     return model
 
 
+def transposed_model(size: int = 64, seed: int = 11) -> onnx.ModelProto:
+    """Random weights: Conv s2 -> Relu -> ConvTranspose 2x2 s2 (bias) beside Conv s2 -> ConvTranspose 4x4 s2 pad 1,
+    concatenated, 1x1 Conv head."""
+    rng = np.random.default_rng(seed)
+
+    def w(name, shape, scale=0.3):
+        return numpy_helper.from_array((rng.standard_normal(shape) * scale).astype(np.float32), name)
+
+    inits = [w("c1_w", (8, 3, 3, 3)), w("c1_b", (8,), 0.1), w("up_w", (8, 6, 2, 2)), w("up_b", (6,), 0.1),
+             w("c2_w", (5, 3, 3, 3)), w("up4_w", (5, 3, 4, 4)), w("head_w", (2, 9, 1, 1)), w("head_b", (2,), 0.1)]
+    nodes = [
+        helper.make_node("Conv", ["image", "c1_w", "c1_b"], ["c1"], kernel_shape=[3, 3], strides=[2, 2], pads=[1, 1, 1, 1]),
+        helper.make_node("Relu", ["c1"], ["r1"]),
+        helper.make_node("ConvTranspose", ["r1", "up_w", "up_b"], ["up"], kernel_shape=[2, 2], strides=[2, 2]),
+        helper.make_node("Conv", ["image", "c2_w"], ["c2"], kernel_shape=[3, 3], strides=[2, 2], pads=[1, 1, 1, 1]),
+        helper.make_node("ConvTranspose", ["c2", "up4_w"], ["up4"], kernel_shape=[4, 4], strides=[2, 2], pads=[1, 1, 1, 1]),
+        helper.make_node("Concat", ["up", "up4"], ["cat"], axis=1),
+        helper.make_node("Conv", ["cat", "head_w", "head_b"], ["logits"], kernel_shape=[1, 1]),
+    ]
+    graph = helper.make_graph(nodes, "transposed", [helper.make_tensor_value_info("image", TensorProto.FLOAT, [1, 3, size, size])],
+                              [helper.make_tensor_value_info("logits", TensorProto.FLOAT, [1, 2, size, size])], inits)
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 11)], producer_name="wayfinder-tests")
+    model.ir_version = 6
+    onnx.checker.check_model(model)
+    return model
+
+
 def input_size(model_path: str) -> int:
     model = onnx.load(model_path)
     dims = model.graph.input[0].type.tensor_type.shape.dim
@@ -94,7 +124,7 @@ def input_size(model_path: str) -> int:
     return side if side > 0 else 224
 
 
-def check(model_path: str, dumper: str, label: str) -> bool:
+def check(model_path: str, dumper: str, label: str, dumper_args=()) -> bool:
     size = input_size(model_path)
     session = ort.InferenceSession(model_path, providers=["CPUExecutionProvider"])
     input_name = session.get_inputs()[0].name
@@ -104,7 +134,7 @@ def check(model_path: str, dumper: str, label: str) -> bool:
             expected = session.run(None, {input_name: x})[0]
             in_path, out_path = os.path.join(tmp, "in.f32"), os.path.join(tmp, "out.f32")
             x.tofile(in_path)
-            run = subprocess.run([dumper, model_path, str(size), in_path, out_path], capture_output=True, text=True)
+            run = subprocess.run([dumper, model_path, str(size), in_path, out_path, *dumper_args], capture_output=True, text=True)
             if run.returncode != 0:
                 print("FAIL %s [%s]: wf_unet_dump failed: %s" % (label, name, run.stderr.strip()))
                 return False
@@ -131,6 +161,8 @@ def main() -> int:
     ok = True
     if os.path.exists(args.model):
         ok &= check(args.model, args.dumper, os.path.relpath(args.model, ROOT))
+        ok &= check(args.model, args.dumper, os.path.relpath(args.model, ROOT) + " (OpenCV's Deconvolution)",
+                    ("--opencv-deconvolution",))
     else:
         print("SKIP product model: %s is not present yet (the training engineer commits it)" % os.path.relpath(args.model, ROOT))
     ok &= check(TINY_MODEL, args.dumper, "tiny_red_unet.onnx")
@@ -138,6 +170,10 @@ def main() -> int:
         path = os.path.join(tmp, "mobilenet_like.onnx")
         onnx.save(mobilenet_like_model(), path)
         ok &= check(path, args.dumper, "mobilenet_like (random weights)")
+        path = os.path.join(tmp, "transposed.onnx")
+        onnx.save(transposed_model(), path)
+        ok &= check(path, args.dumper, "transposed (random weights)")
+        ok &= check(path, args.dumper, "transposed (random weights, OpenCV's Deconvolution)", ("--opencv-deconvolution",))
     print("onnx_parity: %s" % ("all models agree" if ok else "MISMATCH"))
     return 0 if ok else 1
 

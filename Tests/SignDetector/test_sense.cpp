@@ -403,4 +403,21 @@ TEST(Sense, FaceEdgeRefinementIsOnByDefaultSwitchableAndValidated) {
     wf_detector* srgb = make(1, 2, &status);
     EXPECT_EQ(status, WF_STATUS_OK) << wf_thread_last_error();
     wf_detector_free(srgb);
+    // The U-Net's upsampling option (-1 OpenCV's layer, 0/1 sub-pixel): other values are errors naming it.
+    for (const int value : {-1, 0, 1, 2, -2}) {
+        wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+        opts.kind = WF_DETECTOR_UNET;
+        const std::string path = wf::sign::testing::tinyUnetPath();
+        opts.unet_path = path.c_str();
+        opts.unet_transposed_convolution = value;
+        wf_detector* d = nullptr;
+        const int created = wf_detector_create(&d, &opts);
+        if (value >= -1 && value <= 1) {
+            EXPECT_EQ(created, WF_STATUS_OK) << value << ": " << wf_thread_last_error();
+        } else {
+            EXPECT_EQ(created, WF_STATUS_INVALID_ARGUMENT) << value;
+            EXPECT_NE(std::string(wf_thread_last_error()).find("unet_transposed_convolution"), std::string::npos);
+        }
+        wf_detector_free(d);
+    }
 }
