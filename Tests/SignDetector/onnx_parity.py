@@ -53,12 +53,29 @@ def fixed_inputs(size: int):
     }
 
 
-def mobilenet_like_model(size: int = 224, seed: int = 7) -> onnx.ModelProto:
-    """A small random-weights segmentation net using the operators of an exported MobileNetV2 U-Net."""
+def random_weights(seed: int):
+    """w(name, shape, scale): a float32 initializer of seeded normal noise times scale."""
     rng = np.random.default_rng(seed)
 
     def w(name, shape, scale=0.3):
         return numpy_helper.from_array((rng.standard_normal(shape) * scale).astype(np.float32), name)
+
+    return rng, w
+
+
+def segmentation_model(name: str, nodes, inits, size: int) -> onnx.ModelProto:
+    """A checked opset-11 model: input "image" 1x3xSxS, output "logits" 1x2xSxS."""
+    graph = helper.make_graph(nodes, name, [helper.make_tensor_value_info("image", TensorProto.FLOAT, [1, 3, size, size])],
+                              [helper.make_tensor_value_info("logits", TensorProto.FLOAT, [1, 2, size, size])], inits)
+    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 11)], producer_name="wayfinder-tests")
+    model.ir_version = 6
+    onnx.checker.check_model(model)
+    return model
+
+
+def mobilenet_like_model(size: int = 224, seed: int = 7) -> onnx.ModelProto:
+    """A small random-weights segmentation net using the operators of an exported MobileNetV2 U-Net."""
+    rng, w = random_weights(seed)
 
     inits = [
         w("c1_w", (8, 3, 3, 3)), w("c1_b", (8,), 0.1),
@@ -82,21 +99,13 @@ def mobilenet_like_model(size: int = 224, seed: int = 7) -> onnx.ModelProto:
         helper.make_node("Concat", ["up", "skip"], ["cat"], axis=1),
         helper.make_node("Conv", ["cat", "head_w", "head_b"], ["logits"], kernel_shape=[1, 1]),
     ]
-    graph = helper.make_graph(nodes, "mobilenet_like", [helper.make_tensor_value_info("image", TensorProto.FLOAT, [1, 3, size, size])],
-                              [helper.make_tensor_value_info("logits", TensorProto.FLOAT, [1, 2, size, size])], inits)
-    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 11)], producer_name="wayfinder-tests")
-    model.ir_version = 6
-    onnx.checker.check_model(model)
-    return model
+    return segmentation_model("mobilenet_like", nodes, inits, size)
 
 
 def transposed_model(size: int = 64, seed: int = 11) -> onnx.ModelProto:
     """Random weights: Conv s2 -> Relu -> ConvTranspose 2x2 s2 (bias) beside Conv s2 -> ConvTranspose 4x4 s2 pad 1,
     concatenated, 1x1 Conv head."""
-    rng = np.random.default_rng(seed)
-
-    def w(name, shape, scale=0.3):
-        return numpy_helper.from_array((rng.standard_normal(shape) * scale).astype(np.float32), name)
+    _, w = random_weights(seed)
 
     inits = [w("c1_w", (8, 3, 3, 3)), w("c1_b", (8,), 0.1), w("up_w", (8, 6, 2, 2)), w("up_b", (6,), 0.1),
              w("c2_w", (5, 3, 3, 3)), w("up4_w", (5, 3, 4, 4)), w("head_w", (2, 9, 1, 1)), w("head_b", (2,), 0.1)]
@@ -109,12 +118,7 @@ def transposed_model(size: int = 64, seed: int = 11) -> onnx.ModelProto:
         helper.make_node("Concat", ["up", "up4"], ["cat"], axis=1),
         helper.make_node("Conv", ["cat", "head_w", "head_b"], ["logits"], kernel_shape=[1, 1]),
     ]
-    graph = helper.make_graph(nodes, "transposed", [helper.make_tensor_value_info("image", TensorProto.FLOAT, [1, 3, size, size])],
-                              [helper.make_tensor_value_info("logits", TensorProto.FLOAT, [1, 2, size, size])], inits)
-    model = helper.make_model(graph, opset_imports=[helper.make_opsetid("", 11)], producer_name="wayfinder-tests")
-    model.ir_version = 6
-    onnx.checker.check_model(model)
-    return model
+    return segmentation_model("transposed", nodes, inits, size)
 
 
 def input_size(model_path: str) -> int:
