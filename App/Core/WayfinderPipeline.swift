@@ -127,8 +127,8 @@ public final class WayfinderPipeline {
         var events: [TimedGuidanceEvent] = []
         if let navigator {
             // While tracking is lost the hypotheses are where the traveler was when it was lost, not where they
-            // walk now: no exploratory instruction is planned from them (the navigator says it is unsure; the
-            // phone's tracking prompt asks for the camera).
+            // walk now: no exploratory instruction is planned from them, and while not localized the navigator
+            // says nothing (the phone's tracking prompt asks for the camera).
             let trackingLost = frame.tracking == .notAvailable
             events = navigator.update(NavigationInput(t: frame.t, positionInMap: estimate.positionInMap,
                                                       floorId: estimate.floorId, headingRad: estimate.headingRad,
@@ -141,7 +141,8 @@ public final class WayfinderPipeline {
                                                                         positionStdMeters: $0.positionStdMeters)
                                                       },
                                                       perceivedWalls: estimate.isLocalized || trackingLost
-                                                          ? [] : perceivedWalls(frame)))
+                                                          ? [] : perceivedWalls(frame),
+                                                      trackingLost: trackingLost))
         }
         var update = PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
                                     events: events, warnings: warnings)

@@ -25,13 +25,18 @@ public struct NavigationInput: Sendable, Equatable {
     /// Walls the phone sees now (ARKit planes), in the traveler's frame: no exploratory instruction leads into
     /// one (`PerceivedWall`). Empty when planes are off or none is known.
     public var perceivedWalls: [PerceivedWall]
+    /// True while the phone's visual-inertial tracking is lost (ARKit `notAvailable`): while not localized the
+    /// navigator then says nothing (the phone's tracking prompt asks for the camera; "Start walking" from no
+    /// hypotheses would send the traveler off with nothing to guide them).
+    public var trackingLost: Bool
 
     /// Creates an input.
     public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, isLocalized: Bool,
-                confidence: Double = 1, hypotheses: [PoseCandidate] = [], perceivedWalls: [PerceivedWall] = []) {
+                confidence: Double = 1, hypotheses: [PoseCandidate] = [], perceivedWalls: [PerceivedWall] = [],
+                trackingLost: Bool = false) {
         self.t = t; self.positionInMap = positionInMap; self.floorId = floorId; self.headingRad = headingRad
         self.isLocalized = isLocalized; self.confidence = confidence; self.hypotheses = hypotheses
-        self.perceivedWalls = perceivedWalls
+        self.perceivedWalls = perceivedWalls; self.trackingLost = trackingLost
     }
 }
 
@@ -287,7 +292,9 @@ public final class Navigator {
             unlocalizedSince = since
             let due = lastStartWalkingT.map { t - $0 >= options.startWalkingRepeatSeconds - 1e-6 } ?? true
             let graceOver = currentRoute == nil || t - since >= options.relocalizationGraceSeconds - 1e-6
-            if graceOver && !input.hypotheses.isEmpty {
+            if input.trackingLost {
+                currentAdvice = nil  // nothing to plan from until tracking returns
+            } else if graceOver && !input.hypotheses.isEmpty {
                 guideWhileUnsure(input, repeatDue: due)
             } else if due && graceOver {
                 say(narrative.phrases.phrase("startWalking"), .information, t)

@@ -16,6 +16,23 @@ final class NavigatorTests: XCTestCase {
                           e
         """).build()
 
+    func testNothingIsSaidWhileTrackingIsLostAndNotLocalized() throws {
+        // Tracking lost (the pipeline then hands over no hypotheses): no "Start walking" for 20 s (the phone's
+        // tracking prompt asks for the camera); once tracking is back the navigator speaks as before.
+        let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a-----------b").build()
+        let nav = try Navigator(building: b, destinationId: "b")
+        var spoken: [String] = []
+        for k in 0..<200 {
+            let input = NavigationInput(t: Double(k) * 0.1, positionInMap: Point2(x: 2, y: 0), floorId: "1", headingRad: 0,
+                                        isLocalized: false, confidence: 0.9, trackingLost: true)
+            spoken += nav.update(input).compactMap(\.spokenText)
+        }
+        XCTAssertEqual(spoken, [])
+        XCTAssertNil(nav.currentAdvice)
+        let back = NavigationInput(t: 20, positionInMap: Point2(x: 2, y: 0), floorId: "1", headingRad: 0, isLocalized: false)
+        XCTAssertEqual(nav.update(back).compactMap(\.spokenText), ["Start walking."])
+    }
+
     func testOnlyStartWalkingUntilLocalized() throws {
         let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a-----------b").build()
         let nav = try Navigator(building: b, destinationId: "b")

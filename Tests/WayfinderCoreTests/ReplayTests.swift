@@ -227,6 +227,8 @@ final class TrackingLossGuidanceTests: XCTestCase {
             lostFrames += 1
             XCTAssertEqual(r.advice ?? "unsure", "unsure", "t=\(r.t)")
             XCTAssertNil(r.spokenAdvice, "t=\(r.t)")
+            // Nor a bare "Start walking": the hypotheses are withheld while tracking is lost, not unknown.
+            XCTAssertFalse(r.announcements.contains("Start walking."), "t=\(r.t)")
         }
         XCTAssertEqual(lostFrames, lost.count)
     }
