@@ -27,8 +27,9 @@ enum EvalCommand: Subcommand {
     replaying (a study of identifying signs: PlacardSurvey, docs/benchmarks.md "Placards").
     --sim-detector (with --scenarios) simulates the walks behind another detector's noise (below;
     docs/benchmarks.md "Behind the real detectors' errors").
-    --explain prints to standard error, for every cue scored wrong and every turn scored missing, the true
-    and estimated positions, the true turns and the phrases around it.
+    --explain prints to standard error, for every cue scored wrong, every turn scored missing and every
+    instruction while not localized that is unsafe from the true pose, the true and estimated positions, the
+    true turns and the phrases around it.
     True turns are found from truth.jsonl alone (a change of walking direction over a few meters, matched to
     the graph node where the route turns; see docs/evaluation.md); a truth floor that the map lacks is an error.
     \(MapSpec.usageLine).

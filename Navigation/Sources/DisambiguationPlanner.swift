@@ -9,9 +9,10 @@
 // (weight >= `minimumLiveWeight`), the planner casts the walking direction against the floor's walls:
 //  - safety: the walk must stay `wallMarginMeters` (plus twice the hypothesis' position std) short of the first wall, pass no stairs landing closer than
 //    `stairsClearanceMeters` and no door centre closer than `doorClearanceMeters`, under EVERY
-//    live hypothesis, walked from the hypothesis' mean and from the edges of its spread (one position std
-//    ahead, behind and to each side: the traveler stands somewhere in the cluster); the safe walk length is
-//    the shortest over them, capped at `lookaheadMeters`;
+//    live hypothesis, walked from the hypothesis' mean; from the edges of its spread (`spreadCheckStds`
+//    position stds ahead, behind and to each side: the traveler stands somewhere in the cluster) it must
+//    also leave `spreadMinimumWalkMeters`; the safe walk length is the shortest over them, capped at
+//    `lookaheadMeters`;
 //  - information: every `stepMeters` along the walk each hypothesis predicts what the camera will see: the
 //    signs in its field of view (kind, range and side, bucketed) and how far the wall ahead is (ARKit planes
 //    see it). Hypotheses whose predictions differ will be told apart by the localizer; the partition's entropy
