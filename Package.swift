@@ -51,6 +51,7 @@ let package = Package(
         .target(
             name: "Maps",
             path: "Maps",
+            exclude: ["schema"],  // the JSON schema is for people and other tools (read by path in MapLoaderTests)
             sources: ["Sources"],
             resources: [.copy("Buildings")]
         ),

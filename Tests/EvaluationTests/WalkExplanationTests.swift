@@ -8,26 +8,13 @@ import SessionFormat
 /// listed with the time, the free walk it leaves, where the traveler truly was and the phrases around it.
 final class WalkExplanationTests: XCTestCase {
     func testAnInstructionUnsafeFromTheTruePoseIsListedWithTheTruthAndThePhrases() {
-        // A corridor x 0...20, y 0...2, closed at both ends; the traveler stands at x 18.5 facing the east end
-        // wall (1.5 m away) for 10 s while the estimate puts them at x 10: "walk ahead" said at 4 s is unsafe.
-        let walls = [Wall(from: Point2(0, 0), to: Point2(20, 0)), Wall(from: Point2(0, 2), to: Point2(20, 2)),
-                     Wall(from: Point2(0, 0), to: Point2(0, 2)), Wall(from: Point2(20, 0), to: Point2(20, 2))]
-        let building = Building(id: "c", name: "Corridor",
-                                floors: [Floor(id: "1", name: "F", elevationMeters: 0, walls: walls)],
-                                graph: NavigationGraph(nodes: [GraphNode(id: "a", kind: .control, floorId: "1",
-                                                                         position: Point2(1, 1))], edges: []))
-        let truth = stride(from: 0.0, through: 10, by: 0.1).map { TruthRecord(t: $0, x: 18.5, y: 1, floorId: "1", headingRad: 0) }
-        var trace = truth.map { r in
-            TraceRecord(t: r.t, x: 10, y: 1, floorId: "1", headingRad: 0, confidence: 0.2, localized: false, hypotheses: 2,
-                        sightings: 0, announcements: [], haptics: [])
-        }
-        for i in trace.indices { trace[i].advice = trace[i].t < 4 - 1e-9 ? "unsure" : "ahead" }
-        trace[40].spokenAdvice = "ahead"
+        // CorridorUnsureWalk: "walk ahead" said at 4 s into the end wall 1.5 m in front of the true pose.
+        let building = CorridorUnsureWalk.building, truth = CorridorUnsureWalk.truth
+        var trace = CorridorUnsureWalk.trace
         let said = "Not sure where you are yet. Walk straight ahead along the corridor."
         trace[40].announcements = [said]
-        var result = ReplayResult(trace: trace, announcements: [(t: 4, text: said)], haptics: [], sightingRays: [],
+        let result = ReplayResult(trace: trace, announcements: [(t: 4, text: said)], haptics: [], sightingRays: [],
                                   particleSnapshots: [], routePolyline: [], warnings: [])
-        result.trackingPrompts = []
         let track = TruthTrack(truth)
         let score = WalkScore(name: "corridor", localization: LocalizationScore(trace: trace, truth: track),
                               navigation: NavigationScore(announcements: result.announcements, truth: track, building: building,
