@@ -5,8 +5,9 @@ import SessionFormat
 import WayfinderCore
 
 /// Text for people that explains a walk's navigation score: for every cue scored wrong, every true turn
-/// scored missing and every instruction unsafe from the true pose while not localized, where the traveler truly was, where the localizer put them, the true turns and the
-/// phrases around that moment. What `wayfinder eval --explain` prints.
+/// scored missing and every instruction unsafe from the true pose while not localized, where the traveler
+/// truly was, where the localizer put them, the true turns and the phrases around that moment. What
+/// `wayfinder eval --explain` prints.
 public enum WalkExplanation {
     /// Seconds of announcements and true turns listed on each side of an explained moment.
     public static let contextSeconds = 10.0
