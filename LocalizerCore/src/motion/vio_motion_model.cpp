@@ -43,6 +43,11 @@ void VioDeltaTracker::remember(const wf_vio_sample &s) {
     recent_count_ = std::min(recent_count_ + 1, kRecent);
 }
 
+void VioDeltaTracker::restart_recent(const wf_vio_sample &s) {
+    recent_count_ = 0;
+    remember(s);
+}
+
 bool VioDeltaTracker::pre_loss_velocity(double &v_east, double &v_north) const {
     if (recent_count_ < 2) return false;
     const int newest = (recent_head_ + kRecent - 1) % kRecent;
@@ -83,8 +88,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         last_ = s;
         has_last_ = true;
         lost_since_ = -1;
-        recent_count_ = 0;
-        remember(s);
+        restart_recent(s);
         return d;
     }
     const double dt = s.t - last_.t;
@@ -112,8 +116,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         }
         lost_since_ = -1;
         last_ = s;
-        recent_count_ = 0;  // a new VIO frame may start here: no velocity across the seam
-        remember(s);
+        restart_recent(s);  // a new VIO frame may start here: no velocity across the seam
         return d;
     }
     if (dt < 0) {
@@ -122,8 +125,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         d.jump_position_sigma = static_cast<float>(opts_.jump_position_sigma_m);
         d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
         last_ = s;
-        recent_count_ = 0;
-        remember(s);
+        restart_recent(s);
         return d;
     }
     if (dt < kMinSampleIntervalS) return VioDelta{};  // merged: the next sample's delta spans this one
@@ -136,8 +138,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         d.kind = DeltaKind::kJump;
         d.jump_position_sigma = static_cast<float>(opts_.jump_position_sigma_m);
         d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
-        recent_count_ = 0;  // the snap is not walking
-        remember(s);
+        restart_recent(s);  // the snap is not walking
         return d;
     }
     remember(s);

@@ -136,6 +136,9 @@ private:
     bool pre_loss_velocity(double &v_east, double &v_north) const;
     /// Remembers a usable sample for the pre-loss velocity (a ring of the last kRecent).
     void remember(const wf_vio_sample &s);
+    /// Forgets the remembered samples and remembers `s` alone: a seam (first sample, a tracking return, a
+    /// relocalization snap) that no velocity may span.
+    void restart_recent(const wf_vio_sample &s);
 
     static constexpr int kRecent = 64;
     wf_localizer_options opts_;
