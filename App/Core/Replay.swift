@@ -44,6 +44,9 @@ public struct TraceRecord: Codable, Sendable, Equatable {
     /// The localizer's hypotheses (heaviest first) on frames where it is not localized or holds more than one:
     /// what a trainer or a developer reads to see which places the filter still weighs; nil otherwise.
     public var hypothesisList: [TraceHypothesis]? = nil
+    /// True on frames where the dominant hypothesis leaves the last second's sightings unexplained
+    /// (`LocalizationEstimate.sightingsUnexplained`); nil otherwise.
+    public var sightingsUnexplained: Bool? = nil
 
     /// Creates a trace record.
     public init(t: Double, x: Double, y: Double, floorId: String, headingRad: Double, confidence: Double, localized: Bool,
@@ -319,6 +322,7 @@ public enum Replay {
                                     evidenceNats: $0.evidenceNats, positionStdMeters: $0.positionStdMeters)
                 }
             }
+            if e.sightingsUnexplained { result.trace[result.trace.count - 1].sightingsUnexplained = true }
             if let advice = update.advice { result.trace[result.trace.count - 1].advice = advice.action?.rawValue ?? "unsure" }
             if let spokenAdvice = update.spokenAdvice?.action {
                 result.trace[result.trace.count - 1].spokenAdvice = spokenAdvice.rawValue

@@ -142,7 +142,8 @@ public final class WayfinderPipeline {
                                                       },
                                                       perceivedWalls: estimate.isLocalized || trackingLost
                                                           ? [] : perceivedWalls(frame),
-                                                      trackingLost: trackingLost))
+                                                      trackingLost: trackingLost,
+                                                      sightingsUnexplained: estimate.sightingsUnexplained))
         }
         var update = PipelineUpdate(t: frame.t, estimate: estimate, sightings: sightings, detectorRan: detectorRan,
                                     events: events, warnings: warnings)

@@ -78,6 +78,8 @@ enum LocalizerBridge {
                 headingStdRad: e.heading_std_rad, confidence: e.confidence, isLocalized: e.localized != 0,
                 hypothesisCount: Int(e.hypothesis_count), particleCount: Int(e.particle_count))
             estimate.hypotheses = hypotheses(floorIds: floorIds)
+            estimate.unexplainedSightingNats = e.unexplained_sighting_nats
+            estimate.sightingsUnexplained = e.sightings_unexplained != 0
             return estimate
         }
 

@@ -166,6 +166,15 @@ public struct LocalizationEstimate: Sendable {
     /// The pose hypotheses behind the estimate, heaviest first (clusters holding >= 1 % of the weight, at
     /// most 16; the first is the dominant one the estimate describes). Empty for fakes.
     public var hypotheses: [PoseHypothesis] = []
+    /// Sightings of the last hold period (about a second) that the dominant hypothesis explains only as false
+    /// positives: the sum of -log(false-positive probability) of their sightings, nats (0 = it explains them all).
+    public var unexplainedSightingNats: Double = 0
+    /// True from the estimate where `unexplainedSightingNats` reaches the localizer's refutation margin until a
+    /// later sighting that the dominant hypothesis explains: a sign was seen that it does not place there, so the
+    /// traveler may stand where no hypothesis is (augmented MCL's reason for injecting particles, PR section
+    /// 8.3.5, here per hypothesis). While it is true and the traveler is not localized, no directional
+    /// instruction is planned from the hypotheses.
+    public var sightingsUnexplained: Bool = false
 
     /// Creates an estimate (for fakes and replays; the localizer makes its own).
     public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, covarianceXX: Double,

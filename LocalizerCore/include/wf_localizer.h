@@ -361,6 +361,16 @@ typedef struct wf_localizer_estimate {
     int32_t hypothesis_count;
     /** Current particle count. */
     int32_t particle_count;
+    /** Sighting frames of the last localize_hold_s that the dominant cluster explains only as false positives
+     *  (the weighted mean of its particles' likelihoods below twice the clutter-only likelihood): the sum of
+     *  -log(false-positive probability) of their sightings, nats; 0 when it explains them all. */
+    double unexplained_sighting_nats;
+    /** Nonzero from the estimate where unexplained_sighting_nats reaches rival_refute_nats (with the lock rule
+     *  that uses it on) until a later sighting frame that the dominant cluster explains: some sign the dominant
+     *  hypothesis does not place there was seen, so the traveler may stand where no hypothesis is, and frames
+     *  without sightings change nothing about that. The navigator gives no directional instruction while it is
+     *  set and the traveler is not localized. */
+    int32_t sightings_unexplained;
 } wf_localizer_estimate;
 
 /** One pose hypothesis: a cluster of the particle cloud (the estimate is the first, the dominant one). */

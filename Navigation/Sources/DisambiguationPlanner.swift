@@ -149,8 +149,11 @@ public struct DisambiguationPlanner: Sendable {
     /// The advice for the given hypotheses (any order; weights as the localizer normalises them, over all
     /// particles: the live ones must cover `minimumCoverage`). `perceivedWalls` are the walls the phone sees
     /// now, in the traveler's frame: an action's walk also stops `wallMarginMeters` short of the first of them,
-    /// whatever the hypotheses say (none: the map's walls alone).
-    public func advise(_ hypotheses: [PoseCandidate], perceivedWalls: [PerceivedWall] = []) -> DisambiguationAdvice {
+    /// whatever the hypotheses say (none: the map's walls alone). `hypothesesExplainSightings` false (the
+    /// localizer's dominant hypothesis leaves the last second's sightings unexplained) gives the advice with no
+    /// action, as a spread-out cloud does: the traveler may stand where no hypothesis is.
+    public func advise(_ hypotheses: [PoseCandidate], perceivedWalls: [PerceivedWall] = [],
+                       hypothesesExplainSightings: Bool = true) -> DisambiguationAdvice {
         let usable = hypotheses.filter { $0.weight.isFinite && $0.positionStdMeters <= options.maximumSpreadMeters &&
             $0.positionInMap.x.isFinite && $0.positionInMap.y.isFinite && $0.headingRad.isFinite &&
             building.floor(id: $0.floorId) != nil }
@@ -160,7 +163,9 @@ public struct DisambiguationPlanner: Sendable {
         // (Never fewer than the live ones, whatever the two options are set to.)
         let guarded = usable.filter { $0.weight >= min(options.minimumGuardedWeight, options.minimumLiveWeight) }
         let total = live.reduce(0) { $0 + $1.weight }
-        guard !live.isEmpty, total > 0, total >= options.minimumCoverage - 1e-12 else {
+        // The hypotheses must also account for what was seen: a sign that the dominant one leaves unexplained was
+        // made by some sign, so the traveler may stand where no hypothesis is, and no walk is known to be safe.
+        guard hypothesesExplainSightings, !live.isEmpty, total > 0, total >= options.minimumCoverage - 1e-12 else {
             return DisambiguationAdvice(action: nil, safeWalkMeters: 0, informationNats: 0, distinguishingMeters: nil)
         }
         var best: (advice: DisambiguationAdvice, utility: Double)?

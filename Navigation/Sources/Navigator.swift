@@ -29,14 +29,20 @@ public struct NavigationInput: Sendable, Equatable {
     /// navigator then says nothing (the phone's tracking prompt asks for the camera; "Start walking" from no
     /// hypotheses would send the traveler off with nothing to guide them).
     public var trackingLost: Bool
+    /// True while the localizer reports that its dominant hypothesis leaves the last second's sightings
+    /// unexplained (a sign seen where that hypothesis has none): the traveler may stand where no hypothesis is,
+    /// so while not localized no directional instruction is planned from the hypotheses (the advice is the plain
+    /// "keep walking slowly").
+    public var sightingsUnexplained: Bool
 
     /// Creates an input.
     public init(t: Double, positionInMap: Point2, floorId: String, headingRad: Double, isLocalized: Bool,
                 confidence: Double = 1, hypotheses: [PoseCandidate] = [], perceivedWalls: [PerceivedWall] = [],
-                trackingLost: Bool = false) {
+                trackingLost: Bool = false, sightingsUnexplained: Bool = false) {
         self.t = t; self.positionInMap = positionInMap; self.floorId = floorId; self.headingRad = headingRad
         self.isLocalized = isLocalized; self.confidence = confidence; self.hypotheses = hypotheses
         self.perceivedWalls = perceivedWalls; self.trackingLost = trackingLost
+        self.sightingsUnexplained = sightingsUnexplained
     }
 }
 
@@ -341,7 +347,8 @@ public final class Navigator {
     /// labelled places found by following the current corridor both ways.
     public func requestWhereAmI(t: Double) -> [TimedGuidanceEvent] {
         guard let input = lastInput, let snap = lastSnap else {
-            if let unsure = lastUnsureInput, let place = probablePlace(unsure) {
+            // "Probably near" names the dominant hypothesis' place: not while it leaves the sightings unexplained.
+            if let unsure = lastUnsureInput, !unsure.sightingsUnexplained, let place = probablePlace(unsure) {
                 policy.submit(narrative.phrases.phrase("whereAmI.probably", ["place": place]), priority: .information,
                               t: t, requested: true)
                 return emit(t)
@@ -957,7 +964,8 @@ public final class Navigator {
         let t = input.t
         if t - lastPlanT >= options.disambiguationIntervalSeconds - 1e-9 || lastAdvice == nil {
             lastPlanT = t
-            lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls)
+            lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls,
+                                        hypothesesExplainSightings: !input.sightingsUnexplained)
         }
         guard let advice = lastAdvice else { return }
         currentAdvice = advice
@@ -970,7 +978,8 @@ public final class Navigator {
             // What is said must hold where the traveler is now, not a second ago: re-plan before speaking.
             if t - lastPlanT > 1e-9 {
                 lastPlanT = t
-                lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls)
+                lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls,
+                                        hypothesesExplainSightings: !input.sightingsUnexplained)
             }
             guard let fresh = lastAdvice else { return }
             currentAdvice = fresh

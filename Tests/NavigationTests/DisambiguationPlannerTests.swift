@@ -163,6 +163,63 @@ final class DisambiguationPlannerTests: XCTestCase {
         XCTAssertEqual(advice.phraseKey, "disambiguate.unsure")
     }
 
+    func testSightingsNoHypothesisExplainsLeaveNoDirection() {
+        // Mirror hypotheses with a safe walk ahead under both (as in testAnInstructionMustBeSafeUnderEveryLiveHypothesis),
+        // but the localizer reports a sign its dominant hypothesis does not place there: the traveler may stand
+        // where neither is (office-long-many-turns behind vio-rough: "Turn left" 26.5 m from both), so no walk is
+        // planned from them.
+        let planner = DisambiguationPlanner(building: corridor())
+        let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(4, 1), headingRad: 0),
+                 PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(16, 1), headingRad: Double.pi)]
+        XCTAssertNotNil(planner.advise(h).action)
+        let unexplained = planner.advise(h, hypothesesExplainSightings: false)
+        XCTAssertNil(unexplained.action)
+        XCTAssertEqual(unexplained.phraseKey, "disambiguate.unsure")
+    }
+
+    func testNavigatorSaysItIsUnsureWhileSightingsAreUnexplained() throws {
+        let b = corridor()
+        let h = [PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(18.5, 1), headingRad: 0),
+                 PoseCandidate(weight: 0.5, floorId: "1", positionInMap: Point2(1.5, 1), headingRad: Double.pi)]
+        func spoken(unexplainedUntil: Double) throws -> [(t: Double, text: String)] {
+            let nav = try Navigator(building: b, destinationId: "b")
+            var said: [(t: Double, text: String)] = []
+            for k in 0..<40 {
+                let t = Double(k) * 0.5
+                let input = NavigationInput(t: t, positionInMap: Point2(18.5, 1), floorId: "1", headingRad: 0,
+                                            isLocalized: false, confidence: 0.3, hypotheses: h,
+                                            sightingsUnexplained: t < unexplainedUntil)
+                for e in nav.update(input) { if case .speak(let text, _, _) = e.event { said.append((t, text)) } }
+            }
+            return said
+        }
+        // Unexplained for the first 6 s: the plain advice, no direction; then the directional advice.
+        let said = try spoken(unexplainedUntil: 6)
+        let beforeSix = said.filter { $0.t < 6 }
+        XCTAssertFalse(beforeSix.isEmpty)
+        XCTAssertTrue(beforeSix.allSatisfy { $0.text.contains("keep walking slowly") }, "\(said)")
+        XCTAssertTrue(said.contains { $0.t >= 6 && $0.text.contains("Turn around") }, "\(said)")
+        // Never explained: never a direction.
+        XCTAssertFalse(try spoken(unexplainedUntil: 100).contains { $0.text.contains("Turn") || $0.text.contains("Walk straight") })
+    }
+
+    func testWhereAmINamesNoProbablePlaceWhileSightingsAreUnexplained() throws {
+        // A hypothesis by the corridor's labelled node: "Probably near ..." unless the sightings are unexplained.
+        var b = corridor()
+        b.graph.nodes[0].label = "the lobby"
+        let h = [PoseCandidate(weight: 1, floorId: "1", positionInMap: Point2(2, 1), headingRad: 0, positionStdMeters: 0.3)]
+        func answer(_ unexplained: Bool) throws -> [String] {
+            let nav = try Navigator(building: b, destinationId: "b")
+            _ = nav.update(NavigationInput(t: 0, positionInMap: Point2(2, 1), floorId: "1", headingRad: 0, isLocalized: false,
+                                           confidence: 0.3, hypotheses: h, sightingsUnexplained: unexplained))
+            return nav.requestWhereAmI(t: 0.5).compactMap { e -> String? in
+                if case .speak(let text, _, _) = e.event { return text } else { return nil }
+            }
+        }
+        XCTAssertEqual(try answer(false), ["Probably near the lobby, not sure yet."])
+        XCTAssertEqual(try answer(true), ["Location not known yet. Start walking."])
+    }
+
     func testNavigatorSpeaksTheAdviceInsteadOfStartWalking() throws {
         let b = corridor()
         let nav = try Navigator(building: b, destinationId: "b")

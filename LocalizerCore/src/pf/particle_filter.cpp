@@ -212,6 +212,7 @@ void ParticleFilter::reset_filter_state() {
     was_localized_ = false;
     last_sighting_t_ = -std::numeric_limits<double>::infinity();
     unexplained_frames_.clear();
+    sightings_unexplained_ = false;
     estimate_dirty_ = true;
     dominant_members_valid_ = false;
     // A compass prior given before the first VIO yaw is applied at the next predict.
@@ -454,7 +455,11 @@ void ParticleFilter::note_unexplained_sightings(const std::vector<PreparedSighti
         w_all += w;
         w_ratio += w * std::exp(std::min(static_cast<double>(log_likelihood_[i]) - clutter_ll, 700.0));
     }
-    if (!(w_all > 0) || !(w_ratio < 2.0 * w_all)) return;
+    if (!(w_all > 0)) return;
+    if (!(w_ratio < 2.0 * w_all)) {
+        sightings_unexplained_ = false;  // explained: set again below only while the hold period still holds enough
+        return;
+    }
     double nats = 0;
     for (const PreparedSighting &s : z) nats -= std::log(std::max(static_cast<double>(s.clutter_probability), 1e-6));
     unexplained_frames_.emplace_back(t, nats);
@@ -1044,6 +1049,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.explain_sightings") {
         h.explain_sightings = value != 0;
         if (value == 0) unexplained_frames_.clear();
+        if (value == 0) sightings_unexplained_ = false;
     }
     else if (name == "lock.lost_walk_speed_mps") h.lost_walk_speed_mps = value;
     else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
@@ -1221,6 +1227,11 @@ void ParticleFilter::compute_estimate() {
         }
     }
     hin.unexplained_sighting_nats = unexplained_sighting_nats(t_last_);
+    e.unexplained_sighting_nats = hin.unexplained_sighting_nats;
+    if (hysteresis_.params().explain_sightings && hin.unexplained_sighting_nats >= hysteresis_.params().rival_refute_nats) {
+        sightings_unexplained_ = true;
+    }
+    e.sightings_unexplained = sightings_unexplained_ ? 1 : 0;
     hin.tracking_lost_s = tracker_.lost_since() >= 0 ? t_last_ - tracker_.lost_since() : 0;
     const bool localized = hysteresis_.update(hin);
     // A new lock is corroborated. A lock that sightings break (within a second of one) must be earned again

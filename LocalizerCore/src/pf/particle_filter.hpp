@@ -168,6 +168,10 @@ private:
     /// Sighting frames the dominant hypothesis explained only as false positives: (time s, nats), oldest first
     /// (note_unexplained_sightings).
     std::vector<std::pair<double, double>> unexplained_frames_;
+    /// The estimate's sightings_unexplained: set when the hold period's unexplained sightings reach
+    /// rival_refute_nats, cleared by a later sighting frame the dominant hypothesis explains (no sighting since
+    /// says nothing new: the cloud that could not explain them still holds no better place).
+    bool sightings_unexplained_ = false;
     std::vector<uint32_t> indices_;
     /// Hypothesis-preserving resampling: particle indices grouped by cluster (group g is
     /// group_members_[group_start_[g] .. group_start_[g + 1])).

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <memory>
 #include <vector>
 
 #include "pf/particle_filter.hpp"
@@ -1119,24 +1120,42 @@ TEST(ParticleFilter, SustainedInjectionDoesNotDiluteASightedLock) {
 // quarter-turned lock of docs/localizer.md "Thirteenth stop" called 20 far Exit sightings false positives).
 // Once they have left the hold window, the flag comes on after the hold time; with the rule off it comes on
 // during them.
-TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
-    wf::test::World world;
-    wf::test::FloorSpec f;
-    f.box(0, 0, 30, 2);
-    for (float x = 1; x < 30; x += 2) f.seed(x, 1);
-    f.sign(wf::test::kExit, 30, 1, -1, 0);
-    world.floors.push_back(f);
-    wf::test::WalkParams wp;
-    wp.seed = 3;
-    const auto frames = wf::test::make_walk(world.floors[0], {{2, 1}, {28, 1}}, 0.0, wp);
-    auto first_localized_frame = [&](bool rule) {
+namespace {
+/// A 30 m x 2 m corridor whose only sign is an Exit on the far end wall (x 30, facing -x), a walk along it from
+/// x 2 to 28 (seed 3), and a filter started on the walk's first pose with a good compass (seed 9), with the
+/// lock's explain-sightings rule on or off.
+struct FarExitCorridor {
+    mutable wf::test::World world;  // build_map takes it by reference
+    std::vector<WalkFrame> frames;
+    FarExitCorridor() {
+        wf::test::FloorSpec f;
+        f.box(0, 0, 30, 2);
+        for (float x = 1; x < 30; x += 2) f.seed(x, 1);
+        f.sign(wf::test::kExit, 30, 1, -1, 0);
+        world.floors.push_back(f);
+        wf::test::WalkParams wp;
+        wp.seed = 3;
+        frames = wf::test::make_walk(world.floors[0], {{2, 1}, {28, 1}}, 0.0, wp);
+    }
+    std::unique_ptr<ParticleFilter> started_filter(bool explain_rule) const {
         auto o = test_options();
         o.start_point_doubt_share = 0;
-        ParticleFilter pf(wf::test::build_map(world, o), o, 9);
-        EXPECT_EQ(pf.set_parameter("lock.explain_sightings", rule ? 1 : 0), WF_LOC_OK);
-        EXPECT_EQ(pf.predict(frames[0].vio), WF_LOC_OK);
-        EXPECT_EQ(pf.set_compass_prior(frames[0].true_heading, 0.05), WF_LOC_OK);
-        EXPECT_EQ(pf.init_start_point(0, frames[0].true_x, frames[0].true_y, 0.5), WF_LOC_OK);
+        auto pf = std::make_unique<ParticleFilter>(wf::test::build_map(world, o), o, 9);
+        EXPECT_EQ(pf->set_parameter("lock.explain_sightings", explain_rule ? 1 : 0), WF_LOC_OK);
+        EXPECT_EQ(pf->predict(frames[0].vio), WF_LOC_OK);
+        EXPECT_EQ(pf->set_compass_prior(frames[0].true_heading, 0.05), WF_LOC_OK);
+        EXPECT_EQ(pf->init_start_point(0, frames[0].true_x, frames[0].true_y, 0.5), WF_LOC_OK);
+        return pf;
+    }
+};
+}  // namespace
+
+TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
+    const FarExitCorridor corridor;
+    const auto &frames = corridor.frames;
+    auto first_localized_frame = [&](bool rule) {
+        const auto filter = corridor.started_filter(rule);
+        ParticleFilter &pf = *filter;
         for (size_t k = 1; k < frames.size() && k < 80; ++k) {
             EXPECT_EQ(pf.predict(frames[k].vio), WF_LOC_OK);
             std::vector<wf_sign_observation> z;
@@ -1157,4 +1176,51 @@ TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
     const int without = first_localized_frame(false);
     EXPECT_GE(without, 0);
     EXPECT_LT(without, 30) << "without the rule the blob should lock during the sightings (else the test shows nothing)";
+}
+
+// The same walk and unexplained sightings (frames 1-29), then nothing, then the Exit sign as it really appears
+// once it is within 12 m: the estimate reports the unexplained sightings (the navigator's cue to plan no walk
+// from the hypotheses) from the hold period's third nats-worth of them until the first sighting the dominant
+// hypothesis explains, including the frames without sightings between (they say nothing about where the traveler
+// is); with the rule off, never.
+TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExplain) {
+    const FarExitCorridor corridor;
+    const auto &frames = corridor.frames;
+    for (const bool rule : {true, false}) {
+        const auto filter = corridor.started_filter(rule);
+        ParticleFilter &pf = *filter;
+        int first_true_sighting = -1, cleared = -1;
+        for (size_t k = 1; k < frames.size() && k < 200; ++k) {
+            const WalkFrame &fr = frames[k];
+            EXPECT_EQ(pf.predict(fr.vio), WF_LOC_OK);
+            std::vector<wf_sign_observation> z;
+            const double dx = 30.0 - fr.true_x, dy = 1.0 - fr.true_y;
+            if (k < 30) {
+                z.push_back({wf::test::kExit, 5.0, -0.3, 0.9});
+            } else if (std::hypot(dx, dy) <= 12.0) {
+                const double bearing = std::remainder(std::atan2(dy, dx) - fr.true_heading, 2 * M_PI);
+                z.push_back({wf::test::kExit, std::hypot(dx, dy), bearing, 0.9});
+                if (first_true_sighting < 0) first_true_sighting = static_cast<int>(k);
+            }
+            EXPECT_EQ(pf.update_signs(z.data(), z.size(), fr.vio.t), WF_LOC_OK);
+            const wf_localizer_estimate &e = pf.estimate();
+            if (!rule) {
+                EXPECT_EQ(e.sightings_unexplained, 0) << "frame " << k;
+                continue;
+            }
+            if (k >= 10 && k < 30) {
+                EXPECT_EQ(e.sightings_unexplained, 1) << "frame " << k;
+                EXPECT_GE(e.unexplained_sighting_nats, 4.0) << "frame " << k;
+            }
+            if (k >= 41 && first_true_sighting < 0) {
+                EXPECT_EQ(e.sightings_unexplained, 1) << "frame " << k << ": no sighting since, nothing explained";
+                EXPECT_EQ(e.unexplained_sighting_nats, 0.0) << "frame " << k;
+            }
+            if (first_true_sighting >= 0 && cleared < 0 && e.sightings_unexplained == 0) cleared = static_cast<int>(k);
+        }
+        if (!rule) continue;
+        ASSERT_GT(first_true_sighting, 41) << "the walk should leave a gap without sightings";
+        EXPECT_GE(cleared, first_true_sighting);
+        EXPECT_LE(cleared, first_true_sighting + 2) << "the sign seen where the hypothesis places it clears the report";
+    }
 }
