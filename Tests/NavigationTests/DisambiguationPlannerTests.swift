@@ -217,7 +217,7 @@ final class DisambiguationPlannerTests: XCTestCase {
             }
         }
         XCTAssertEqual(try answer(false), ["Probably near the lobby, not sure yet."])
-        XCTAssertEqual(try answer(true), ["Location not known yet. Start walking."])
+        XCTAssertEqual(try answer(true), ["Location not known yet; keep walking slowly."])
     }
 
     func testNavigatorSpeaksTheAdviceInsteadOfStartWalking() throws {

@@ -409,7 +409,7 @@ final class NavigatorTests: XCTestCase {
             .pointOfInterest(node: "p", id: "r312", name: "Room 312")
             .build()
         let nav = try Navigator(building: b, destinationId: "S1")
-        XCTAssertEqual(nav.requestWhereAmI(t: 0).compactMap(\.spokenText), ["Location not known yet. Start walking."])
+        XCTAssertEqual(nav.requestWhereAmI(t: 0).compactMap(\.spokenText), ["Location not known yet; keep walking slowly."])
         XCTAssertEqual(nav.requestRepeat(t: 0.5).compactMap(\.spokenText), ["No instruction yet."])
         var w = Walker(start: Point2(x: 7, y: 0), floorId: "1", headingRad: 0, t: 5)
         w.run(nav, [.wait(seconds: 0.1)])

@@ -13,7 +13,7 @@ public enum GuidanceState: String, Sendable, Equatable {
     case choosingDestination
     /// Everything chosen; waiting for Start.
     case ready
-    /// Guidance running (the pipeline says "Start walking" until localized).
+    /// Guidance running (until localized, the pipeline gives the exploratory guidance while unsure).
     case guiding
     /// The navigator announced arrival.
     case arrived
