@@ -159,6 +159,40 @@ final class ParticleLocalizerTests: XCTestCase {
         XCTAssertEqual(e.particleCount, 8000)
     }
 
+    func testSightingsTheDominantHypothesisCannotExplainAreReported() throws {
+        // A 30 m x 2 m corridor whose only sign is an Exit on its east end wall. Started at (2, 1) facing east
+        // (compass prior) and walking east, the detector reports an Exit sign 5 m ahead-right ten times a
+        // second: from anywhere near the start the only Exit is 24-28 m away, so the hypothesis explains them only
+        // as false positives. The estimate says so once a second's worth reaches the refutation margin, and
+        // keeps saying so when they stop (nothing has been explained since).
+        let walls = [Wall(from: Point2(0, 0), to: Point2(30, 0)), Wall(from: Point2(30, 0), to: Point2(30, 2)),
+                     Wall(from: Point2(30, 2), to: Point2(0, 2)), Wall(from: Point2(0, 2), to: Point2(0, 0))]
+        let exit = Sign(id: "e", kind: "exit", position: Point2(30, 1), facing: Point2(-1, 0), widthMeters: 0.3, heightMeters: 0.2)
+        let floor = Floor(id: "1", name: "Floor 1", elevationMeters: 0, walls: walls, signs: [exit])
+        let corridor = Building(id: "corridor", name: "Corridor", floors: [floor],
+                                graph: NavigationGraph(nodes: [GraphNode(id: "a", kind: .control, floorId: "1", position: Point2(1, 1))],
+                                                       edges: []))
+        var options = smallOptions()
+        options.startPointDoubtShare = 0
+        let localizer = try ParticleLocalizer(building: corridor, options: options)
+        let frames = Self.walk(corridor, [Point2(2, 1), Point2(8, 1)])
+        localizer.predict(frames[0].vio)
+        localizer.setCompassPrior(headingInMapRad: 0, sigmaRad: 0.05)
+        try localizer.reset(prior: .startPoint(floorId: "1", position: Point2(2, 1), radiusMeters: 0.5))
+        XCTAssertFalse(localizer.estimate.sightingsUnexplained)
+        for (k, f) in frames.enumerated().dropFirst().prefix(40) {
+            localizer.predict(f.vio)
+            let phantom = k < 25 ? [SignSighting(kind: "exit", rangeMeters: 5, bearingRad: -0.3, score: 0.9)] : []
+            localizer.update(sightings: phantom, t: f.vio.t)
+            let e = localizer.estimate
+            if k >= 12 && k < 25 {
+                XCTAssertTrue(e.sightingsUnexplained, "frame \(k)")
+                XCTAssertGreaterThanOrEqual(e.unexplainedSightingNats, 4, "frame \(k)")
+            }
+            if k >= 37 { XCTAssertTrue(e.sightingsUnexplained, "frame \(k): latched until a sighting is explained") }
+        }
+    }
+
     func testErrorsForBadInput() throws {
         let building = Self.lBuilding()
         let localizer = try ParticleLocalizer(building: building, options: smallOptions())
