@@ -44,8 +44,9 @@ public struct TraceRecord: Codable, Sendable, Equatable {
     /// The localizer's hypotheses (heaviest first) on frames where it is not localized or holds more than one:
     /// what a trainer or a developer reads to see which places the filter still weighs; nil otherwise.
     public var hypothesisList: [TraceHypothesis]? = nil
-    /// True on frames where the dominant hypothesis leaves the last second's sightings unexplained
-    /// (`LocalizationEstimate.sightingsUnexplained`); nil otherwise.
+    /// True on frames where the localizer reports sightings its dominant hypothesis leaves unexplained, from the
+    /// second's worth that reaches its margin until one is explained (`LocalizationEstimate.sightingsUnexplained`);
+    /// nil otherwise.
     public var sightingsUnexplained: Bool? = nil
 
     /// Creates a trace record.

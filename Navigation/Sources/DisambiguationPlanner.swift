@@ -150,8 +150,8 @@ public struct DisambiguationPlanner: Sendable {
     /// particles: the live ones must cover `minimumCoverage`). `perceivedWalls` are the walls the phone sees
     /// now, in the traveler's frame: an action's walk also stops `wallMarginMeters` short of the first of them,
     /// whatever the hypotheses say (none: the map's walls alone). `hypothesesExplainSightings` false (the
-    /// localizer's dominant hypothesis leaves the last second's sightings unexplained) gives the advice with no
-    /// action, as a spread-out cloud does: the traveler may stand where no hypothesis is.
+    /// localizer reports sightings its dominant hypothesis leaves unexplained) gives the advice with no action,
+    /// as a spread-out cloud does: the traveler may stand where no hypothesis is.
     public func advise(_ hypotheses: [PoseCandidate], perceivedWalls: [PerceivedWall] = [],
                        hypothesesExplainSightings: Bool = true) -> DisambiguationAdvice {
         let usable = hypotheses.filter { $0.weight.isFinite && $0.positionStdMeters <= options.maximumSpreadMeters &&

@@ -29,10 +29,10 @@ public struct NavigationInput: Sendable, Equatable {
     /// navigator then says nothing (the phone's tracking prompt asks for the camera; "Start walking" from no
     /// hypotheses would send the traveler off with nothing to guide them).
     public var trackingLost: Bool
-    /// True while the localizer reports that its dominant hypothesis leaves the last second's sightings
-    /// unexplained (a sign seen where that hypothesis has none): the traveler may stand where no hypothesis is,
-    /// so while not localized no directional instruction is planned from the hypotheses (the advice is the plain
-    /// "keep walking slowly").
+    /// True while the localizer reports sightings that its dominant hypothesis leaves unexplained (signs seen
+    /// where that hypothesis has none, until one it explains; `LocalizationEstimate.sightingsUnexplained`): the
+    /// traveler may stand where no hypothesis is, so while not localized no directional instruction is planned
+    /// from the hypotheses (the advice is the plain "keep walking slowly").
     public var sightingsUnexplained: Bool
 
     /// Creates an input.
@@ -964,8 +964,7 @@ public final class Navigator {
         let t = input.t
         if t - lastPlanT >= options.disambiguationIntervalSeconds - 1e-9 || lastAdvice == nil {
             lastPlanT = t
-            lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls,
-                                        hypothesesExplainSightings: !input.sightingsUnexplained)
+            lastAdvice = plan(input)
         }
         guard let advice = lastAdvice else { return }
         currentAdvice = advice
@@ -978,8 +977,7 @@ public final class Navigator {
             // What is said must hold where the traveler is now, not a second ago: re-plan before speaking.
             if t - lastPlanT > 1e-9 {
                 lastPlanT = t
-                lastAdvice = planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls,
-                                        hypothesesExplainSightings: !input.sightingsUnexplained)
+                lastAdvice = plan(input)
             }
             guard let fresh = lastAdvice else { return }
             currentAdvice = fresh
@@ -989,6 +987,13 @@ public final class Navigator {
             lastSpokenAdviceKey = key
             lastSpokenAdvice = (t, fresh)
         }
+    }
+
+    /// The planner's advice for this input: its hypotheses, the walls the phone sees, and whether the hypotheses
+    /// explain the sightings.
+    private func plan(_ input: NavigationInput) -> DisambiguationAdvice {
+        planner.advise(input.hypotheses, perceivedWalls: input.perceivedWalls,
+                       hypothesesExplainSightings: !input.sightingsUnexplained)
     }
 
     /// The labelled place nearest the dominant hypothesis on its floor, for "Probably near ...".

@@ -1048,8 +1048,10 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
     else if (name == "lock.explain_sightings") {
         h.explain_sightings = value != 0;
-        if (value == 0) unexplained_frames_.clear();
-        if (value == 0) sightings_unexplained_ = false;
+        if (value == 0) {
+            unexplained_frames_.clear();
+            sightings_unexplained_ = false;
+        }
     }
     else if (name == "lock.lost_walk_speed_mps") h.lost_walk_speed_mps = value;
     else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
