@@ -162,7 +162,7 @@ final class ParticleLocalizerTests: XCTestCase {
     func testSightingsTheDominantHypothesisCannotExplainAreReported() throws {
         // A 30 m x 2 m corridor whose only sign is an Exit on its east end wall. Started at (2, 1) facing east
         // (compass prior) and walking east, the detector reports an Exit sign 5 m ahead-right ten times a
-        // second: from anywhere near the start the only Exit is 24-28 m away, so the hypothesis explains them only
+        // second: from anywhere on this walk the only Exit is 22-28 m away, so the hypothesis explains them only
         // as false positives. The estimate says so once a second's worth reaches the refutation margin, and
         // keeps saying so when they stop (nothing has been explained since).
         let walls = [Wall(from: Point2(0, 0), to: Point2(30, 0)), Wall(from: Point2(30, 0), to: Point2(30, 2)),

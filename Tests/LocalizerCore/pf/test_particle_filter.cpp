@@ -1180,9 +1180,9 @@ TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
 
 // The same walk and unexplained sightings (frames 1-29), then nothing, then the Exit sign as it really appears
 // once it is within 12 m: the estimate reports the unexplained sightings (the navigator's cue to plan no walk
-// from the hypotheses) from the hold period's third nats-worth of them until the first sighting the dominant
-// hypothesis explains, including the frames without sightings between (they say nothing about where the traveler
-// is); with the rule off, never.
+// from the hypotheses) from the frame where the hold period's sum reaches the 4-nat margin until the first
+// sighting the dominant hypothesis explains, including the frames without sightings between (they say nothing
+// about where the traveler is); with the rule off, never.
 TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExplain) {
     const FarExitCorridor corridor;
     const auto &frames = corridor.frames;
