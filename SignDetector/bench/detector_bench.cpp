@@ -244,6 +244,9 @@ public:
         // Issue 16: "extra sign classes add <= 20 %" (pictogram and placard cascades beside the Exit detector).
         ratio("cascade_phone_bgra_all_kinds/VGA", "cascade_phone_bgra/VGA");
         ratio("unet_coarse_zoom_all_kinds/HR", "unet_coarse_zoom/HR");
+        ratio("unet_coarse_zoom_all_kinds_phone_bgra/HR", "unet_coarse_zoom_phone_bgra/HR");
+        ratio("unet_coarse_zoom_phone_bgra/HR", "cascade_reference/VGA");
+        ratio("unet_coarse_zoom_phone_bgra/HR", "unet_coarse_zoom/HR");
         ratio("unet_coarse_zoom_all_kinds/HR", "unet_coarse_zoom_exit_only_model/HR");
     }
 
@@ -358,6 +361,8 @@ int main(int argc, char** argv) {
     static const std::string unetModelPath = unetModel;
     if (unet && *unet) {
         pipeline("unet_coarse_zoom/HR", unet.get(), &hr);
+        // What the phone sends the U-Net: a BGRA frame at capture size (App/iOS/Sensors/PixelBufferTools.swift).
+        pipeline("unet_coarse_zoom_phone_bgra/HR", unet.get(), &hrBgra);
         pipeline("unet_coarse_zoom_no_edge_refinement/HR", unetRough.get(), &hr);
         pipeline("unet_coarse_zoom_whole_frame/HR", unetWholeFrame.get(), &hr);
         pipeline("unet_coarse_zoom_opencv_deconvolution/HR", unetOpencvDeconvolution.get(), &hr);
@@ -373,7 +378,10 @@ int main(int argc, char** argv) {
                 besideNames.push_back(kindNames[i]);
             }
             static auto unetKinds = makeWithCatalogue(besidePaths, besideNames, catalogue, unetModel);
-            if (*unetKinds) pipeline("unet_coarse_zoom_all_kinds/HR", unetKinds.get(), &hr);
+            if (*unetKinds) {
+                pipeline("unet_coarse_zoom_all_kinds/HR", unetKinds.get(), &hr);
+                pipeline("unet_coarse_zoom_all_kinds_phone_bgra/HR", unetKinds.get(), &hrBgra);
+            }
             else std::fprintf(stderr, "all-kinds U-Net not benchmarked: %s\n", unetKinds->error.c_str());
             if (const char* exitOnly = std::getenv("WF_BENCH_UNET_EXIT_ONLY")) {
                 static auto unetExitOnly = makeUnet(exitOnly, 0, FaceEdgeOptions{}, &catalogue);

@@ -125,6 +125,12 @@ private:
     /// Loads the U-Net of options_ and the cascades beside it. Returns WF_STATUS_OK or WF_STATUS_MODEL_LOAD.
     int loadUnet(std::string* error);
 
+    /// The plain kinds beside the U-Net: `gray` (the raw frame, intrinsics `k`) shrunk to at most
+    /// plainKindSearchMaxLongSidePx, unrolled at that size and searched (detectPlainKinds); boxes mapped to
+    /// `frameUnrolling`'s pixels (mapToFrame), not yet refined.
+    std::vector<Detection> detectPlainKindsShrunk(const cv::Mat& gray, const Intrinsics& k, double rollRad,
+                                                  double pitchRad, const Unrolling& frameUnrolling);
+
     /// Cascade kinds searched without the gate: on `grayUnrolled` (the whole unrolled frame) shrunk to at most
     /// plainKindSearchMaxLongSidePx, each with its placement band and smallest window; boxes in `grayUnrolled`'s
     /// pixels appended to `out`.

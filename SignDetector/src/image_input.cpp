@@ -92,6 +92,18 @@ FrameCheck checkFrame(const wf_frame& frame) {
     return {};
 }
 
+namespace {
+/// The verdict on a frame's sampled mean luma.
+FrameCheck darkFrameCheck(double meanLuma) {
+    if (meanLuma < kDarkFrameMeanLuma) {
+        std::ostringstream msg;
+        msg << "frame skipped: mean luma " << meanLuma << " < " << kDarkFrameMeanLuma << " (lens covered or dark)";
+        return {WF_STATUS_SKIPPED_DARK_FRAME, msg.str()};
+    }
+    return {};
+}
+}  // namespace
+
 FrameCheck checkBrightness(const cv::Mat& gray) {
     CV_Assert(gray.type() == CV_8UC1);
     uint64_t sum = 0, n = 0;
@@ -102,19 +114,46 @@ FrameCheck checkBrightness(const cv::Mat& gray) {
             ++n;
         }
     }
-    const double mean = n ? double(sum) / double(n) : 0.0;
-    if (mean < kDarkFrameMeanLuma) {
-        std::ostringstream msg;
-        msg << "frame skipped: mean luma " << mean << " < " << kDarkFrameMeanLuma << " (lens covered or dark)";
-        return {WF_STATUS_SKIPPED_DARK_FRAME, msg.str()};
-    }
-    return {};
+    return darkFrameCheck(n ? double(sum) / double(n) : 0.0);
 }
 
 namespace {
 cv::Mat wrap(const wf_image& image, int type) {
     return cv::Mat(image.height, image.width, type, const_cast<uint8_t*>(image.data), image.stride);
 }
+
+/// Channels of the first plane as checkImage accepts it (1 for GRAY8 and NV12's Y plane).
+int planeChannels(const wf_image& image) {
+    switch (enumValue(image.format)) {
+        case WF_PIXEL_BGRA8: return 4;
+        case WF_PIXEL_RGB8: return 3;
+        default: return 1;
+    }
+}
+}  // namespace
+
+FrameCheck checkBrightness(const wf_image& image) {
+    const int channels = planeChannels(image);
+    if (channels == 1) return checkBrightness(wrap(image, CV_8UC1));  // the Y plane is the gray image
+    // Every 4th pixel of every 4th row, in the image's own layout, then one small conversion.
+    const int rows = (image.height + 3) / 4, cols = (image.width + 3) / 4;
+    cv::Mat samples(rows, cols, CV_8UC(channels));
+    for (int r = 0; r < rows; ++r) {
+        const uint8_t* src = image.data + size_t(4 * r) * image.stride;
+        uint8_t* dst = samples.ptr<uint8_t>(r);
+        for (int c = 0; c < cols; ++c) std::memcpy(dst + c * channels, src + size_t(4 * c) * channels, channels);
+    }
+    cv::Mat gray;
+    cv::cvtColor(samples, gray, channels == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_RGB2GRAY);
+    uint64_t sum = 0;
+    for (int r = 0; r < gray.rows; ++r) {
+        const uchar* row = gray.ptr<uchar>(r);
+        for (int c = 0; c < gray.cols; ++c) sum += row[c];
+    }
+    return darkFrameCheck(gray.total() ? double(sum) / double(gray.total()) : 0.0);
+}
+
+namespace {
 inline uint8_t clamp8(double v) { return static_cast<uint8_t>(std::min(255.0, std::max(0.0, v + 0.5))); }
 }  // namespace
 
@@ -127,6 +166,25 @@ cv::Mat toGray(const wf_image& image) {
         case WF_PIXEL_RGB8: cv::cvtColor(wrap(image, CV_8UC3), gray, cv::COLOR_RGB2GRAY); return gray;
     }
     CV_Error(cv::Error::StsBadArg, "unknown pixel format");
+}
+
+wf_image grayImageView(const cv::Mat& gray) {
+    CV_Assert(gray.type() == CV_8UC1);
+    wf_image view{};
+    view.data = gray.data;
+    view.width = gray.cols;
+    view.height = gray.rows;
+    view.stride = gray.step;
+    view.format = WF_PIXEL_GRAY8;
+    return view;
+}
+
+cv::Mat toNetworkColour(const wf_image& image) {
+    switch (enumValue(image.format)) {
+        case WF_PIXEL_BGRA8: return wrap(image, CV_8UC4);
+        case WF_PIXEL_RGB8: return wrap(image, CV_8UC3);
+        default: return toRgb(image);
+    }
 }
 
 cv::Mat toRgb(const wf_image& image) {

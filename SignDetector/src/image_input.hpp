@@ -35,6 +35,11 @@ constexpr double kDarkFrameMeanLuma = 2.0;
 /// kDarkFrameMeanLuma.
 FrameCheck checkBrightness(const cv::Mat& gray);
 
+/// The same check read straight from the caller's image: the pixels it samples (every 4th row and column from
+/// the first) are converted to gray as toGray converts them, so the mean is exactly that of
+/// checkBrightness(toGray(image)) without converting the whole frame (1.9 ms per 1920 x 1440 BGRA frame here).
+FrameCheck checkBrightness(const wf_image& image);
+
 /// Wraps (no copy) or converts the image to 8-bit gray: GRAY8 and NV12 (Y plane) are wrapped; BGRA8 and
 /// RGB8 are converted (ITU-R BT.601 luma, cv::cvtColor).
 cv::Mat toGray(const wf_image& image);
@@ -42,6 +47,13 @@ cv::Mat toGray(const wf_image& image);
 /// The image as 8-bit RGB: RGB8 is wrapped (no copy; treat as read-only), other formats converted. NV12 uses full-range BT.601 (JPEG) coefficients, as ARKit
 /// delivers; NV12 without chroma and GRAY8 give R = G = B = luma.
 cv::Mat toRgb(const wf_image& image);
+
+/// The image in a colour layout the U-Net's sampler reads (RawPyramid): BGRA8 wrapped as CV_8UC4 (B, G, R, A;
+/// no copy), RGB8 wrapped as CV_8UC3; other formats converted to RGB (toRgb). Read-only.
+cv::Mat toNetworkColour(const wf_image& image);
+
+/// A GRAY8 wf_image viewing `gray` (CV_8UC1, continuous or not; borrowed: keep `gray` alive while it is used).
+wf_image grayImageView(const cv::Mat& gray);
 
 /// Bytes per pixel of the first plane of `format` (a wf_pixel_format value), or 0 if unknown.
 int bytesPerPixel(int format);

@@ -211,6 +211,7 @@ cv::Mat sampleUnrolled(RawPyramid& raw, const Unrolling& unrolling, cv::Point2d 
     cv::Mat out;
     cv::warpAffine(src, out, m23, size, cv::INTER_LINEAR | cv::WARP_INVERSE_MAP, cv::BORDER_CONSTANT,
                    cv::Scalar::all(0));
+    if (raw.bgra()) cv::cvtColor(out, out, cv::COLOR_BGRA2RGB);  // the network reads R, G, B
     return out;
 }
 
@@ -475,7 +476,7 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
 
 std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params,
                                             double pitchRad) {
-    CV_Assert(rgbRaw.type() == CV_8UC3 && rgbRaw.size() == unrolling.rawSize());
+    CV_Assert((rgbRaw.type() == CV_8UC3 || rgbRaw.type() == CV_8UC4) && rgbRaw.size() == unrolling.rawSize());
     RawPyramid raw(rgbRaw);
     const std::vector<UnetCandidate> coarse = coarseCandidates(raw, unrolling, params, pitchRad);
     std::vector<Detection> detections;

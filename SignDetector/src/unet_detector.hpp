@@ -130,12 +130,18 @@ struct UnetCandidate {
     int minCropPx = 0;
 };
 
-/// The raw RGB frame and its halvings (INTER_AREA), built on demand, so that network inputs can be sampled
+/// The raw colour frame and its halvings (INTER_AREA), built on demand, so that network inputs can be sampled
 /// straight from raw pixels through the unrolling map without materialising the full-resolution unrolled
-/// image (a 1920 x 1440 RGB warp costs more than the network's coarse pass).
+/// image (a 1920 x 1440 RGB warp costs more than the network's coarse pass). The frame is RGB (CV_8UC3) or, as
+/// the phone sends it, BGRA (CV_8UC4): the halvings and warps work per channel, so sampling BGRA and swapping the
+/// channels of the small result gives the same bytes as converting the whole frame to RGB first (1.9 ms per
+/// 1920 x 1440 frame here, docs/sign-detection.md "Pixel formats").
 class RawPyramid {
 public:
-    explicit RawPyramid(cv::Mat rgbRaw) { levels_.push_back(std::move(rgbRaw)); }
+    /// `raw`: CV_8UC3 (R, G, B) or CV_8UC4 (B, G, R, A); borrowed when it is a view of the caller's frame.
+    explicit RawPyramid(cv::Mat raw) { levels_.push_back(std::move(raw)); }
+    /// True when the levels hold B, G, R, A (sampled inputs are converted to RGB).
+    bool bgra() const { return levels_.front().type() == CV_8UC4; }
     /// Level k: the raw image downscaled about 2^k times; `scale` receives its exact (x, y) scale to raw.
     const cv::Mat& level(int k, cv::Point2d* scale);
 
@@ -210,7 +216,7 @@ public:
     bool refine(RawPyramid& raw, const Unrolling& unrolling, const UnetCandidate& candidate, const UnetParams& params,
                 Detection* out, UnetVerdict* verdict = nullptr);
 
-    /// Full multi-scale detection on a raw RGB frame (CV_8UC3) seen through `unrolling`, camera pitch
+    /// Full multi-scale detection on a raw RGB frame (CV_8UC3; or BGRA, CV_8UC4: RawPyramid) seen through `unrolling`, camera pitch
     /// `pitchRad` (radians, up positive; NaN = unknown: no far-band pass): coarse and far-band candidates,
     /// each zoomed and verified; detections are in unrolled pixels, overlaps suppressed. A far-band blob that
     /// overlaps a coarse blob is zoomed only when that coarse blob's zoom found no sign.

@@ -89,6 +89,45 @@ TEST(FrameCheck, SkipsBlackFrames) {
     EXPECT_TRUE(checkBrightness(toGray(f.frame.image)).ok());
 }
 
+TEST(FrameCheck, BrightnessReadFromTheImageIsTheGrayFramesToTheBit) {
+    // Dark frames (luma about 0-4, so the verdict's message carries the mean) of odd sizes, in every colour layout:
+    // the check that samples the caller's image without converting it reports exactly the gray frame's mean.
+    cv::RNG rng(7);
+    for (const cv::Size size : {cv::Size(17, 9), cv::Size(640, 480), cv::Size(1921, 1443)}) {
+        cv::Mat bgr(size, CV_8UC3);
+        rng.fill(bgr, cv::RNG::UNIFORM, 0, 5);
+        cv::Mat rgb, bgra;
+        cv::cvtColor(bgr, rgb, cv::COLOR_BGR2RGB);
+        cv::cvtColor(bgr, bgra, cv::COLOR_BGR2BGRA);
+        for (const wf_image image : {wf_image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0},
+                                     wf_image{bgra.data, bgra.cols, bgra.rows, bgra.step, WF_PIXEL_BGRA8, nullptr, 0}}) {
+            const FrameCheck fromGray = checkBrightness(toGray(image)), fromImage = checkBrightness(image);
+            EXPECT_EQ(fromImage.status, fromGray.status) << size;
+            EXPECT_EQ(fromImage.message, fromGray.message) << size;
+        }
+    }
+    const OwnedFrame bright = grayFrame(3), dark = grayFrame(1);
+    EXPECT_TRUE(checkBrightness(bright.frame.image).ok());
+    EXPECT_EQ(checkBrightness(dark.frame.image).status, WF_STATUS_SKIPPED_DARK_FRAME);
+}
+
+TEST(ImageInput, TheNetworksColourLayoutWrapsThePhonesFrames) {
+    cv::Mat bgra(2, 3, CV_8UC4, cv::Scalar(10, 20, 30, 255)), rgb(2, 3, CV_8UC3, cv::Scalar(30, 20, 10));
+    const wf_image bgraImage{bgra.data, 3, 2, bgra.step, WF_PIXEL_BGRA8, nullptr, 0};
+    const wf_image rgbImage{rgb.data, 3, 2, rgb.step, WF_PIXEL_RGB8, nullptr, 0};
+    EXPECT_EQ(toNetworkColour(bgraImage).data, bgra.data);  // wrapped, not converted
+    EXPECT_EQ(toNetworkColour(bgraImage).type(), CV_8UC4);
+    EXPECT_EQ(toNetworkColour(rgbImage).data, rgb.data);
+    std::vector<uint8_t> y(6, 50);
+    const wf_image gray{y.data(), 3, 2, 3, WF_PIXEL_GRAY8, nullptr, 0};
+    EXPECT_EQ(toNetworkColour(gray).type(), CV_8UC3);  // other layouts become RGB
+    EXPECT_EQ(toNetworkColour(gray).at<cv::Vec3b>(1, 2), cv::Vec3b(50, 50, 50));
+    const wf_image view = grayImageView(cv::Mat(2, 3, CV_8UC1, y.data()));
+    EXPECT_EQ(view.format, WF_PIXEL_GRAY8);
+    EXPECT_EQ(view.data, y.data());
+    EXPECT_EQ(view.stride, 3u);
+}
+
 TEST(ImageInput, ConvertsEveryPixelFormat) {
     // A 4 x 2 BGR image: red, green, blue, white / black, gray, yellow, cyan.
     const cv::Mat bgr = (cv::Mat_<cv::Vec3b>(2, 4) << cv::Vec3b(0, 0, 255), cv::Vec3b(0, 255, 0), cv::Vec3b(255, 0, 0),

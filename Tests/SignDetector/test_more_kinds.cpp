@@ -11,6 +11,7 @@
 #include <gtest/gtest.h>
 #include <opencv2/imgproc.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <set>
@@ -235,6 +236,37 @@ TEST(MoreKinds, CascadesRunBesideTheUnetForKindsItHasNoClassFor) {
         }
     }
     EXPECT_TRUE(restroomSeen);
+    // Searched on the frame shrunk to VGA and unrolled there, measured on the frame: the restroom sighting's range
+    // and corners are those of the drawn face in the 1920 x 1440 frame (to a few VGA pixels, 3 x as many here).
+    std::vector<wf_sign_sighting> sightings(16);
+    ASSERT_GE(wf_detector_sense(d, &hr.frame, sightings.data(), sightings.size(), &count), 0) << wf_detector_last_error(d);
+    sightings.resize(count);
+    const auto restroomSighting = std::find_if(sightings.begin(), sightings.end(),
+                                               [](const wf_sign_sighting& s) { return std::string(s.kind) == "restroom"; });
+    ASSERT_NE(restroomSighting, sightings.end());
+    EXPECT_NEAR(restroomSighting->range_m, 2.5, 0.2);
+    for (int i = 0; i < 4; ++i) {
+        EXPECT_NEAR(restroomSighting->corners_raw_px[2 * i], hr.truth.cornersRaw[i].x, 12) << i;
+        EXPECT_NEAR(restroomSighting->corners_raw_px[2 * i + 1], hr.truth.cornersRaw[i].y, 12) << i;
+    }
+    // The phone's frame (BGRA, App/iOS/Sensors/PixelBufferTools.swift) reaches the U-Net without a whole-frame RGB
+    // copy and the plain kinds through a gray copy: the same observations, to the bit, as the RGB frame gives.
+    cv::Mat bgra;
+    cv::cvtColor(hr.bgr, bgra, cv::COLOR_RGB2BGRA);
+    wf_frame phone = hr.frame;
+    phone.image = wf_image{bgra.data, bgra.cols, bgra.rows, bgra.step, WF_PIXEL_BGRA8, nullptr, 0};
+    std::vector<wf_detector_observation> phoneObs(16);
+    size_t phoneCount = 0;
+    ASSERT_GE(wf_detector_detect(d, &hr.frame, obs.data(), obs.size(), &count), 0) << wf_detector_last_error(d);
+    ASSERT_GE(wf_detector_detect(d, &phone, phoneObs.data(), phoneObs.size(), &phoneCount), 0) << wf_detector_last_error(d);
+    ASSERT_EQ(phoneCount, count);
+    for (size_t i = 0; i < count; ++i) {
+        EXPECT_STREQ(phoneObs[i].kind, obs[i].kind) << i;
+        EXPECT_EQ(phoneObs[i].score, obs[i].score) << i;
+        EXPECT_EQ(phoneObs[i].median_height_px, obs[i].median_height_px) << i;
+        EXPECT_EQ(phoneObs[i].median_bottom_row_px, obs[i].median_bottom_row_px) << i;
+        EXPECT_EQ(phoneObs[i].center_column_px, obs[i].center_column_px) << i;
+    }
     wf_detector_free(d);
     // A cascade of a kind the U-Net already has is refused, naming the kind.
     const char* exit[] = {"exit"};

@@ -231,6 +231,27 @@ TEST(UnetDetector, SamplingFromRawEqualsUnrollingThenCropping) {
     }
 }
 
+TEST(UnetDetector, SamplingABgraFrameGivesTheRgbFramesBytes) {
+    // The phone's BGRA frame is sampled as it is and only the small network input is converted: every pyramid
+    // level the samples are drawn from (upscaled, 1:1, halved twice) gives the same bytes as the RGB frame.
+    cv::Mat rgb(480, 640, CV_8UC3);
+    cv::RNG rng(3);
+    rng.fill(rgb, cv::RNG::UNIFORM, 0, 256);
+    cv::GaussianBlur(rgb, rgb, cv::Size(5, 5), 1.5);
+    cv::Mat bgra;
+    cv::cvtColor(rgb, bgra, cv::COLOR_RGB2BGRA);
+    const Unrolling u = Unrolling::forRoll(0.4, {500, 500, 319.5, 239.5}, rgb.size());
+    RawPyramid fromRgb(rgb), fromBgra(bgra);
+    EXPECT_FALSE(fromRgb.bgra());
+    EXPECT_TRUE(fromBgra.bgra());
+    for (double scale : {0.5, 1.0, 2.5, 4.5}) {
+        const cv::Mat a = sampleUnrolled(fromRgb, u, {20.5, 10.5}, scale, scale, 96);
+        const cv::Mat b = sampleUnrolled(fromBgra, u, {20.5, 10.5}, scale, scale, 96);
+        ASSERT_EQ(b.type(), CV_8UC3) << scale;
+        EXPECT_EQ(cv::norm(a, b, cv::NORM_INF), 0) << "scale " << scale;
+    }
+}
+
 TEST(UnetVerification, TinyBlobFarFromSignAspectIsRejected) {
     UnetParams params;
     const double fy = 1602;
