@@ -29,7 +29,8 @@ enum ReplayCommand: Subcommand {
                        bearingRad, score, text) on frames with sightings; tracking and trackingPrompt when
                        tracking is not normal; while not localized also advice
                        (the exploratory instruction in force) and spokenAdvice (when one is said);
-                       hypothesisList (weight, x, y, headingRad, evidenceNats, positionStdMeters) while not
+                       hypothesisList (weight, x, y, headingRad, evidenceNats, positionStdMeters,
+                       headingStdRad) while not
                        localized or while more than one hypothesis is held; sightingsUnexplained (true) while
                        the dominant hypothesis leaves the recent sightings unexplained
       --trace-particles FILE

@@ -86,6 +86,8 @@ public struct TraceHypothesis: Codable, Sendable, Equatable {
     public var evidenceNats: Double
     /// Position spread (largest axis std), meters; absent in traces written before it was recorded.
     public var positionStdMeters: Double?
+    /// Heading spread (circular std), radians; absent in traces written before the nineteenth stop.
+    public var headingStdRad: Double?
 }
 
 /// A sign sighting drawn as a ray from the estimated camera position, for the trainer's picture.
@@ -320,7 +322,8 @@ public enum Replay {
             if !e.isLocalized || e.hypotheses.count > 1 {
                 result.trace[result.trace.count - 1].hypothesisList = e.hypotheses.map {
                     TraceHypothesis(weight: $0.weight, x: $0.positionInMap.x, y: $0.positionInMap.y, headingRad: $0.headingRad,
-                                    evidenceNats: $0.evidenceNats, positionStdMeters: $0.positionStdMeters)
+                                    evidenceNats: $0.evidenceNats, positionStdMeters: $0.positionStdMeters,
+                                    headingStdRad: $0.headingStdRad)
                 }
             }
             if e.sightingsUnexplained { result.trace[result.trace.count - 1].sightingsUnexplained = true }

@@ -138,7 +138,8 @@ public final class WayfinderPipeline {
                                                           PoseCandidate(weight: $0.weight, floorId: $0.floorId,
                                                                         positionInMap: $0.positionInMap,
                                                                         headingRad: $0.headingRad,
-                                                                        positionStdMeters: $0.positionStdMeters)
+                                                                        positionStdMeters: $0.positionStdMeters,
+                                                                        headingStdRad: $0.headingStdRad)
                                                       },
                                                       perceivedWalls: estimate.isLocalized || trackingLost
                                                           ? [] : perceivedWalls(frame),

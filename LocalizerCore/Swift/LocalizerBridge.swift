@@ -94,7 +94,8 @@ enum LocalizerBridge {
                 guard h.floor_index >= 0, Int(h.floor_index) < floorIds.count else { return nil }
                 return PoseHypothesis(weight: h.weight, floorId: floorIds[Int(h.floor_index)],
                                       positionInMap: Point2(x: h.x, y: h.y), headingRad: h.heading_rad,
-                                      positionStdMeters: h.position_std_m, evidenceNats: h.evidence_nats)
+                                      positionStdMeters: h.position_std_m, evidenceNats: h.evidence_nats,
+                                      headingStdRad: h.heading_std_rad)
             }
         }
 

@@ -201,12 +201,14 @@ public struct PoseHypothesis: Sendable, Equatable {
     public var positionStdMeters: Double
     /// Recent evidence relative to the dominant hypothesis, nats (0 for the dominant; negative = worse).
     public var evidenceNats: Double
+    /// Heading spread (circular std of the camera heading), radians.
+    public var headingStdRad: Double
 
     /// Creates a hypothesis.
     public init(weight: Double, floorId: String, positionInMap: Point2, headingRad: Double, positionStdMeters: Double,
-                evidenceNats: Double) {
+                evidenceNats: Double, headingStdRad: Double = 0) {
         self.weight = weight; self.floorId = floorId; self.positionInMap = positionInMap; self.headingRad = headingRad
-        self.positionStdMeters = positionStdMeters; self.evidenceNats = evidenceNats
+        self.positionStdMeters = positionStdMeters; self.evidenceNats = evidenceNats; self.headingStdRad = headingStdRad
     }
 }
 

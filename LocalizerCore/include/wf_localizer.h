@@ -386,6 +386,10 @@ typedef struct wf_localizer_hypothesis {
     /** Recent evidence (sign and compass log-likelihood, exponentially forgotten) relative to the dominant
      *  cluster's, nats (0 for the dominant; negative = explains the recent sightings worse). */
     double evidence_nats;
+    /** Circular std of the camera heading, sqrt(-2 ln R) of the weighted resultant R, radians (>= 0; above pi for
+     *  headings spread all round). Added at the nineteenth stop: guidance while unsure checks walks within this
+     *  spread; 0 in a zero-initialised struct. */
+    double heading_std_rad;
 } wf_localizer_hypothesis;
 
 /** A rotation that maps a floor's walls onto themselves (docs/localizer.md "Symmetric twins"): on such a floor

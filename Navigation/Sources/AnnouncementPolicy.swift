@@ -117,6 +117,8 @@ public final class AnnouncementPolicy {
     public private(set) var speakingUntil = -Double.infinity
     private var speakingPriority = AnnouncementPriority.information
     private var lastInformationEnd = -Double.infinity
+    /// The next utterance must stop what is playing (`supersede` ended it early).
+    private var interruptNext = false
     private var lastSpoken: [String: Double] = [:]
     /// True when the last utterance emitted answered a request ("Where am I", "Repeat").
     public private(set) var lastUtteranceWasRequested = false
@@ -156,6 +158,18 @@ public final class AnnouncementPolicy {
     /// old one's alerts).
     public func discardPending(below priority: AnnouncementPriority) {
         pending.removeAll { $0.priority < priority && !$0.requested }
+    }
+
+    /// Ends an utterance of at most `priority` (not an answer to a request) that is still playing at `t`, and
+    /// drops the queued messages of at most that priority: what they say no longer holds (the "not sure where you
+    /// are" advice once the traveler is localized). The next utterance is sent with `interrupt: true`, so the
+    /// platform stops the old one. Nothing changes when the channel is silent or holds something more important.
+    public func supersede(upTo priority: AnnouncementPriority, t: Double) {
+        pending.removeAll { $0.priority <= priority && !$0.requested }
+        guard t < speakingUntil, speakingPriority <= priority, !lastUtteranceWasRequested else { return }
+        speakingUntil = t
+        interruptNext = true
+        lastInformationEnd = min(lastInformationEnd, t)
     }
 
     /// Drops queued messages whose repeat key starts with `prefix` (e.g. an alert made moot by its cue).
@@ -217,7 +231,9 @@ public final class AnnouncementPolicy {
             }
             pending.remove(at: best)
             let end = t + estimatedDurationSeconds(c.text)
-            out.append(TimedGuidanceEvent(t: t, event: .speak(text: c.text, priority: c.priority, interrupt: mayInterrupt)))
+            out.append(TimedGuidanceEvent(t: t, event: .speak(text: c.text, priority: c.priority,
+                                                              interrupt: mayInterrupt || interruptNext)))
+            interruptNext = false
             speakingUntil = end
             speakingPriority = rank
             lastUtteranceWasRequested = c.requested

@@ -37,10 +37,13 @@ public struct PoseCandidate: Sendable, Equatable {
     /// Position spread of the hypothesis (largest axis), meters: a cluster spread over a whole corridor is no
     /// pose to plan from.
     public var positionStdMeters: Double
+    /// Heading spread of the hypothesis (circular std), radians.
+    public var headingStdRad: Double
     /// Creates a candidate.
-    public init(weight: Double, floorId: String, positionInMap: Point2, headingRad: Double, positionStdMeters: Double = 0) {
+    public init(weight: Double, floorId: String, positionInMap: Point2, headingRad: Double, positionStdMeters: Double = 0,
+                headingStdRad: Double = 0) {
         self.weight = weight; self.floorId = floorId; self.positionInMap = positionInMap; self.headingRad = headingRad
-        self.positionStdMeters = positionStdMeters
+        self.positionStdMeters = positionStdMeters; self.headingStdRad = headingStdRad
     }
 }
 
@@ -108,6 +111,16 @@ public struct DisambiguationOptions: Sendable {
     public var spreadMinimumWalkMeters = 2.0
     /// Those points stop this far before a wall between them and the mean (half a shoulder width), meters.
     public var spreadWallClearanceMeters = 0.2
+    /// The walk must also leave `spreadMinimumWalkMeters` from every pose of the hypothesis' fan: starts anywhere
+    /// between its left and right spread points, walking up to this many heading stds (`PoseCandidate.headingStdRad`)
+    /// either side of its heading (0: the fan is off). A cluster's heading spread is a few degrees, and a walk along
+    /// a wall half a meter to the side meets it 3 m on at 5 degrees off (`wayfinder eval --explain`, all-rough,
+    /// conv-3-08, filter seed 4: the truth 0.38 m and 5.2 degrees off a hypothesis of std 0.39 m and 3.7 degrees).
+    /// 1.5 std cost a third more of the directional time for no safety the 1 std did not give
+    /// (docs/benchmarks.md "Nineteenth stop").
+    public var headingCheckStds = 1.0
+    /// The fan's half-angle is at most this, radians (a hypothesis spread wider has no heading worth a walk).
+    public var maximumFanHalfAngleRad = 20.0 * Double.pi / 180
     /// A walk shorter than this is not worth an instruction (3 m: 1 m beyond the 2 m that `wayfinder eval`
     /// requires of an instruction from the true pose, so a hypothesis a few decimeters off stays safe).
     public var minimumWalkMeters = 3.0
@@ -206,6 +219,76 @@ public struct DisambiguationPlanner: Sendable {
                 let edge = walkLength(floor, from: start, directionRad: direction, marginMeters: options.wallMarginMeters,
                                       capMeters: options.lookaheadMeters)
                 if edge < options.spreadMinimumWalkMeters { return max(0, min(walk, edge)) }
+            }
+            if options.headingCheckStds > 0 {
+                let halfAngle = min(options.headingCheckStds * max(0, h.headingStdRad), options.maximumFanHalfAngleRad)
+                let fan = fanWalkMeters(floor, h.positionInMap, spread: spread, directionRad: direction, halfAngleRad: halfAngle)
+                if fan < options.spreadMinimumWalkMeters { return max(0, min(walk, fan)) }
+            }
+        }
+        return max(0, walk)
+    }
+
+    /// The shortest walk any pose of a hypothesis' fan leaves, meters, looked at as far as deciding whether it
+    /// reaches `spreadMinimumWalkMeters` needs: starts on the segment between the mean's left and right spread
+    /// points (`spreadCheckStds` position stds, each pulled back before a wall as in `spreadStarts`), walking
+    /// within `halfAngleRad` of `directionRad`. The fan is bounded by the trapezoid |s| <= reach + t tan(half
+    /// angle), 0 <= t <= L (t along the walk from the mean, s to its side), a slight over-approximation: a wall
+    /// crossing it at t stops the walk t - `wallMarginMeters` on (a slanted walk reaches that point no sooner), a
+    /// stairs landing or a door centre within its clearance of it stops the walk that clearance before.
+    /// Unlike the spread points' three walks, it also sees the end of a wall between them.
+    func fanWalkMeters(_ floor: Floor, _ mean: Point2, spread: Double, directionRad: Double, halfAngleRad: Double) -> Double {
+        let reach = options.spreadCheckStds * spread
+        let left = reach > 0 ? min(reach, max(0, freeDistance(floor, from: mean, directionRad: directionRad + Double.pi / 2)
+                                                  - options.spreadWallClearanceMeters)) : 0
+        let right = reach > 0 ? min(reach, max(0, freeDistance(floor, from: mean, directionRad: directionRad - Double.pi / 2)
+                                                   - options.spreadWallClearanceMeters)) : 0
+        let slope = tan(max(0, halfAngleRad))
+        let clearance = max(options.wallMarginMeters, options.stairsClearanceMeters, options.doorClearanceMeters)
+        let length = options.spreadMinimumWalkMeters + clearance
+        let u = (x: cos(directionRad), y: sin(directionRad)), n = (x: -sin(directionRad), y: cos(directionRad))
+        func local(_ q: Point2) -> (t: Double, s: Double) {
+            let dx = q.x - mean.x, dy = q.y - mean.y
+            return (dx * u.x + dy * u.y, dx * n.x + dy * n.y)
+        }
+        // Inside the fan widened by `widen` to each side: 0 <= t <= length, -(right + widen) - t slope <= s <=
+        // left + widen + t slope, as four half-planes a t + b s <= c.
+        func halfPlanes(widen: Double) -> [(a: Double, b: Double, c: Double)] {
+            [(-1, 0, 0), (1, 0, length), (-slope, 1, left + widen), (-slope, -1, right + widen)]
+        }
+        var walk = length - options.wallMarginMeters
+        let fan = halfPlanes(widen: 0)
+        for wall in floor.walls {
+            // Cyrus-Beck: the part of the wall inside the fan, as parameters [lo, hi] along it.
+            let p = local(wall.from), q = local(wall.to)
+            var lo = 0.0, hi = 1.0
+            for h in fan where lo <= hi {
+                let at = h.a * p.t + h.b * p.s - h.c, slopeAlong = h.a * (q.t - p.t) + h.b * (q.s - p.s)
+                if abs(slopeAlong) < 1e-15 {
+                    if at > 0 { lo = 1; hi = 0 }
+                } else if slopeAlong > 0 {
+                    hi = min(hi, -at / slopeAlong)
+                } else {
+                    lo = max(lo, -at / slopeAlong)
+                }
+            }
+            guard lo <= hi else { continue }
+            let nearest = min(p.t + lo * (q.t - p.t), p.t + hi * (q.t - p.t))
+            walk = min(walk, nearest - options.wallMarginMeters)
+        }
+        func inside(_ c: (t: Double, s: Double), widen: Double) -> Bool {
+            halfPlanes(widen: widen).dropFirst(2).allSatisfy { $0.a * c.t + $0.b * c.s <= $0.c } && c.t >= -widen
+        }
+        for node in building.graph.nodes where node.floorId == floor.id && node.verticalLink == .stairs {
+            let c = local(node.position)
+            if c.t <= length, inside(c, widen: options.stairsClearanceMeters) {
+                walk = min(walk, c.t - options.stairsClearanceMeters)
+            }
+        }
+        for door in floor.doors {
+            let c = local(door.position)
+            if c.t <= length, inside(c, widen: options.doorClearanceMeters) {
+                walk = min(walk, c.t - options.doorClearanceMeters)
             }
         }
         return max(0, walk)

@@ -313,6 +313,12 @@ public final class Navigator {
             wrongWaySince = nil
             return emit(t)
         }
+        if let since = unlocalizedSince, let said = lastStartWalkingT, said >= since - 1e-9 {
+            // Localized after guidance while unsure was spoken: the exploratory advice or "start walking" still
+            // playing no longer holds, and the route's first instruction must not wait behind it (a cue at the
+            // start would come first and speak for a turn the departure instruction covers).
+            policy.supersede(upTo: .information, t: t)
+        }
         unlocalizedSince = nil
         currentAdvice = nil
         lastSpokenAdviceKey = nil

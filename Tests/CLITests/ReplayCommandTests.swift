@@ -122,6 +122,10 @@ final class ReplayCommandTests: XCTestCase {
                 XCTAssertTrue(weights.allSatisfy { (0...1.000_001).contains($0) }, "trace line \(i + 1): \(weights)")
                 XCTAssertEqual(weights, weights.sorted(by: >), "trace line \(i + 1)")
                 XCTAssertGreaterThanOrEqual(hypotheses.count, Int(hypothesisCount), "trace line \(i + 1)")
+                // Each with its heading spread (circular std, radians, >= 0).
+                let headingStds = hypotheses.compactMap { jsonNumber($0["headingStdRad"]) }
+                XCTAssertEqual(headingStds.count, hypotheses.count, "trace line \(i + 1)")
+                XCTAssertTrue(headingStds.allSatisfy { $0 >= 0 && $0.isFinite }, "trace line \(i + 1): \(headingStds)")
             } else {
                 XCTAssertTrue(localizedFlag, "trace line \(i + 1): not localized but no hypothesisList")
             }

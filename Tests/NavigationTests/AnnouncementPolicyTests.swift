@@ -52,6 +52,29 @@ final class AnnouncementPolicyTests: XCTestCase {
         XCTAssertEqual(texts(p.flush(t: 3.7)), [], "stale cue dropped, not spoken late")
     }
 
+    func testSupersededAdviceStopsAndTheNextUtteranceInterruptsIt() {
+        let p = AnnouncementPolicy()
+        p.submit("I'm not sure where you are yet; keep walking slowly.", priority: .information, t: 0)
+        XCTAssertEqual(texts(p.flush(t: 0)), ["I'm not sure where you are yet; keep walking slowly."])
+        p.submit("Start walking.", priority: .information, t: 0.2)  // queued behind it: no longer holds either
+        XCTAssertEqual(p.earliestStart(priority: .alert, t: 0.5), p.speakingUntil, "an alert waits for the advice")
+        p.supersede(upTo: .information, t: 0.5)
+        XCTAssertEqual(p.earliestStart(priority: .alert, t: 0.5), 0.5, "the advice is over")
+        p.submit("Go straight ahead, 10 meters.", priority: .alert, t: 0.5)
+        XCTAssertEqual(p.flush(t: 0.5), [TimedGuidanceEvent(t: 0.5, event: .speak(text: "Go straight ahead, 10 meters.",
+                                                                                  priority: .alert, interrupt: true))])
+        XCTAssertEqual(texts(p.flush(t: 10)), [], "the queued information was dropped")
+        // Something more important than the bound, or an answer to the traveler, is left to play.
+        p.submit("Turn left now.", priority: .cue, t: 11)
+        XCTAssertEqual(texts(p.flush(t: 11)), ["Turn left now."])
+        p.supersede(upTo: .information, t: 11.3)
+        XCTAssertEqual(p.earliestStart(priority: .alert, t: 11.3), p.speakingUntil)
+        p.submit("Near room 107.", priority: .information, t: 20, requested: true)
+        XCTAssertEqual(texts(p.flush(t: 20)), ["Near room 107."])
+        p.supersede(upTo: .information, t: 20.3)
+        XCTAssertEqual(p.earliestStart(priority: .alert, t: 20.3), p.speakingUntil)
+    }
+
     func testACueDoesNotCutOffAnotherCue() {
         let p = AnnouncementPolicy()
         p.submit("Turn right now.", priority: .cue, t: 0)  // 1.2 s

@@ -121,6 +121,59 @@ final class DisambiguationPlannerTests: XCTestCase {
         XCTAssertEqual(planner.safeWalkMeters(.left, [elsewhere]), 8.8, accuracy: 1e-9)
     }
 
+    func testAWalkAlongANearWallIsNotAdvisedWhenTheHeadingSpreadsTowardsIt() {
+        // Walking east along the corridor 0.5 m from the north wall (y 2), position std 0.2 m (the fan's starts
+        // reach 0.15 m to each side). Sharp heading: every start walking east stays clear for 8 m.
+        let planner = DisambiguationPlanner(building: corridor())
+        let floor = planner.building.floors[0]
+        var h = PoseCandidate(weight: 1, floorId: "1", positionInMap: Point2(4, 1.5), headingRad: 0, positionStdMeters: 0.2)
+        XCTAssertGreaterThanOrEqual(planner.safeWalkMeters(.ahead, [h]), 3.0)
+        // Heading std 9 degrees: at 1 std a start 0.15 m nearer the wall meets it 2.2 m on, a walk of 1.2 m before
+        // the 1 m margin: not the 2 m every pose of the hypothesis must leave.
+        h.headingStdRad = 9 * Double.pi / 180
+        let fan = planner.fanWalkMeters(floor, h.positionInMap, spread: 0.2, directionRad: 0, halfAngleRad: 9 * Double.pi / 180)
+        XCTAssertEqual(fan, 0.35 / tan(9 * Double.pi / 180) - 1.0, accuracy: 1e-9)
+        XCTAssertLessThan(planner.safeWalkMeters(.ahead, [h]), 2.0)
+        XCTAssertNotEqual(planner.advise([h]).action, .ahead)
+        // The same spread in the middle of the corridor (1 m from each wall) leaves the walk.
+        h.positionInMap = Point2(4, 1)
+        XCTAssertGreaterThanOrEqual(planner.safeWalkMeters(.ahead, [h]), 3.0)
+        // With the fan off, only the mean's and the spread points' walks are checked.
+        var noFan = DisambiguationOptions()
+        noFan.headingCheckStds = 0
+        h.positionInMap = Point2(4, 1.5)
+        XCTAssertGreaterThanOrEqual(DisambiguationPlanner(building: corridor(), options: noFan).safeWalkMeters(.ahead, [h]), 3.0)
+    }
+
+    func testTheFanSeesAWallEndBetweenTheSpreadPoints() {
+        // A stub of wall across the walk 2.5 m ahead, from 0.05 to 0.25 m to the left of the mean's line: the mean
+        // walks past it 5 cm away, the spread points (0.3 m to each side) miss it, the starts between them do not.
+        var b = corridor()
+        b.floors[0].walls.append(Wall(from: Point2(6.5, 1.05), to: Point2(6.5, 1.25)))
+        let planner = DisambiguationPlanner(building: b)
+        let h = PoseCandidate(weight: 1, floorId: "1", positionInMap: Point2(4, 1), headingRad: 0, positionStdMeters: 0.4)
+        XCTAssertEqual(planner.fanWalkMeters(b.floors[0], h.positionInMap, spread: 0.4, directionRad: 0, halfAngleRad: 0),
+                       1.5, accuracy: 1e-9)
+        XCTAssertEqual(planner.safeWalkMeters(.ahead, [h]), 1.5, accuracy: 1e-9)
+        var noFan = DisambiguationOptions()
+        noFan.headingCheckStds = 0
+        XCTAssertGreaterThan(DisambiguationPlanner(building: b, options: noFan).safeWalkMeters(.ahead, [h]), 3.0)
+    }
+
+    func testTheFanStopsShortOfADoorAndStairsBesideItsEdge() {
+        // A door centre 0.65 m to the side of the walk, 2 m ahead: the mean's walk passes it at 0.65 m (clear), a
+        // start 0.3 m towards it at 0.35 m: the fan stops the walk 0.4 m before the door's projection.
+        let planner = DisambiguationPlanner(building: corridor(doorAt: Point2(6, 2)))
+        let floor = planner.building.floors[0]
+        XCTAssertEqual(planner.fanWalkMeters(floor, Point2(4, 1.35), spread: 0.4, directionRad: 0, halfAngleRad: 0),
+                       1.6, accuracy: 1e-9)
+        XCTAssertGreaterThanOrEqual(planner.fanWalkMeters(floor, Point2(4, 1.35), spread: 0, directionRad: 0, halfAngleRad: 0),
+                                    2.0)
+        let stairs = DisambiguationPlanner(building: corridor(stairsAt: Point2(7, 1)))
+        XCTAssertEqual(stairs.fanWalkMeters(stairs.building.floors[0], Point2(4, 1), spread: 0, directionRad: 0, halfAngleRad: 0),
+                       1.5, accuracy: 1e-9)
+    }
+
     func testTheSpreadsEdgesStayOnTheWalkableSideOfAWall() {
         // Mean 0.3 m from the south wall, std 1 m: the point towards that wall stops 0.2 m short of it.
         let planner = DisambiguationPlanner(building: corridor())
@@ -240,6 +293,29 @@ final class DisambiguationPlannerTests: XCTestCase {
             if case .speak(let text, _, _) = e.event { return text } else { return nil }
         }
         XCTAssertEqual(answer.count, 1)
+    }
+
+    func testLocalizedTheRoutesFirstInstructionCutsOffTheUnsureAdvice() throws {
+        // Unsure at first (the one hypothesis faces the east wall 1.5 m away: "Turn around, then walk straight
+        // ahead.", about 4 s of speech), then localized at 2.4 s while that advice still plays: the route's first
+        // instruction comes at once and stops it.
+        let nav = try Navigator(building: corridor(), destinationId: "a")
+        let h = [PoseCandidate(weight: 1, floorId: "1", positionInMap: Point2(18.5, 1), headingRad: 0)]
+        var events: [TimedGuidanceEvent] = []
+        for k in 0..<20 {
+            let t = Double(k) * 0.2, localized = t >= 2.4 - 1e-9
+            let input = NavigationInput(t: t, positionInMap: Point2(18.5, 1), floorId: "1", headingRad: localized ? Double.pi : 0,
+                                        isLocalized: localized, confidence: localized ? 0.95 : 0.3, hypotheses: h)
+            events += nav.update(input)
+        }
+        let speech = events.compactMap { e -> (t: Double, text: String, interrupt: Bool)? in
+            if case .speak(let text, _, let interrupt) = e.event { return (e.t, text, interrupt) } else { return nil }
+        }
+        XCTAssertEqual(speech.first?.text, "Not sure where you are yet. Turn around, then walk straight ahead.", "\(speech)")
+        let afterLock = speech.filter { $0.t >= 2.4 - 1e-9 }
+        XCTAssertEqual(afterLock.first?.t ?? -1, 2.4, accuracy: 1e-9, "\(speech)")
+        XCTAssertTrue(afterLock.first?.text.hasPrefix("Go straight ahead") ?? false, "\(speech)")
+        XCTAssertEqual(afterLock.first?.interrupt, true, "it stops the advice still playing")
     }
 
     func testAWallThePhoneSeesVetoesTheInstructionEvenWhenTheHypothesesSayItIsFree() throws {

@@ -45,17 +45,21 @@ final class NavigatorTests: XCTestCase {
         XCTAssertEqual(w.spoken, ["Start walking.", "Start walking."], "repeated every 15 s while not localized")
         XCTAssertEqual(w.records.filter { !$0.events.isEmpty }.map(\.input.t), [0, 15].map { Double($0) },
                        "nothing else in between")
-        // Localized at 16 s: the route's first phrase waits for "Start walking." (15 s, 1.15 s long) to end.
+        // Localized at 16 s while "Start walking." (15 s, 1.15 s long) still plays: it no longer holds, and the
+        // route's first phrase cuts it off at once (AnnouncementPolicy.supersede).
         w.run(nav, [.wait(seconds: 0.3)])
         XCTAssertEqual(w.spoken.last, "Go straight ahead, 10 meters.")
-        XCTAssertEqual(try XCTUnwrap(w.records.last { !$0.events.isEmpty }).input.t, 16.2, accuracy: 1e-9)
+        let first = try XCTUnwrap(w.records.last { !$0.events.isEmpty })
+        XCTAssertEqual(first.input.t, 16.0, accuracy: 1e-9)
+        XCTAssertTrue(first.events.contains { if case .speak(_, _, true) = $0.event { return true } else { return false } })
         XCTAssertNotNil(nav.currentRoute)
     }
 
     func testFirstInstructionIsComposedWhenItCanBeSpokenNotWhenQueued() throws {
-        // 20 m corridor; "Start walking." (about 1.2 s) is playing when the traveler is localized at 0.1 s. The
-        // route's first phrase waits for it, and gives the distance from where the traveler is when it is said
-        // (walking east at 1.2 m/s), not from where they were when the route was adopted.
+        // 20 m corridor; the answer to "Where am I" (about 2.5 s; an answer to the traveler is not cut off) is
+        // playing when the traveler is localized at 0.1 s. The route's first phrase waits for it, and gives the
+        // distance from where the traveler is when it is said (walking east at 1.2 m/s), not from where they
+        // were when the route was adopted.
         let b = FloorPlanFixture(gridMeters: 1).floor("1", map: "a--------------------b").build()
         let nav = try Navigator(building: b, destinationId: "b")
         var spoken: [(t: Double, text: String, x: Double)] = []
@@ -64,8 +68,10 @@ final class NavigatorTests: XCTestCase {
             let events = nav.update(NavigationInput(t: t, positionInMap: Point2(x: x, y: 0), floorId: "1", headingRad: 0,
                                                     isLocalized: k > 0))
             spoken += events.compactMap(\.spokenText).map { (t, $0, x) }
+            if k == 0 { spoken += nav.requestWhereAmI(t: t).compactMap(\.spokenText).map { (t, $0, x) } }
         }
         XCTAssertEqual(spoken.first?.text, "Start walking.")
+        XCTAssertEqual(spoken.dropFirst().first?.text, "Location not known yet; keep walking slowly.")
         let depart = try XCTUnwrap(spoken.first { $0.text.hasPrefix("Go straight ahead") })
         XCTAssertGreaterThan(depart.t, 1.0, "it waited for the channel")
         // Said at x = 3 + 1.2 t, 21 - x meters from b (at x 21), rounded to 5 m from 10 m up: at adoption (x 3.12,

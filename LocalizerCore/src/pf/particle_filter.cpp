@@ -866,6 +866,7 @@ void ParticleFilter::place_front_hypothesis(const wf_localizer_estimate &e) {
     h.y = e.y;
     h.heading_rad = e.heading_rad;
     h.position_std_m = e.position_std_m;
+    h.heading_std_rad = e.heading_std_rad;
 }
 
 void ParticleFilter::follow_dominant_cluster() {
@@ -1269,6 +1270,7 @@ void ParticleFilter::compute_estimate() {
         h.heading_rad = wrap_angle(c.heading);
         h.position_std_m = std::sqrt(std::max(0.0, ce.eigenvalues().maxCoeff()));
         h.evidence_nats = c.evidence - d.evidence;
+        h.heading_std_rad = c.heading_std;
         hypotheses_.push_back(h);
     }
     // The locked hypothesis is reported where the estimate is: at its core.

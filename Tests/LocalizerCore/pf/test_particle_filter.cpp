@@ -1028,6 +1028,11 @@ TEST(ParticleFilter, OneMisreadSightingDoesNotBreakTheLock) {
                 // The locked hypothesis is reported where the estimate is (its core).
                 EXPECT_EQ(pf.hypotheses().front().x, e.x) << "walk " << walk_seed << " frame " << k;
                 EXPECT_EQ(pf.hypotheses().front().y, e.y) << "walk " << walk_seed << " frame " << k;
+                // ... with the estimate's heading spread (the planner's fan reads it).
+                EXPECT_EQ(pf.hypotheses().front().heading_std_rad, e.heading_std_rad) << "walk " << walk_seed;
+            }
+            for (const wf_localizer_hypothesis &h : pf.hypotheses()) {
+                EXPECT_TRUE(h.heading_std_rad >= 0 && std::isfinite(h.heading_std_rad)) << h.heading_std_rad;
             }
             if (outlier_frame >= 0 && static_cast<int>(k) <= outlier_frame + 30) {
                 a.unlocalized += e.localized ? 0 : 1;
