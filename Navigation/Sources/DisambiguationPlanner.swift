@@ -238,11 +238,8 @@ public struct DisambiguationPlanner: Sendable {
     /// stairs landing or a door centre within its clearance of it stops the walk that clearance before.
     /// Unlike the spread points' three walks, it also sees the end of a wall between them.
     func fanWalkMeters(_ floor: Floor, _ mean: Point2, spread: Double, directionRad: Double, halfAngleRad: Double) -> Double {
-        let reach = options.spreadCheckStds * spread
-        let left = reach > 0 ? min(reach, max(0, freeDistance(floor, from: mean, directionRad: directionRad + Double.pi / 2)
-                                                  - options.spreadWallClearanceMeters)) : 0
-        let right = reach > 0 ? min(reach, max(0, freeDistance(floor, from: mean, directionRad: directionRad - Double.pi / 2)
-                                                   - options.spreadWallClearanceMeters)) : 0
+        let left = spreadOffset(floor, mean, spread: spread, directionRad: directionRad + Double.pi / 2)
+        let right = spreadOffset(floor, mean, spread: spread, directionRad: directionRad - Double.pi / 2)
         let slope = tan(max(0, halfAngleRad))
         let clearance = max(options.wallMarginMeters, options.stairsClearanceMeters, options.doorClearanceMeters)
         let length = options.spreadMinimumWalkMeters + clearance
@@ -251,13 +248,9 @@ public struct DisambiguationPlanner: Sendable {
             let dx = q.x - mean.x, dy = q.y - mean.y
             return (dx * u.x + dy * u.y, dx * n.x + dy * n.y)
         }
-        // Inside the fan widened by `widen` to each side: 0 <= t <= length, -(right + widen) - t slope <= s <=
-        // left + widen + t slope, as four half-planes a t + b s <= c.
-        func halfPlanes(widen: Double) -> [(a: Double, b: Double, c: Double)] {
-            [(-1, 0, 0), (1, 0, length), (-slope, 1, left + widen), (-slope, -1, right + widen)]
-        }
+        // The fan: 0 <= t <= length, -right - t slope <= s <= left + t slope, as four half-planes a t + b s <= c.
+        let fan: [(a: Double, b: Double, c: Double)] = [(-1, 0, 0), (1, 0, length), (-slope, 1, left), (-slope, -1, right)]
         var walk = length - options.wallMarginMeters
-        let fan = halfPlanes(widen: 0)
         for wall in floor.walls {
             // Cyrus-Beck: the part of the wall inside the fan, as parameters [lo, hi] along it.
             let p = local(wall.from), q = local(wall.to)
@@ -276,8 +269,9 @@ public struct DisambiguationPlanner: Sendable {
             let nearest = min(p.t + lo * (q.t - p.t), p.t + hi * (q.t - p.t))
             walk = min(walk, nearest - options.wallMarginMeters)
         }
+        // Within `widen` of the fan's sides (and no more than `widen` behind its start).
         func inside(_ c: (t: Double, s: Double), widen: Double) -> Bool {
-            halfPlanes(widen: widen).dropFirst(2).allSatisfy { $0.a * c.t + $0.b * c.s <= $0.c } && c.t >= -widen
+            c.t >= -widen && c.s <= left + widen + c.t * slope && -c.s <= right + widen + c.t * slope
         }
         for node in building.graph.nodes where node.floorId == floor.id && node.verticalLink == .stairs {
             let c = local(node.position)
@@ -324,15 +318,22 @@ public struct DisambiguationPlanner: Sendable {
     /// none without a spread. Sigma points of the cluster, as the unscented transform places them (Julier &
     /// Uhlmann 1997), on the axes of the walk.
     func spreadStarts(_ floor: Floor, _ mean: Point2, spread: Double, directionRad: Double) -> [Point2] {
-        let reach = options.spreadCheckStds * spread
-        guard reach > 1e-9 else { return [] }
+        guard options.spreadCheckStds * spread > 1e-9 else { return [] }
         var starts: [Point2] = []
         for turn in [0, Double.pi / 2, Double.pi, -Double.pi / 2] {
             let d = directionRad + turn
-            let offset = min(reach, max(0, freeDistance(floor, from: mean, directionRad: d) - options.spreadWallClearanceMeters))
+            let offset = spreadOffset(floor, mean, spread: spread, directionRad: d)
             if offset > 1e-9 { starts.append(Point2(x: mean.x + offset * cos(d), y: mean.y + offset * sin(d))) }
         }
         return starts
+    }
+
+    /// How far from the mean along `directionRad` a spread point lies: `spreadCheckStds` x `spread`, pulled back
+    /// to `spreadWallClearanceMeters` before a wall (particles do not stand in walls). Meters, >= 0.
+    func spreadOffset(_ floor: Floor, _ mean: Point2, spread: Double, directionRad: Double) -> Double {
+        let reach = options.spreadCheckStds * spread
+        guard reach > 0 else { return 0 }
+        return min(reach, max(0, freeDistance(floor, from: mean, directionRad: directionRad) - options.spreadWallClearanceMeters))
     }
 
     /// Entropy of the partition of the hypotheses by their predicted views along the walk, and the first

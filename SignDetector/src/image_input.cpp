@@ -121,20 +121,11 @@ namespace {
 cv::Mat wrap(const wf_image& image, int type) {
     return cv::Mat(image.height, image.width, type, const_cast<uint8_t*>(image.data), image.stride);
 }
-
-/// Channels of the first plane as checkImage accepts it (1 for GRAY8 and NV12's Y plane).
-int planeChannels(const wf_image& image) {
-    switch (enumValue(image.format)) {
-        case WF_PIXEL_BGRA8: return 4;
-        case WF_PIXEL_RGB8: return 3;
-        default: return 1;
-    }
-}
 }  // namespace
 
 FrameCheck checkBrightness(const wf_image& image) {
-    const int channels = planeChannels(image);
-    if (channels == 1) return checkBrightness(wrap(image, CV_8UC1));  // the Y plane is the gray image
+    const int channels = bytesPerPixel(enumValue(image.format));  // 8-bit channels of the first plane
+    if (channels != 3 && channels != 4) return checkBrightness(wrap(image, CV_8UC1));  // GRAY8, NV12's Y plane
     // Every 4th pixel of every 4th row, in the image's own layout, then one small conversion.
     const int rows = (image.height + 3) / 4, cols = (image.width + 3) / 4;
     cv::Mat samples(rows, cols, CV_8UC(channels));
