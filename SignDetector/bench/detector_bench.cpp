@@ -26,9 +26,12 @@
 //                                           full-range BT.601, handed over without conversion
 //   cascade_phone_bgra/VGA, .../HR          the frames as 32BGRA pixel buffers
 //   cascade_phone_bgra_all_kinds/VGA        the same plus every other kind of the office's catalogue with a model
-//                                           (models/<kind>_cascade.xml: pictograms, placards; their legends read)
+//                                           (models/<kind>_cascade.xml: pictograms, placards; their legends read),
+//                                           one such kind a frame in rotation (the default)
+//   ..._no_plate_gate/...                   the same with those kinds' plate gate off (their whole placement bands)
 //   unet_coarse_zoom_all_kinds/HR           the U-Net with the office's catalogue and the cascades of the kinds it
 //                                           has no class for beside it (none when its classes.json lists them all)
+//   unet_coarse_zoom_all_kinds_every_frame_phone_bgra/HR   the same, every such kind on every frame
 //   unet_coarse_zoom_exit_only_model/HR     $WF_BENCH_UNET_EXIT_ONLY (an Exit-only U-Net, classes.json beside it;
 //                                           e.g. the model before the wall kinds, `git show 0930cf0:SignDetector/
 //                                           models/sign_unet.onnx`) with the same catalogue: the baseline of the
@@ -245,6 +248,9 @@ public:
         ratio("cascade_phone_bgra_all_kinds/VGA", "cascade_phone_bgra/VGA");
         ratio("unet_coarse_zoom_all_kinds/HR", "unet_coarse_zoom/HR");
         ratio("unet_coarse_zoom_all_kinds_phone_bgra/HR", "unet_coarse_zoom_phone_bgra/HR");
+        ratio("unet_coarse_zoom_all_kinds_phone_bgra_no_plate_gate/HR", "unet_coarse_zoom_phone_bgra/HR");
+        ratio("unet_coarse_zoom_all_kinds_every_frame_phone_bgra/HR", "unet_coarse_zoom_phone_bgra/HR");
+        ratio("cascade_phone_bgra_all_kinds_no_plate_gate/VGA", "cascade_phone_bgra/VGA");
         ratio("unet_coarse_zoom_phone_bgra/HR", "cascade_reference/VGA");
         ratio("unet_coarse_zoom_phone_bgra/HR", "unet_coarse_zoom/HR");
         ratio("unet_coarse_zoom_all_kinds/HR", "unet_coarse_zoom_exit_only_model/HR");
@@ -347,8 +353,14 @@ int main(int argc, char** argv) {
             paths.insert(paths.end(), kindPaths.begin(), kindPaths.end());
             names.insert(names.end(), kindNames.begin(), kindNames.end());
             static auto allKinds = makeWithCatalogue(paths, names, catalogue);
-            if (*allKinds) pipeline("cascade_phone_bgra_all_kinds/VGA", allKinds.get(), &vgaBgra);
-            else std::fprintf(stderr, "all-kinds cascade not benchmarked: %s\n", allKinds->error.c_str());
+            static auto allKindsUngated = makeWithCatalogue(paths, names, catalogue, "", 0, -1);
+            if (*allKinds && *allKindsUngated) {
+                pipeline("cascade_phone_bgra_all_kinds/VGA", allKinds.get(), &vgaBgra);
+                pipeline("cascade_phone_bgra_all_kinds_no_plate_gate/VGA", allKindsUngated.get(), &vgaBgra);
+            } else {
+                std::fprintf(stderr, "all-kinds cascade not benchmarked: %s%s\n", allKinds->error.c_str(),
+                             allKindsUngated->error.c_str());
+            }
         }
     }
     if (refCascade && *refCascade) {
@@ -378,11 +390,17 @@ int main(int argc, char** argv) {
                 besideNames.push_back(kindNames[i]);
             }
             static auto unetKinds = makeWithCatalogue(besidePaths, besideNames, catalogue, unetModel);
-            if (*unetKinds) {
+            static auto unetKindsUngated = makeWithCatalogue(besidePaths, besideNames, catalogue, unetModel, 0, -1);
+            static auto unetKindsEveryFrame = makeWithCatalogue(besidePaths, besideNames, catalogue, unetModel, -1);
+            if (*unetKinds && *unetKindsUngated && *unetKindsEveryFrame) {
                 pipeline("unet_coarse_zoom_all_kinds/HR", unetKinds.get(), &hr);
                 pipeline("unet_coarse_zoom_all_kinds_phone_bgra/HR", unetKinds.get(), &hrBgra);
+                pipeline("unet_coarse_zoom_all_kinds_phone_bgra_no_plate_gate/HR", unetKindsUngated.get(), &hrBgra);
+                pipeline("unet_coarse_zoom_all_kinds_every_frame_phone_bgra/HR", unetKindsEveryFrame.get(), &hrBgra);
+            } else {
+                std::fprintf(stderr, "all-kinds U-Net not benchmarked: %s%s%s\n", unetKinds->error.c_str(),
+                             unetKindsUngated->error.c_str(), unetKindsEveryFrame->error.c_str());
             }
-            else std::fprintf(stderr, "all-kinds U-Net not benchmarked: %s\n", unetKinds->error.c_str());
             if (const char* exitOnly = std::getenv("WF_BENCH_UNET_EXIT_ONLY")) {
                 static auto unetExitOnly = makeUnet(exitOnly, 0, FaceEdgeOptions{}, &catalogue);
                 if (*unetExitOnly) pipeline("unet_coarse_zoom_exit_only_model/HR", unetExitOnly.get(), &hr);

@@ -3,7 +3,8 @@
 //
 //   wf_kinds_eval --testset DIR [--models DIR] [--map MAP.json] [--limit N] [--repeat K]
 //                 [--unet MODEL.onnx [--unet-baseline MODEL.onnx]]
-//   (WF_KINDS_ROTATION=N sets wf_detector_options.cascade_wall_kinds_per_frame: N wall kinds searched per frame)
+//   (WF_KINDS_ROTATION=N sets wf_detector_options.cascade_wall_kinds_per_frame: N wall kinds searched per frame;
+//    WF_KINDS_PLATE_GATE=G sets wf_detector_options.cascade_plate_gate: -1 = off, the search before the plate gate)
 //
 // DIR: SignDetector/training/render_signs.py --split test_kinds (VGA frames, labels.jsonl with "kind" and, for
 // placards, "text"). The catalogue is the map's "signKinds" (default: the bundled office's, which has every
@@ -22,6 +23,7 @@
 #include "text_reader.hpp"
 #include "unroll.hpp"
 
+#include <opencv2/core/utility.hpp>
 #include <opencv2/imgproc.hpp>
 
 #include <opencv2/imgcodecs.hpp>
@@ -74,6 +76,7 @@ struct KindStats {
 }  // namespace
 
 int main(int argc, char** argv) {
+    cv::setNumThreads(1);  // one core, as wf_detector_bench: the times are one core's
     std::string testset, models = productModelsDir(), map = officeMapPath();
     std::string unet, unetBaseline;
     int limit = 0, repeat = 1;
@@ -132,14 +135,16 @@ int main(int argc, char** argv) {
     }
     const char* rotation = std::getenv("WF_KINDS_ROTATION");
     const int wallKindsPerFrame = rotation ? std::atoi(rotation) : 0;
+    const char* plateGateSetting = std::getenv("WF_KINDS_PLATE_GATE");
+    const int plateGate = plateGateSetting ? std::atoi(plateGateSetting) : 0;
     std::unique_ptr<DetectorHandle> exitOnly, all;
     if (unet.empty()) {
         exitOnly = makeWithCatalogue({paths[0]}, {"exit"}, catalogue, "", wallKindsPerFrame);
-        all = makeWithCatalogue(paths, kinds, catalogue, "", wallKindsPerFrame);
+        all = makeWithCatalogue(paths, kinds, catalogue, "", wallKindsPerFrame, plateGate);
     } else {
         const std::vector<std::string> besidePaths(paths.begin() + 1, paths.end()), besideKinds(kinds.begin() + 1, kinds.end());
         exitOnly = makeWithCatalogue({}, {}, catalogue, unetBaseline, wallKindsPerFrame);
-        all = makeWithCatalogue(besidePaths, besideKinds, catalogue, unet, wallKindsPerFrame);
+        all = makeWithCatalogue(besidePaths, besideKinds, catalogue, unet, wallKindsPerFrame, plateGate);
         std::printf("U-Net path: exit-only = %s; all kinds = %s with %zu cascade(s) beside it\n\n", unetBaseline.c_str(),
                     unet.c_str(), besidePaths.size());
     }

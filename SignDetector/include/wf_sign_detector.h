@@ -317,6 +317,14 @@ typedef struct wf_detector_options {
      *  less time per pass on one core); -1 = OpenCV's own Deconvolution layer (the baseline). Other values are an
      *  error. */
     int unet_transposed_convolution;
+
+    /* Cascades of kinds that are not Exit-like, continued. */
+    /** Plate gate (docs/sign-detection.md "Plate gate"): 0 = default: on; 1 = on; -1 = off. On, those cascades
+     *  search only around closed contours of strong edges about as large as a plate (a tactile sign's legend and
+     *  plate contrast with what surrounds them), falling back to their whole placement bands when such contours
+     *  cover most of the frame; off, they always search their whole bands (the behaviour before). Other values are
+     *  an error. */
+    int cascade_plate_gate;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */

@@ -71,8 +71,9 @@ struct ScaleBand {
 
 }  // namespace
 
-void CascadeDetector::detectOne(size_t index, const cv::Mat& image, cv::Point origin, const CascadeParams& params,
-                                const FrameGeometry* geometry, std::vector<Detection>* out, int minWindowWidthPx) {
+void CascadeDetector::scanOne(size_t index, const cv::Mat& image, cv::Point origin, const CascadeParams& params,
+                              const FrameGeometry* geometry, std::vector<cv::Rect>* hitsOut, int minWindowWidthPx,
+                              int maxWindowWidthPx) {
     const cv::Size trained = cascades_[index]->getOriginalWindowSize();
     cv::Size minSize = params.minWindow.empty() ? trained : params.minWindow;
     cv::Size maxSize = image.size();
@@ -83,6 +84,10 @@ void CascadeDetector::detectOne(size_t index, const cv::Mat& image, cv::Point or
     if (minWindowWidthPx > minSize.width) {
         minSize = cv::Size(minWindowWidthPx, static_cast<int>(std::lround(double(minWindowWidthPx) * minSize.height /
                                                                           minSize.width)));
+    }
+    if (maxWindowWidthPx > 0 && maxWindowWidthPx < maxSize.width) {
+        maxSize = cv::Size(maxWindowWidthPx, std::min(maxSize.height, static_cast<int>(std::lround(
+                                                         double(maxWindowWidthPx) * minSize.height / minSize.width))));
     }
     if (image.cols < minSize.width || image.rows < minSize.height) return;
     // The scales detectMultiScale scans (its own loop, so the windows are the same), each with its rows.
@@ -103,12 +108,12 @@ void CascadeDetector::detectOne(size_t index, const cv::Mat& image, cv::Point or
     }
     // Runs of consecutive scales share one call over the union of their rows while that costs less than
     // separate calls (without the prior every scale has every row: one call, as detectMultiScale alone).
-    std::vector<cv::Rect> hits;
+    std::vector<cv::Rect>& hits = *hitsOut;
     auto scan = [&](size_t first, size_t last, int rowFirst, int rowLast) {  // scales [first, last]
         std::vector<cv::Rect> found;
         cascades_[index]->detectMultiScale(image.rowRange(rowFirst, rowLast), found, params.scaleFactor, 0, 0,
                                            scales[first].window, scales[last].window);
-        for (cv::Rect& r : found) hits.push_back(r + cv::Point(0, rowFirst));
+        for (cv::Rect& r : found) hits.push_back(r + cv::Point(0, rowFirst) + origin);
     };
     auto cost = [&](size_t first, size_t last, int rowFirst, int rowLast) {
         double windows = kCallCostWindows;
@@ -131,6 +136,10 @@ void CascadeDetector::detectOne(size_t index, const cv::Mat& image, cv::Point or
         scan(first, last, rowFirst, rowLast);
         first = last + 1;
     }
+}
+
+void CascadeDetector::groupHits(size_t index, std::vector<cv::Rect> hits, const CascadeParams& params,
+                                std::vector<Detection>* out) const {
     // Grouped as detectMultiScale groups its own hits (GROUP_EPS 0.2); the weights are the neighbour counts.
     std::vector<int> neighbours;
     cv::groupRectangles(hits, neighbours, params.minNeighbors, 0.2);
@@ -139,7 +148,7 @@ void CascadeDetector::detectOne(size_t index, const cv::Mat& image, cv::Point or
         d.kind = kinds_[index];
         d.kindIndex = static_cast<int>(index);
         d.score = j < neighbours.size() ? neighbours[j] : params.minNeighbors;
-        d.measurement = measureBox(hits[j] + origin, params.slices);
+        d.measurement = measureBox(hits[j], params.slices);
         out->push_back(std::move(d));
     }
 }
@@ -162,7 +171,10 @@ std::vector<Detection> CascadeDetector::detect(const cv::Mat& grayUnrolledFull, 
     if (rows <= 0) return detections;
     const cv::Mat grayUnrolled = grayUnrolledFull.rowRange(0, rows);  // a view: same pixel coordinates
     for (size_t i : selectedKinds(cascades_.size(), kindIndices)) {
-        if (i < cascades_.size()) detectOne(i, grayUnrolled, cv::Point(0, 0), params, geometry, &detections);
+        if (i >= cascades_.size()) continue;
+        std::vector<cv::Rect> hits;
+        scanOne(i, grayUnrolled, cv::Point(0, 0), params, geometry, &hits);
+        groupHits(i, std::move(hits), params, &detections);
     }
     return detections;
 }
@@ -171,19 +183,27 @@ std::vector<Detection> CascadeDetector::detectInRegions(const cv::Mat& grayUnrol
                                                         const std::vector<SearchRegion>& regions,
                                                         const CascadeParams& params, int lastRow,
                                                         const FrameGeometry* geometry,
-                                                        const std::vector<size_t>* kindIndices) {
+                                                        const std::vector<size_t>* kindIndices,
+                                                        bool groupAcrossRegions) {
     CV_Assert(grayUnrolled.type() == CV_8UC1);
     std::vector<Detection> detections;
     const int rows = lastRow < 0 ? grayUnrolled.rows : std::min(lastRow, grayUnrolled.rows);
     const cv::Rect searched(0, 0, grayUnrolled.cols, std::max(0, rows));
     const std::vector<size_t> kinds = selectedKinds(cascades_.size(), kindIndices);
-    for (const SearchRegion& region : regions) {
-        const cv::Rect r = region.unrolledRect & searched;
-        if (r.empty()) continue;
-        const cv::Mat view = grayUnrolled(r);  // a view: box + r.tl() is in grayUnrolled's pixels
-        for (size_t i : kinds) {
-            if (i < cascades_.size()) detectOne(i, view, r.tl(), params, geometry, &detections, region.minWindowWidthPx);
+    for (size_t i : kinds) {
+        if (i >= cascades_.size()) continue;
+        std::vector<cv::Rect> hits;  // of every region, when grouped across them
+        for (const SearchRegion& region : regions) {
+            const cv::Rect r = region.unrolledRect & searched;
+            if (r.empty()) continue;
+            const cv::Mat view = grayUnrolled(r);  // a view: box + r.tl() is in grayUnrolled's pixels
+            scanOne(i, view, r.tl(), params, geometry, &hits, region.minWindowWidthPx, region.maxWindowWidthPx);
+            if (!groupAcrossRegions) {
+                groupHits(i, std::move(hits), params, &detections);
+                hits.clear();
+            }
         }
+        if (groupAcrossRegions) groupHits(i, std::move(hits), params, &detections);
     }
     return detections;
 }

@@ -4,6 +4,7 @@
 #pragma once
 
 #include "colour_gate.hpp"
+#include "plate_gate.hpp"
 #include "detection.hpp"
 #include "placement_prior.hpp"
 
@@ -35,6 +36,8 @@ struct CascadeParams {
     SliceParams slices;
     /// Colour gate: search only around strongly red/green regions when the frame has colour (colour_gate.hpp).
     ColourGateParams colourGate;
+    /// Plate gate: the wall kinds' cascades search only around plate-sized edge contours (plate_gate.hpp).
+    PlateGateParams plateGate;
     /// Placement prior: at each scale, search only the rows a sign of that size can hang in (placement_prior.hpp).
     /// Needs the frame's geometry (CascadeDetector::detect's `geometry`); without it every row is searched.
     PlacementPrior placement;
@@ -64,15 +67,19 @@ public:
 
     /// Detects every kind inside each of `regions` (rectangles of `grayUnrolled`, unrolled pixels; each is
     /// searched on its own with windows from the smallest window, or the region's minWindowWidthPx if larger, up to
-    /// the region's size) and maps the boxes
+    /// the region's size, or its maxWindowWidthPx if smaller) and maps the boxes
     /// back to `grayUnrolled`'s pixel coordinates (box + region origin, exact). Rows at or below `lastRow`
     /// (>= 0) are not searched; the placement band applies as in detect(). Boxes of overlapping regions are not
     /// merged here (suppressOverlaps does).
     /// `kindIndices` (borrowed; nullptr = every kind) limits the search to those cascades.
+    /// `groupAcrossRegions`: the raw hits of all regions are grouped together, as one search of the whole image
+    /// would group them (overlapping regions with their own window ranges: the plate gate's); otherwise each
+    /// region's hits are grouped on their own.
     std::vector<Detection> detectInRegions(const cv::Mat& grayUnrolled, const std::vector<SearchRegion>& regions,
                                            const CascadeParams& params, int lastRow = -1,
                                            const FrameGeometry* geometry = nullptr,
-                                           const std::vector<size_t>* kindIndices = nullptr);
+                                           const std::vector<size_t>* kindIndices = nullptr,
+                                           bool groupAcrossRegions = false);
 
     /// First unrolled row below the search region: rows v with pitch + atan((cy - v) / fy) >= minElevationRad,
     /// clamped to [0, rows].
@@ -87,11 +94,16 @@ public:
 private:
     /// The search of cascade `index` on `image` (a view whose top-left is `origin` in unrolled pixels): the scales
     /// detectMultiScale would scan, each restricted to its placement band (when enabled and `geometry` is given),
-    /// scanned in as few detectMultiScale calls as pays (one call per run of scales whose bands are alike), raw
-    /// hits grouped as detectMultiScale groups them (cv::groupRectangles, eps 0.2, minNeighbors); boxes shifted
-    /// by `origin`. `minWindowWidthPx` > 0 raises the smallest window to at least that width (aspect kept).
-    void detectOne(size_t index, const cv::Mat& image, cv::Point origin, const CascadeParams& params,
-                   const FrameGeometry* geometry, std::vector<Detection>* out, int minWindowWidthPx = 0);
+    /// scanned in as few detectMultiScale calls as pays (one call per run of scales whose bands are alike); the raw
+    /// hits, shifted by `origin`, are appended to `hits`. `minWindowWidthPx` > 0 raises the smallest window to at
+    /// least that width, `maxWindowWidthPx` > 0 lowers the largest to at most that width (aspect kept).
+    void scanOne(size_t index, const cv::Mat& image, cv::Point origin, const CascadeParams& params,
+                 const FrameGeometry* geometry, std::vector<cv::Rect>* hits, int minWindowWidthPx = 0,
+                 int maxWindowWidthPx = 0);
+    /// Raw hits of cascade `index` grouped as detectMultiScale groups them (cv::groupRectangles, eps 0.2,
+    /// params.minNeighbors), appended to `out` as detections with box measurements.
+    void groupHits(size_t index, std::vector<cv::Rect> hits, const CascadeParams& params,
+                   std::vector<Detection>* out) const;
 
     std::vector<std::string> kinds_;
     std::vector<std::unique_ptr<cv::CascadeClassifier>> cascades_;

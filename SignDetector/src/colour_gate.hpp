@@ -106,6 +106,9 @@ struct SearchRegion {
     /// blob (ColourGateParams::minWindowBlobFraction of it); tiles of large components give
     /// ColourGateParams::componentWindowFraction of the whole component's width (0 when that is off).
     int minWindowWidthPx = 0;
+    /// Largest window width worth searching in this region, unrolled pixels (0 = as large as the region): the plate
+    /// gate's regions hold a plate about the size of the edge contour they come from (plate_gate.hpp).
+    int maxWindowWidthPx = 0;
 };
 
 /// Result of gating one frame for the cascade.

@@ -100,6 +100,12 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
         return WF_STATUS_INVALID_ARGUMENT;
     }
     r.unetSubPixelUpsampling = opts.unet_transposed_convolution >= 0;
+    if (opts.cascade_plate_gate < -1 || opts.cascade_plate_gate > 1) {
+        *error = "cascade_plate_gate must be -1 (off), 0 (default: on) or 1 (on), not " +
+                 std::to_string(opts.cascade_plate_gate);
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.cascade.plateGate.enabled = opts.cascade_plate_gate >= 0;
     r.unet.maskThreshold = positiveOr(opts.unet_mask_threshold, 0.5);
     if (r.unet.maskThreshold >= 1.0) {
         *error = "unet_mask_threshold must be in (0, 1)";
@@ -324,44 +330,90 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
         wallKindCursor_ = (wallKindCursor_ + perFrame) % plainKinds_.size();
     }
     const int indexOffset = options_.kind == WF_DETECTOR_UNET ? int(unet_.classNames().size()) : 0;
-    for (size_t i : searched) {
-        CascadeParams params = options_.cascade;
-        const SignKindSpec* spec = cascadeSpecs_[i];
-        const cv::Size trained = cascade_.trainedWindow(i);
-        const double aspect = double(trained.width) / trained.height;
-        if (spec != nullptr) {
-            if (spec->hasPlacement()) {
-                params.placement.centreAboveCameraMinMeters = spec->centreAboveCameraMinMeters;
-                params.placement.centreAboveCameraMaxMeters = spec->centreAboveCameraMaxMeters;
-            }
-            // The window covers the face (and a margin): its width on the sign is at least the face's width, or its
-            // height at the window's aspect; up to about 1.6 x that with the margin and one pyramid step.
-            const double covered = std::max(spec->faceWidthMeters, spec->faceHeightMeters * aspect);
-            params.placement.windowWidthMinMeters = 0.8 * covered;
-            params.placement.windowWidthMaxMeters = 1.6 * covered;
-            if (spec->maxRangeMeters > 0) {
-                const double heightPx = geometry.unrolled.fy * spec->faceHeightMeters / spec->maxRangeMeters;
-                if (heightPx > std::max(trained.height, params.minWindow.height)) {
-                    params.minWindow = cv::Size(int(std::lround(heightPx * aspect)), int(std::lround(heightPx)));
-                }
-            }
-        } else {
-            params.placement.enabled = false;  // no size or height known
-        }
-        if (!std::isfinite(pitchRad)) params.placement.enabled = false;
-        const std::vector<size_t> one{i};
-        std::vector<Detection> found = cascade_.detect(image, params, -1, &geometry, &one);
+    std::vector<CascadeParams> kindParams;
+    for (size_t i : searched) kindParams.push_back(plainKindParams(i, geometry, pitchRad));
+    const GateDecision gate = plateGate(image, geometry, searched, kindParams);
+    for (size_t j = 0; j < searched.size(); ++j) {
+        const std::vector<size_t> one{searched[j]};
+        std::vector<Detection> found =
+            gate.fullSearch ? cascade_.detect(image, kindParams[j], -1, &geometry, &one)
+                            : cascade_.detectInRegions(image, gate.regions, kindParams[j], -1, &geometry, &one, true);
         for (Detection& d : found) {
             // Box edges scale with the image (edge coordinates from the image corner).
             const cv::Rect2d& b = d.measurement.box;
             const double left = b.x + 0.5, top = b.y + 0.5;
             const int x0 = int(std::lround(left / sx)), y0 = int(std::lround(top / sy));
             const int x1 = int(std::lround((left + b.width) / sx)), y1 = int(std::lround((top + b.height) / sy));
-            d.measurement = measureBox(cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0)), params.slices);
+            d.measurement = measureBox(cv::Rect(x0, y0, std::max(1, x1 - x0), std::max(1, y1 - y0)), kindParams[j].slices);
             d.kindIndex += indexOffset;
             out->push_back(std::move(d));
         }
     }
+}
+
+CascadeParams Detector::plainKindParams(size_t i, const FrameGeometry& geometry, double pitchRad) const {
+    CascadeParams params = options_.cascade;
+    const SignKindSpec* spec = cascadeSpecs_[i];
+    const cv::Size trained = cascade_.trainedWindow(i);
+    const double aspect = double(trained.width) / trained.height;
+    if (spec != nullptr) {
+        if (spec->hasPlacement()) {
+            params.placement.centreAboveCameraMinMeters = spec->centreAboveCameraMinMeters;
+            params.placement.centreAboveCameraMaxMeters = spec->centreAboveCameraMaxMeters;
+        }
+        // The window covers the face (and a margin): its width on the sign is at least the face's width, or its
+        // height at the window's aspect; up to about 1.6 x that with the margin and one pyramid step.
+        const double covered = std::max(spec->faceWidthMeters, spec->faceHeightMeters * aspect);
+        params.placement.windowWidthMinMeters = 0.8 * covered;
+        params.placement.windowWidthMaxMeters = 1.6 * covered;
+        if (spec->maxRangeMeters > 0) {
+            const double heightPx = geometry.unrolled.fy * spec->faceHeightMeters / spec->maxRangeMeters;
+            if (heightPx > std::max(trained.height, params.minWindow.height)) {
+                params.minWindow = cv::Size(int(std::lround(heightPx * aspect)), int(std::lround(heightPx)));
+            }
+        }
+    } else {
+        params.placement.enabled = false;  // no size or height known
+    }
+    if (!std::isfinite(pitchRad)) params.placement.enabled = false;
+    return params;
+}
+
+GateDecision Detector::plateGate(const cv::Mat& image, const FrameGeometry& geometry, const std::vector<size_t>& kinds,
+                                 const std::vector<CascadeParams>& kindParams) const {
+    GateDecision full;  // fullSearch
+    const PlateGateParams& gate = options_.cascade.plateGate;
+    if (!gate.enabled || kinds.empty()) return full;
+    // Plates as small as the smallest window any of these kinds searches (a candidate may be the legend alone,
+    // about 0.6 of the plate: half the window), up to half the image's height.
+    int smallestWindow = image.cols;
+    for (size_t j = 0; j < kinds.size(); ++j) {
+        const cv::Size w = kindParams[j].minWindow.empty() ? cascade_.trainedWindow(kinds[j]) : kindParams[j].minWindow;
+        smallestWindow = std::min(smallestWindow, w.width);
+    }
+    const int minSide = std::max(6, smallestWindow / 2), maxSide = std::max(minSide, image.rows / 2);
+    std::vector<cv::Rect> candidates = plateCandidates(image, 0, image.rows, minSide, maxSide, gate);
+    // A candidate stays when some kind's placement band holds it at a window about its size (0.8-1.9 x).
+    std::vector<cv::Rect> placed;
+    for (const cv::Rect& c : candidates) {
+        const double side = std::max(c.width, c.height), centreRow = c.y + 0.5 * c.height;
+        bool inBand = false;
+        for (size_t j = 0; j < kinds.size() && !inBand; ++j) {
+            if (!kindParams[j].placement.enabled) {
+                inBand = true;
+                break;
+            }
+            const cv::Size trained = cascade_.trainedWindow(kinds[j]);
+            const double aspect = double(trained.width) / trained.height;
+            for (double f : {0.8, 1.9}) {
+                const auto band = placementRowBand(kindParams[j].placement, f * side, f * side / aspect,
+                                                   geometry.pitchRad, geometry.unrolled);
+                if (centreRow >= band.first && centreRow < band.second) inBand = true;
+            }
+        }
+        if (inBand) placed.push_back(c);
+    }
+    return plateRegions(placed, cv::Rect(0, 0, image.cols, image.rows), gate);
 }
 
 std::vector<Detection> Detector::detectPlainKindsShrunk(const cv::Mat& gray, const Intrinsics& k, double rollRad,

@@ -134,6 +134,14 @@ private:
     /// Cascade kinds searched without the gate: on `grayUnrolled` (the whole unrolled frame) shrunk to at most
     /// plainKindSearchMaxLongSidePx, each with its placement band and smallest window; boxes in `grayUnrolled`'s
     /// pixels appended to `out`.
+    /// The search parameters of plain (not colour-gated) kind `i` on an image of `geometry`: its placement band
+    /// from the catalogue's face size and mounting height, its smallest window from its range limit.
+    CascadeParams plainKindParams(size_t i, const FrameGeometry& geometry, double pitchRad) const;
+    /// The plate gate's regions for `kinds` (cascade indices, parameters `kindParams`) on `image` (gray, unrolled):
+    /// plate candidates kept where some kind's placement band allows one of their size (plate_gate.hpp); a full
+    /// search when the gate is off or finds too much.
+    GateDecision plateGate(const cv::Mat& image, const FrameGeometry& geometry, const std::vector<size_t>& kinds,
+                           const std::vector<CascadeParams>& kindParams) const;
     void detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& unrolling, double pitchRad,
                           std::vector<Detection>* out);
 

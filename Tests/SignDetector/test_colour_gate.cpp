@@ -1,6 +1,7 @@
 // Tests of src/colour_gate and CascadeDetector::detectInRegions: a red sign yields a region around it (landscape
 // and portrait, RGB8 and NV12), frames without colour fall back to the full search, a colour frame with nothing
-// red or green yields no region, and boxes found in a region map back to full-frame pixels exactly.
+// red or green yields no region, and boxes found in a region map back to full-frame pixels exactly, within the
+// region's window limits.
 #include "cascade_detector.hpp"
 #include "colour_gate.hpp"
 #include "synthetic_scene.hpp"
@@ -207,6 +208,11 @@ TEST(ColourGate, BoxesFoundInARegionMapBackExactly) {
     }
     // A region with a minimum window wider than the region itself searches nothing.
     EXPECT_TRUE(d.detectInRegions(gray, {SearchRegion{region, 400}}, params).empty());
+    // A largest window narrower than the sign's box: no box that wide (the plate gate's regions).
+    const int narrower = static_cast<int>(onCrop[0].measurement.box.width) - 1;
+    for (const Detection& det : d.detectInRegions(gray, {SearchRegion{region, 0, narrower}}, params)) {
+        EXPECT_LE(det.measurement.box.width, narrower);
+    }
 }
 
 TEST(ColourGate, CrowdedFramesRaiseTheThresholdOnceAndKeepTheSign) {
