@@ -190,17 +190,34 @@ std::vector<Detection> CascadeDetector::detectInRegions(const cv::Mat& grayUnrol
     const int rows = lastRow < 0 ? grayUnrolled.rows : std::min(lastRow, grayUnrolled.rows);
     const cv::Rect searched(0, 0, grayUnrolled.cols, std::max(0, rows));
     const std::vector<size_t> kinds = selectedKinds(cascades_.size(), kindIndices);
+    // Whether an earlier region (index < k) already scanned a window like `hit`: it lies inside that region and
+    // its width is within that region's window range. Such a hit is counted once (grouped across regions, a
+    // window scanned twice would count as two neighbours).
+    auto scannedBefore = [&](size_t k, const cv::Rect& hit) {
+        for (size_t q = 0; q < k; ++q) {
+            const SearchRegion& earlier = regions[q];
+            const cv::Rect r = earlier.unrolledRect & searched;
+            if ((hit & r) != hit || hit.width < earlier.minWindowWidthPx) continue;
+            if (earlier.maxWindowWidthPx > 0 && hit.width > earlier.maxWindowWidthPx) continue;
+            return true;
+        }
+        return false;
+    };
     for (size_t i : kinds) {
         if (i >= cascades_.size()) continue;
         std::vector<cv::Rect> hits;  // of every region, when grouped across them
-        for (const SearchRegion& region : regions) {
-            const cv::Rect r = region.unrolledRect & searched;
+        for (size_t k = 0; k < regions.size(); ++k) {
+            const cv::Rect r = regions[k].unrolledRect & searched;
             if (r.empty()) continue;
             const cv::Mat view = grayUnrolled(r);  // a view: box + r.tl() is in grayUnrolled's pixels
-            scanOne(i, view, r.tl(), params, geometry, &hits, region.minWindowWidthPx, region.maxWindowWidthPx);
+            std::vector<cv::Rect> found;
+            scanOne(i, view, r.tl(), params, geometry, &found, regions[k].minWindowWidthPx, regions[k].maxWindowWidthPx);
             if (!groupAcrossRegions) {
-                groupHits(i, std::move(hits), params, &detections);
-                hits.clear();
+                groupHits(i, std::move(found), params, &detections);
+                continue;
+            }
+            for (const cv::Rect& h : found) {
+                if (!scannedBefore(k, h)) hits.push_back(h);
             }
         }
         if (groupAcrossRegions) groupHits(i, std::move(hits), params, &detections);

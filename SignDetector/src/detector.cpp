@@ -393,7 +393,8 @@ GateDecision Detector::plateGate(const cv::Mat& image, const FrameGeometry& geom
     }
     const int minSide = std::max(6, smallestWindow / 2), maxSide = std::max(minSide, image.rows / 2);
     std::vector<cv::Rect> candidates = plateCandidates(image, 0, image.rows, minSide, maxSide, gate);
-    // A candidate stays when some kind's placement band holds it at a window about its size (0.8-1.9 x).
+    // A candidate stays when some kind's placement band holds it at a window of its region's range (0.7-1.9 x its
+    // larger side).
     std::vector<cv::Rect> placed;
     for (const cv::Rect& c : candidates) {
         const double side = std::max(c.width, c.height), centreRow = c.y + 0.5 * c.height;
@@ -405,7 +406,7 @@ GateDecision Detector::plateGate(const cv::Mat& image, const FrameGeometry& geom
             }
             const cv::Size trained = cascade_.trainedWindow(kinds[j]);
             const double aspect = double(trained.width) / trained.height;
-            for (double f : {0.8, 1.9}) {
+            for (double f : {gate.minWindowFraction, gate.maxWindowFraction}) {
                 const auto band = placementRowBand(kindParams[j].placement, f * side, f * side / aspect,
                                                    geometry.pitchRad, geometry.unrolled);
                 if (centreRow >= band.first && centreRow < band.second) inBand = true;

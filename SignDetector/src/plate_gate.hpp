@@ -13,7 +13,7 @@
 //      components' bounding boxes, from their outer contours (catches an outline that Canny's non-maximum suppression breaks at a corner);
 //   3. boxes kept when their sides lie within the caller's size range and their aspect within 0.4-2.5.
 // Each kept box becomes a search region for the cascades: the box widened by a margin that holds a window
-// about 1.9 x the box (a box may be the legend only, about 0.6 of the plate), searched with windows 0.8-1.9 x
+// about 1.9 x the box (a box may be the legend only, about 0.6 of the plate), searched with windows 0.7-1.9 x
 // the box's larger side. Near-duplicate boxes become one; other overlapping regions stay apart (each is searched
 // with its own narrow range of windows; suppressOverlaps removes duplicate detections). With more regions than
 // maxRegions the caller searches the whole placement bands as before.
@@ -51,7 +51,7 @@ struct PlateGateParams {
     double marginFactor = 0.45;
     int minMarginPx = 6;
     /// Smallest window width searched in a box's region, as a fraction of the box's larger side.
-    double minWindowFraction = 0.8;
+    double minWindowFraction = 0.7;
     /// Largest window width searched in a box's region, as a fraction of the box's larger side (a legend is about
     /// 0.6 of its plate, and the window about 1.1 x the plate).
     double maxWindowFraction = 1.9;
@@ -68,9 +68,9 @@ struct PlateGateParams {
 std::vector<cv::Rect> plateCandidates(const cv::Mat& gray, int rowFirst, int rowLast, int minSidePx, int maxSidePx,
                                       const PlateGateParams& params);
 
-/// Search regions for the wall kinds' cascades around `plateCandidates` (margins, smallest window, merged), or a
-/// full search (GateDecision::fullSearch) when the gate is off or the candidates cover too much. `searched` is
-/// the part of the image the cascades may read (regions are clipped to it).
+/// Search regions for the wall kinds' cascades around `plateCandidates` (margins, window range, near-duplicates
+/// merged), or a full search (GateDecision::fullSearch) when the gate is off or there are more than maxRegions.
+/// `searched` is the part of the image the cascades may read (regions are clipped to it).
 GateDecision plateRegions(const std::vector<cv::Rect>& candidates, const cv::Rect& searched,
                           const PlateGateParams& params);
 

@@ -1,7 +1,7 @@
 // Tests of src/colour_gate and CascadeDetector::detectInRegions: a red sign yields a region around it (landscape
 // and portrait, RGB8 and NV12), frames without colour fall back to the full search, a colour frame with nothing
 // red or green yields no region, and boxes found in a region map back to full-frame pixels exactly, within the
-// region's window limits.
+// region's window limits; hits grouped across overlapping regions count each window once.
 #include "cascade_detector.hpp"
 #include "colour_gate.hpp"
 #include "synthetic_scene.hpp"
@@ -213,6 +213,30 @@ TEST(ColourGate, BoxesFoundInARegionMapBackExactly) {
     for (const Detection& det : d.detectInRegions(gray, {SearchRegion{region, 0, narrower}}, params)) {
         EXPECT_LE(det.measurement.box.width, narrower);
     }
+}
+
+TEST(ColourGate, HitsGroupedAcrossOverlappingRegionsCountEachWindowOnce) {
+    // The plate gate's grouping: the raw hits of all regions grouped together, a window that an earlier region's
+    // scan covered counted once. The same region twice then gives what it gives once (neighbour counts included);
+    // grouped per region it gives every box twice.
+    CascadeDetector d;
+    std::string error;
+    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    SignFrame f = redSignFrame(2.5, 0.0, 0.0);
+    cv::Mat gray;
+    cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
+    CascadeParams params;
+    params.minNeighbors = 1;
+    const SearchRegion region{cv::Rect(150, 60, 300, 220), 0, 0};
+    const std::vector<Detection> once = d.detectInRegions(gray, {region}, params, -1, nullptr, nullptr, true);
+    const std::vector<Detection> twice = d.detectInRegions(gray, {region, region}, params, -1, nullptr, nullptr, true);
+    ASSERT_FALSE(once.empty());
+    ASSERT_EQ(twice.size(), once.size());
+    for (size_t i = 0; i < once.size(); ++i) {
+        EXPECT_EQ(twice[i].measurement.box, once[i].measurement.box);
+        EXPECT_EQ(twice[i].score, once[i].score);
+    }
+    EXPECT_EQ(d.detectInRegions(gray, {region, region}, params).size(), 2 * once.size());
 }
 
 TEST(ColourGate, CrowdedFramesRaiseTheThresholdOnceAndKeepTheSign) {

@@ -90,9 +90,9 @@ TEST(PlateGate, EachRegionHoldsItsBoxWithTheMarginAndWindowRange) {
     const GateDecision one = plateRegions({cv::Rect(300, 150, 40, 30)}, searched, params);
     ASSERT_FALSE(one.fullSearch);
     ASSERT_EQ(one.regions.size(), 1u);
-    // Margin 0.45 x 40 = 18 px each side; windows 0.8-1.9 x 40 px wide.
+    // Margin 0.45 x 40 = 18 px each side; windows 0.7-1.9 x 40 px wide.
     EXPECT_EQ(one.regions[0].unrolledRect, cv::Rect(282, 132, 76, 66));
-    EXPECT_EQ(one.regions[0].minWindowWidthPx, 32);
+    EXPECT_EQ(one.regions[0].minWindowWidthPx, 28);
     EXPECT_EQ(one.regions[0].maxWindowWidthPx, 76);
     // Clipped to the searched image; near-duplicates (intersection over union >= 0.9) are one region.
     const GateDecision edge = plateRegions({cv::Rect(0, 0, 40, 40), cv::Rect(0, 0, 40, 41)}, searched, params);
