@@ -72,6 +72,16 @@ bool someRegionContains(const GateDecision& d, const cv::Rect2d& box) {
     return false;
 }
 
+/// The reference cascade loaded as "exit", the gray VGA frame of a red sign 2.5 m ahead, and search parameters
+/// that keep every raw hit (minNeighbors 1).
+void loadOnGraySign(CascadeDetector* d, cv::Mat* gray, CascadeParams* params) {
+    std::string error;
+    ASSERT_TRUE(d->load({referenceCascadePath()}, {"exit"}, &error)) << error;
+    const SignFrame f = redSignFrame(2.5, 0.0, 0.0);
+    cv::cvtColor(f.rgb, *gray, cv::COLOR_RGB2GRAY);
+    params->minNeighbors = 1;
+}
+
 }  // namespace
 
 TEST(ColourGate, RedSignYieldsARegionAroundIt) {
@@ -185,13 +195,9 @@ TEST(ColourGate, RegionsAreClippedToTheSearchRows) {
 
 TEST(ColourGate, BoxesFoundInARegionMapBackExactly) {
     CascadeDetector d;
-    std::string error;
-    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
-    SignFrame f = redSignFrame(2.5, 0.0, 0.0);
     cv::Mat gray;
-    cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
     CascadeParams params;
-    params.minNeighbors = 1;
+    ASSERT_NO_FATAL_FAILURE(loadOnGraySign(&d, &gray, &params));
     const cv::Rect region(150, 60, 300, 220);
     const std::vector<Detection> inRegion = d.detectInRegions(gray, {SearchRegion{region, 0}}, params);
     const cv::Mat crop = gray(region).clone();
@@ -220,13 +226,9 @@ TEST(ColourGate, HitsGroupedAcrossOverlappingRegionsCountEachWindowOnce) {
     // scan covered counted once. The same region twice then gives what it gives once (neighbour counts included);
     // grouped per region it gives every box twice.
     CascadeDetector d;
-    std::string error;
-    ASSERT_TRUE(d.load({referenceCascadePath()}, {"exit"}, &error)) << error;
-    SignFrame f = redSignFrame(2.5, 0.0, 0.0);
     cv::Mat gray;
-    cv::cvtColor(f.rgb, gray, cv::COLOR_RGB2GRAY);
     CascadeParams params;
-    params.minNeighbors = 1;
+    ASSERT_NO_FATAL_FAILURE(loadOnGraySign(&d, &gray, &params));
     const SearchRegion region{cv::Rect(150, 60, 300, 220), 0, 0};
     const std::vector<Detection> once = d.detectInRegions(gray, {region}, params, -1, nullptr, nullptr, true);
     const std::vector<Detection> twice = d.detectInRegions(gray, {region, region}, params, -1, nullptr, nullptr, true);
