@@ -422,16 +422,45 @@ std::vector<Detection> Detector::detectPlainKindsShrunk(const cv::Mat& gray, con
     // Shrunk first, then unrolled: unrolling a 1920 x 1440 frame costs about 9 ms here, the shrunk one a tenth
     // of that, and the search reads the shrunk image either way (search_frame.hpp maps the boxes back).
     const SearchFrame small(grayImageView(gray), k, options_.plainKindSearchMaxLongSidePx);
-    std::vector<Detection> found;
     if (!small.shrunk()) {
+        std::vector<Detection> found;
         detectPlainKinds(frameUnrolling.apply(gray), frameUnrolling, pitchRad, &found);
         return found;
     }
+    return detectPlainKindsOn(small, rollRad, pitchRad, frameUnrolling);
+}
+
+std::vector<Detection> Detector::detectPlainKindsOn(const SearchFrame& small, double rollRad, double pitchRad,
+                                                    const Unrolling& frameUnrolling) {
     const Unrolling smallUnrolling = Unrolling::forRoll(rollRad, small.intrinsics(),
                                                         cv::Size(small.image().width, small.image().height),
                                                         options_.rollSnapToleranceRad);
+    std::vector<Detection> found;
     detectPlainKinds(smallUnrolling.apply(toGray(small.image())), smallUnrolling, pitchRad, &found);
     return mapToFrame(std::move(found), small, smallUnrolling, frameUnrolling);
+}
+
+std::vector<Detection> Detector::detectPlainKindsBesideUnet(RawPyramid& pyramid, const wf_image& frameImage,
+                                                            const Intrinsics& k, double rollRad, double pitchRad,
+                                                            const Unrolling& frameUnrolling, cv::Mat* gray) {
+    // A colour frame larger than the search size: its half-size copy is already in the U-Net's pyramid, so the
+    // search image is that copy in gray shrunk 1.5 x (at 1920 x 1440) instead of the whole frame in gray shrunk
+    // 3 x (0.7 + 1.1 ms here).
+    const int limit = options_.plainKindSearchMaxLongSidePx;
+    const cv::Size frameSize(frameImage.width, frameImage.height);
+    if (limit > 0 && std::max(frameSize.width, frameSize.height) > limit &&
+        (frameImage.format == WF_PIXEL_BGRA8 || frameImage.format == WF_PIXEL_RGB8)) {
+        cv::Point2d scale;
+        const cv::Mat& half = pyramid.level(1, &scale);
+        if (half.cols * 2 == frameSize.width && half.rows * 2 == frameSize.height &&
+            std::max(half.cols, half.rows) >= limit) {  // pixel edges aligned, large enough
+            cv::Mat halfGray;
+            cv::cvtColor(half, halfGray, half.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_RGB2GRAY);
+            return detectPlainKindsOn(SearchFrame(halfGray, frameSize, k, limit), rollRad, pitchRad, frameUnrolling);
+        }
+    }
+    *gray = toGray(frameImage);
+    return detectPlainKindsShrunk(*gray, k, rollRad, pitchRad, frameUnrolling);
 }
 
 std::vector<Detection> Detector::refinedBoxes(std::vector<Detection> boxes, const wf_image& image,
@@ -578,12 +607,13 @@ FrameResult Detector::detect(const wf_frame& frame) {
             }
         } else {
             // The phone's BGRA frame goes to the network's sampler as it is (RawPyramid): no whole-frame RGB copy.
-            detections = unet_.detect(toNetworkColour(frame.image), unrolling, options_.unet, frame.pitch_rad);
+            RawPyramid pyramid(toNetworkColour(frame.image));
+            detections = unet_.detect(pyramid, unrolling, options_.unet, frame.pitch_rad);
             cv::Mat gray, grayUnrolled;
             if (!plainKinds_.empty()) {
                 // Cascades beside the U-Net (kinds it has no class for), refined as in the cascade detector.
-                gray = toGray(frame.image);
-                std::vector<Detection> extra = detectPlainKindsShrunk(gray, k, frame.roll_rad, frame.pitch_rad, unrolling);
+                std::vector<Detection> extra = detectPlainKindsBesideUnet(pyramid, frame.image, k, frame.roll_rad,
+                                                                          frame.pitch_rad, unrolling, &gray);
                 extra = refinedBoxes(std::move(extra), frame.image, unrolling);
                 detections.insert(detections.end(), extra.begin(), extra.end());
             }

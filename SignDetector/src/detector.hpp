@@ -5,6 +5,7 @@
 #include "cascade_detector.hpp"
 #include "face_edge_refiner.hpp"
 #include "image_input.hpp"
+#include "search_frame.hpp"
 #include "sign_catalogue.hpp"
 #include "text_reader.hpp"
 #include "unet_detector.hpp"
@@ -130,6 +131,16 @@ private:
     /// `frameUnrolling`'s pixels (mapToFrame), not yet refined.
     std::vector<Detection> detectPlainKindsShrunk(const cv::Mat& gray, const Intrinsics& k, double rollRad,
                                                   double pitchRad, const Unrolling& frameUnrolling);
+    /// The plain kinds on `small` (a shrunk search frame, any pixel format): unrolled at its size, searched, boxes
+    /// mapped to `frameUnrolling`'s pixels.
+    std::vector<Detection> detectPlainKindsOn(const SearchFrame& small, double rollRad, double pitchRad,
+                                              const Unrolling& frameUnrolling);
+    /// The plain kinds beside the U-Net, which has just read `pyramid` (level 0: the frame `frameImage`, intrinsics
+    /// `k`): a colour frame over the search size is searched on its half-size level in gray (shrunk to the search
+    /// size); otherwise as detectPlainKindsShrunk on the frame in gray, which is left in `gray` (else empty).
+    std::vector<Detection> detectPlainKindsBesideUnet(RawPyramid& pyramid, const wf_image& frameImage,
+                                                      const Intrinsics& k, double rollRad, double pitchRad,
+                                                      const Unrolling& frameUnrolling, cv::Mat* gray);
 
     /// Cascade kinds searched without the gate: on `grayUnrolled` (the whole unrolled frame) shrunk to at most
     /// plainKindSearchMaxLongSidePx, each with its placement band and smallest window; boxes in `grayUnrolled`'s

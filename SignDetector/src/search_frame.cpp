@@ -39,6 +39,30 @@ SearchFrame::SearchFrame(const wf_image& image, const Intrinsics& k, int maxLong
     shrunk_ = true;
 }
 
+SearchFrame::SearchFrame(const cv::Mat& source, cv::Size frameSize, const Intrinsics& k, int maxLongSidePx) : k_(k) {
+    CV_Assert(source.depth() == CV_8U && (source.channels() == 1 || source.channels() == 3 || source.channels() == 4));
+    image_ = wf_image{source.data, source.cols, source.rows, source.step,
+                      source.channels() == 1 ? WF_PIXEL_GRAY8 : source.channels() == 3 ? WF_PIXEL_RGB8 : WF_PIXEL_BGRA8,
+                      nullptr, 0, 0, 0};
+    const int longSide = std::max(frameSize.width, frameSize.height);
+    if (maxLongSidePx <= 0 || longSide <= maxLongSidePx) {
+        CV_Assert(source.size() == frameSize);  // not shrunk: the frame itself
+        return;
+    }
+    const double s = double(maxLongSidePx) / longSide;
+    const int w = std::max(1, int(std::lround(frameSize.width * s))), h = std::max(1, int(std::lround(frameSize.height * s)));
+    CV_Assert(source.cols >= w && source.rows >= h);
+    cv::resize(source, plane_, cv::Size(w, h), 0, 0, cv::INTER_AREA);
+    image_.data = plane_.data;
+    image_.width = w;
+    image_.height = h;
+    image_.stride = plane_.step;
+    sx_ = double(w) / frameSize.width;
+    sy_ = double(h) / frameSize.height;
+    k_ = Intrinsics{k.fx * sx_, k.fy * sy_, (k.cx + 0.5) * sx_ - 0.5, (k.cy + 0.5) * sy_ - 0.5};
+    shrunk_ = true;
+}
+
 std::vector<Detection> mapToFrame(std::vector<Detection> detections, const SearchFrame& search,
                                   const Unrolling& searchUnrolling, const Unrolling& frameUnrolling) {
     // Search unrolled -> frame unrolled is a scale and a shift (both unrollings rotate by the same roll about

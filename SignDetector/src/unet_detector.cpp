@@ -476,8 +476,15 @@ bool UnetDetector::refine(RawPyramid& raw, const Unrolling& unrolling, const Une
 
 std::vector<Detection> UnetDetector::detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params,
                                             double pitchRad) {
-    CV_Assert((rgbRaw.type() == CV_8UC3 || rgbRaw.type() == CV_8UC4) && rgbRaw.size() == unrolling.rawSize());
     RawPyramid raw(rgbRaw);
+    return detect(raw, unrolling, params, pitchRad);
+}
+
+std::vector<Detection> UnetDetector::detect(RawPyramid& raw, const Unrolling& unrolling, const UnetParams& params,
+                                            double pitchRad) {
+    cv::Point2d scale;
+    const cv::Mat& rgbRaw = raw.level(0, &scale);
+    CV_Assert((rgbRaw.type() == CV_8UC3 || rgbRaw.type() == CV_8UC4) && rgbRaw.size() == unrolling.rawSize());
     const std::vector<UnetCandidate> coarse = coarseCandidates(raw, unrolling, params, pitchRad);
     std::vector<Detection> detections;
     std::vector<char> found(coarse.size(), 0);

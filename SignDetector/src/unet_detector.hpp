@@ -222,6 +222,10 @@ public:
     /// overlaps a coarse blob is zoomed only when that coarse blob's zoom found no sign.
     std::vector<Detection> detect(const cv::Mat& rgbRaw, const Unrolling& unrolling, const UnetParams& params,
                                   double pitchRad = std::numeric_limits<double>::quiet_NaN());
+    /// The same on the caller's pyramid of the frame (its level 0), whose levels it fills as it samples them: the
+    /// caller may read them afterwards (the wall kinds' cascades search the half-size level).
+    std::vector<Detection> detect(RawPyramid& raw, const Unrolling& unrolling, const UnetParams& params,
+                                  double pitchRad = std::numeric_limits<double>::quiet_NaN());
 
     /// Class names, index 0 = background.
     const std::vector<std::string>& classNames() const { return classNames_; }
