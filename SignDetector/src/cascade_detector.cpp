@@ -190,16 +190,16 @@ std::vector<Detection> CascadeDetector::detectInRegions(const cv::Mat& grayUnrol
     const int rows = lastRow < 0 ? grayUnrolled.rows : std::min(lastRow, grayUnrolled.rows);
     const cv::Rect searched(0, 0, grayUnrolled.cols, std::max(0, rows));
     const std::vector<size_t> kinds = selectedKinds(cascades_.size(), kindIndices);
-    // Whether an earlier region (index < k) already scanned a window like `hit`: it lies inside that region and
-    // its width is within that region's window range. Such a hit is counted once (grouped across regions, a
-    // window scanned twice would count as two neighbours).
-    auto scannedBefore = [&](size_t k, const cv::Rect& hit) {
-        for (size_t q = 0; q < k; ++q) {
-            const SearchRegion& earlier = regions[q];
-            const cv::Rect r = earlier.unrolledRect & searched;
-            if ((hit & r) != hit || hit.width < earlier.minWindowWidthPx) continue;
-            if (earlier.maxWindowWidthPx > 0 && hit.width > earlier.maxWindowWidthPx) continue;
-            return true;
+    // Whether `hit` repeats one already kept: the same window size, its position within half the scan's step at
+    // that size (detectMultiScale moves the window 2 px of the scaled image below scale 2, 1 px above). Overlapping
+    // regions scan on grids of their own; a window they both reach counts once, as in one search of the image
+    // (counted twice, weak look-alikes pass the neighbour count), while their other grid positions add evidence.
+    auto repeats = [&](size_t index, const std::vector<cv::Rect>& kept, size_t keptCount, const cv::Rect& hit) {
+        const double factor = double(hit.width) / cascades_[index]->getOriginalWindowSize().width;
+        const double halfStep = 0.5 * (factor > 2.0 ? factor : 2.0 * factor);
+        for (size_t q = 0; q < keptCount; ++q) {
+            const cv::Rect& g = kept[q];
+            if (g.size() == hit.size() && std::abs(g.x - hit.x) < halfStep && std::abs(g.y - hit.y) < halfStep) return true;
         }
         return false;
     };
@@ -216,8 +216,9 @@ std::vector<Detection> CascadeDetector::detectInRegions(const cv::Mat& grayUnrol
                 groupHits(i, std::move(found), params, &detections);
                 continue;
             }
+            const size_t before = hits.size();  // hits of earlier regions: this region's own are all kept
             for (const cv::Rect& h : found) {
-                if (!scannedBefore(k, h)) hits.push_back(h);
+                if (!repeats(i, hits, before, h)) hits.push_back(h);
             }
         }
         if (groupAcrossRegions) groupHits(i, std::move(hits), params, &detections);

@@ -72,10 +72,9 @@ public:
     /// (>= 0) are not searched; the placement band applies as in detect(). Boxes of overlapping regions are not
     /// merged here (suppressOverlaps does).
     /// `kindIndices` (borrowed; nullptr = every kind) limits the search to those cascades.
-    /// `groupAcrossRegions`: the raw hits of all regions are grouped together, as one search of the whole image
-    /// would group them (overlapping regions with their own window ranges: the plate gate's), a hit that an
-    /// earlier region's scan covered (inside it, its width within that region's window range) counted once;
-    /// otherwise each region's hits are grouped on their own.
+    /// `groupAcrossRegions`: the raw hits of all regions are grouped together (overlapping regions with their own
+    /// window ranges: the plate gate's), a hit that repeats one of an earlier region (the same size, within half the
+    /// scan's step) counted once; otherwise each region's hits are grouped on their own.
     std::vector<Detection> detectInRegions(const cv::Mat& grayUnrolled, const std::vector<SearchRegion>& regions,
                                            const CascadeParams& params, int lastRow = -1,
                                            const FrameGeometry* geometry = nullptr,

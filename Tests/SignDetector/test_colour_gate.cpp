@@ -222,9 +222,9 @@ TEST(ColourGate, BoxesFoundInARegionMapBackExactly) {
 }
 
 TEST(ColourGate, HitsGroupedAcrossOverlappingRegionsCountEachWindowOnce) {
-    // The plate gate's grouping: the raw hits of all regions grouped together, a window that an earlier region's
-    // scan covered counted once. The same region twice then gives what it gives once (neighbour counts included);
-    // grouped per region it gives every box twice.
+    // The plate gate's grouping: the raw hits of all regions grouped together, a hit that repeats one of an earlier
+    // region (same size, within half the scan's step) counted once. The same region twice then gives what it gives
+    // once (neighbour counts included); grouped per region it gives every box twice.
     CascadeDetector d;
     cv::Mat gray;
     CascadeParams params;

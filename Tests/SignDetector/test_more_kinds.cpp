@@ -392,3 +392,45 @@ TEST(MoreKinds, WallKindsAreSearchedOnePerFrameInRotationUnlessAllAreAsked) {
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_wall_kinds_per_frame"), std::string::npos);
 }
+
+TEST(MoreKinds, APlateOnAnUntexturedWallIsFoundThroughThePlateGate) {
+    // The Swift wrapper's test frame (MoreSignKindsTests): an upright 480 x 640 RGB frame of a flat mid-gray wall with
+    // a white 0.33 x 0.21 m face and four red blocks, 2.5 m ahead, centre 0.15 m above the camera. Its outline is the
+    // plate gate's candidate; the kind's band (mounting height for a phone 1.0-1.7 m up) holds it.
+    const int width = 480, height = 640;
+    const double f = 534.0;
+    cv::Mat rgb(height, width, CV_8UC3, cv::Scalar(128, 128, 128));
+    const int faceW = int(std::lround(0.33 * f / 2.5)), faceH = int(std::lround(0.21 * f / 2.5));
+    const int u0 = width / 2 - faceW / 2, v0 = int(std::lround(319.5 - 0.15 * f / 2.5)) - faceH / 2;
+    for (int v = v0; v < v0 + faceH; ++v) {
+        for (int u = u0; u < u0 + faceW; ++u) {
+            const double x = double(u - u0) / faceW, y = double(v - v0) / faceH;
+            const bool letter = y > 0.25 && y < 0.75 && x > 0.08 && x < 0.92 && int((x - 0.08) / 0.21 * 2) % 2 == 0;
+            rgb.at<cv::Vec3b>(v, u) = letter ? cv::Vec3b(210, 30, 30) : cv::Vec3b(240, 240, 240);
+        }
+    }
+    wf_frame frame{};
+    frame.image = wf_image{rgb.data, rgb.cols, rgb.rows, rgb.step, WF_PIXEL_RGB8, nullptr, 0, 0, 0};
+    frame.intrinsics = wf_intrinsics{f, f, 239.5, 319.5};
+    const double centre = 1.5 - 0.105 + 0.105;  // mounting height + half the face
+    const wf_sign_kind kind = restroomKind(centre - 1.8, centre - 0.9, 0);
+    for (int gate : {-1, 0}) {
+        static const std::string path = wf::sign::testing::referenceCascadePath();
+        static const char* paths[] = {path.c_str()};
+        const char* kinds[] = {"restroom"};
+        wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+        opts.cascade_paths = paths;
+        opts.cascade_kinds = kinds;
+        opts.cascade_count = 1;
+        opts.cascade_min_neighbors = 1;
+        opts.catalogue = &kind;
+        opts.catalogue_count = 1;
+        opts.cascade_plate_gate = gate;
+        wf_detector* d = nullptr;
+        ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+        const std::vector<wf_sign_sighting> seen = sense(d, frame);
+        ASSERT_GE(seen.size(), 1u) << "gate " << gate;
+        EXPECT_NEAR(seen[0].range_m, 2.5, 0.3) << "gate " << gate;
+        wf_detector_free(d);
+    }
+}
