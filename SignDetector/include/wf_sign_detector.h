@@ -321,9 +321,9 @@ typedef struct wf_detector_options {
     /* Cascades of kinds that are not Exit-like, continued. */
     /** Plate gate (docs/sign-detection.md "Plate gate"): 0 = default: on; 1 = on; -1 = off. On, those cascades
      *  search only around closed contours of strong edges about as large as a plate (a tactile sign's legend and
-     *  plate contrast with what surrounds them), falling back to their whole placement bands when such contours
-     *  cover most of the frame; off, they always search their whole bands (the behaviour before). Other values are
-     *  an error. */
+     *  plate contrast with what surrounds them), with windows about the contour's size, falling back to their whole
+     *  placement bands on a frame with more than 128 such contours; off, they always search their whole bands (the
+     *  behaviour before). Other values are an error. */
     int cascade_plate_gate;
 } wf_detector_options;
 

@@ -10,13 +10,14 @@
 //   1. Canny edges (OpenCV, thresholds 40 / 100 levels), closed by a 3 x 3 square (bridges a one-pixel gap in
 //      a plate's outline), their contours' bounding boxes;
 //   2. the 3 x 3 morphological gradient (dilate - erode) at or above 30 levels, closed likewise, its 8-connected
-//      components' bounding boxes, from their outer contours (catches an outline that Canny's non-maximum suppression breaks at a corner);
+//      components' bounding boxes, from their outer contours (catches an outline that Canny's non-maximum
+//      suppression breaks at a corner);
 //   3. boxes kept when their sides lie within the caller's size range and their aspect within 0.4-2.5.
 // Each kept box becomes a search region for the cascades: the box widened by a margin that holds a window
 // about 1.9 x the box (a box may be the legend only, about 0.6 of the plate), searched with windows 0.7-1.9 x
-// the box's larger side. Near-duplicate boxes become one; other overlapping regions stay apart (each is searched
-// with its own narrow range of windows; suppressOverlaps removes duplicate detections). With more regions than
-// maxRegions the caller searches the whole placement bands as before.
+// the box's larger side. Near-duplicate boxes become one; other overlapping regions stay apart, each searched with
+// its own narrow range of windows, and their raw hits are grouped together (CascadeDetector::detectInRegions with
+// groupAcrossRegions). With more regions than maxRegions the caller searches the whole placement bands as before.
 //
 // Hand-written: the glue (which boxes, the margins). The edge detection, morphology, contours and components are
 // OpenCV's.
