@@ -49,6 +49,11 @@ public:
     double scaleY() const { return sy_; }
 
 private:
+    /// Shrinks `source` (the frame, or a copy of it already shrunk with its pixel edges aligned) to the search size
+    /// of a frame of `frameSize`: the plane, image_'s pixels and size, the scales and k_ (the frame's on entry).
+    /// False, nothing changed, when the frame is not over `maxLongSidePx`.
+    bool shrinkFrom(const cv::Mat& source, cv::Size frameSize, int maxLongSidePx);
+
     bool shrunk_ = false;
     wf_image image_{};
     Intrinsics k_;
