@@ -1,5 +1,6 @@
 #include "detector.hpp"
 #include "search_frame.hpp"
+#include "unrolled_search_image.hpp"
 
 #include "wf_range.h"
 
@@ -419,36 +420,49 @@ GateDecision Detector::plateGate(const cv::Mat& image, const FrameGeometry& geom
 
 std::vector<Detection> Detector::detectPlainKindsShrunk(const cv::Mat& gray, const Intrinsics& k, double rollRad,
                                                         double pitchRad, const Unrolling& frameUnrolling) {
-    // Shrunk first, then unrolled: unrolling a 1920 x 1440 frame costs about 9 ms here, the shrunk one a tenth
-    // of that, and the search reads the shrunk image either way (search_frame.hpp maps the boxes back).
-    const SearchFrame small(grayImageView(gray), k, options_.plainKindSearchMaxLongSidePx);
-    if (!small.shrunk()) {
+    const int limit = options_.plainKindSearchMaxLongSidePx;
+    const cv::Size frameSize = gray.size();
+    if (!overSearchSize(frameUnrolling.unrolledSize())) {
         std::vector<Detection> found;
         detectPlainKinds(frameUnrolling.apply(gray), frameUnrolling, pitchRad, &found);
         return found;
     }
-    return detectPlainKindsOn(small, rollRad, pitchRad, frameUnrolling);
+    // Sampled bilinearly from at most twice the search size (unrolled_search_image.hpp); a larger frame is first
+    // shrunk with INTER_AREA (1920 x 1440: 3 x).
+    if (std::max(frameSize.width, frameSize.height) <= 2 * limit) {
+        return detectPlainKindsUnrolled(gray, frameSize, k, rollRad, pitchRad, frameUnrolling);
+    }
+    const SearchFrame small(grayImageView(gray), k, limit);
+    const wf_image& s = small.image();
+    const cv::Mat smallGray(s.height, s.width, CV_8UC1, const_cast<uint8_t*>(s.data), s.stride);
+    return detectPlainKindsUnrolled(smallGray, frameSize, k, rollRad, pitchRad, frameUnrolling);
 }
 
-std::vector<Detection> Detector::detectPlainKindsOn(const SearchFrame& small, double rollRad, double pitchRad,
-                                                    const Unrolling& frameUnrolling) {
-    const Unrolling smallUnrolling = Unrolling::forRoll(rollRad, small.intrinsics(),
-                                                        cv::Size(small.image().width, small.image().height),
-                                                        options_.rollSnapToleranceRad);
+bool Detector::overSearchSize(cv::Size unrolledSize) const {
+    const int limit = options_.plainKindSearchMaxLongSidePx;
+    return limit > 0 && std::max(unrolledSize.width, unrolledSize.height) > limit;
+}
+
+std::vector<Detection> Detector::detectPlainKindsUnrolled(const cv::Mat& sourceGray, cv::Size frameSize,
+                                                          const Intrinsics& k, double rollRad, double pitchRad,
+                                                          const Unrolling& frameUnrolling) {
+    // Unrolled straight into a canvas of the search size (unrolled_search_image.hpp): one resampling where
+    // shrinking, unrolling and shrinking the canvas again took three.
+    const UnrolledSearchImage search(sourceGray, frameSize, k, rollRad, options_.rollSnapToleranceRad,
+                                     options_.plainKindSearchMaxLongSidePx);
     std::vector<Detection> found;
-    detectPlainKinds(smallUnrolling.apply(toGray(small.image())), smallUnrolling, pitchRad, &found);
-    return mapToFrame(std::move(found), small, smallUnrolling, frameUnrolling);
+    detectPlainKinds(search.image(), search.unrolling(), pitchRad, &found);
+    return mapToFrame(std::move(found), search.scaleX(), search.scaleY(), search.unrolling(), frameUnrolling);
 }
 
 std::vector<Detection> Detector::detectPlainKindsBesideUnet(RawPyramid& pyramid, const wf_image& frameImage,
                                                             const Intrinsics& k, double rollRad, double pitchRad,
                                                             const Unrolling& frameUnrolling, cv::Mat* gray) {
-    // A colour frame larger than the search size: its half-size copy is already in the U-Net's pyramid, so the
-    // search image is that copy in gray shrunk 1.5 x (at 1920 x 1440) instead of the whole frame in gray shrunk
-    // 3 x (0.7 + 1.1 ms here).
+    // A colour frame over twice the search size: its half-size copy is already in the U-Net's pyramid, so the
+    // search image is sampled from that copy in gray instead of the whole frame in gray shrunk 3 x.
     const int limit = options_.plainKindSearchMaxLongSidePx;
     const cv::Size frameSize(frameImage.width, frameImage.height);
-    if (limit > 0 && std::max(frameSize.width, frameSize.height) > limit &&
+    if (limit > 0 && std::max(frameSize.width, frameSize.height) > 2 * limit &&
         (frameImage.format == WF_PIXEL_BGRA8 || frameImage.format == WF_PIXEL_RGB8)) {
         cv::Point2d scale;
         const cv::Mat& half = pyramid.level(1, &scale);
@@ -456,11 +470,18 @@ std::vector<Detection> Detector::detectPlainKindsBesideUnet(RawPyramid& pyramid,
             std::max(half.cols, half.rows) >= limit) {  // pixel edges aligned, large enough
             cv::Mat halfGray;
             cv::cvtColor(half, halfGray, half.channels() == 4 ? cv::COLOR_BGRA2GRAY : cv::COLOR_RGB2GRAY);
-            return detectPlainKindsOn(SearchFrame(halfGray, frameSize, k, limit), rollRad, pitchRad, frameUnrolling);
+            return detectPlainKindsUnrolled(halfGray, frameSize, k, rollRad, pitchRad, frameUnrolling);
         }
     }
     *gray = toGray(frameImage);
     return detectPlainKindsShrunk(*gray, k, rollRad, pitchRad, frameUnrolling);
+}
+
+bool Detector::anyReadsText(const std::vector<Detection>& detections) const {
+    return std::any_of(detections.begin(), detections.end(), [&](const Detection& d) {
+        const SignKindSpec* spec = findKind(options_.catalogue, d.kind);
+        return spec != nullptr && spec->readsText;
+    });
 }
 
 std::vector<Detection> Detector::refinedBoxes(std::vector<Detection> boxes, const wf_image& image,
@@ -575,8 +596,10 @@ FrameResult Detector::detect(const wf_frame& frame) {
             // reads are warped: the searched rows, or the gate's regions.
             const bool permutation = unrolling.quarterTurns() >= 0;
             const FrameGeometry geometry{frame.pitch_rad, unrolling.unrolledIntrinsics()};
-            // Kinds without a colour gate (pictograms, placards) read the whole unrolled frame.
-            const bool warped = permutation || !plainKinds_.empty();
+            // Kinds without a colour gate (pictograms, placards) read the whole unrolled frame when it fits the search
+            // size; otherwise their own canvas, unrolled and shrunk in one resampling (detectPlainKindsUnrolled).
+            const bool plainOnFrame = !plainKinds_.empty() && !overSearchSize(unrolledSize);
+            const bool warped = permutation || plainOnFrame;
             cv::Mat grayUnrolled = warped ? unrolling.apply(gray) : cv::Mat::zeros(unrolledSize, CV_8UC1);
             if (gatedKinds_.empty()) {
                 // nothing searched through the gate
@@ -591,7 +614,15 @@ FrameResult Detector::detect(const wf_frame& frame) {
                 detections = cascade_.detectInRegions(grayUnrolled, gate.regions, options_.cascade, lastRow, &geometry,
                                                       &gatedKinds_);
             }
-            if (!plainKinds_.empty()) detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &detections);
+            if (plainOnFrame) {
+                detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &detections);
+            } else if (!plainKinds_.empty()) {
+                std::vector<Detection> extra =
+                    detectPlainKindsUnrolled(gray, searchSize, search.intrinsics(), frame.roll_rad, frame.pitch_rad, unrolling);
+                detections.insert(detections.end(), extra.begin(), extra.end());
+            }
+            // Legends are read on the whole unrolled frame.
+            if (!warped && textReader_.loaded() && anyReadsText(detections)) grayUnrolled = unrolling.apply(gray);
             if (search.shrunk()) {
                 // Search at VGA, measure at full size (search_frame.hpp): each box refined on the searched image,
                 // its legend read there (the crops the phone's VGA frames gave), then moved to the frame's own
@@ -618,11 +649,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
                 detections.insert(detections.end(), extra.begin(), extra.end());
             }
             // Legends of the plates found (the U-Net's placard class or a placard cascade beside it).
-            const bool plates = std::any_of(detections.begin(), detections.end(), [&](const Detection& d) {
-                const SignKindSpec* spec = findKind(options_.catalogue, d.kind);
-                return spec != nullptr && spec->readsText;
-            });
-            if (plates && textReader_.loaded()) {
+            if (textReader_.loaded() && anyReadsText(detections)) {
                 if (gray.empty()) gray = toGray(frame.image);
                 grayUnrolled = unrolling.apply(gray);
                 readLegends(grayUnrolled, &detections);

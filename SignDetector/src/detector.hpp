@@ -126,21 +126,27 @@ private:
     /// Loads the U-Net of options_ and the cascades beside it. Returns WF_STATUS_OK or WF_STATUS_MODEL_LOAD.
     int loadUnet(std::string* error);
 
-    /// The plain kinds beside the U-Net: `gray` (the raw frame, intrinsics `k`) shrunk to at most
-    /// plainKindSearchMaxLongSidePx, unrolled at that size and searched (detectPlainKinds); boxes mapped to
-    /// `frameUnrolling`'s pixels (mapToFrame), not yet refined.
+    /// The plain kinds beside the U-Net on `gray` (the raw frame, intrinsics `k`): on the whole unrolled frame when
+    /// it fits plainKindSearchMaxLongSidePx, else on a canvas of that size (detectPlainKindsUnrolled; a frame over
+    /// twice that size shrunk first with INTER_AREA); boxes mapped to `frameUnrolling`'s pixels, not yet refined.
     std::vector<Detection> detectPlainKindsShrunk(const cv::Mat& gray, const Intrinsics& k, double rollRad,
                                                   double pitchRad, const Unrolling& frameUnrolling);
-    /// The plain kinds on `small` (a shrunk search frame, any pixel format): unrolled at its size, searched, boxes
-    /// mapped to `frameUnrolling`'s pixels.
-    std::vector<Detection> detectPlainKindsOn(const SearchFrame& small, double rollRad, double pitchRad,
-                                              const Unrolling& frameUnrolling);
+    /// True when an unrolled image of `unrolledSize` is larger than the plain kinds' search size.
+    bool overSearchSize(cv::Size unrolledSize) const;
+    /// The plain kinds searched on the frame (`frameSize` pixels, intrinsics `k`, roll `rollRad`) unrolled into a
+    /// canvas of the search size in one resampling of `sourceGray` (the frame in gray or a copy of it shrunk with its
+    /// pixel edges aligned, at most about twice the search size: UnrolledSearchImage); boxes mapped to
+    /// `frameUnrolling`'s pixels (mapToFrame), not yet refined.
+    std::vector<Detection> detectPlainKindsUnrolled(const cv::Mat& sourceGray, cv::Size frameSize, const Intrinsics& k,
+                                                    double rollRad, double pitchRad, const Unrolling& frameUnrolling);
     /// The plain kinds beside the U-Net, which has just read `pyramid` (level 0: the frame `frameImage`, intrinsics
-    /// `k`): a colour frame over the search size is searched on its half-size level in gray (shrunk to the search
-    /// size); otherwise as detectPlainKindsShrunk on the frame in gray, which is left in `gray` (else empty).
+    /// `k`): a colour frame over twice the search size is searched on its half-size level in gray; otherwise as
+    /// detectPlainKindsShrunk on the frame in gray, which is left in `gray` (else empty).
     std::vector<Detection> detectPlainKindsBesideUnet(RawPyramid& pyramid, const wf_image& frameImage,
                                                       const Intrinsics& k, double rollRad, double pitchRad,
                                                       const Unrolling& frameUnrolling, cv::Mat* gray);
+    /// True when some detection's kind reads text (a legend to read).
+    bool anyReadsText(const std::vector<Detection>& detections) const;
 
     /// Cascade kinds searched without the gate: on `grayUnrolled` (the whole unrolled frame) shrunk to at most
     /// plainKindSearchMaxLongSidePx, each with its placement band and smallest window; boxes in `grayUnrolled`'s

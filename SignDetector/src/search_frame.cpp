@@ -55,12 +55,17 @@ bool SearchFrame::shrinkFrom(const cv::Mat& source, cv::Size frameSize, int maxL
 
 std::vector<Detection> mapToFrame(std::vector<Detection> detections, const SearchFrame& search,
                                   const Unrolling& searchUnrolling, const Unrolling& frameUnrolling) {
+    return mapToFrame(std::move(detections), search.scaleX(), search.scaleY(), searchUnrolling, frameUnrolling);
+}
+
+std::vector<Detection> mapToFrame(std::vector<Detection> detections, double searchScaleX, double searchScaleY,
+                                  const Unrolling& searchUnrolling, const Unrolling& frameUnrolling) {
     // Search unrolled -> frame unrolled is a scale and a shift (both unrollings rotate by the same roll about
     // principal points that correspond): the image of the pixel-edge corner (-0.5, -0.5) and the scale.
     const auto toFrame = [&](cv::Point2d p) {
         const cv::Point2d raw = searchUnrolling.unrolledToRaw(p);
         return frameUnrolling.rawToUnrolled(
-            cv::Point2d((raw.x + 0.5) / search.scaleX() - 0.5, (raw.y + 0.5) / search.scaleY() - 0.5));
+            cv::Point2d((raw.x + 0.5) / searchScaleX - 0.5, (raw.y + 0.5) / searchScaleY - 0.5));
     };
     const cv::Point2d origin = toFrame({-0.5, -0.5});
     const double scale = toFrame({99.5, -0.5}).x - origin.x;

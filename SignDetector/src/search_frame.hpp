@@ -68,5 +68,9 @@ private:
 /// Kind, score and text are kept.
 std::vector<Detection> mapToFrame(std::vector<Detection> detections, const SearchFrame& search,
                                   const Unrolling& searchUnrolling, const Unrolling& frameUnrolling);
+/// The same for a search image of any frame shrunk by `searchScaleX` x `searchScaleY` (search pixels per frame
+/// pixel, pixel centres aligned) and unrolled by `searchUnrolling` (e.g. UnrolledSearchImage).
+std::vector<Detection> mapToFrame(std::vector<Detection> detections, double searchScaleX, double searchScaleY,
+                                  const Unrolling& searchUnrolling, const Unrolling& frameUnrolling);
 
 }  // namespace wf::sign
