@@ -285,7 +285,7 @@ bool readMapCatalogue(const std::string& mapPath, std::vector<CatalogueEntry>* o
 
 std::unique_ptr<DetectorHandle> makeWithCatalogue(const std::vector<std::string>& paths, const std::vector<std::string>& kinds,
                                                   const std::vector<CatalogueEntry>& catalogue, const std::string& unetPath,
-                                                  int wallKindsPerFrame, int plateGate) {
+                                                  int wallKindsPerFrame, int plateGate, int wallKindFramePeriod) {
     auto d = std::make_unique<DetectorHandle>();
     std::vector<const char*> p, k;
     for (const auto& s : paths) p.push_back(s.c_str());
@@ -302,6 +302,7 @@ std::unique_ptr<DetectorHandle> makeWithCatalogue(const std::vector<std::string>
     opts.catalogue_count = entries.size();
     opts.cascade_wall_kinds_per_frame = wallKindsPerFrame;
     opts.cascade_plate_gate = plateGate;
+    opts.cascade_wall_kind_frame_period = wallKindFramePeriod;
     if (wf_detector_create(&d->handle, &opts) != WF_STATUS_OK) d->error = wf_thread_last_error();
     return d;
 }

@@ -131,11 +131,12 @@ bool readMapCatalogue(const std::string& mapPath, std::vector<CatalogueEntry>* o
 
 /// A detector with `catalogue` and the cascades `paths` of kinds `kinds` (borrowed for the call): a cascade detector,
 /// or with `unetPath` set the U-Net with those cascades beside it. `wallKindsPerFrame`: as
-/// wf_detector_options.cascade_wall_kinds_per_frame (0 = default 1, -1 = all); `plateGate`: as
-/// wf_detector_options.cascade_plate_gate (0 = default on, -1 = off).
+/// wf_detector_options.cascade_wall_kinds_per_frame (0 = default 2, -1 = all); `plateGate`: as
+/// wf_detector_options.cascade_plate_gate (0 = default on, -1 = off); `wallKindFramePeriod`: as
+/// wf_detector_options.cascade_wall_kind_frame_period (0 = default).
 std::unique_ptr<DetectorHandle> makeWithCatalogue(const std::vector<std::string>& paths, const std::vector<std::string>& kinds,
                                                   const std::vector<CatalogueEntry>& catalogue, const std::string& unetPath = "",
-                                                  int wallKindsPerFrame = 0, int plateGate = 0);
+                                                  int wallKindsPerFrame = 0, int plateGate = 0, int wallKindFramePeriod = 0);
 
 /// Default locations: SignDetector/models in this checkout, the reference cascade in ../shared, and the
 /// tiny test model.

@@ -3,7 +3,8 @@
 //
 //   wf_kinds_eval --testset DIR [--models DIR] [--map MAP.json] [--limit N] [--repeat K]
 //                 [--unet MODEL.onnx [--unet-baseline MODEL.onnx]]
-//   (WF_KINDS_ROTATION=N sets wf_detector_options.cascade_wall_kinds_per_frame: N wall kinds searched per frame;
+//   (WF_KINDS_ROTATION=N sets wf_detector_options.cascade_wall_kinds_per_frame: N wall kinds searched per searched
+//    frame; WF_KINDS_PERIOD=P sets cascade_wall_kind_frame_period: one frame in P searched;
 //    WF_KINDS_PLATE_GATE=G sets wf_detector_options.cascade_plate_gate: -1 = off, the search before the plate gate)
 //
 // DIR: SignDetector/training/render_signs.py --split test_kinds (VGA frames, labels.jsonl with "kind" and, for
@@ -137,14 +138,16 @@ int main(int argc, char** argv) {
     const int wallKindsPerFrame = rotation ? std::atoi(rotation) : 0;
     const char* plateGateSetting = std::getenv("WF_KINDS_PLATE_GATE");
     const int plateGate = plateGateSetting ? std::atoi(plateGateSetting) : 0;
+    const char* periodSetting = std::getenv("WF_KINDS_PERIOD");
+    const int period = periodSetting ? std::atoi(periodSetting) : 0;
     std::unique_ptr<DetectorHandle> exitOnly, all;
     if (unet.empty()) {
         exitOnly = makeWithCatalogue({paths[0]}, {"exit"}, catalogue, "", wallKindsPerFrame);
-        all = makeWithCatalogue(paths, kinds, catalogue, "", wallKindsPerFrame, plateGate);
+        all = makeWithCatalogue(paths, kinds, catalogue, "", wallKindsPerFrame, plateGate, period);
     } else {
         const std::vector<std::string> besidePaths(paths.begin() + 1, paths.end()), besideKinds(kinds.begin() + 1, kinds.end());
         exitOnly = makeWithCatalogue({}, {}, catalogue, unetBaseline, wallKindsPerFrame);
-        all = makeWithCatalogue(besidePaths, besideKinds, catalogue, unet, wallKindsPerFrame, plateGate);
+        all = makeWithCatalogue(besidePaths, besideKinds, catalogue, unet, wallKindsPerFrame, plateGate, period);
         std::printf("U-Net path: exit-only = %s; all kinds = %s with %zu cascade(s) beside it\n\n", unetBaseline.c_str(),
                     unet.c_str(), besidePaths.size());
     }

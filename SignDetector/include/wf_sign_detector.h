@@ -290,9 +290,9 @@ typedef struct wf_detector_options {
     double cascade_sign_above_camera_max_m;
 
     /* Cascades of kinds that are not Exit-like (docs/sign-detection.md "More sign kinds"). */
-    /** How many of those kinds one frame searches, in rotation: 0 = default 1 (with four such kinds each is searched
-     *  on every fourth frame: 2.5 times a second at the phone's 10 Hz detection rate); N > 0 = N; -1 = all of them
-     *  on every frame. Without a colour gate each costs about 20-40 ms per VGA frame (docs/benchmarks.md). */
+    /** How many of those kinds a searched frame searches, in rotation: 0 = default 2 (with four such kinds, searched
+     *  on every second frame, each is searched on every fourth frame: 2.5 times a second at the phone's 10 Hz
+     *  detection rate); N > 0 = N; -1 = all of them. See cascade_wall_kind_frame_period for which frames. */
     int cascade_wall_kinds_per_frame;
     /** Cascade detector: the frame is searched shrunk so that its long side is at most this many pixels, and what
      *  is found there is measured (face edges, slices) on the frame itself: 0 = default 640 (VGA: the cascades'
@@ -325,6 +325,12 @@ typedef struct wf_detector_options {
      *  placement bands on a frame with more than 128 such contours; off, they always search their whole bands (the
      *  behaviour before). Other values are an error. */
     int cascade_plate_gate;
+    /** Those kinds are searched on one frame in this many (the first frame is one): 0 = default, 2 when
+     *  cascade_wall_kinds_per_frame is 0 (its default 2), else 1 (every frame, as that count alone asked before this
+     *  option); N >= 1 = N. A searched frame's fixed costs (its gray search image, the plate gate: about 2 ms beside
+     *  the U-Net) are shared by the kinds it searches, so two kinds every second frame cost less than one every frame
+     *  for the same rate per kind (docs/benchmarks.md "Twenty-first stop"). Negative values are an error. */
+    int cascade_wall_kind_frame_period;
 } wf_detector_options;
 
 /** All defaults (cascade detector, no models: set the paths). */

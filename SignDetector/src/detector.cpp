@@ -197,11 +197,18 @@ int ResolvedOptions::fromOptions(const wf_detector_options& opts, ResolvedOption
         fraction == 0 ? ColourGateParams{}.componentWindowFraction : std::max(0.0, fraction);
     const int perFrame = opts.cascade_wall_kinds_per_frame;
     if (perFrame < -1) {
-        *error = "cascade_wall_kinds_per_frame must be -1 (all), 0 (default: 1) or a positive count, not " +
+        *error = "cascade_wall_kinds_per_frame must be -1 (all), 0 (default: 2) or a positive count, not " +
                  std::to_string(perFrame);
         return WF_STATUS_INVALID_ARGUMENT;
     }
-    r.wallKindsPerFrame = perFrame == 0 ? 1 : perFrame;
+    r.wallKindsPerFrame = perFrame == 0 ? 2 : perFrame;
+    const int period = opts.cascade_wall_kind_frame_period;
+    if (period < 0) {
+        *error = "cascade_wall_kind_frame_period must be 0 (default) or a positive count of frames, not " +
+                 std::to_string(period);
+        return WF_STATUS_INVALID_ARGUMENT;
+    }
+    r.wallKindFramePeriod = period > 0 ? period : perFrame == 0 ? 2 : 1;
     const int searchLongSide = opts.cascade_search_max_long_side_px;
     if (searchLongSide < -1 || (searchLongSide > 0 && searchLongSide < 64)) {
         *error = "cascade_search_max_long_side_px must be 0 (default: 640), -1 (the frame's own size) or at least 64, not " +
@@ -220,6 +227,7 @@ int Detector::load(const ResolvedOptions& options, std::string* error) {
     gatedKinds_.clear();
     plainKinds_.clear();
     wallKindCursor_ = 0;
+    wallKindFrames_ = 0;
     textReaderProblem_.clear();
     if (options_.kind == WF_DETECTOR_CASCADE) {
         if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_STATUS_MODEL_LOAD;
@@ -321,8 +329,8 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
     const double sx = double(image.cols) / grayUnrolled.cols, sy = double(image.rows) / grayUnrolled.rows;
     const Intrinsics& k = unrolling.unrolledIntrinsics();
     const FrameGeometry geometry{pitchRad, Intrinsics{k.fx * sx, k.fy * sy, (k.cx + 0.5) * sx - 0.5, (k.cy + 0.5) * sy - 0.5}};
-    // Which of these kinds this frame searches: `wallKindsPerFrame` of them in rotation (each such search costs
-    // about 20-40 ms at VGA without a gate), or all.
+    // Which of these kinds this frame searches: `wallKindsPerFrame` of them in rotation (about 3 ms each on a
+    // cluttered VGA frame through the plate gate; 20-40 ms without it), or all.
     std::vector<size_t> searched = plainKinds_;
     const int perFrame = options_.wallKindsPerFrame;
     if (perFrame > 0 && size_t(perFrame) < plainKinds_.size()) {
@@ -477,6 +485,11 @@ std::vector<Detection> Detector::detectPlainKindsBesideUnet(RawPyramid& pyramid,
     return detectPlainKindsShrunk(*gray, k, rollRad, pitchRad, frameUnrolling);
 }
 
+bool Detector::takeWallKindTurn() {
+    if (plainKinds_.empty()) return false;
+    return wallKindFrames_++ % options_.wallKindFramePeriod == 0;
+}
+
 bool Detector::anyReadsText(const std::vector<Detection>& detections) const {
     return std::any_of(detections.begin(), detections.end(), [&](const Detection& d) {
         const SignKindSpec* spec = findKind(options_.catalogue, d.kind);
@@ -580,6 +593,8 @@ FrameResult Detector::detect(const wf_frame& frame) {
             search.shrunk() ? Unrolling::forRoll(frame.roll_rad, k, cv::Size(frame.image.width, frame.image.height),
                                                  options_.rollSnapToleranceRad)
                             : unrolling;
+        // Whether this frame searches the kinds that are not Exit-like (one frame in wallKindFramePeriod).
+        const bool wallKindsNow = takeWallKindTurn();
         std::vector<Detection> detections;
         if (options_.kind == WF_DETECTOR_CASCADE) {
             const cv::Mat gray = toGray(search.image());
@@ -598,7 +613,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
             const FrameGeometry geometry{frame.pitch_rad, unrolling.unrolledIntrinsics()};
             // Kinds without a colour gate (pictograms, placards) read the whole unrolled frame when it fits the search
             // size; otherwise their own canvas, unrolled and shrunk in one resampling (detectPlainKindsUnrolled).
-            const bool plainOnFrame = !plainKinds_.empty() && !overSearchSize(unrolledSize);
+            const bool plainOnFrame = wallKindsNow && !overSearchSize(unrolledSize);
             const bool warped = permutation || plainOnFrame;
             cv::Mat grayUnrolled = warped ? unrolling.apply(gray) : cv::Mat::zeros(unrolledSize, CV_8UC1);
             if (gatedKinds_.empty()) {
@@ -616,7 +631,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
             }
             if (plainOnFrame) {
                 detectPlainKinds(grayUnrolled, unrolling, frame.pitch_rad, &detections);
-            } else if (!plainKinds_.empty()) {
+            } else if (wallKindsNow) {
                 std::vector<Detection> extra =
                     detectPlainKindsUnrolled(gray, searchSize, search.intrinsics(), frame.roll_rad, frame.pitch_rad, unrolling);
                 detections.insert(detections.end(), extra.begin(), extra.end());
@@ -641,7 +656,7 @@ FrameResult Detector::detect(const wf_frame& frame) {
             RawPyramid pyramid(toNetworkColour(frame.image));
             detections = unet_.detect(pyramid, unrolling, options_.unet, frame.pitch_rad);
             cv::Mat gray, grayUnrolled;
-            if (!plainKinds_.empty()) {
+            if (wallKindsNow) {
                 // Cascades beside the U-Net (kinds it has no class for), refined as in the cascade detector.
                 std::vector<Detection> extra = detectPlainKindsBesideUnet(pyramid, frame.image, k, frame.roll_rad,
                                                                           frame.pitch_rad, unrolling, &gray);

@@ -63,9 +63,11 @@ struct ResolvedOptions {
     /// itself costs 2-5 ms here, so the phone still hands the cascade VGA frames).
     /// wf_detector_options.cascade_search_max_long_side_px (0 = this default).
     int cascadeSearchMaxLongSidePx = 640;
-    /// How many of those kinds one frame searches, in rotation (-1 = all of them every frame):
+    /// How many of those kinds a searched frame searches, in rotation (-1 = all of them):
     /// wf_detector_options.cascade_wall_kinds_per_frame.
-    int wallKindsPerFrame = 1;
+    int wallKindsPerFrame = 2;
+    /// Those kinds are searched on one frame in this many: wf_detector_options.cascade_wall_kind_frame_period.
+    int wallKindFramePeriod = 2;
     /// Legends (kinds that read text) are read only off plates at least this tall, unrolled pixels: a 0.15 m placard's
     /// 25 mm characters are then 10 px, about the smallest tesseract reads (text_reader.hpp enlarges the crop, but
     /// cannot add detail; on the rendered VGA placards 7 of 72 were misread with confidence >= 75, all from plates
@@ -145,6 +147,9 @@ private:
     std::vector<Detection> detectPlainKindsBesideUnet(RawPyramid& pyramid, const wf_image& frameImage,
                                                       const Intrinsics& k, double rollRad, double pitchRad,
                                                       const Unrolling& frameUnrolling, cv::Mat* gray);
+    /// Whether this frame searches the plain kinds (there are some, and it is this frame's turn: one frame in
+    /// ResolvedOptions::wallKindFramePeriod); counts the frame.
+    bool takeWallKindTurn();
     /// True when some detection's kind reads text (a legend to read).
     bool anyReadsText(const std::vector<Detection>& detections) const;
 
@@ -186,6 +191,8 @@ private:
     std::vector<size_t> gatedKinds_, plainKinds_;
     /// Next of plainKinds_ to search (rotation, ResolvedOptions::wallKindsPerFrame).
     size_t wallKindCursor_ = 0;
+    /// Frames that could have searched those kinds so far (ResolvedOptions::wallKindFramePeriod).
+    long long wallKindFrames_ = 0;
     TextReader textReader_;
     std::string textReaderProblem_;
 };

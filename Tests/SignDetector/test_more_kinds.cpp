@@ -79,6 +79,7 @@ wf_detector* cascadeDetector(const char* kind, const std::vector<wf_sign_kind>& 
     opts.cascade_min_neighbors = 1;
     opts.catalogue = catalogue.data();
     opts.catalogue_count = catalogue.size();
+    opts.cascade_wall_kind_frame_period = 1;  // every frame: these tests look at what one frame finds
     wf_detector* d = nullptr;
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
     return d;
@@ -230,6 +231,7 @@ TEST(MoreKinds, CascadesRunBesideTheUnetForKindsItHasNoClassFor) {
     opts.catalogue_count = 2;
     const char* restroom[] = {"restroom"};
     opts.cascade_kinds = restroom;
+    opts.cascade_wall_kind_frame_period = 1;  // the same frame detected several times below
     wf_detector* d = nullptr;
     ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
     ASSERT_EQ(wf_detector_kind_count(d), 2u);
@@ -358,39 +360,65 @@ TEST(MoreKinds, TheTextReaderLoadsOnlyForAReportedKindThatReadsText) {
     EXPECT_STREQ(wf_detector_text_reader_problem(nullptr), "");
 }
 
-TEST(MoreKinds, WallKindsAreSearchedOnePerFrameInRotationUnlessAllAreAsked) {
+TEST(MoreKinds, WallKindsAreSearchedInRotationOnTheirFramesUnlessAllAreAsked) {
     const Frame f = frameWithSign();
     static const std::string path = wf::sign::testing::referenceCascadePath();
-    const char* paths[] = {path.c_str(), path.c_str()};
-    const char* kinds[] = {"restroom", "stairs"};
-    wf_sign_kind stairs = restroomKind(0.1, 0.7, 0);
+    const char* paths[] = {path.c_str(), path.c_str(), path.c_str()};
+    const char* kinds[] = {"restroom", "stairs", "elevator"};
+    wf_sign_kind stairs = restroomKind(0.1, 0.7, 0), elevator = restroomKind(0.1, 0.7, 0);
     stairs.kind = "stairs";
-    const wf_sign_kind catalogue[] = {restroomKind(0.1, 0.7, 0), stairs};
+    elevator.kind = "elevator";
+    const wf_sign_kind catalogue[] = {restroomKind(0.1, 0.7, 0), stairs, elevator};
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
     opts.cascade_paths = paths;
     opts.cascade_kinds = kinds;
-    opts.cascade_count = 2;
+    opts.cascade_count = 3;
     opts.cascade_min_neighbors = 1;
     opts.catalogue = catalogue;
-    opts.catalogue_count = 2;
+    opts.catalogue_count = 3;
+    using Kinds = std::set<std::string>;
     auto kindsSeen = [&](wf_detector* d) {
-        std::set<std::string> seen;
+        Kinds seen;
         for (const auto& s : sense(d, f.frame)) seen.insert(s.kind);
         return seen;
     };
+    // Default: two kinds on every second frame, the first frame searched (each kind on two frames in three here).
     wf_detector* d = nullptr;
     ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
-    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"restroom"}));
-    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"stairs"}));
-    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"restroom"}));
+    EXPECT_EQ(kindsSeen(d), (Kinds{"restroom", "stairs"}));
+    EXPECT_EQ(kindsSeen(d), Kinds{});
+    EXPECT_EQ(kindsSeen(d), (Kinds{"elevator", "restroom"}));
+    EXPECT_EQ(kindsSeen(d), Kinds{});
+    EXPECT_EQ(kindsSeen(d), (Kinds{"stairs", "elevator"}));
     wf_detector_free(d);
+    // A count alone: that many kinds on every frame (the behaviour before the period), unless a period is given.
+    opts.cascade_wall_kinds_per_frame = 1;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    EXPECT_EQ(kindsSeen(d), Kinds{"restroom"});
+    EXPECT_EQ(kindsSeen(d), Kinds{"stairs"});
+    EXPECT_EQ(kindsSeen(d), Kinds{"elevator"});
+    wf_detector_free(d);
+    opts.cascade_wall_kind_frame_period = 3;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    EXPECT_EQ(kindsSeen(d), Kinds{"restroom"});
+    EXPECT_EQ(kindsSeen(d), Kinds{});
+    EXPECT_EQ(kindsSeen(d), Kinds{});
+    EXPECT_EQ(kindsSeen(d), Kinds{"stairs"});
+    wf_detector_free(d);
+    opts.cascade_wall_kind_frame_period = 0;
     opts.cascade_wall_kinds_per_frame = -1;
     ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
-    EXPECT_EQ(kindsSeen(d), (std::set<std::string>{"restroom", "stairs"}));
+    EXPECT_EQ(kindsSeen(d), (Kinds{"restroom", "stairs", "elevator"}));
+    EXPECT_EQ(kindsSeen(d), (Kinds{"restroom", "stairs", "elevator"}));
     wf_detector_free(d);
+    // Bad values name the field.
     opts.cascade_wall_kinds_per_frame = -2;
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_wall_kinds_per_frame"), std::string::npos);
+    opts.cascade_wall_kinds_per_frame = 0;
+    opts.cascade_wall_kind_frame_period = -1;
+    EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_wall_kind_frame_period"), std::string::npos);
 }
 
 TEST(MoreKinds, APlateOnAnUntexturedWallIsFoundThroughThePlateGate) {
