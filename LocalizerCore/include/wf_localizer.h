@@ -458,6 +458,15 @@ int wf_localizer_predict(wf_localizer *loc, const wf_vio_sample *sample);
  *  WF_LOC_ERR_NON_FINITE_INPUT after applying the finite ones). */
 int wf_localizer_update_signs(wf_localizer *loc, const wf_sign_observation *observations, size_t count, double t);
 
+/** The same for a frame on which the detector did not look for the kinds `unsearched_kinds` (kind ids,
+ *  `unsearched_count` of them; NULL with 0 = every kind searched, exactly wf_localizer_update_signs): signs of those
+ *  kinds take no negative information on this frame, since their absence says nothing (SignDetector searches its
+ *  wall kinds in turn: wf_detector_kind_searched). A kind that the frame has a sighting of counts as searched. Ids
+ *  outside the map's kinds are ignored (status WF_LOC_ERR_INVALID_ARGUMENT after the update); NULL with a count is
+ *  WF_LOC_ERR_INVALID_ARGUMENT (nothing applied). */
+int wf_localizer_update_signs_searched(wf_localizer *loc, const wf_sign_observation *observations, size_t count,
+                                       double t, const int32_t *unsearched_kinds, size_t unsearched_count);
+
 /**
  * Measurement update with the `count` vertical planes currently reported by ARKit at time t (seconds): a
  * likelihood field against the map's walls (the nav2 AMCL likelihood-field model applied to planes; see

@@ -451,6 +451,13 @@ size_t wf_detector_kind_count(const wf_detector *detector);
 /** Name of kind `index` (0-based among the reported kinds); NULL if out of range. Owned by the handle. */
 const char *wf_detector_kind_name(const wf_detector *detector, size_t index);
 
+/** 1 when the last wf_detector_detect / wf_detector_sense call looked for kind `index` (0-based among the reported
+ *  kinds), 0 when it did not: the frame was rejected (bad frame, too dark or too bright), or the kind's turn in the
+ *  wall-kind schedule had not come (cascade_wall_kinds_per_frame, cascade_wall_kind_frame_period); 0 before any
+ *  frame. -1 for a NULL handle or an index out of range. A kind not looked for says nothing by its absence: pass it
+ *  to the localizer as unsearched (wf_localizer_update_signs_searched). */
+int wf_detector_kind_searched(const wf_detector *detector, size_t index);
+
 /** 1 when the detector reads the text of the kinds that have it (a kind with reads_text is reported and the
  *  text reader loaded), 0 otherwise (none such, or the library was built without tesseract, or its English model
  *  is missing: wf_detector_text_reader_problem says which). */

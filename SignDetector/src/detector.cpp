@@ -337,6 +337,9 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
         searched.clear();
         for (int j = 0; j < perFrame; ++j) searched.push_back(plainKinds_[(wallKindCursor_ + j) % plainKinds_.size()]);
         wallKindCursor_ = (wallKindCursor_ + perFrame) % plainKinds_.size();
+        for (size_t i : plainKinds_) {
+            if (std::find(searched.begin(), searched.end(), i) == searched.end()) markPlainKindUnsearched(i);
+        }
     }
     const int indexOffset = options_.kind == WF_DETECTOR_UNET ? int(unet_.classNames().size()) : 0;
     std::vector<CascadeParams> kindParams;
@@ -564,8 +567,15 @@ wf_detector_observation makeObservation(const Detection& d, const Unrolling& unr
     return o;
 }
 
+void Detector::markPlainKindUnsearched(size_t i) {
+    // Reported kinds: the U-Net's classes without background, then the cascades beside it; or the cascades.
+    const size_t offset = options_.kind == WF_DETECTOR_UNET ? unet_.classNames().size() - 1 : 0;
+    if (offset + i < lastSearched_.size()) lastSearched_[offset + i] = 0;
+}
+
 FrameResult Detector::detect(const wf_frame& frame) {
     FrameResult result;
+    lastSearched_.assign(kinds_.size(), 0);  // a rejected frame looked for nothing
     const FrameCheck check = checkFrame(frame);
     if (!check.ok()) {
         result.status = check.status;
@@ -595,6 +605,10 @@ FrameResult Detector::detect(const wf_frame& frame) {
                             : unrolling;
         // Whether this frame searches the kinds that are not Exit-like (one frame in wallKindFramePeriod).
         const bool wallKindsNow = takeWallKindTurn();
+        lastSearched_.assign(kinds_.size(), 1);
+        if (!wallKindsNow) {
+            for (size_t i : plainKinds_) markPlainKindUnsearched(i);
+        }
         std::vector<Detection> detections;
         if (options_.kind == WF_DETECTOR_CASCADE) {
             const cv::Mat gray = toGray(search.image());

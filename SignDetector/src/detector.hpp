@@ -116,6 +116,11 @@ public:
     /// kinds that run beside the U-Net).
     const std::vector<std::string>& kinds() const { return kinds_; }
 
+    /// Whether the last detect() looked for kind `index` (of kinds()): false when the frame was rejected or the
+    /// kind's turn in the wall-kind schedule (ResolvedOptions::wallKindsPerFrame, wallKindFramePeriod) had not
+    /// come, and before any frame. The localizer must not take such a kind's absence as a miss.
+    bool searchedLastFrame(size_t index) const { return index < lastSearched_.size() && lastSearched_[index] != 0; }
+
     const ResolvedOptions& options() const { return options_; }
 
     /// True when a kind of the catalogue reads text and the text reader loaded.
@@ -193,6 +198,10 @@ private:
     size_t wallKindCursor_ = 0;
     /// Frames that could have searched those kinds so far (ResolvedOptions::wallKindFramePeriod).
     long long wallKindFrames_ = 0;
+    /// Per kind of kinds_: 1 when the last frame looked for it (searchedLastFrame).
+    std::vector<uint8_t> lastSearched_;
+    /// Marks plain kind `i` (a cascade index) as not looked for on this frame.
+    void markPlainKindUnsearched(size_t i);
     TextReader textReader_;
     std::string textReaderProblem_;
 };

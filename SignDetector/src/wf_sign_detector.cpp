@@ -145,6 +145,11 @@ const char* wf_detector_kind_name(const wf_detector* detector, size_t index) {
     return detector->detector.kinds()[index].c_str();
 }
 
+int wf_detector_kind_searched(const wf_detector* detector, size_t index) {
+    if (detector == nullptr || index >= detector->detector.kinds().size()) return -1;
+    return detector->detector.searchedLastFrame(index) ? 1 : 0;
+}
+
 int wf_detector_reads_text(const wf_detector* detector) {
     return detector != nullptr && detector->detector.readsText() ? 1 : 0;
 }

@@ -278,6 +278,16 @@ TEST(MoreKinds, CascadesRunBesideTheUnetForKindsItHasNoClassFor) {
         EXPECT_EQ(phoneObs[i].center_column_px, obs[i].center_column_px) << i;
     }
     wf_detector_free(d);
+    // The default schedule (wall kinds on every second frame): the U-Net's class is looked for on every frame, the
+    // cascade beside it on one frame in two (its index after the U-Net's classes).
+    opts.cascade_wall_kind_frame_period = 0;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    for (int frame = 0; frame < 3; ++frame) {
+        ASSERT_GE(wf_detector_detect(d, &hr.frame, obs.data(), obs.size(), &count), 0) << wf_detector_last_error(d);
+        EXPECT_EQ(wf_detector_kind_searched(d, 0), 1) << frame;
+        EXPECT_EQ(wf_detector_kind_searched(d, 1), frame % 2 == 0 ? 1 : 0) << frame;
+    }
+    wf_detector_free(d);
     // A cascade of a kind the U-Net already has is refused, naming the kind.
     const char* exit[] = {"exit"};
     opts.cascade_kinds = exit;
@@ -377,14 +387,23 @@ TEST(MoreKinds, WallKindsAreSearchedInRotationOnTheirFramesUnlessAllAreAsked) {
     opts.catalogue = catalogue;
     opts.catalogue_count = 3;
     using Kinds = std::set<std::string>;
+    // The kinds sighted on the frame; each of these cascades finds the drawn sign, so they are also the kinds the
+    // frame looked for, which the detector reports (wf_detector_kind_searched).
     auto kindsSeen = [&](wf_detector* d) {
-        Kinds seen;
+        Kinds seen, searched;
         for (const auto& s : sense(d, f.frame)) seen.insert(s.kind);
+        for (size_t i = 0; i < wf_detector_kind_count(d); ++i) {
+            if (wf_detector_kind_searched(d, i) == 1) searched.insert(wf_detector_kind_name(d, i));
+        }
+        EXPECT_EQ(searched, seen);
         return seen;
     };
     // Default: two kinds on every second frame, the first frame searched (each kind on two frames in three here).
     wf_detector* d = nullptr;
     ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    EXPECT_EQ(wf_detector_kind_searched(d, 0), 0);  // before any frame
+    EXPECT_EQ(wf_detector_kind_searched(d, 3), -1);
+    EXPECT_EQ(wf_detector_kind_searched(nullptr, 0), -1);
     EXPECT_EQ(kindsSeen(d), (Kinds{"restroom", "stairs"}));
     EXPECT_EQ(kindsSeen(d), Kinds{});
     EXPECT_EQ(kindsSeen(d), (Kinds{"elevator", "restroom"}));

@@ -138,6 +138,14 @@ int wf_localizer_update_signs(wf_localizer *loc, const wf_sign_observation *obse
     return guarded(loc, [&] { return loc->filter->update_signs(observations, count, t); });
 }
 
+int wf_localizer_update_signs_searched(wf_localizer *loc, const wf_sign_observation *observations, size_t count,
+                                       double t, const int32_t *unsearched_kinds, size_t unsearched_count) {
+    if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
+    return guarded(loc, [&] {
+        return loc->filter->update_signs(observations, count, t, unsearched_kinds, unsearched_count);
+    });
+}
+
 int wf_localizer_update_planes(wf_localizer *loc, const wf_plane_observation *planes, size_t count, double t) {
     if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
     return guarded(loc, [&] { return loc->filter->update_planes(planes, count, t); });

@@ -478,12 +478,33 @@ double ParticleFilter::unexplained_sighting_nats(double t) {
 }
 
 int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, double t) {
+    return update_signs(obs, count, t, nullptr, 0);
+}
+
+int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, double t,
+                                 const int32_t *unsearched_kinds, size_t unsearched_count) {
     if (!initialized_) return fail(WF_LOC_ERR_NOT_INITIALIZED, "update_signs before an init");
     if (count > 0 && obs == nullptr) return fail(WF_LOC_ERR_INVALID_ARGUMENT, "observations is NULL with count > 0");
+    if (unsearched_count > 0 && unsearched_kinds == nullptr) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unsearched_kinds is NULL with unsearched_count > 0");
+    }
     if (!std::isfinite(t)) return fail(WF_LOC_ERR_NON_FINITE_INPUT, "update_signs time is not finite");
     t_last_ = t;
     size_t bad = 0;
     const std::vector<PreparedSighting> z = prepare_sightings(obs, count, sign_model_, map_.kind_count, &bad);
+    // Kinds the detector did not look for on this frame: flags by kind id (empty: every kind searched).
+    std::vector<uint8_t> unsearched;
+    size_t bad_kinds = 0;
+    for (size_t i = 0; i < unsearched_count; ++i) {
+        const int32_t k = unsearched_kinds[i];
+        if (k < 0 || k >= map_.kind_count) {
+            ++bad_kinds;
+            continue;
+        }
+        unsearched.resize(static_cast<size_t>(map_.kind_count), 0);
+        unsearched[static_cast<size_t>(k)] = 1;
+    }
+    const uint8_t *unsearched_flags = unsearched.empty() ? nullptr : unsearched.data();
     if (!z.empty() || sign_model_.negative_information) {
         const size_t n = p_.size();
         log_likelihood_.resize(n);
@@ -494,11 +515,12 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
             twin_lls_[k].resize(n);
             twin_scored[k] = score_twins(k, [&] {
                 sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
-                                    twin_lls_[k].data());
+                                    twin_lls_[k].data(), nullptr, nullptr, unsearched_flags);
             });
         }
         const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
-                                                 log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data());
+                                                 log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data(),
+                                                 unsearched_flags);
         note_unexplained_sightings(z, t);
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
             if (twin_scored[k]) twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_lls_[k].data());
@@ -556,6 +578,10 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
     if (bad > 0) {
         return fail(WF_LOC_ERR_NON_FINITE_INPUT,
                     std::to_string(bad) + " sighting(s) with a non-finite or negative value were ignored");
+    }
+    if (bad_kinds > 0) {
+        return fail(WF_LOC_ERR_INVALID_ARGUMENT, std::to_string(bad_kinds) +
+                                                     " unsearched kind id(s) outside the map's kinds were ignored");
     }
     return WF_LOC_OK;
 }

@@ -46,6 +46,11 @@ public:
     int set_compass_prior(double heading_in_map_rad, double sigma_rad);
     int predict(const wf_vio_sample &s);
     int update_signs(const wf_sign_observation *obs, size_t count, double t);
+    /// The same for a frame on which the detector did not look for the kinds `unsearched_kinds` (ids; count
+    /// `unsearched_count`): no negative information for their signs (sign_log_likelihood). Ids outside the
+    /// map's kinds are ignored and reported (WF_LOC_ERR_INVALID_ARGUMENT after the update).
+    int update_signs(const wf_sign_observation *obs, size_t count, double t, const int32_t *unsearched_kinds,
+                     size_t unsearched_count);
     int update_altitude(double relative_altitude_m, double t);
     /// Compass evidence (sensors/compass_model): camera heading in the map `heading_in_map_rad` (CCW from +x)
     /// with accuracy `accuracy_rad` (<= 0: unknown) at time t. Applied at most once per

@@ -55,7 +55,7 @@ float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighti
 
 WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
                           const PreparedSighting *sightings, size_t count, float *log_likelihood,
-                          float *bias_s1_out, float *bias_s0_out) {
+                          float *bias_s1_out, float *bias_s0_out, const uint8_t *unsearched_kind) {
     const size_t n = p.size();
     if (count == 0 && !m.negative_information) {
         std::fill(log_likelihood, log_likelihood + n, 0.0f);
@@ -70,6 +70,18 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
             for (size_t o = 0; o < count; ++o) {
                 for (int32_t w = 0; w < fd.words_per_cell; ++w) {
                     relevant[f][w] |= fd.kind_masks[static_cast<size_t>(sightings[o].kind) * fd.words_per_cell + w];
+                }
+            }
+        } else if (unsearched_kind != nullptr) {
+            // A kind not looked for on this frame (and not sighted): its signs are no candidates, so their
+            // absence costs nothing.
+            for (int32_t k = 0; k < map.kind_count; ++k) {
+                if (!unsearched_kind[k]) continue;
+                bool sighted = false;
+                for (size_t o = 0; o < count && !sighted; ++o) sighted = sightings[o].kind == k;
+                if (sighted) continue;
+                for (int32_t w = 0; w < fd.words_per_cell; ++w) {
+                    relevant[f][w] &= ~fd.kind_masks[static_cast<size_t>(k) * fd.words_per_cell + w];
                 }
             }
         }

@@ -85,9 +85,13 @@ float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighti
 /// `log_likelihood` (size p.size()). Returns the maximum. With no sighting and negative information off,
 /// every value is 0. With `bias_s1_out` and `bias_s0_out` (p.bias_s1.data() and p.bias_s0.data(): updated in
 /// place, only for particles that see a sign of a sighted kind) the range-bias statistics take this frame's
-/// sightings (range_bias_sigma > 0); nullptr = read only.
+/// sightings (range_bias_sigma > 0); nullptr = read only. `unsearched_kind` (nullptr = every kind was searched;
+/// else map.kind_count flags, nonzero for a kind the detector did not look for on this frame, e.g. SignDetector's
+/// wall kinds searched in turn): the signs of such a kind take no negative information, their absence from the
+/// frame saying nothing, unless the frame holds a sighting of that kind (then it was searched after all).
 float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
                           const PreparedSighting *sightings, size_t count, float *log_likelihood,
-                          float *bias_s1_out = nullptr, float *bias_s0_out = nullptr);
+                          float *bias_s1_out = nullptr, float *bias_s0_out = nullptr,
+                          const uint8_t *unsearched_kind = nullptr);
 
 }  // namespace wf::loc

@@ -82,6 +82,17 @@ TEST(CApi, LifecycleOnCorridor) {
     const wf_sign_observation z[] = {{0, 4.0, 0.05, 0.9}, {9, 2.0, 0.0, 0.9}};  // kind 9: not in the map
     EXPECT_EQ(wf_localizer_update_signs(loc, z, 2, 0.1), WF_LOC_OK);
     EXPECT_EQ(wf_localizer_update_signs(loc, nullptr, 1, 0.1), WF_LOC_ERR_INVALID_ARGUMENT);
+    // A frame on which the detector did not look for some kinds: known ids are fine, unknown ones are reported
+    // after the update (the message names them), a NULL list with a count is refused.
+    const int32_t unsearched[] = {1};
+    EXPECT_EQ(wf_localizer_update_signs_searched(loc, z, 2, 0.12, unsearched, 1), WF_LOC_OK);
+    EXPECT_EQ(wf_localizer_update_signs_searched(loc, nullptr, 0, 0.13, nullptr, 0), WF_LOC_OK);
+    const int32_t unknown[] = {1, 7, -1};
+    EXPECT_EQ(wf_localizer_update_signs_searched(loc, nullptr, 0, 0.14, unknown, 3), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_localizer_last_error(loc)).find("2 unsearched kind id(s)"), std::string::npos)
+        << wf_localizer_last_error(loc);
+    EXPECT_EQ(wf_localizer_update_signs_searched(loc, nullptr, 0, 0.15, nullptr, 2), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_localizer_update_signs_searched(nullptr, nullptr, 0, 0.15, nullptr, 0), WF_LOC_ERR_INVALID_ARGUMENT);
     EXPECT_EQ(wf_localizer_update_altitude(loc, 1.0, 0.2), WF_LOC_OK);
     EXPECT_EQ(wf_localizer_set_compass_prior(loc, 1.0, 0.2), WF_LOC_OK);
     ASSERT_EQ(wf_localizer_get_estimate(loc, &e), WF_LOC_OK);

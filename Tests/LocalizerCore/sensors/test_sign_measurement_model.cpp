@@ -150,6 +150,39 @@ TEST(SignMeasurementModel, NegativeInformationOnAndOff) {
     EXPECT_NEAR(ll_at(map, all, 18, 1, 0, none), std::log(0.8f), 1e-5f);  // the rule off: penalised
 }
 
+// A kind the detector did not look for on a frame (its wall kinds in turn): a plainly visible sign of that kind
+// costs nothing by its absence; the other kinds' absence still does, and a sighting of the kind counts as searched.
+TEST(SignMeasurementModel, NoNegativeInformationForAKindNotSearched) {
+    wf::test::World w;
+    wf::test::FloorSpec f;
+    f.box(0, 0, 20, 2).seed(1, 1).seed(10, 1);
+    f.sign(wf::test::kRestroom, 20, 1, -1, 0).sign(wf::test::kExit, 20, 1.5f, -1, 0);
+    w.floors.push_back(f);
+    auto o = wf::test::default_options();
+    const auto map = wf::test::build_map(w, o);
+    SignModelParams m = SignModelParams::from_options(o);
+    m.negative_information = true;
+    const ParticleSet p = one_particle(17, 1, 0);  // both signs 3 m ahead: plainly visible
+    auto ll = [&](const std::vector<PreparedSighting> &z, const uint8_t *unsearched) {
+        float v;
+        sign_log_likelihood(p, 0.0f, map, m, z.data(), z.size(), &v, nullptr, nullptr, unsearched);
+        return v;
+    };
+    const std::vector<PreparedSighting> none;
+    const float miss = std::log(0.8f);
+    EXPECT_NEAR(ll(none, nullptr), 2 * miss, 1e-5f);  // both searched, both missed
+    const uint8_t restroomUnsearched[2] = {0, 1};
+    EXPECT_NEAR(ll(none, restroomUnsearched), miss, 1e-5f);  // only the Exit sign's miss
+    const uint8_t neither[2] = {1, 1};
+    EXPECT_EQ(ll(none, neither), 0.0f);
+    const uint8_t all[2] = {0, 0};
+    EXPECT_EQ(ll(none, all), ll(none, nullptr));
+    // A restroom sighting where predicted: the kind was searched after all, and the sighting scores as usual.
+    const float r = std::hypot(3.0f, 0.0f);
+    const std::vector<PreparedSighting> seen = {{wf::test::kRestroom, r, 0.0f, 0.1f}};
+    EXPECT_EQ(ll(seen, restroomUnsearched), ll(seen, nullptr));
+}
+
 // With two visible signs of the same kind, one sighting is explained by either (data association mixture):
 // the likelihood is the average of the two single-sign likelihoods plus clutter.
 TEST(SignMeasurementModel, MixtureOverVisibleSigns) {
