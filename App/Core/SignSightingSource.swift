@@ -12,6 +12,15 @@ import SignDetection
 /// observations gets those (replay passes them only for frames whose named image is missing: "a missing
 /// image falls back to the frame's recorded observations"). The explicit `.cascade` / `.unet` never mix
 /// in recorded observations.
+/// One frame's sightings and the sign kinds the frame did not look for (the detector searches its wall kinds in
+/// turn, and a skipped frame looks for none): the localizer takes no negative information for those kinds.
+struct FrameSightings {
+    /// The sightings, as measured.
+    var sightings: [SignSighting]
+    /// Kinds not looked for on this frame; empty for recorded observations (every kind counts as searched).
+    var unsearchedKinds: Set<String> = []
+}
+
 final class SignSightingSource {
     private let options: PipelineOptions
     private let detector: SignDetector?
@@ -42,13 +51,13 @@ final class SignSightingSource {
         }
     }
 
-    /// The sightings of `frame`; `.success(nil)` when there was nothing to consult on this frame (no image
-    /// and no recorded observations while recorded observations are in use).
-    func sightings(for frame: PipelineFrame, pose: CameraPose) -> Result<[SignSighting]?, PipelineError> {
-        guard let detector else { return .success(recordedSightings(frame)) }
+    /// The sightings of `frame` and the kinds it did not look for; `.success(nil)` when there was nothing to consult
+    /// on this frame (no image and no recorded observations while recorded observations are in use).
+    func sightings(for frame: PipelineFrame, pose: CameraPose) -> Result<FrameSightings?, PipelineError> {
+        guard let detector else { return .success(FrameSightings(sightings: recordedSightings(frame))) }
         guard frame.image != nil || frame.imagePath != nil else {
             if options.sightingSource == .automatic, !frame.measuredObservations.isEmpty {
-                return .success(recordedSightings(frame))
+                return .success(FrameSightings(sightings: recordedSightings(frame)))
             }
             return .success(nil)
         }
@@ -56,9 +65,9 @@ final class SignSightingSource {
         do {
             let image = try frame.image ?? ImageBuffer.load(path: frame.imagePath!)
             let k = frame.intrinsics
-            let sensed = try detector.sense(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
-                                            pitchRad: pose.pitchRad, rollRad: pose.rollRad)
-            let sightings = sensed.map { s -> SignSighting in
+            let sensed = try detector.senseFrame(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
+                                                 pitchRad: pose.pitchRad, rollRad: pose.rollRad)
+            let sightings = sensed.signs.map { s -> SignSighting in
                 // The detector's reading, else the platform's (Vision on the iPhone) for kinds that read text.
                 var text = s.text
                 if text == nil, textKinds.contains(s.kind), let read = options.legendReader {
@@ -67,7 +76,7 @@ final class SignSightingSource {
                 return SignSighting(kind: s.kind, rangeMeters: s.rangeMeters, bearingRad: s.bearingRad, score: s.score,
                                     text: text)
             }
-            return .success(sightings)
+            return .success(FrameSightings(sightings: sightings, unsearchedKinds: sensed.unsearchedKinds))
         } catch {
             return .failure(.frame("image \(source): \(error)"))
         }

@@ -111,10 +111,10 @@ public final class WayfinderPipeline {
             switch sightingSource.sightings(for: frame, pose: pose) {
             case .success(let result):
                 if let found = result {
-                    sightings = found.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }
+                    sightings = found.sightings.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }
                     detectorRan = true
                     lastDetectionT = frame.t
-                    localizer.update(sightings: sightings, t: frame.t)
+                    localizer.update(sightings: sightings, unsearchedKinds: found.unsearchedKinds, t: frame.t)
                     noteInputError("sign update", &warnings)
                 }
             case .failure(let error):

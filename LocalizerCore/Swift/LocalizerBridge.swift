@@ -40,13 +40,18 @@ enum LocalizerBridge {
             try check(wf_localizer_predict(raw, &c))
         }
 
-        func updateSigns(_ sightings: [SignSighting], kindIds: [String: Int32], t: Double) throws {
+        func updateSigns(_ sightings: [SignSighting], kindIds: [String: Int32], unsearchedKindIds: [Int32],
+                         t: Double) throws {
             // Kinds the map does not have get id -1, which the core ignores.
             let obs = sightings.map {
                 wf_sign_observation(kind: kindIds[$0.identityKey] ?? -1, range_m: $0.rangeMeters, bearing_rad: $0.bearingRad,
                                     score: $0.score)
             }
-            let status = obs.withUnsafeBufferPointer { wf_localizer_update_signs(raw, $0.baseAddress, $0.count, t) }
+            let status = obs.withUnsafeBufferPointer { o in
+                unsearchedKindIds.withUnsafeBufferPointer { u in
+                    wf_localizer_update_signs_searched(raw, o.baseAddress, o.count, t, u.baseAddress, u.count)
+                }
+            }
             try check(status)
         }
 

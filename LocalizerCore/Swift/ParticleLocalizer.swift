@@ -66,7 +66,16 @@ public final class ParticleLocalizer {
     /// Measurement update with the sightings of one frame at time `t` (seconds). An empty array is a frame
     /// without detections (negative information). Before a reset this does nothing (`lastInputError`).
     public func update(sightings: [SignSighting], t: Double) {
-        record { try handle.updateSigns(sightings, kindIds: kindIds, t: t) }
+        update(sightings: sightings, unsearchedKinds: [], t: t)
+    }
+
+    /// The same for a frame on which the detector did not look for the kinds `unsearchedKinds` (kind names, e.g.
+    /// `SensedFrame.unsearchedKinds`): the signs of those kinds, legends included, take no negative information on
+    /// this frame (their absence says nothing). Names the map does not have are left out.
+    public func update(sightings: [SignSighting], unsearchedKinds: Set<String>, t: Double) {
+        let ids = unsearchedKinds.isEmpty ? [] : kindIds.filter { unsearchedKinds.contains(SignIdentity.kind(ofKey: $0.key)) }
+            .map(\.value).sorted()
+        record { try handle.updateSigns(sightings, kindIds: kindIds, unsearchedKindIds: ids, t: t) }
     }
 
     /// Compass evidence: the camera heading in the map `headingInMapRad` (radians CCW from map +x) with Core

@@ -1,5 +1,17 @@
 import Foundation
 
+/// One frame's ranged signs (`SignDetector.senseFrame`) and the kinds the frame did not look for.
+public struct SensedFrame: Sendable {
+    /// Ranged signs, highest score first.
+    public var signs: [SensedSign]
+    /// Kinds of `SignDetector.kinds` this frame did not look for: all of them for a skipped (dark) frame, and the
+    /// wall kinds whose turn had not come (the detector searches them in turn: docs/sign-detection.md "More sign
+    /// kinds"). A localizer must not count their absence as a miss.
+    public var unsearchedKinds: Set<String>
+    /// Why the frame was skipped or truncated (a warning, not an error), or nil.
+    public var warning: String?
+}
+
 /// The result of one frame: detections, or the reason the frame was skipped (dark frame).
 public struct DetectionOutcome: Sendable {
     /// Detections, highest score first.
@@ -67,6 +79,18 @@ public final class SignDetector: @unchecked Sendable {
         lock.lock()
         defer { lock.unlock() }
         return try handle.sense(image: image, intrinsics: (fx, fy, cx, cy), pitchRad: pitchRad, rollRad: rollRad).signs
+    }
+
+    /// As `sense`, also returning the kinds this frame did not look for (`SensedFrame.unsearchedKinds`: a rejected
+    /// frame's, or the wall kinds whose turn in the detector's schedule had not come), whose absence says nothing.
+    public func senseFrame(image: ImageBuffer, fx: Double, fy: Double, cx: Double, cy: Double,
+                           pitchRad: Double, rollRad: Double) throws -> SensedFrame {
+        try image.validate()
+        lock.lock()
+        defer { lock.unlock() }
+        let (signs, warning) = try handle.sense(image: image, intrinsics: (fx, fy, cx, cy), pitchRad: pitchRad,
+                                               rollRad: rollRad)
+        return SensedFrame(signs: signs, unsearchedKinds: handle.unsearchedKinds, warning: warning)
     }
 
     /// Version of the linked C library.

@@ -193,6 +193,26 @@ final class ParticleLocalizerTests: XCTestCase {
         }
     }
 
+    /// A frame on which the detector did not look for a kind (its wall kinds are searched in turn): a plainly
+    /// visible sign of that kind costs nothing by its absence. Particles 2-6 m in front of the west Exit sign, facing
+    /// it: an empty frame lowers those 2.5-5 m away (negative information, x0.8), unless "exit" was not searched.
+    func testAKindNotLookedForCostsNothingByItsAbsence() throws {
+        func weightSpread(unsearched: Set<String>) throws -> Double {
+            let localizer = try ParticleLocalizer(building: Self.lBuilding(), options: smallOptions(), seed: 3)
+            // A VIO sample first, so the init draws the headings from the compass prior (equal weights).
+            localizer.predict(VIOSample(t: 0, east: 0, north: 0, yawRad: 0, tracking: .normal))
+            localizer.setCompassPrior(headingInMapRad: Double.pi, sigmaRad: 0.02)
+            try localizer.reset(prior: .startPoint(floorId: "1", position: Point2(4, 1.25), radiusMeters: 2))
+            localizer.update(sightings: [], unsearchedKinds: unsearched, t: 0.1)
+            XCTAssertNil(localizer.lastInputError)
+            let weights = localizer.particleSnapshot(maxCount: 100_000).map(\.weight)
+            return try XCTUnwrap(weights.max()) / XCTUnwrap(weights.min())
+        }
+        XCTAssertEqual(try weightSpread(unsearched: []), 1 / 0.8, accuracy: 1e-3)
+        XCTAssertEqual(try weightSpread(unsearched: ["exit"]), 1, accuracy: 1e-6)
+        XCTAssertEqual(try weightSpread(unsearched: ["restroom"]), 1 / 0.8, accuracy: 1e-3)  // not in the map
+    }
+
     func testErrorsForBadInput() throws {
         let building = Self.lBuilding()
         let localizer = try ParticleLocalizer(building: building, options: smallOptions())

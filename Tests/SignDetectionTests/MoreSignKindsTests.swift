@@ -72,6 +72,36 @@ final class MoreSignKindsTests: XCTestCase {
         XCTAssertTrue(try sightings(mountingHeightMeters: 3.5).isEmpty)
     }
 
+    /// `senseFrame` says which kinds a frame did not look for: two wall kinds, searched together on every second
+    /// frame (the detector's default schedule), and every kind on a frame too dark to search.
+    func testSenseFrameSaysWhichKindsTheFrameDidNotLookFor() throws {
+        try XCTSkipUnless(FileManager.default.fileExists(atPath: Self.referenceCascade), "needs ../shared")
+        let frame = try drawnSignFrame()
+        func kind(_ name: String) -> SignKindSpec {
+            SignKindSpec(kind: name, heightMeters: 0.21, widthMeters: 0.33, faceColor: "blue", legendColor: "white",
+                         mountingHeightMeters: 1.5 - 0.105)
+        }
+        var config = DetectorConfiguration(kind: .cascade, cascadePath: Self.referenceCascade, cascadeKind: "restroom",
+                                           catalogue: SignCatalogue(kinds: [kind("restroom"), kind("stairs")]))
+        config.cascades.append(CascadeModel(kind: "stairs", path: Self.referenceCascade))
+        config.cascadeMinNeighbors = 1
+        let detector = try SignDetector(configuration: config)
+        func sensed(_ image: ImageBuffer) throws -> SensedFrame {
+            try detector.senseFrame(image: image, fx: frame.f, fy: frame.f, cx: 239.5, cy: 319.5, pitchRad: 0, rollRad: 0)
+        }
+        let first = try sensed(frame.image), second = try sensed(frame.image), third = try sensed(frame.image)
+        XCTAssertEqual(first.unsearchedKinds, [])
+        XCTAssertEqual(Set(first.signs.map(\.kind)), ["restroom", "stairs"])
+        XCTAssertEqual(second.unsearchedKinds, ["restroom", "stairs"])
+        XCTAssertTrue(second.signs.isEmpty)
+        XCTAssertEqual(third.unsearchedKinds, [])
+        let dark = ImageBuffer(width: 480, height: 640, bytesPerRow: 480 * 3, pixelFormat: .rgb8,
+                               data: [UInt8](repeating: 0, count: 480 * 640 * 3))
+        let skipped = try sensed(dark)
+        XCTAssertNotNil(skipped.warning)
+        XCTAssertEqual(skipped.unsearchedKinds, ["restroom", "stairs"])
+    }
+
     /// An upright 480 x 640 RGB frame (roll 0, focal 534 px) of a mid-gray wall with a red-on-white "EXIT" face,
     /// 0.33 x 0.21 m, 2.5 m ahead, its centre 0.15 m above the camera.
     private func drawnSignFrame() throws -> (image: ImageBuffer, f: Double) {

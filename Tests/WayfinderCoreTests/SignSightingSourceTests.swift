@@ -48,7 +48,7 @@ final class SignSightingSourceTests: XCTestCase {
     private func sightings(options: PipelineOptions, building: Building) throws -> [SignSighting] {
         let source = try SignSightingSource(options: options, catalogue: building.signCatalogue, imagesAvailable: true)
         let (f, pose) = frame()
-        return try XCTUnwrap(try source.sightings(for: f, pose: pose).get())
+        return try XCTUnwrap(try source.sightings(for: f, pose: pose).get()).sightings
     }
 
     /// A kind that reads text gets the platform's reading (Vision on the iPhone) when the detector read none: the

@@ -128,6 +128,12 @@ final class CDetector {
         return (found.map(CDetector.sensed), warning)
     }
 
+    /// The kinds the last frame did not look for (wf_detector_kind_searched): rejected frames, wall kinds whose
+    /// turn had not come.
+    var unsearchedKinds: Set<String> {
+        Set(kinds.indices.filter { wf_detector_kind_searched(handle, $0) != 1 }.map { kinds[$0] })
+    }
+
     /// One per-frame C call (`wf_detector_detect` or `wf_detector_sense`) into a buffer of `capacity` results:
     /// the results written, and the warning when the status is positive (a skipped frame). A negative status
     /// throws the detector's error.
