@@ -33,9 +33,9 @@ struct Frame {
     wf_frame frame{};
 };
 
-Frame frameWithSign(cv::Size size = {640, 480}) {
+Frame frameWithSign(cv::Size size = {640, 480}, double rollRad = -kPi / 2) {
     Frame f;
-    f.camera.rollRad = -kPi / 2;
+    f.camera.rollRad = rollRad;
     f.camera.pitchRad = 0.05;
     f.camera = f.camera.resized(size);
     f.bgr = synthetic::renderBackground(f.camera, 11);
@@ -438,6 +438,62 @@ TEST(MoreKinds, WallKindsAreSearchedInRotationOnTheirFramesUnlessAllAreAsked) {
     opts.cascade_wall_kind_frame_period = -1;
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_wall_kind_frame_period"), std::string::npos);
+}
+
+// A phone held 8.6 degrees off upright: the unrolled frame is larger than the search size, so the wall kinds are
+// searched on a canvas unrolled and shrunk in one resampling (unrolled_search_image.hpp), from the VGA frame on the
+// cascade path and from the U-Net's half-size level on a 1920 x 1440 frame; the sign is found, ranged and its
+// corners land on the drawn face either way.
+TEST(MoreKinds, AnObliqueFrameIsSearchedOnACanvasOfTheSearchSize) {
+    const double roll = -kPi / 2 + 0.15;
+    auto expectOnTheFace = [](const wf_sign_sighting& s, const Frame& f) {
+        const double faceWidthPx = cv::norm(f.truth.cornersRaw[3] - f.truth.cornersRaw[2]);
+        for (int i = 0; i < 4; ++i) {
+            EXPECT_LT(std::hypot(s.corners_raw_px[2 * i] - f.truth.cornersRaw[i].x,
+                                 s.corners_raw_px[2 * i + 1] - f.truth.cornersRaw[i].y),
+                      12 + 0.1 * faceWidthPx)
+                << i;
+        }
+    };
+    auto restroomOf = [](const std::vector<wf_sign_sighting>& all) {
+        const auto it = std::find_if(all.begin(), all.end(), [](const wf_sign_sighting& s) { return std::string(s.kind) == "restroom"; });
+        return it == all.end() ? nullptr : &*it;
+    };
+    const Frame vga = frameWithSign({640, 480}, roll);
+    wf_detector* d = cascadeDetector("restroom", {restroomKind(0.1, 0.7, 0)});
+    const std::vector<wf_sign_sighting> onVga = sense(d, vga.frame);
+    const wf_sign_sighting* a = restroomOf(onVga);
+    ASSERT_NE(a, nullptr);
+    EXPECT_NEAR(a->range_m, 2.5, 0.2);
+    expectOnTheFace(*a, vga);
+    wf_detector_free(d);
+
+    const std::string unet = wf::sign::testing::tinyUnetPath();
+    const std::string cascade = wf::sign::testing::referenceCascadePath();
+    const char* paths[] = {cascade.c_str()};
+    const char* kinds[] = {"restroom"};
+    const wf_sign_kind catalogue[] = {{"exit", 0.21, 0.33, "red", "white", 0, 0, 0, 0, 0}, restroomKind(0.1, 0.7, 0)};
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    opts.kind = WF_DETECTOR_UNET;
+    opts.unet_path = unet.c_str();
+    opts.cascade_paths = paths;
+    opts.cascade_kinds = kinds;
+    opts.cascade_count = 1;
+    opts.cascade_min_neighbors = 1;
+    opts.catalogue = catalogue;
+    opts.catalogue_count = 2;
+    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    const Frame hr = frameWithSign({1920, 1440}, roll);
+    cv::Mat bgra;
+    cv::cvtColor(hr.bgr, bgra, cv::COLOR_RGB2BGRA);  // as the phone sends it
+    wf_frame phone = hr.frame;
+    phone.image = wf_image{bgra.data, bgra.cols, bgra.rows, bgra.step, WF_PIXEL_BGRA8, nullptr, 0};
+    const std::vector<wf_sign_sighting> onHr = sense(d, phone);
+    const wf_sign_sighting* b = restroomOf(onHr);
+    ASSERT_NE(b, nullptr);
+    EXPECT_NEAR(b->range_m, 2.5, 0.2);
+    expectOnTheFace(*b, hr);
+    wf_detector_free(d);
 }
 
 TEST(MoreKinds, APlateOnAnUntexturedWallIsFoundThroughThePlateGate) {
