@@ -1,13 +1,14 @@
-// The wall kinds' search image beside the U-Net, made in one resampling: the frame unrolled at the scale at which
-// the whole unrolled canvas fits the search size (long side at most ResolvedOptions::plainKindSearchMaxLongSidePx),
-// sampled straight from a shrunk copy of the frame that is already there (the U-Net's half-size pyramid level).
+// The wall kinds' search image, made in one resampling: the frame unrolled at the scale at which the whole unrolled
+// canvas fits the search size (long side at most ResolvedOptions::plainKindSearchMaxLongSidePx), sampled straight
+// from the frame (a VGA frame on the cascade path) or from a shrunk copy of it that is already there (the U-Net's
+// half-size pyramid level).
 //
 // Why: the search reads a gray, unrolled image whose long side is at most the search size (VGA). Made step by step
 // (shrink the half-size copy to VGA with INTER_AREA, unroll it with warpAffine, shrink the unrolled canvas again when
 // the roll makes it larger than VGA, as it does at every roll but a quarter turn: a portrait frame 5 degrees off
 // upright unrolls to 534 x 680) it took three resamplings of the whole image, 1.3 + 1.1 + 1.4 ms on one core here
-// (twenty-first stop, docs/benchmarks.md), a third of what the wall kinds cost beside the U-Net. One warpAffine of
-// the half-size copy into the final canvas is about 1 ms.
+// (twenty-first stop, docs/benchmarks.md), half of what the wall kinds cost beside the U-Net. One warpAffine of the
+// half-size copy into the final canvas is about 1 ms.
 //
 // Sampling: bilinear, from a source at most about twice the result's scale (the half-size level of a 1920 x 1440
 // frame is 1.5-1.9 x the result): the kernel spans two source pixels, so little aliases at that ratio; from the
