@@ -4,14 +4,6 @@ import Maps
 import SessionFormat
 import SignDetection
 
-/// Produces the sign sightings of a frame: either the recorded (already measured) observations, or the sign
-/// perception run on the frame's image: one C call per frame (`SignDetector.sense`: detection, slices and the
-/// apparent-height range with each kind's face height from the map's sign-kind catalogue).
-///
-/// With `.automatic` and a detector loaded, a frame that carries no image but does carry recorded
-/// observations gets those (replay passes them only for frames whose named image is missing: "a missing
-/// image falls back to the frame's recorded observations"). The explicit `.cascade` / `.unet` never mix
-/// in recorded observations.
 /// One frame's sightings and the sign kinds the frame did not look for (the detector searches its wall kinds in
 /// turn, and a skipped frame looks for none): the localizer takes no negative information for those kinds.
 struct FrameSightings {
@@ -21,6 +13,14 @@ struct FrameSightings {
     var unsearchedKinds: Set<String> = []
 }
 
+/// Produces the sign sightings of a frame: either the recorded (already measured) observations, or the sign
+/// perception run on the frame's image: one C call per frame (`SignDetector.sense`: detection, slices and the
+/// apparent-height range with each kind's face height from the map's sign-kind catalogue).
+///
+/// With `.automatic` and a detector loaded, a frame that carries no image but does carry recorded
+/// observations gets those (replay passes them only for frames whose named image is missing: "a missing
+/// image falls back to the frame's recorded observations"). The explicit `.cascade` / `.unet` never mix
+/// in recorded observations.
 final class SignSightingSource {
     private let options: PipelineOptions
     private let detector: SignDetector?
