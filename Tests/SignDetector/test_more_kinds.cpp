@@ -67,6 +67,28 @@ wf_sign_kind restroomKind(double bandMin, double bandMax, double maxRange, int r
     return k;
 }
 
+/// Options of the tiny three-class U-Net with the reference cascade beside it as "restroom" (min neighbours 1), the
+/// catalogue an Exit sign and restroomKind(0.1, 0.7, 0). Holds the strings the options point to: not copyable.
+struct UnetWithRestroom {
+    std::string unet = wf::sign::testing::tinyUnetPath(), cascade = wf::sign::testing::referenceCascadePath();
+    const char* paths[1] = {cascade.c_str()};
+    const char* kinds[1] = {"restroom"};
+    wf_sign_kind catalogue[2] = {{"exit", 0.21, 0.33, "red", "white", 0, 0, 0, 0, 0}, restroomKind(0.1, 0.7, 0)};
+    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
+    UnetWithRestroom() {
+        opts.kind = WF_DETECTOR_UNET;
+        opts.unet_path = unet.c_str();
+        opts.cascade_paths = paths;
+        opts.cascade_kinds = kinds;
+        opts.cascade_count = 1;
+        opts.cascade_min_neighbors = 1;
+        opts.catalogue = catalogue;
+        opts.catalogue_count = 2;
+    }
+    UnetWithRestroom(const UnetWithRestroom&) = delete;
+    UnetWithRestroom& operator=(const UnetWithRestroom&) = delete;
+};
+
 /// A cascade detector (the reference Exit cascade, registered as `kind`) with `catalogue`; nullptr on failure.
 wf_detector* cascadeDetector(const char* kind, const std::vector<wf_sign_kind>& catalogue) {
     static const std::string path = wf::sign::testing::referenceCascadePath();
@@ -217,20 +239,8 @@ TEST(MoreKinds, HighResolutionFramesAreSearchedAtVgaAndBoxesMapBack) {
 }
 
 TEST(MoreKinds, CascadesRunBesideTheUnetForKindsItHasNoClassFor) {
-    const std::string unet = wf::sign::testing::tinyUnetPath();
-    const std::string cascade = wf::sign::testing::referenceCascadePath();
-    const char* paths[] = {cascade.c_str()};
-    const wf_sign_kind catalogue[] = {{"exit", 0.21, 0.33, "red", "white", 0, 0, 0, 0, 0}, restroomKind(0.1, 0.7, 0)};
-    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
-    opts.kind = WF_DETECTOR_UNET;
-    opts.unet_path = unet.c_str();
-    opts.cascade_paths = paths;
-    opts.cascade_count = 1;
-    opts.cascade_min_neighbors = 1;
-    opts.catalogue = catalogue;
-    opts.catalogue_count = 2;
-    const char* restroom[] = {"restroom"};
-    opts.cascade_kinds = restroom;
+    UnetWithRestroom setup;
+    wf_detector_options& opts = setup.opts;
     opts.cascade_wall_kind_frame_period = 1;  // the same frame detected several times below
     wf_detector* d = nullptr;
     ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
@@ -468,21 +478,8 @@ TEST(MoreKinds, AnObliqueFrameIsSearchedOnACanvasOfTheSearchSize) {
     expectOnTheFace(*a, vga);
     wf_detector_free(d);
 
-    const std::string unet = wf::sign::testing::tinyUnetPath();
-    const std::string cascade = wf::sign::testing::referenceCascadePath();
-    const char* paths[] = {cascade.c_str()};
-    const char* kinds[] = {"restroom"};
-    const wf_sign_kind catalogue[] = {{"exit", 0.21, 0.33, "red", "white", 0, 0, 0, 0, 0}, restroomKind(0.1, 0.7, 0)};
-    wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
-    opts.kind = WF_DETECTOR_UNET;
-    opts.unet_path = unet.c_str();
-    opts.cascade_paths = paths;
-    opts.cascade_kinds = kinds;
-    opts.cascade_count = 1;
-    opts.cascade_min_neighbors = 1;
-    opts.catalogue = catalogue;
-    opts.catalogue_count = 2;
-    ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
+    const UnetWithRestroom beside;
+    ASSERT_EQ(wf_detector_create(&d, &beside.opts), WF_STATUS_OK) << wf_thread_last_error();
     const Frame hr = frameWithSign({1920, 1440}, roll);
     cv::Mat bgra;
     cv::cvtColor(hr.bgr, bgra, cv::COLOR_RGB2BGRA);  // as the phone sends it
