@@ -31,11 +31,6 @@ public:
     /// the aspect, rounded to whole pixels (as the phone's DetectorInputGeometry); every format is shrunk in
     /// its own layout (NV12: each plane), so colour reaches the colour gate as it would from a small frame.
     SearchFrame(const wf_image& image, const Intrinsics& k, int maxLongSidePx);
-    /// The same search frame for a frame of `frameSize` pixels and intrinsics `k` (so the same size, intrinsics
-    /// and scales), its pixels shrunk from `source` (any type): a copy of that frame already shrunk with its
-    /// pixel edges aligned to the frame's (a pyramid level, e.g. the U-Net's half-size one), at least as large as
-    /// the search size. Used when the frame itself would cost more to shrink (3 x at 1920 x 1440 against 1.5 x).
-    SearchFrame(const cv::Mat& source, cv::Size frameSize, const Intrinsics& k, int maxLongSidePx);
 
     /// True when the search image is a shrunk copy.
     bool shrunk() const { return shrunk_; }
@@ -49,11 +44,6 @@ public:
     double scaleY() const { return sy_; }
 
 private:
-    /// Shrinks `source` (the frame, or a copy of it already shrunk with its pixel edges aligned) to the search size
-    /// of a frame of `frameSize`: the plane, image_'s pixels and size, the scales and k_ (the frame's on entry).
-    /// False, nothing changed, when the frame is not over `maxLongSidePx`.
-    bool shrinkFrom(const cv::Mat& source, cv::Size frameSize, int maxLongSidePx);
-
     bool shrunk_ = false;
     wf_image image_{};
     Intrinsics k_;

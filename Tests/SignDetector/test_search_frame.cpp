@@ -1,5 +1,5 @@
 // Tests of src/search_frame.hpp (the cascade searches a frame shrunk to VGA and measures on the frame itself):
-// the shrunk copy per pixel format and its intrinsics (also from a half-size copy), the map of boxes back to the frame's unrolled pixels, and
+// the shrunk copy per pixel format and its intrinsics, the map of boxes back to the frame's unrolled pixels, and
 // the detector end to end on a 1920 x 1440 frame (the option, its validation, where observations are reported).
 #include "search_frame.hpp"
 #include "wf_sign_detector.h"
@@ -83,31 +83,6 @@ TEST(SearchFrame, ShrinksEveryFormatToVgaWithScaledIntrinsics) {
     // NV12 without chroma stays without.
     nv12.data_uv = nullptr;
     EXPECT_EQ(SearchFrame(nv12, k, 640).image().data_uv, nullptr);
-}
-
-TEST(SearchFrame, FromAHalfSizeCopyItIsTheSameSearchFrame) {
-    // The wall kinds beside the U-Net search the frame's half-size pyramid level shrunk to VGA: the same size,
-    // intrinsics and scales as the frame shrunk directly, the pixels within a level of rounding.
-    const Intrinsics k{1602, 1604, 959.5, 719.5};
-    const cv::Mat m = gradient(CV_8UC1);
-    cv::Mat half;
-    cv::resize(m, half, cv::Size(960, 720), 0, 0, cv::INTER_AREA);
-    const SearchFrame direct(view(m, WF_PIXEL_GRAY8), k, 640), fromHalf(half, m.size(), k, 640);
-    ASSERT_TRUE(fromHalf.shrunk());
-    EXPECT_EQ(fromHalf.image().width, direct.image().width);
-    EXPECT_EQ(fromHalf.image().height, direct.image().height);
-    EXPECT_EQ(fromHalf.image().format, WF_PIXEL_GRAY8);
-    EXPECT_DOUBLE_EQ(fromHalf.scaleX(), direct.scaleX());
-    EXPECT_DOUBLE_EQ(fromHalf.scaleY(), direct.scaleY());
-    EXPECT_DOUBLE_EQ(fromHalf.intrinsics().fx, direct.intrinsics().fx);
-    EXPECT_DOUBLE_EQ(fromHalf.intrinsics().cx, direct.intrinsics().cx);
-    EXPECT_DOUBLE_EQ(fromHalf.intrinsics().cy, direct.intrinsics().cy);
-    const cv::Mat a(480, 640, CV_8UC1, const_cast<uint8_t*>(direct.image().data), direct.image().stride);
-    const cv::Mat b(480, 640, CV_8UC1, const_cast<uint8_t*>(fromHalf.image().data), fromHalf.image().stride);
-    EXPECT_LE(cv::norm(a, b, cv::NORM_INF), 1.0);
-    // A frame at or below the search size is the source itself, which must then be the frame.
-    const cv::Mat vga = m(cv::Rect(0, 0, 640, 480)).clone();
-    EXPECT_FALSE(SearchFrame(vga, vga.size(), k, 640).shrunk());
 }
 
 TEST(SearchFrame, MapsBoxesToTheFramesUnrolledPixels) {
