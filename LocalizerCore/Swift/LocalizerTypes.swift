@@ -38,11 +38,6 @@ enum SignIdentity {
         guard let text else { return kind }
         return kind + "#" + text
     }
-
-    /// The kind of a key made by `key(kind:text:)`.
-    static func kind(ofKey key: String) -> String {
-        key.firstIndex(of: "#").map { String(key[..<$0]) } ?? key
-    }
 }
 
 extension Sign {

@@ -8,6 +8,8 @@ public final class ParticleLocalizer {
     private let floorIds: [String]
     private let floorIndexById: [String: Int32]
     private let kindIds: [String: Int32]
+    /// The core's kind ids of each sign kind: one per identity (`kind` alone, or `kind#legend`).
+    private let kindIdsByKind: [String: [Int32]]
 
     /// The last input (predict / update / compass) that was rejected, e.g. NaN; nil after a good one.
     public private(set) var lastInputError: LocalizerError?
@@ -26,6 +28,9 @@ public final class ParticleLocalizer {
         var kindIds: [String: Int32] = [:]
         for (i, k) in kinds.enumerated() { kindIds[k] = Int32(i) }
         self.kindIds = kindIds
+        var byKind: [String: Set<Int32>] = [:]
+        for sign in building.floors.flatMap(\.signs) { byKind[sign.kind, default: []].insert(kindIds[sign.identityKey]!) }
+        kindIdsByKind = byKind.mapValues { $0.sorted() }
         handle = try LocalizerBridge.create(building: building, kindIds: kindIds, options: options, seed: seed)
         for (name, value) in parameters.sorted(by: { $0.key < $1.key }) { try handle.setParameter(name, value) }
     }
@@ -73,8 +78,7 @@ public final class ParticleLocalizer {
     /// `SensedFrame.unsearchedKinds`): the signs of those kinds, legends included, take no negative information on
     /// this frame (their absence says nothing). Names the map does not have are left out.
     public func update(sightings: [SignSighting], unsearchedKinds: Set<String>, t: Double) {
-        let ids = unsearchedKinds.isEmpty ? [] : kindIds.filter { unsearchedKinds.contains(SignIdentity.kind(ofKey: $0.key)) }
-            .map(\.value).sorted()
+        let ids = unsearchedKinds.sorted().flatMap { kindIdsByKind[$0] ?? [] }
         record { try handle.updateSigns(sightings, kindIds: kindIds, unsearchedKindIds: ids, t: t) }
     }
 
