@@ -650,20 +650,21 @@ FrameResult Detector::detect(const wf_frame& frame) {
                     detectPlainKindsUnrolled(gray, searchSize, search.intrinsics(), frame.roll_rad, frame.pitch_rad, unrolling);
                 detections.insert(detections.end(), extra.begin(), extra.end());
             }
-            // Legends are read on the whole unrolled frame.
-            if (!warped && textReader_.loaded() && anyReadsText(detections)) grayUnrolled = unrolling.apply(gray);
+            // Legends (of the plain kinds' plates, below) are read on the whole unrolled frame.
+            const bool legends = !plainKinds_.empty() && textReader_.loaded() && anyReadsText(detections);
+            if (legends && !warped) grayUnrolled = unrolling.apply(gray);
             if (search.shrunk()) {
                 // Search at VGA, measure at full size (search_frame.hpp): each box refined on the searched image,
                 // its legend read there (the crops the phone's VGA frames gave), then moved to the frame's own
                 // pixels and refined again with a mask's narrow search (its edges are within a VGA pixel).
                 detections = refinedBoxes(std::move(detections), search.image(), unrolling);
-                if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
+                if (legends) readLegends(grayUnrolled, &detections);
                 detections = mapToFrame(std::move(detections), search, unrolling, frameUnrolling);
                 const FaceEdgeParams fine = maskFaceEdgeParams(options_.faceEdges);
                 detections = refinedBoxes(std::move(detections), frame.image, frameUnrolling, &fine);
             } else {
                 detections = refinedBoxes(std::move(detections), frame.image, unrolling);
-                if (!plainKinds_.empty()) readLegends(grayUnrolled, &detections);
+                if (legends) readLegends(grayUnrolled, &detections);
             }
         } else {
             // The phone's BGRA frame goes to the network's sampler as it is (RawPyramid): no whole-frame RGB copy.
