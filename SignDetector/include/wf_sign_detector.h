@@ -458,6 +458,21 @@ const char *wf_detector_kind_name(const wf_detector *detector, size_t index);
  *  to the localizer as unsearched (wf_localizer_update_signs_searched). */
 int wf_detector_kind_searched(const wf_detector *detector, size_t index);
 
+/** 1 when kind `index` (0-based among the reported kinds) is searched in turn, a wall kind (a cascade that is not
+ *  colour-gated; beside a U-Net, every cascade): the kinds wf_detector_request_wall_kinds may choose. 0 for a kind
+ *  searched on every frame (the U-Net's classes, colour-gated cascades); -1 for a NULL handle or an index out of
+ *  range. */
+int wf_detector_is_wall_kind(const wf_detector *detector, size_t index);
+
+/** The next wf_detector_detect / wf_detector_sense call searches exactly the wall kinds `kind_indices[0..count)`
+ *  (0-based among the reported kinds; each one for which wf_detector_is_wall_kind is 1, none repeated) instead of
+ *  those the schedule would take (cascade_wall_kinds_per_frame, cascade_wall_kind_frame_period); count 0: none of
+ *  them. It holds for that one call (a rejected frame uses it up); the schedule's rotation does not advance on it.
+ *  For a caller that chooses which wall kinds to look for, e.g. those the localizer expects in view. Returns
+ *  WF_STATUS_OK, or WF_STATUS_INVALID_ARGUMENT (NULL handle, NULL indices with count > 0, a bad index; nothing is
+ *  requested then; wf_detector_last_error says which). */
+int wf_detector_request_wall_kinds(wf_detector *detector, const size_t *kind_indices, size_t count);
+
 /** 1 when the detector reads the text of the kinds that have it (a kind with reads_text is reported and the
  *  text reader loaded), 0 otherwise (none such, or the library was built without tesseract, or its English model
  *  is missing: wf_detector_text_reader_problem says which). */

@@ -228,6 +228,7 @@ int Detector::load(const ResolvedOptions& options, std::string* error) {
     plainKinds_.clear();
     wallKindCursor_ = 0;
     wallKindFrames_ = 0;
+    requestedPlainKinds_.reset();
     textReaderProblem_.clear();
     if (options_.kind == WF_DETECTOR_CASCADE) {
         if (!cascade_.load(options_.cascadePaths, options_.cascadeKinds, error)) return WF_STATUS_MODEL_LOAD;
@@ -329,17 +330,11 @@ void Detector::detectPlainKinds(const cv::Mat& grayUnrolled, const Unrolling& un
     const double sx = double(image.cols) / grayUnrolled.cols, sy = double(image.rows) / grayUnrolled.rows;
     const Intrinsics& k = unrolling.unrolledIntrinsics();
     const FrameGeometry geometry{pitchRad, Intrinsics{k.fx * sx, k.fy * sy, (k.cx + 0.5) * sx - 0.5, (k.cy + 0.5) * sy - 0.5}};
-    // Which of these kinds this frame searches: `wallKindsPerFrame` of them in rotation (about 3 ms each on a
-    // cluttered VGA frame through the plate gate; 20-40 ms without it), or all.
-    std::vector<size_t> searched = plainKinds_;
-    const int perFrame = options_.wallKindsPerFrame;
-    if (perFrame > 0 && size_t(perFrame) < plainKinds_.size()) {
-        searched.clear();
-        for (int j = 0; j < perFrame; ++j) searched.push_back(plainKinds_[(wallKindCursor_ + j) % plainKinds_.size()]);
-        wallKindCursor_ = (wallKindCursor_ + perFrame) % plainKinds_.size();
-        for (size_t i : plainKinds_) {
-            if (std::find(searched.begin(), searched.end(), i) == searched.end()) markPlainKindUnsearched(i);
-        }
+    // Which of these kinds this frame searches (about 3 ms each on a cluttered VGA frame through the plate gate;
+    // 20-40 ms without it).
+    const std::vector<size_t> searched = plainKindsThisFrame();
+    for (size_t i : plainKinds_) {
+        if (std::find(searched.begin(), searched.end(), i) == searched.end()) markPlainKindUnsearched(i);
     }
     const int indexOffset = options_.kind == WF_DETECTOR_UNET ? int(unet_.classNames().size()) : 0;
     std::vector<CascadeParams> kindParams;
@@ -490,7 +485,50 @@ std::vector<Detection> Detector::detectPlainKindsBesideUnet(RawPyramid& pyramid,
 
 bool Detector::takeWallKindTurn() {
     if (plainKinds_.empty()) return false;
+    if (requestedPlainKinds_) return !requestedPlainKinds_->empty();
     return wallKindFrames_++ % options_.wallKindFramePeriod == 0;
+}
+
+std::vector<size_t> Detector::plainKindsThisFrame() {
+    if (requestedPlainKinds_) return *requestedPlainKinds_;
+    const int perFrame = options_.wallKindsPerFrame;
+    if (perFrame <= 0 || size_t(perFrame) >= plainKinds_.size()) return plainKinds_;
+    std::vector<size_t> searched;
+    for (int j = 0; j < perFrame; ++j) searched.push_back(plainKinds_[(wallKindCursor_ + j) % plainKinds_.size()]);
+    wallKindCursor_ = (wallKindCursor_ + perFrame) % plainKinds_.size();
+    return searched;
+}
+
+size_t Detector::cascadeKindOffset() const {
+    return options_.kind == WF_DETECTOR_UNET ? unet_.classNames().size() - 1 : 0;
+}
+
+bool Detector::isWallKind(size_t index) const {
+    const size_t offset = cascadeKindOffset();
+    return index >= offset && std::find(plainKinds_.begin(), plainKinds_.end(), index - offset) != plainKinds_.end();
+}
+
+bool Detector::requestWallKinds(const std::vector<size_t>& kindIndices, std::string* error) {
+    std::vector<size_t> cascades;
+    for (size_t index : kindIndices) {
+        if (index >= kinds_.size()) {
+            *error = "kind index " + std::to_string(index) + " is out of range (" + std::to_string(kinds_.size()) +
+                     " kinds)";
+            return false;
+        }
+        if (!isWallKind(index)) {
+            *error = "kind '" + kinds_[index] + "' is searched on every frame, not in turn";
+            return false;
+        }
+        const size_t cascade = index - cascadeKindOffset();
+        if (std::find(cascades.begin(), cascades.end(), cascade) != cascades.end()) {
+            *error = "kind '" + kinds_[index] + "' is requested twice";
+            return false;
+        }
+        cascades.push_back(cascade);
+    }
+    requestedPlainKinds_ = std::move(cascades);
+    return true;
 }
 
 bool Detector::anyReadsText(const std::vector<Detection>& detections) const {
@@ -569,11 +607,16 @@ wf_detector_observation makeObservation(const Detection& d, const Unrolling& unr
 
 void Detector::markPlainKindUnsearched(size_t i) {
     // Reported kinds: the U-Net's classes without background, then the cascades beside it; or the cascades.
-    const size_t offset = options_.kind == WF_DETECTOR_UNET ? unet_.classNames().size() - 1 : 0;
+    const size_t offset = cascadeKindOffset();
     if (offset + i < lastSearched_.size()) lastSearched_[offset + i] = 0;
 }
 
 FrameResult Detector::detect(const wf_frame& frame) {
+    // A request for this frame's wall kinds holds for this frame only, whatever becomes of it.
+    struct ConsumeRequest {
+        std::optional<std::vector<size_t>>& request;
+        ~ConsumeRequest() { request.reset(); }
+    } consume{requestedPlainKinds_};
     FrameResult result;
     lastSearched_.assign(kinds_.size(), 0);  // a rejected frame looked for nothing
     const FrameCheck check = checkFrame(frame);

@@ -12,6 +12,7 @@
 #include "unroll.hpp"
 #include "wf_sign_detector.h"
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -121,6 +122,17 @@ public:
     /// come, and before any frame. The localizer must not take such a kind's absence as a miss.
     bool searchedLastFrame(size_t index) const { return index < lastSearched_.size() && lastSearched_[index] != 0; }
 
+    /// The next detect() searches exactly these of the kinds searched in turn (the wall kinds: the cascades that are
+    /// not colour-gated, beside a U-Net every cascade), whatever the schedule says; an empty list: none of them. Indices
+    /// of kinds(). Consumed by the next detect() (also by a rejected frame); the schedule's rotation and frame count
+    /// do not advance on such a frame. Returns false, with `error` set and nothing requested, when an index is out of
+    /// range or names a kind searched on every frame (the U-Net's classes, colour-gated cascades) or is repeated.
+    /// The caller's own schedule (the app's pipeline chooses the kinds the localizer expects in view).
+    bool requestWallKinds(const std::vector<size_t>& kindIndices, std::string* error);
+
+    /// Whether kind `index` (of kinds()) is one of the kinds searched in turn (a wall kind).
+    bool isWallKind(size_t index) const;
+
     const ResolvedOptions& options() const { return options_; }
 
     /// True when a kind of the catalogue reads text and the text reader loaded.
@@ -198,6 +210,14 @@ private:
     size_t wallKindCursor_ = 0;
     /// Frames that could have searched those kinds so far (ResolvedOptions::wallKindFramePeriod).
     long long wallKindFrames_ = 0;
+    /// The plain kinds (cascade indices) the caller asked the next frame to search (requestWallKinds); empty
+    /// optional: the schedule decides.
+    std::optional<std::vector<size_t>> requestedPlainKinds_;
+    /// The plain kinds (cascade indices) this frame searches: the request, else `wallKindsPerFrame` of them in
+    /// rotation (advancing the rotation), else all.
+    std::vector<size_t> plainKindsThisFrame();
+    /// Offset of the cascades' kinds in kinds(): the U-Net's classes without background come first.
+    size_t cascadeKindOffset() const;
     /// Per kind of kinds_: 1 when the last frame looked for it (searchedLastFrame).
     std::vector<uint8_t> lastSearched_;
     /// Marks plain kind `i` (a cascade index) as not looked for on this frame.

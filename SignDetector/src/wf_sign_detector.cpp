@@ -150,6 +150,25 @@ int wf_detector_kind_searched(const wf_detector* detector, size_t index) {
     return detector->detector.searchedLastFrame(index) ? 1 : 0;
 }
 
+int wf_detector_is_wall_kind(const wf_detector* detector, size_t index) {
+    if (detector == nullptr || index >= detector->detector.kinds().size()) return -1;
+    return detector->detector.isWallKind(index) ? 1 : 0;
+}
+
+int wf_detector_request_wall_kinds(wf_detector* detector, const size_t* kind_indices, size_t count) {
+    if (detector == nullptr) return fail(WF_STATUS_INVALID_ARGUMENT, "wf_detector_request_wall_kinds: detector is NULL");
+    auto reject = [&](const std::string& message) {
+        detector->lastError = "wf_detector_request_wall_kinds: " + message;
+        return fail(WF_STATUS_INVALID_ARGUMENT, detector->lastError);
+    };
+    if (kind_indices == nullptr && count > 0) return reject("kind_indices is NULL but count > 0");
+    std::string error;
+    const std::vector<size_t> indices(kind_indices, kind_indices + count);
+    if (!detector->detector.requestWallKinds(indices, &error)) return reject(error);
+    detector->lastError.clear();
+    return WF_STATUS_OK;
+}
+
 int wf_detector_reads_text(const wf_detector* detector) {
     return detector != nullptr && detector->detector.readsText() ? 1 : 0;
 }

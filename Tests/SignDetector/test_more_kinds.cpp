@@ -380,34 +380,47 @@ TEST(MoreKinds, TheTextReaderLoadsOnlyForAReportedKindThatReadsText) {
     EXPECT_STREQ(wf_detector_text_reader_problem(nullptr), "");
 }
 
-TEST(MoreKinds, WallKindsAreSearchedInRotationOnTheirFramesUnlessAllAreAsked) {
-    const Frame f = frameWithSign();
-    static const std::string path = wf::sign::testing::referenceCascadePath();
-    const char* paths[] = {path.c_str(), path.c_str(), path.c_str()};
-    const char* kinds[] = {"restroom", "stairs", "elevator"};
-    wf_sign_kind stairs = restroomKind(0.1, 0.7, 0), elevator = restroomKind(0.1, 0.7, 0);
-    stairs.kind = "stairs";
-    elevator.kind = "elevator";
-    const wf_sign_kind catalogue[] = {restroomKind(0.1, 0.7, 0), stairs, elevator};
+// Three wall kinds (restroom, stairs, elevator: not colour-gated, so searched in turn), each a cascade that finds the
+// drawn sign of frameWithSign(), so the kinds sighted on a frame are the kinds it looked for. Not copyable: the options
+// point into it.
+struct ThreeWallKinds {
+    const std::string path = wf::sign::testing::referenceCascadePath();
+    const char* paths[3] = {path.c_str(), path.c_str(), path.c_str()};
+    const char* kinds[3] = {"restroom", "stairs", "elevator"};
+    wf_sign_kind catalogue[3] = {restroomKind(0.1, 0.7, 0), restroomKind(0.1, 0.7, 0), restroomKind(0.1, 0.7, 0)};
     wf_detector_options opts = WF_DETECTOR_OPTIONS_INIT;
-    opts.cascade_paths = paths;
-    opts.cascade_kinds = kinds;
-    opts.cascade_count = 3;
-    opts.cascade_min_neighbors = 1;
-    opts.catalogue = catalogue;
-    opts.catalogue_count = 3;
+    const Frame f = frameWithSign();
+    ThreeWallKinds() {
+        catalogue[1].kind = "stairs";
+        catalogue[2].kind = "elevator";
+        opts.cascade_paths = paths;
+        opts.cascade_kinds = kinds;
+        opts.cascade_count = 3;
+        opts.cascade_min_neighbors = 1;
+        opts.catalogue = catalogue;
+        opts.catalogue_count = 3;
+    }
+    ThreeWallKinds(const ThreeWallKinds&) = delete;
+    ThreeWallKinds& operator=(const ThreeWallKinds&) = delete;
     using Kinds = std::set<std::string>;
-    // The kinds sighted on the frame; each of these cascades finds the drawn sign, so they are also the kinds the
-    // frame looked for, which the detector reports (wf_detector_kind_searched).
-    auto kindsSeen = [&](wf_detector* d) {
-        Kinds seen, searched;
-        for (const auto& s : sense(d, f.frame)) seen.insert(s.kind);
+    /// The kinds sighted on the frame by `d`, checked to be the kinds the detector says it looked for
+    /// (wf_detector_kind_searched).
+    Kinds seen(wf_detector* d) const {
+        Kinds sighted, searched;
+        for (const auto& s : sense(d, f.frame)) sighted.insert(s.kind);
         for (size_t i = 0; i < wf_detector_kind_count(d); ++i) {
             if (wf_detector_kind_searched(d, i) == 1) searched.insert(wf_detector_kind_name(d, i));
         }
-        EXPECT_EQ(searched, seen);
-        return seen;
-    };
+        EXPECT_EQ(searched, sighted);
+        return sighted;
+    }
+};
+
+TEST(MoreKinds, WallKindsAreSearchedInRotationOnTheirFramesUnlessAllAreAsked) {
+    ThreeWallKinds three;
+    wf_detector_options& opts = three.opts;
+    using Kinds = ThreeWallKinds::Kinds;
+    auto kindsSeen = [&](wf_detector* d) { return three.seen(d); };
     // Default: two kinds on every second frame, the first frame searched (each kind on two frames in three here).
     wf_detector* d = nullptr;
     ASSERT_EQ(wf_detector_create(&d, &opts), WF_STATUS_OK) << wf_thread_last_error();
@@ -448,6 +461,63 @@ TEST(MoreKinds, WallKindsAreSearchedInRotationOnTheirFramesUnlessAllAreAsked) {
     opts.cascade_wall_kind_frame_period = -1;
     EXPECT_EQ(wf_detector_create(&d, &opts), WF_STATUS_INVALID_ARGUMENT);
     EXPECT_NE(std::string(wf_thread_last_error()).find("cascade_wall_kind_frame_period"), std::string::npos);
+}
+
+// The caller chooses the next frame's wall kinds (wf_detector_request_wall_kinds: the app's pipeline asks for the
+// kinds the localizer expects in view): exactly those are searched, on that frame only, even on a frame the schedule
+// would have skipped; the schedule's rotation does not advance on it. Bad requests are refused, requesting nothing.
+TEST(MoreKinds, TheCallerMayChooseTheNextFramesWallKinds) {
+    ThreeWallKinds three;
+    using Kinds = ThreeWallKinds::Kinds;
+    wf_detector* d = nullptr;
+    ASSERT_EQ(wf_detector_create(&d, &three.opts), WF_STATUS_OK) << wf_thread_last_error();
+    ASSERT_EQ(wf_detector_kind_count(d), 3u);
+    for (size_t i = 0; i < 3; ++i) EXPECT_EQ(wf_detector_is_wall_kind(d, i), 1) << i;
+    EXPECT_EQ(wf_detector_is_wall_kind(d, 3), -1);
+    EXPECT_EQ(wf_detector_is_wall_kind(nullptr, 0), -1);
+    const size_t elevator = 2, stairs = 1;
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, &elevator, 1), WF_STATUS_OK);
+    EXPECT_EQ(three.seen(d), Kinds{"elevator"});
+    // The schedule resumes where it was: its first frame (restroom and stairs), then a frame it skips.
+    EXPECT_EQ(three.seen(d), (Kinds{"restroom", "stairs"}));
+    const size_t both[] = {stairs, elevator};
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, both, 2), WF_STATUS_OK);
+    EXPECT_EQ(three.seen(d), (Kinds{"stairs", "elevator"}));
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, nullptr, 0), WF_STATUS_OK);
+    EXPECT_EQ(three.seen(d), Kinds{});
+    EXPECT_EQ(three.seen(d), Kinds{});  // the schedule's second frame: skipped
+    EXPECT_EQ(three.seen(d), (Kinds{"elevator", "restroom"}));
+    // Refused: an index out of range, a repeated kind, NULL with a count; the next frame follows the schedule.
+    const size_t bad[] = {stairs, 7};
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, bad, 2), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_detector_last_error(d)).find("out of range"), std::string::npos) << wf_detector_last_error(d);
+    const size_t twice[] = {stairs, stairs};
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, twice, 2), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_detector_last_error(d)).find("twice"), std::string::npos) << wf_detector_last_error(d);
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, nullptr, 1), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_detector_request_wall_kinds(nullptr, both, 2), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_EQ(three.seen(d), Kinds{});
+    wf_detector_free(d);
+}
+
+// The U-Net's classes are searched on every frame: only the cascades beside it can be requested.
+TEST(MoreKinds, TheUnetsClassesAreNoWallKinds) {
+    UnetWithRestroom u;
+    wf_detector* d = nullptr;
+    ASSERT_EQ(wf_detector_create(&d, &u.opts), WF_STATUS_OK) << wf_thread_last_error();
+    size_t exitIndex = SIZE_MAX, restroomIndex = SIZE_MAX;
+    for (size_t i = 0; i < wf_detector_kind_count(d); ++i) {
+        if (std::string(wf_detector_kind_name(d, i)) == "exit") exitIndex = i;
+        if (std::string(wf_detector_kind_name(d, i)) == "restroom") restroomIndex = i;
+    }
+    ASSERT_NE(exitIndex, SIZE_MAX);
+    ASSERT_NE(restroomIndex, SIZE_MAX);
+    EXPECT_EQ(wf_detector_is_wall_kind(d, exitIndex), 0);
+    EXPECT_EQ(wf_detector_is_wall_kind(d, restroomIndex), 1);
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, &exitIndex, 1), WF_STATUS_INVALID_ARGUMENT);
+    EXPECT_NE(std::string(wf_detector_last_error(d)).find("every frame"), std::string::npos) << wf_detector_last_error(d);
+    EXPECT_EQ(wf_detector_request_wall_kinds(d, &restroomIndex, 1), WF_STATUS_OK);
+    wf_detector_free(d);
 }
 
 // A phone held 8.6 degrees off upright: the unrolled frame is larger than the search size, so the wall kinds are
