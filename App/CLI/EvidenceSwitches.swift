@@ -15,6 +15,11 @@ enum EvidenceSwitches {
       --no-north-check keep using the compass when it reads 60 degrees or more off the localized heading over
                        15 m walked (by default the map's north is then reported as suspect and the compass
                        evidence stops; docs/localizer.md "The north check")
+      --wall-kinds M   which wall kinds (pictograms, placards) each detector frame looks for, within the phone
+                       detector's budget of two kinds on every second frame: expected (the phone's: the kinds
+                       the hypotheses expect in view first, the rest in turn), rotation (in turn only) or
+                       every-frame (all of them on every frame, no budget); recorded sightings of a kind not
+                       looked for are dropped (docs/sign-detection.md "Which wall kinds a frame looks for")
       --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
                        may be repeated
     """
@@ -32,6 +37,12 @@ enum EvidenceSwitches {
         if arguments.flag("no-compass") { options.useCompass = false }
         if arguments.flag("no-planes") { options.usePlanes = false }
         if arguments.flag("no-north-check") { options.compassNorthCheck = nil }
+        if let m = try arguments.option("wall-kinds") {
+            guard let mode = WallKindScheduler.Mode(rawValue: m) else {
+                throw CLIError.usage("--wall-kinds must be expected, rotation or every-frame")
+            }
+            options.wallKindSchedule = mode
+        }
         while let assignment = try arguments.option("param") {
             let parts = assignment.split(separator: "=", maxSplits: 1).map(String.init)
             guard parts.count == 2, !parts[0].isEmpty, let value = Double(parts[1]), value.isFinite else {

@@ -30,6 +30,9 @@ public struct PipelineFrame: Sendable {
     public var imagePath: String?
     /// Sign sightings already measured for this frame (recorded `observations.jsonl`, or simulation).
     public var measuredObservations: [ObservationRecord]
+    /// Sign kinds the detector that measured `measuredObservations` did not look for on this frame
+    /// (`FrameRecord.unsearchedSignKinds`); empty = every kind searched. Not used when the detector runs here.
+    public var unsearchedSignKinds: Set<String> = []
 
     /// Creates a frame.
     public init(t: Double, cameraPose: CameraPose?, tracking: TrackingState, trackingReason: TrackingReason? = nil,
@@ -49,5 +52,6 @@ public struct PipelineFrame: Sendable {
                   imagePath: record.image.flatMap { name in imagesDirectory?.appendingPathComponent(name).path },
                   measuredObservations: observations)
         compassAccuracyDeg = record.compassAccuracyDeg
+        unsearchedSignKinds = Set(record.unsearchedSignKinds ?? [])
     }
 }

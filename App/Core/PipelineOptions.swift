@@ -38,6 +38,11 @@ public struct PipelineOptions: Sendable {
     /// (App/iOS/Sensors/VisionLegendReader.swift). Given the frame and the face's corners in raw pixels (TL, TR,
     /// BR, BL); returns letters, digits and '-' only, or nil. nil here = only the detector's own reading.
     public var legendReader: (@Sendable (ImageBuffer, [PixelPoint]) -> String?)?
+    /// How the detector frames choose the wall kinds they look for (`WallKindScheduler`): the kinds the hypotheses
+    /// expect in view first, within the detector's budget of two kinds on every second frame (the phone's), that
+    /// budget in plain rotation, or every wall kind on every frame. Applied to recorded observations too: a replay
+    /// sees what the phone's detector would have found.
+    public var wallKindSchedule: WallKindScheduler.Mode = .expected
     /// Minimum time between two detector runs, seconds (the phone runs the detector at about 10 Hz and
     /// drops frames while it is busy). Also the cadence of "nothing seen" updates for negative information.
     public var detectionIntervalSeconds: Double = 0.1

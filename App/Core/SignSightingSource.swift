@@ -9,7 +9,8 @@ import SignDetection
 struct FrameSightings {
     /// The sightings, as measured.
     var sightings: [SignSighting]
-    /// Kinds not looked for on this frame; empty for recorded observations (every kind counts as searched).
+    /// Kinds not looked for on this frame; for recorded observations, the frame's `unsearchedSignKinds` (empty in
+    /// older bundles: every kind counts as searched).
     var unsearchedKinds: Set<String> = []
 }
 
@@ -26,6 +27,10 @@ final class SignSightingSource {
     private let detector: SignDetector?
     /// Kinds of the catalogue whose legend is read (`SignKindSpec.readsText`).
     private let textKinds: Set<String>
+    /// The kinds searched in turn (`WallKindScheduler`): the detector's wall kinds when it runs here; for recorded
+    /// observations, those the phone's detector has: every kind of the catalogue but the U-Net's class (the Exit
+    /// sign), whose cascades run beside it.
+    let wallKinds: [String]
 
     /// Loads the detector when images will be processed, with the sign sizes of `catalogue` (the map's
     /// `Building.signCatalogue` unless `options.signCatalogue` overrides it). Throws when its model is missing.
@@ -49,21 +54,28 @@ final class SignSightingSource {
         } else {
             detector = nil
         }
+        wallKinds = detector?.wallKinds
+            ?? (options.signCatalogue ?? catalogue).kinds.map(\.kind).filter { $0 != SignKindSpec.defaultExit.kind }
     }
 
     /// The sightings of `frame` and the kinds it did not look for; `.success(nil)` when there was nothing to consult
     /// on this frame (no image and no recorded observations while recorded observations are in use).
-    func sightings(for frame: PipelineFrame, pose: CameraPose) -> Result<FrameSightings?, PipelineError> {
-        guard let detector else { return .success(FrameSightings(sightings: recordedSightings(frame))) }
+    /// `searchedWallKinds`: the wall kinds this frame looks for (`WallKindScheduler`); nil: the detector's own
+    /// schedule, and every recorded observation. Recorded sightings of the other wall kinds are left out, as the
+    /// phone's detector would not have found them.
+    func sightings(for frame: PipelineFrame, pose: CameraPose,
+                   searchedWallKinds: Set<String>? = nil) -> Result<FrameSightings?, PipelineError> {
+        guard let detector else { return .success(recorded(frame, searchedWallKinds: searchedWallKinds)) }
         guard frame.image != nil || frame.imagePath != nil else {
             if options.sightingSource == .automatic, !frame.measuredObservations.isEmpty {
-                return .success(FrameSightings(sightings: recordedSightings(frame)))
+                return .success(recorded(frame, searchedWallKinds: searchedWallKinds))
             }
             return .success(nil)
         }
         let source = frame.imagePath ?? "camera frame"
         do {
             let image = try frame.image ?? ImageBuffer.load(path: frame.imagePath!)
+            if let searchedWallKinds { try detector.requestWallKinds(searchedWallKinds.intersection(wallKinds)) }
             let k = frame.intrinsics
             let sensed = try detector.senseFrame(image: image, fx: k.fx, fy: k.fy, cx: k.cx, cy: k.cy,
                                                  pitchRad: pose.pitchRad, rollRad: pose.rollRad)
@@ -90,6 +102,15 @@ final class SignSightingSource {
             ("A"..."Z").contains($0) || ("0"..."9").contains($0) || $0 == "-"
         }.map(Character.init)).trimmingCharacters(in: CharacterSet(charactersIn: "-"))
         return kept.isEmpty || kept.count > 15 ? nil : kept
+    }
+
+    /// The frame's recorded observations and the kinds its recording detector did not look for, less the wall kinds
+    /// this frame does not look for (`searchedWallKinds`, nil: all of them), which join the unsearched kinds.
+    private func recorded(_ frame: PipelineFrame, searchedWallKinds: Set<String>?) -> FrameSightings {
+        var unsearched = frame.unsearchedSignKinds
+        if let searchedWallKinds { unsearched.formUnion(Set(wallKinds).subtracting(searchedWallKinds)) }
+        return FrameSightings(sightings: recordedSightings(frame).filter { !unsearched.contains($0.kind) },
+                              unsearchedKinds: unsearched)
     }
 
     /// The frame's recorded observations as sightings, skipping any with a range that is not finite, not

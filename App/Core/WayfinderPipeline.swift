@@ -35,6 +35,10 @@ public final class WayfinderPipeline {
     public let options: PipelineOptions
     private let localizer: ParticleLocalizer
     private let sightingSource: SignSightingSource
+    /// Which wall kinds each detector frame looks for (options.wallKindSchedule).
+    private var wallKindScheduler: WallKindScheduler
+    /// The hypotheses of the last frame's estimate (what the next detector frame expects to see).
+    private var lastHypotheses: [PoseHypothesis] = []
     private var navigator: Navigator?
     private var lastDetectionT = -Double.infinity
     private var lastAltitude: Double?
@@ -75,6 +79,7 @@ public final class WayfinderPipeline {
         }
         sightingSource = try SignSightingSource(options: options, catalogue: building.signCatalogue,
                                                 imagesAvailable: imagesAvailable)
+        wallKindScheduler = WallKindScheduler(kinds: sightingSource.wallKinds, mode: options.wallKindSchedule)
         if options.useCompass, building.compassHeadingOfMapNorthDeg != nil, let p = options.compassNorthCheck {
             northCheck = CompassNorthCheck(parameters: p)
         }
@@ -108,7 +113,7 @@ public final class WayfinderPipeline {
         var detectorRan = false
         let due = frame.t - lastDetectionT >= options.detectionIntervalSeconds - 1e-9
         if (due || !frame.measuredObservations.isEmpty), let pose = frame.cameraPose, frame.tracking != .notAvailable {
-            switch sightingSource.sightings(for: frame, pose: pose) {
+            switch sightingSource.sightings(for: frame, pose: pose, searchedWallKinds: nextWallKinds()) {
             case .success(let result):
                 if let found = result {
                     sightings = found.sightings.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }
@@ -123,6 +128,7 @@ public final class WayfinderPipeline {
         }
 
         let estimate = localizer.estimate
+        lastHypotheses = estimate.hypotheses
         checkNorth(frame, estimate, &warnings)
         var events: [TimedGuidanceEvent] = []
         if let navigator {
@@ -153,6 +159,21 @@ public final class WayfinderPipeline {
             if let spoken = navigator.lastSpokenAdvice, spoken.t == frame.t { update.spokenAdvice = spoken.advice }
         }
         return update
+    }
+
+    /// The wall kinds the detector frame about to run looks for (advances the schedule): with `.expected`, the kinds
+    /// the localizer's hypotheses expect in view first (`ExpectedSignKinds`, from the previous frame's estimate: the
+    /// motion since is a frame's).
+    private func nextWallKinds() -> Set<String> {
+        guard !wallKindScheduler.kinds.isEmpty else { return [] }
+        var shares: [String: Double] = [:]
+        if wallKindScheduler.mode == .expected {
+            shares = ExpectedSignKinds.shares(hypotheses: lastHypotheses, building: building,
+                                              kinds: Set(wallKindScheduler.kinds),
+                                              halfFieldOfViewRad: 0.5 * options.localizer.horizontalFieldOfViewRad,
+                                              maxRangeMeters: options.maximumSightingRangeMeters)
+        }
+        return wallKindScheduler.next(expectedShares: shares)
     }
 
     /// The live planes of the current floor as walls in the traveler's frame at this frame's camera pose (none

@@ -78,7 +78,8 @@ extension FrameRecord: BundleLineRecord {
     public var orderTime: Double? { t }
 
     /// Checks: finite time; 16 finite numbers; bottom row (0, 0, 0, 1) (catches row-major matrices);
-    /// orthonormal rotation; valid intrinsics; compass heading in [0, 360]; safe image name.
+    /// orthonormal rotation; valid intrinsics; compass heading in [0, 360]; safe image name; unsearched sign kinds
+    /// non-empty and distinct.
     public func validationProblem() -> String? {
         guard t.isFinite else { return "timestamp t is not a finite number" }
         guard cameraToWorld.count == 16 else {
@@ -114,6 +115,10 @@ extension FrameRecord: BundleLineRecord {
         }
         if let image, !isSafeImageName(image) {
             return "image name '\(image)' is not a plain file name inside images/"
+        }
+        if let kinds = unsearchedSignKinds {
+            if kinds.contains(where: \.isEmpty) { return "unsearchedSignKinds holds an empty kind" }
+            if Set(kinds).count != kinds.count { return "unsearchedSignKinds names a kind twice" }
         }
         return nil
     }

@@ -73,15 +73,21 @@ public struct FrameRecord: Codable, Hashable, Sendable {
     public var compassAccuracyDeg: Double?
     /// Image file name under images/, if this frame's image was recorded.
     public var image: String?
+    /// Sign kinds the recording's detector did not look for on this frame (added 2026-12): the phone's detector
+    /// searches its wall kinds (pictograms, placards) in turn, a few per frame, so a frame that recorded no
+    /// sighting of such a kind says nothing about it. Only on frames whose observations were recorded by a
+    /// detector (the simulator writes it); nil (absent) = every kind was searched, as in older bundles.
+    public var unsearchedSignKinds: [String]?
 
     /// Creates a frame record.
     public init(t: Double, cameraToWorld: [Double], tracking: TrackingState = .normal, trackingReason: TrackingReason? = nil,
                 intrinsics: CameraIntrinsics, relativeAltitudeMeters: Double? = nil, compassHeadingDeg: Double? = nil,
-                image: String? = nil, compassAccuracyDeg: Double? = nil) {
+                image: String? = nil, compassAccuracyDeg: Double? = nil, unsearchedSignKinds: [String]? = nil) {
         self.t = t; self.cameraToWorld = cameraToWorld; self.tracking = tracking; self.trackingReason = trackingReason
         self.intrinsics = intrinsics; self.relativeAltitudeMeters = relativeAltitudeMeters
         self.compassHeadingDeg = compassHeadingDeg; self.image = image
         self.compassAccuracyDeg = compassAccuracyDeg
+        self.unsearchedSignKinds = unsearchedSignKinds
     }
 }
 

@@ -93,6 +93,19 @@ public final class SignDetector: @unchecked Sendable {
         return SensedFrame(signs: signs, unsearchedKinds: handle.unsearchedKinds, warning: warning)
     }
 
+    /// The kinds the detector searches in turn, a few per frame (the wall kinds: pictograms and placards, whose
+    /// cascades run beside the U-Net), in its order; the others are searched on every frame.
+    public var wallKinds: [String] { handle.wallKinds }
+
+    /// The next `sense`/`senseFrame`/`detect` call looks for exactly these wall kinds (none for an empty set), instead
+    /// of the ones the detector's own schedule would take; for that one frame (wf_detector_request_wall_kinds).
+    /// - Throws: `SignDetectorError.invalidArgument` for a name that is not one of `wallKinds`.
+    public func requestWallKinds(_ names: Set<String>) throws {
+        lock.lock()
+        defer { lock.unlock() }
+        try handle.requestWallKinds(names)
+    }
+
     /// Version of the linked C library.
     public static var libraryVersion: String { CDetector.libraryVersion }
 }

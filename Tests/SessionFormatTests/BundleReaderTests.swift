@@ -287,6 +287,30 @@ final class BundleReaderTests: XCTestCase {
         XCTAssertEqual(readError()?.kind, .invalidValue)
     }
 
+    func testUnsearchedSignKindsAreReadBackAndAbsentMeansNone() throws {
+        var d = try frameDict(2)
+        d["unsearchedSignKinds"] = ["placard", "restroom"]
+        try replaceFrameLine(3, with: try line(of: d))
+        let b = try SessionBundle.read(from: dir)
+        XCTAssertEqual(b.frames[2].unsearchedSignKinds, ["placard", "restroom"])
+        XCTAssertNil(b.frames[1].unsearchedSignKinds)
+        XCTAssertEqual(b.warnings, [])
+    }
+
+    func testUnsearchedSignKindsMustBeNonEmptyAndDistinct() throws {
+        for (kinds, words) in [([""], "empty kind"), (["stairs", "stairs"], "names a kind twice")] {
+            try setUpWithError()
+            var d = try frameDict(4)
+            d["unsearchedSignKinds"] = kinds
+            try replaceFrameLine(5, with: try line(of: d))
+            let e = readError()
+            XCTAssertEqual(e?.kind, .invalidValue)
+            XCTAssertEqual(e?.line, 5)
+            XCTAssertTrue(e?.reason.contains(words) ?? false, e?.reason ?? "")
+            XCTAssertTrue(e?.description.contains("frames.jsonl") ?? false, e?.description ?? "")
+        }
+    }
+
     func testMissingTimestampField() throws {
         var d = try frameDict(4)
         d.removeValue(forKey: "t")

@@ -95,6 +95,16 @@ final class MoreSignKindsTests: XCTestCase {
         XCTAssertEqual(second.unsearchedKinds, ["restroom", "stairs"])
         XCTAssertTrue(second.signs.isEmpty)
         XCTAssertEqual(third.unsearchedKinds, [])
+        // The caller chooses a frame's wall kinds (the pipeline's WallKindScheduler), on a frame the schedule skips.
+        XCTAssertEqual(detector.wallKinds, ["restroom", "stairs"])
+        try detector.requestWallKinds(["stairs"])
+        let chosen = try sensed(frame.image)
+        XCTAssertEqual(chosen.unsearchedKinds, ["restroom"])
+        XCTAssertEqual(Set(chosen.signs.map(\.kind)), ["stairs"])
+        XCTAssertThrowsError(try detector.requestWallKinds(["exit"])) { error in
+            guard case SignDetectorError.invalidArgument = error else { return XCTFail("\(error)") }
+        }
+        XCTAssertEqual(try sensed(frame.image).unsearchedKinds, ["restroom", "stairs"])  // the schedule's own skip
         let dark = ImageBuffer(width: 480, height: 640, bytesPerRow: 480 * 3, pixelFormat: .rgb8,
                                data: [UInt8](repeating: 0, count: 480 * 640 * 3))
         let skipped = try sensed(dark)

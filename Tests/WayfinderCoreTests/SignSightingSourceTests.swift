@@ -104,6 +104,54 @@ final class SignSightingSourceTests: XCTestCase {
         XCTAssertEqual(overridden.rangeMeters, far.rangeMeters)
     }
 
+    /// Replayed observations carry the kinds their detector did not look for (`FrameRecord.unsearchedSignKinds`), so
+    /// the localizer takes no negative information for them; an older bundle's frame (no list) searched every kind.
+    /// The same with `.automatic` on a frame without an image.
+    func testRecordedObservationsPassOnTheKindsTheirDetectorDidNotLookFor() throws {
+        let pose = CameraPose(positionInWorld: (0, 1.4, 0), yawRad: 0, pitchRad: 0.05, rollRad: -Double.pi / 2)
+        var record = FrameRecord(t: 1, cameraToWorld: pose.columnMajor, intrinsics: .iPhone8Full,
+                                 unsearchedSignKinds: ["placard", "stairs"])
+        let exit = ObservationRecord(t: 1, kind: "exit", rangeMeters: 4, bearingRad: 0.1, score: 0.9)
+        let catalogue = try TestData.office().signCatalogue
+        for source in [SightingSource.recorded, .automatic] {
+            var options = PipelineOptions()
+            options.sightingSource = source
+            options.modelsDirectory = modelsDirectory.path
+            let sightingSource = try SignSightingSource(options: options, catalogue: catalogue, imagesAvailable: source == .automatic)
+            let frame = PipelineFrame(record: record, imagesDirectory: nil, observations: [exit])
+            let found = try XCTUnwrap(try sightingSource.sightings(for: frame, pose: pose).get())
+            XCTAssertEqual(found.sightings.map(\.kind), ["exit"], "\(source)")
+            XCTAssertEqual(found.unsearchedKinds, ["placard", "stairs"], "\(source)")
+        }
+        record.unsearchedSignKinds = nil
+        let older = PipelineFrame(record: record, imagesDirectory: nil, observations: [exit])
+        let recorded = try SignSightingSource(options: PipelineOptions(), catalogue: catalogue, imagesAvailable: false)
+        XCTAssertEqual(try XCTUnwrap(try recorded.sightings(for: older, pose: pose).get()).unsearchedKinds, [])
+    }
+
+    /// Replayed observations go through the phone's wall-kind schedule: a recorded sighting of a wall kind the frame
+    /// does not look for is left out (the phone's detector would not have found it) and that kind is unsearched; the
+    /// Exit sign (the U-Net's class) is always looked for. The office's wall kinds are its pictograms and placards.
+    func testRecordedSightingsOfAWallKindTheFrameDoesNotLookForAreLeftOut() throws {
+        let pose = CameraPose(positionInWorld: (0, 1.4, 0), yawRad: 0, pitchRad: 0.05, rollRad: -Double.pi / 2)
+        let record = FrameRecord(t: 1, cameraToWorld: pose.columnMajor, intrinsics: .iPhone8Full,
+                                 unsearchedSignKinds: ["stairs"])
+        let seen = ["exit", "restroom", "placard"].map {
+            ObservationRecord(t: 1, kind: $0, rangeMeters: 2, bearingRad: 0, score: 0.9)
+        }
+        let source = try SignSightingSource(options: PipelineOptions(), catalogue: try TestData.office().signCatalogue,
+                                            imagesAvailable: false)
+        XCTAssertEqual(source.wallKinds, ["restroom", "elevator", "stairs", "placard"])
+        let frame = PipelineFrame(record: record, imagesDirectory: nil, observations: seen)
+        let found = try XCTUnwrap(try source.sightings(for: frame, pose: pose, searchedWallKinds: ["restroom"]).get())
+        XCTAssertEqual(found.sightings.map(\.kind), ["exit", "restroom"])
+        XCTAssertEqual(found.unsearchedKinds, ["elevator", "stairs", "placard"])
+        // No schedule (nil): every recorded sighting, the frame's own unsearched kinds only.
+        let all = try XCTUnwrap(try source.sightings(for: frame, pose: pose).get())
+        XCTAssertEqual(all.sightings.map(\.kind), ["exit", "restroom", "placard"])
+        XCTAssertEqual(all.unsearchedKinds, ["stairs"])
+    }
+
     func testAFrameOfTheWrongSizeIsAFrameErrorNotACrash() throws {
         var options = PipelineOptions()
         options.sightingSource = .unet

@@ -87,7 +87,24 @@ final class CDetector {
             throw CDetector.error(status: status, message: String(cString: wf_thread_last_error()))
         }
         handle = created
-        kinds = (0..<wf_detector_kind_count(created)).map { String(cString: wf_detector_kind_name(created, $0)) }
+        let names = (0..<wf_detector_kind_count(created)).map { String(cString: wf_detector_kind_name(created, $0)) }
+        kinds = names
+        wallKinds = names.indices.filter { wf_detector_is_wall_kind(created, $0) == 1 }.map { names[$0] }
+    }
+
+    /// The kinds searched in turn (wf_detector_is_wall_kind), in the detector's order.
+    let wallKinds: [String]
+
+    /// wf_detector_request_wall_kinds for the named kinds (in the detector's kind order).
+    func requestWallKinds(_ names: Set<String>) throws {
+        let indices = kinds.indices.filter { names.contains(kinds[$0]) }
+        if let unknown = names.subtracting(kinds).sorted().first {
+            throw SignDetectorError.invalidArgument("the detector has no kind '\(unknown)'")
+        }
+        let status = indices.withUnsafeBufferPointer { wf_detector_request_wall_kinds(handle, $0.baseAddress, $0.count) }
+        if status != WF_STATUS_OK {
+            throw CDetector.error(status: status, message: String(cString: wf_detector_last_error(handle)))
+        }
     }
 
     deinit { wf_detector_free(handle) }
