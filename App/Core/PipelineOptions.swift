@@ -40,9 +40,13 @@ public struct PipelineOptions: Sendable {
     public var legendReader: (@Sendable (ImageBuffer, [PixelPoint]) -> String?)?
     /// How the detector frames choose the wall kinds they look for (`WallKindScheduler`): the kinds the hypotheses
     /// expect in view first, within the detector's budget of two kinds on every second frame (the phone's), that
-    /// budget in plain rotation, or every wall kind on every frame. Applied to recorded observations too: a replay
-    /// sees what the phone's detector would have found.
+    /// budget in plain rotation, or every wall kind on every frame.
     public var wallKindSchedule: WallKindScheduler.Mode = .expected
+    /// Also apply `wallKindSchedule` to recorded observations (a study of the phone's budget on simulated walks,
+    /// whose detector model sights every kind on every frame): a recorded sighting of a wall kind the frame does not
+    /// look for is left out and the kind counts as unsearched. Off: recorded observations are the recording
+    /// detector's, used whole (its own `FrameRecord.unsearchedSignKinds` respected).
+    public var scheduleRecordedSightings = false
     /// Minimum time between two detector runs, seconds (the phone runs the detector at about 10 Hz and
     /// drops frames while it is busy). Also the cadence of "nothing seen" updates for negative information.
     public var detectionIntervalSeconds: Double = 0.1

@@ -31,6 +31,9 @@ final class SignSightingSource {
     /// observations, those the phone's detector has: every kind of the catalogue but the U-Net's class (the Exit
     /// sign), whose cascades run beside it.
     let wallKinds: [String]
+    /// Whether the frames' wall kinds are chosen here (`WallKindScheduler`): a detector runs, or recorded observations
+    /// go through the schedule (`PipelineOptions.scheduleRecordedSightings`).
+    var schedulesWallKinds: Bool { !wallKinds.isEmpty && (detector != nil || options.scheduleRecordedSightings) }
 
     /// Loads the detector when images will be processed, with the sign sizes of `catalogue` (the map's
     /// `Building.signCatalogue` unless `options.signCatalogue` overrides it). Throws when its model is missing.
@@ -61,14 +64,15 @@ final class SignSightingSource {
     /// The sightings of `frame` and the kinds it did not look for; `.success(nil)` when there was nothing to consult
     /// on this frame (no image and no recorded observations while recorded observations are in use).
     /// `searchedWallKinds`: the wall kinds this frame looks for (`WallKindScheduler`); nil: the detector's own
-    /// schedule, and every recorded observation. Recorded sightings of the other wall kinds are left out, as the
-    /// phone's detector would not have found them.
+    /// schedule. Recorded sightings of the other wall kinds are left out only with
+    /// `PipelineOptions.scheduleRecordedSightings` (the phone's detector would not have found them).
     func sightings(for frame: PipelineFrame, pose: CameraPose,
                    searchedWallKinds: Set<String>? = nil) -> Result<FrameSightings?, PipelineError> {
-        guard let detector else { return .success(recorded(frame, searchedWallKinds: searchedWallKinds)) }
+        let recordedSchedule = options.scheduleRecordedSightings ? searchedWallKinds : nil
+        guard let detector else { return .success(recorded(frame, searchedWallKinds: recordedSchedule)) }
         guard frame.image != nil || frame.imagePath != nil else {
             if options.sightingSource == .automatic, !frame.measuredObservations.isEmpty {
-                return .success(recorded(frame, searchedWallKinds: searchedWallKinds))
+                return .success(recorded(frame, searchedWallKinds: recordedSchedule))
             }
             return .success(nil)
         }

@@ -164,8 +164,9 @@ public final class WayfinderPipeline {
     /// The wall kinds the detector frame about to run looks for (advances the schedule): with `.expected`, the kinds
     /// the localizer's hypotheses expect in view first (`ExpectedSignKinds`, from the previous frame's estimate: the
     /// motion since is a frame's).
-    private func nextWallKinds() -> Set<String> {
-        guard !wallKindScheduler.kinds.isEmpty else { return [] }
+    /// Nil when no schedule applies (recorded observations used whole).
+    private func nextWallKinds() -> Set<String>? {
+        guard sightingSource.schedulesWallKinds else { return nil }
         var shares: [String: Double] = [:]
         if wallKindScheduler.mode == .expected {
             shares = ExpectedSignKinds.shares(hypotheses: lastHypotheses, building: building,

@@ -27,7 +27,9 @@ final class SchemaAndSummaryTests: XCTestCase {
         try check("session", full: SessionInfo(device: "d", appVersion: "1", mapId: "m", floorId: "f", start: "s",
                                                destination: "e", intrinsics: .iPhone8Full, carry: "handheld", source: "x"),
                   minimal: SessionInfo(device: "d", appVersion: "1"))
-        try check("frame", full: sampleFrame(0, image: "a.jpg"),
+        var fullFrame = sampleFrame(0, image: "a.jpg")
+        fullFrame.unsearchedSignKinds = ["placard"]
+        try check("frame", full: fullFrame,
                   minimal: FrameRecord(t: 0, cameraToWorld: sampleFrame(0).cameraToWorld, intrinsics: .iPhone8Full))
         try check("observation",
                   full: ObservationRecord(t: 0, kind: "landmark", rangeMeters: 1, bearingRad: 0, score: 1, source: "imported",

@@ -129,9 +129,11 @@ final class SignSightingSourceTests: XCTestCase {
         XCTAssertEqual(try XCTUnwrap(try recorded.sightings(for: older, pose: pose).get()).unsearchedKinds, [])
     }
 
-    /// Replayed observations go through the phone's wall-kind schedule: a recorded sighting of a wall kind the frame
-    /// does not look for is left out (the phone's detector would not have found it) and that kind is unsearched; the
-    /// Exit sign (the U-Net's class) is always looked for. The office's wall kinds are its pictograms and placards.
+    /// With `scheduleRecordedSightings` (the study of the phone's budget on simulated walks) replayed observations go
+    /// through the wall-kind schedule: a recorded sighting of a wall kind the frame does not look for is left out (the
+    /// phone's detector would not have found it) and that kind is unsearched; the Exit sign (the U-Net's class) is
+    /// always looked for. Without it they are the recording detector's, used whole. The office's wall kinds are its
+    /// pictograms and placards.
     func testRecordedSightingsOfAWallKindTheFrameDoesNotLookForAreLeftOut() throws {
         let pose = CameraPose(positionInWorld: (0, 1.4, 0), yawRad: 0, pitchRad: 0.05, rollRad: -Double.pi / 2)
         let record = FrameRecord(t: 1, cameraToWorld: pose.columnMajor, intrinsics: .iPhone8Full,
@@ -139,9 +141,12 @@ final class SignSightingSourceTests: XCTestCase {
         let seen = ["exit", "restroom", "placard"].map {
             ObservationRecord(t: 1, kind: $0, rangeMeters: 2, bearingRad: 0, score: 0.9)
         }
-        let source = try SignSightingSource(options: PipelineOptions(), catalogue: try TestData.office().signCatalogue,
-                                            imagesAvailable: false)
+        var options = PipelineOptions()
+        options.scheduleRecordedSightings = true
+        let catalogue = try TestData.office().signCatalogue
+        let source = try SignSightingSource(options: options, catalogue: catalogue, imagesAvailable: false)
         XCTAssertEqual(source.wallKinds, ["restroom", "elevator", "stairs", "placard"])
+        XCTAssertTrue(source.schedulesWallKinds)
         let frame = PipelineFrame(record: record, imagesDirectory: nil, observations: seen)
         let found = try XCTUnwrap(try source.sightings(for: frame, pose: pose, searchedWallKinds: ["restroom"]).get())
         XCTAssertEqual(found.sightings.map(\.kind), ["exit", "restroom"])
@@ -150,6 +155,12 @@ final class SignSightingSourceTests: XCTestCase {
         let all = try XCTUnwrap(try source.sightings(for: frame, pose: pose).get())
         XCTAssertEqual(all.sightings.map(\.kind), ["exit", "restroom", "placard"])
         XCTAssertEqual(all.unsearchedKinds, ["stairs"])
+        // The default: recorded observations whole, whatever the schedule would choose.
+        let plain = try SignSightingSource(options: PipelineOptions(), catalogue: catalogue, imagesAvailable: false)
+        XCTAssertFalse(plain.schedulesWallKinds)
+        let whole = try XCTUnwrap(try plain.sightings(for: frame, pose: pose, searchedWallKinds: ["restroom"]).get())
+        XCTAssertEqual(whole.sightings.map(\.kind), ["exit", "restroom", "placard"])
+        XCTAssertEqual(whole.unsearchedKinds, ["stairs"])
     }
 
     func testAFrameOfTheWrongSizeIsAFrameErrorNotACrash() throws {
