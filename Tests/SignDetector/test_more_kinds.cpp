@@ -67,6 +67,17 @@ wf_sign_kind restroomKind(double bandMin, double bandMax, double maxRange, int r
     return k;
 }
 
+/// Points `o` at `n` cascades (`paths`, registered as `kinds`, min neighbours 1) and a catalogue of `m` kinds.
+void useCascades(wf_detector_options& o, const char* const* paths, const char* const* kinds, size_t n,
+                 const wf_sign_kind* catalogue, size_t m) {
+    o.cascade_paths = paths;
+    o.cascade_kinds = kinds;
+    o.cascade_count = n;
+    o.cascade_min_neighbors = 1;
+    o.catalogue = catalogue;
+    o.catalogue_count = m;
+}
+
 /// Options of the tiny three-class U-Net with the reference cascade beside it as "restroom" (min neighbours 1), the
 /// catalogue an Exit sign and restroomKind(0.1, 0.7, 0). Holds the strings the options point to: not copyable.
 struct UnetWithRestroom {
@@ -78,12 +89,7 @@ struct UnetWithRestroom {
     UnetWithRestroom() {
         opts.kind = WF_DETECTOR_UNET;
         opts.unet_path = unet.c_str();
-        opts.cascade_paths = paths;
-        opts.cascade_kinds = kinds;
-        opts.cascade_count = 1;
-        opts.cascade_min_neighbors = 1;
-        opts.catalogue = catalogue;
-        opts.catalogue_count = 2;
+        useCascades(opts, paths, kinds, 1, catalogue, 2);
     }
     UnetWithRestroom(const UnetWithRestroom&) = delete;
     UnetWithRestroom& operator=(const UnetWithRestroom&) = delete;
@@ -393,12 +399,7 @@ struct ThreeWallKinds {
     ThreeWallKinds() {
         catalogue[1].kind = "stairs";
         catalogue[2].kind = "elevator";
-        opts.cascade_paths = paths;
-        opts.cascade_kinds = kinds;
-        opts.cascade_count = 3;
-        opts.cascade_min_neighbors = 1;
-        opts.catalogue = catalogue;
-        opts.catalogue_count = 3;
+        useCascades(opts, paths, kinds, 3, catalogue, 3);
     }
     ThreeWallKinds(const ThreeWallKinds&) = delete;
     ThreeWallKinds& operator=(const ThreeWallKinds&) = delete;
