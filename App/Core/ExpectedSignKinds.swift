@@ -7,7 +7,8 @@ import Maps
 /// is in view: within the kind's recognition range (`SignKindSpec.maxRangeMeters`, capped by the detector's
 /// `maxRangeMeters`) and at least 0.5 m away, inside the camera's horizontal field of view, its face turned towards
 /// the camera within the kind's view angle (either face of a double-sided sign), and no wall of the map in between.
-/// The same geometry as the simulator's detector model, without the image margins. Feeds `WallKindScheduler`.
+/// The same geometry as the simulator's detector model (`Sign.faceIsTurned`, `lineOfSightEnd`), without the image
+/// margins. Feeds `WallKindScheduler`.
 public enum ExpectedSignKinds {
     /// Weight share by kind, for the kinds in `kinds` (absent: no hypothesis expects it). `halfFieldOfViewRad`: half
     /// the camera's horizontal field of view, radians; `maxRangeMeters`: the detector's farthest range.
@@ -37,14 +38,8 @@ public enum ExpectedSignKinds {
         let r = hypot(dx, dy)
         guard r >= 0.5, r <= min(maxRangeMeters, spec?.maxRangeMeters ?? .infinity) else { return false }
         guard abs(remainder(atan2(dy, dx) - headingRad, 2 * Double.pi)) <= halfFieldOfViewRad else { return false }
-        let facingLength = hypot(sign.facing.x, sign.facing.y)
-        if facingLength > 1e-9 {
-            let cosView = -(sign.facing.x * dx + sign.facing.y * dy) / (r * facingLength)
-            let maxAngleRad = (spec?.maxViewAngleDeg ?? 75) * Double.pi / 180
-            guard (sign.doubleSided ? abs(cosView) : cosView) >= cos(maxAngleRad) else { return false }
-        }
-        // Line of sight to a point 5 cm in front of the sign, towards the camera.
-        let end = Point2(sign.position.x - 0.05 * dx / r, sign.position.y - 0.05 * dy / r)
-        return !floor.crossesWall(from: p, to: end)
+        guard sign.faceIsTurned(towardsViewerAtOffset: dx, dy, distanceMeters: r,
+                                maxViewAngleDeg: spec?.maxViewAngleDeg ?? 75) else { return false }
+        return !floor.crossesWall(from: p, to: sign.lineOfSightEnd(viewerOffset: dx, dy, distanceMeters: r))
     }
 }

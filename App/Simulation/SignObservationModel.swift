@@ -92,16 +92,12 @@ struct SignObservationModel {
             let dx = sign.position.x - s.position.x, dy = sign.position.y - s.position.y
             let r = hypot(dx, dy)
             guard r >= parameters.minRangeMeters, r <= maxRangeMeters(of: sign) else { continue }
-            // cos of the angle between the face normal and the sign-to-camera direction (-dx, -dy) / r.
-            let facingLength = max(1e-9, hypot(sign.facing.x, sign.facing.y))
-            let cosView = -(sign.facing.x * dx + sign.facing.y * dy) / (r * facingLength)
-            if (sign.doubleSided ? abs(cosView) : cosView) < cos(radians(maxViewAngleDeg(of: sign))) { continue }
+            guard sign.faceIsTurned(towardsViewerAtOffset: dx, dy, distanceMeters: r,
+                                    maxViewAngleDeg: maxViewAngleDeg(of: sign)) else { continue }
             let mount = sign.mountingHeightMeters ?? Self.defaultMountingHeightMeters
             guard let px = Self.project((sign.position.x, sign.position.y, mount + sign.heightMeters / 2), pose: pose, intrinsics: k),
                   px.u >= mu, px.u <= Double(k.width) - mu, px.v >= mv, px.v <= Double(k.height) - mv else { continue }
-            // Line of sight to a point 5 cm in front of the sign, towards the camera.
-            let end = Point2(sign.position.x - 0.05 * dx / r, sign.position.y - 0.05 * dy / r)
-            if geo.segmentCrossesWall(s.position.asPoint, end) { continue }
+            if geo.segmentCrossesWall(s.position.asPoint, sign.lineOfSightEnd(viewerOffset: dx, dy, distanceMeters: r)) { continue }
             out.append((sign, r, wrapAngle(atan2(dy, dx) - s.yawRad)))
         }
         return out
