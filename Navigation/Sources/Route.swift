@@ -205,10 +205,11 @@ struct RouteBuilder {
 
     /// Replaces a pair of opposite turns less than `jogMaxMeters` apart, whose net change of direction is
     /// straight, with one slight turn toward the side of the jog at the first control point. A slight
-    /// bend less than `jogMaxMeters` before an opposite turn is not a maneuver of its own either: walking
-    /// (and cutting) the two corners is one turn by their net angle, at the second control point ("Bear
-    /// right now. Then turn left." for a 25-degree bend right a meter before a 90-degree left would name a
-    /// bend nobody walks).
+    /// bend less than `jogMaxMeters` before or after an opposite turn is not a maneuver of its own either:
+    /// walking (and cutting) the two corners is one turn by their net angle, at the larger turn's control
+    /// point ("Bear right now. Then turn left." for a 25-degree bend right a meter before a 90-degree left,
+    /// or "Turn right now. Then bear left." for a 90-degree right with a 27-degree bend left a meter after
+    /// it, as SKERI floor 4 draws the corner at node-72, would name a bend nobody walks).
     private func collapseJogs(_ list: inout [Maneuver], route: Route) {
         var i = 1
         while i + 1 < list.count {
@@ -220,8 +221,9 @@ struct RouteBuilder {
                     m.kind = aa > 0 ? .slightLeft : .slightRight
                     list[i] = m
                     list.remove(at: i + 1)
-                } else if abs(aa) < TurnClassifier.slightBelowDeg, let kind = TurnClassifier.classify(signedAngleDeg: aa + ba) {
-                    var m = b
+                } else if abs(aa) < TurnClassifier.slightBelowDeg || abs(ba) < TurnClassifier.slightBelowDeg,
+                          let kind = TurnClassifier.classify(signedAngleDeg: aa + ba) {
+                    var m = abs(aa) < abs(ba) ? b : a
                     m.kind = kind
                     m.turnAngleDeg = aa + ba
                     list[i] = m

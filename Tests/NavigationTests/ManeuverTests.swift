@@ -90,6 +90,32 @@ final class ManeuverTests: XCTestCase {
         try assertTable(large, [("a", "d", "depart,turnRight,turnLeft,arrive"), ("d", "a", "depart,turnRight,turnLeft,arrive")])
     }
 
+    func testASlightBendBesideAnOppositeTurnIsOneTurnByTheNetAngle() throws {
+        // b: a 90-degree right (east to south); c, one grid row further: a bend left onto the diagonal c -> d
+        // (1 east, 2 south: 26.6 deg left of south). Net 63.4 deg right.
+        let map = """
+            a---b
+                |
+                c
+
+                 d
+            """
+        // 0.5 m grid: b and c are 1 m apart, one turn by the net angle at the larger turn's point (b), both
+        // ways (d -> a: the bend right at c comes first, the left at b after it).
+        let small = FloorPlanFixture(gridMeters: 0.5).floor("1", map: map).way("cd").build()
+        try assertTable(small, [("a", "d", "depart,turnRight,arrive"), ("d", "a", "depart,turnLeft,arrive")])
+        for (from, to, angle) in [("a", "d", -63.43), ("d", "a", 63.43)] {
+            let route = try XCTUnwrap(try Navigator(building: small, destinationId: to)
+                .routeFrom(small.nodePosition(from), floorId: "1"))
+            let turn = route.maneuvers[1]
+            XCTAssertEqual(turn.turnAngleDeg!, angle, accuracy: 0.01, "\(from) -> \(to)")
+            XCTAssertEqual(turn.nodeId, "b", "\(from) -> \(to): the merged turn sits at the larger turn's control point")
+        }
+        // 1 m grid: 2 m apart, two maneuvers (the second chained to the first's cue).
+        let large = FloorPlanFixture(gridMeters: 1).floor("1", map: map).way("cd").build()
+        try assertTable(large, [("a", "d", "depart,turnRight,slightLeft,arrive"), ("d", "a", "depart,slightRight,turnLeft,arrive")])
+    }
+
     func testSlightSharpAndUTurnFromDiagonalWays() throws {
         // b -> c goes 4 right, 2 down: -26.6 deg, slight right.
         let slight = FloorPlanFixture(gridMeters: 1).floor("1", map: """
