@@ -131,7 +131,7 @@ struct SignObservationModel {
             guard detected else { continue }
             let range = r * (1 + p.rangeBias) * exp(p.rangeLogSigma * zr)
             let bearing = wrapAngle(b + radians(p.bearingSigmaDeg) * zb)
-            let score = max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs))
+            let score = p.scoresTellFalsePositives ? max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs)) : p.constantScore
             // Text recognition, only for identifying legends (so the streams of maps without any are unchanged).
             var text: String? = nil
             if let legend = sign.text {
@@ -154,7 +154,7 @@ struct SignObservationModel {
             let fx = portrait ? intrinsics.fy : intrinsics.fx
             let halfFov = atan(halfPixels / fx)
             out.append((ObservationRecord(t: s.t, kind: falsePositiveKind(onFloor: s.floorId), rangeMeters: fr,
-                                          bearingRad: fb * halfFov, score: fs, source: "simulated"),
+                                          bearingRad: fb * halfFov, score: p.scoresTellFalsePositives ? fs : p.constantScore, source: "simulated"),
                         ObservationTruth(signId: nil, trueRangeMeters: nil, trueBearingRad: nil)))
         }
         return out

@@ -189,6 +189,15 @@ public struct DetectorParameters: Codable, Sendable, Equatable {
     public var motionBlurTurnRateDegPerSecond = 60.0
     /// False positives per processed frame (e.g. a red light taken for a sign).
     public var falsePositivesPerFrame = 1.0 / 300.0
+    /// Whether the scores tell false positives from signs (the default): a sign scores 0.92 - 0.03 r + N(0, 0.04)
+    /// (clamped 0.3-0.99) and a false positive U(0.3, 0.7), so the localizer discounts the false ones as clutter.
+    /// false: every observation, a sign's and a false positive's alike, scores `constantScore`. The real
+    /// detectors' scores do not tell the two apart: the U-Net reports the mask's mean probability and accepts
+    /// nothing under 0.92, the cascade its neighbour count, which the localizer reads as 1 (issue 16); the stress
+    /// test without that help (docs/benchmarks.md "Twenty-third stop").
+    public var scoresTellFalsePositives = true
+    /// Every observation's score when `scoresTellFalsePositives` is false (0...1).
+    public var constantScore = 1.0
     /// Largest angle between the sign's face normal and the line to the camera at which it is still detected,
     /// degrees: seen more obliquely, a sign's face is foreshortened to a sliver (cos 75 degrees = 0.26 of its
     /// width) that no detector finds. Double-sided signs are measured against the nearer face.
@@ -367,6 +376,7 @@ extension SimulationParameters {
         }
         guard detector.rangeBias.isFinite, detector.rangeBias > -1 else { throw bad("detector rangeBias must be finite and > -1") }
         guard (0...1).contains(detector.falsePositivesPerFrame) else { throw bad("detector falsePositivesPerFrame must be in 0...1") }
+        guard (0...1).contains(detector.constantScore) else { throw bad("detector constantScore must be in 0...1") }
         guard barometer.updateRateHz > 0 else { throw bad("barometer updateRateHz must be positive") }
         guard vio.darkSpellsPerSecond >= 0, vio.relocalizationsPerSecond >= 0 else { throw bad("VIO event rates must be non-negative") }
         try compass.validate()

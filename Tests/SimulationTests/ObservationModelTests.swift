@@ -151,6 +151,20 @@ final class ObservationModelTests: XCTestCase {
             }
         }
         XCTAssertEqual(Fixtures.office.floors.first?.signs.first?.kind, "placard", "the fixture still tests the case")
+        // Scores that do not tell false positives from signs (the real detectors'): every observation scores the
+        // constant; the default scores keep telling them apart (false positives at most 0.7, most signs above).
+        var flat = p
+        flat.detector.scoresTellFalsePositives = false
+        flat.detector.constantScore = 0.95
+        for w in try walks(parameters: flat) { XCTAssertTrue(w.observations.allSatisfy { $0.score == 0.95 }) }
+        var fpScores: [Double] = [], signScores: [Double] = []
+        for w in try walks(parameters: p) {
+            for (o, truth) in zip(w.observations, w.diagnostics.observationTruth) {
+                if truth.signId == nil { fpScores.append(o.score) } else { signScores.append(o.score) }
+            }
+        }
+        XCTAssertLessThanOrEqual(try XCTUnwrap(fpScores.max()), 0.7)
+        XCTAssertGreaterThan(signScores.filter { $0 > 0.7 }.count, signScores.count / 2)
         // Default: about 1 per 300 processed frames.
         var fpDefault = 0, processedDefault = 0
         for w in try walks() {

@@ -51,6 +51,12 @@ final class SimulationParametersOverlayTests: XCTestCase {
             }
             XCTAssertTrue(message.contains("falsePositivesPerFrame"), message)
         }
+        XCTAssertThrowsError(try apply(#"{"detector": {"scoresTellFalsePositives": false, "constantScore": 1.5}}"#)) { error in
+            guard case .invalid(let message)? = error as? SimulationParametersOverlay.OverlayError else {
+                return XCTFail("expected .invalid, got \(error)")
+            }
+            XCTAssertTrue(message.contains("constantScore"), message)
+        }
     }
 
     func testEveryCommittedStressProfileAppliesAndChangesSomething() throws {
