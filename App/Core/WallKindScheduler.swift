@@ -44,13 +44,18 @@ public struct WallKindScheduler: Sendable {
         self.framePeriod = max(1, framePeriod)
     }
 
+    /// Whether the next detector frame looks for any wall kind (what `next` will return is not empty), so a caller
+    /// need not weigh the hypotheses' expectations for a frame that searches none.
+    public var searchesNextFrame: Bool { !kinds.isEmpty && (mode == .everyFrame || frames % framePeriod == 0) }
+
     /// The wall kinds the next detector frame looks for; advances the schedule by one frame. `expectedShares`: by
     /// kind, the weight share of the hypotheses that expect a sign of it in view (used by `.expected` only).
     public mutating func next(expectedShares: [String: Double] = [:]) -> Set<String> {
         guard !kinds.isEmpty else { return [] }
         if mode == .everyFrame { return Set(kinds) }
-        defer { frames += 1 }
-        guard frames % framePeriod == 0 else { return [] }
+        let searches = searchesNextFrame
+        frames += 1
+        guard searches else { return [] }
         let slots = kindsPerFrame <= 0 ? kinds.count : min(kindsPerFrame, kinds.count)
         if slots == kinds.count { return Set(kinds) }
         var chosen: [String] = []

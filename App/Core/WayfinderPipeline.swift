@@ -163,12 +163,12 @@ public final class WayfinderPipeline {
 
     /// The wall kinds the detector frame about to run looks for (advances the schedule): with `.expected`, the kinds
     /// the localizer's hypotheses expect in view first (`ExpectedSignKinds`, from the previous frame's estimate: the
-    /// motion since is a frame's).
-    /// Nil when no schedule applies (recorded observations used whole).
+    /// motion since is a frame's; weighed only for a frame that searches some wall kind). Nil when no schedule
+    /// applies (recorded observations used whole).
     private func nextWallKinds() -> Set<String>? {
         guard sightingSource.schedulesWallKinds else { return nil }
         var shares: [String: Double] = [:]
-        if wallKindScheduler.mode == .expected {
+        if wallKindScheduler.mode == .expected && wallKindScheduler.searchesNextFrame {
             shares = ExpectedSignKinds.shares(hypotheses: lastHypotheses, building: building,
                                               kinds: Set(wallKindScheduler.kinds),
                                               halfFieldOfViewRad: 0.5 * options.localizer.horizontalFieldOfViewRad,

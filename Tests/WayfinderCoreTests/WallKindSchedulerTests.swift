@@ -9,8 +9,15 @@ import XCTest
 final class WallKindSchedulerTests: XCTestCase {
     private let kinds = ["restroom", "elevator", "stairs", "placard"]
 
-    private func frames(_ s: inout WallKindScheduler, _ n: Int, shares: [String: Double] = [:]) -> [Set<String>] {
-        (0..<n).map { _ in s.next(expectedShares: shares) }
+    /// The next `n` frames' kinds; each frame also checks that `searchesNextFrame` said whether it searches any.
+    private func frames(_ s: inout WallKindScheduler, _ n: Int, shares: [String: Double] = [:],
+                        file: StaticString = #filePath, line: UInt = #line) -> [Set<String>] {
+        (0..<n).map { _ in
+            let announced = s.searchesNextFrame
+            let chosen = s.next(expectedShares: shares)
+            XCTAssertEqual(announced, !chosen.isEmpty, file: file, line: line)
+            return chosen
+        }
     }
 
     /// `.rotation` is the detector's own schedule (SignDetector's MoreKinds tests): two kinds on every second frame.
