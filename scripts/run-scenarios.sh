@@ -24,7 +24,10 @@
 # Tests/StressProfiles, docs/benchmarks.md "Eleventh stop"): the convergence study with every model rough at once
 # (gate convergence-study-all-rough.json) and the scenario suite behind rough VIO (relocalization snaps, larger
 # scale and yaw drift; gate scenarios-vio-rough.json): a figure that holds only on our own noise models is not the
-# figure.
+# figure. Last, the convergence study behind the unrefined cascade's 0.06 false positives per frame scored like its
+# signs (Tests/StressProfiles/scores-uninformative.json, gate convergence-study-cascade-scores-uninformative.json):
+# the real detectors' scores do not tell false positives apart, and one-frame false sightings must not lock the
+# filter on a look-alike place (App/Core/SightingCorroboration.swift, docs/benchmarks.md "Twenty-fourth stop").
 # Usage: scripts/run-scenarios.sh [--write-baseline]
 set -euo pipefail
 cd "$(dirname "$0")/.."
@@ -41,7 +44,8 @@ for suite in "Tests/Scenarios:Tests/Baselines/scenarios.json" "Tests/Convergence
              "Tests/Scenarios:Tests/Baselines/scenarios-seed-3.json:::--seed=3" \
              "Tests/ConvergenceStudy:Tests/Baselines/convergence-study-seed-2.json:::--seed=2" \
              "Tests/ConvergenceStudy:Tests/Baselines/convergence-study-all-rough.json:::--sim-params=Tests/StressProfiles/all-rough.json" \
-             "Tests/Scenarios:Tests/Baselines/scenarios-vio-rough.json:::--sim-params=Tests/StressProfiles/vio-rough.json"; do
+             "Tests/Scenarios:Tests/Baselines/scenarios-vio-rough.json:::--sim-params=Tests/StressProfiles/vio-rough.json" \
+             "Tests/ConvergenceStudy:Tests/Baselines/convergence-study-cascade-scores-uninformative.json:real-cascade::--sim-params=Tests/StressProfiles/scores-uninformative.json"; do
   IFS=: read -r dir baseline detector bias flag <<<"$suite"
   args=(--scenarios "$dir" --skeri "$shared")
   if [ -n "$detector" ]; then args+=(--sim-detector "$detector"); fi

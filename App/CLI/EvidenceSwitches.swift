@@ -21,6 +21,10 @@ enum EvidenceSwitches {
                        or every-frame (all of them, no budget). Given, it also applies to recorded observations
                        (a study of the phone's budget on simulated walks): a sighting of a kind the frame does
                        not look for is left out (docs/sign-detection.md "Which wall kinds a frame looks for")
+      --no-corroboration  count every sighting in full, even one no earlier detector frame saw at about the
+                       same place of the VIO plane (by default such a sighting counts at a quarter of its score:
+                       docs/localizer.md "Corroborated sightings")
+      --corroboration F  the factor on an uncorroborated sighting's score instead of 0.25 (1 = off)
       --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
                        may be repeated
     """
@@ -38,6 +42,13 @@ enum EvidenceSwitches {
         if arguments.flag("no-compass") { options.useCompass = false }
         if arguments.flag("no-planes") { options.usePlanes = false }
         if arguments.flag("no-north-check") { options.compassNorthCheck = nil }
+        if arguments.flag("no-corroboration") { options.sightingCorroboration.uncorroboratedScoreFactor = 1 }
+        if let f = try arguments.option("corroboration") {
+            guard let factor = Double(f), (0...1).contains(factor) else {
+                throw CLIError.usage("--corroboration wants a factor in 0...1, got '\(f)'")
+            }
+            options.sightingCorroboration.uncorroboratedScoreFactor = factor
+        }
         if let m = try arguments.option("wall-kinds") {
             guard let mode = WallKindScheduler.Mode(rawValue: m) else {
                 throw CLIError.usage("--wall-kinds must be expected, rotation or every-frame")

@@ -39,8 +39,12 @@ public final class WayfinderPipeline {
     private var wallKindScheduler: WallKindScheduler
     /// The hypotheses of the last frame's estimate (what the next detector frame expects to see).
     private var lastHypotheses: [PoseHypothesis] = []
+    /// Whether the last frame's estimate was localized (sightings are then weighed as measured, see `corroboration`).
+    private var lastLocalized = false
     private var navigator: Navigator?
     private var lastDetectionT = -Double.infinity
+    /// Confirms sightings against the earlier detector frames' (options.sightingCorroboration).
+    private var corroboration: SightingCorroboration
     private var lastAltitude: Double?
     private var compassPriorApplied = false
     private var northCheck: CompassNorthCheck?
@@ -54,6 +58,7 @@ public final class WayfinderPipeline {
     public init(building: Building, options: PipelineOptions, imagesAvailable: Bool = false) throws {
         self.building = building
         self.options = options
+        corroboration = SightingCorroboration(parameters: options.sightingCorroboration)
         guard let firstFloor = building.floors.first else { throw PipelineError.invalidConfiguration("the map has no floors") }
         var parameters = options.localizerParameters
         if !options.useCompass { parameters["compass.enabled"] = 0 }
@@ -93,6 +98,7 @@ public final class WayfinderPipeline {
     /// sign update, guidance.
     public func process(_ frame: PipelineFrame) -> PipelineUpdate {
         var warnings: [String] = []
+        if frame.tracking == .notAvailable || frame.cameraPose == nil { corroboration.reset() }
         if let pose = frame.cameraPose {
             localizer.predict(VIOConversion.sample(t: frame.t, pose: pose, tracking: frame.tracking))
             noteInputError("motion update", &warnings)
@@ -116,7 +122,9 @@ public final class WayfinderPipeline {
             switch sightingSource.sightings(for: frame, pose: pose, searchedWallKinds: nextWallKinds()) {
             case .success(let result):
                 if let found = result {
-                    sightings = found.sightings.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }
+                    sightings = corroboration.corroborate(
+                        found.sightings.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }, t: frame.t, pose: pose,
+                        weigh: !lastLocalized)
                     detectorRan = true
                     lastDetectionT = frame.t
                     localizer.update(sightings: sightings, unsearchedKinds: found.unsearchedKinds, t: frame.t)
@@ -129,6 +137,7 @@ public final class WayfinderPipeline {
 
         let estimate = localizer.estimate
         lastHypotheses = estimate.hypotheses
+        lastLocalized = estimate.isLocalized
         checkNorth(frame, estimate, &warnings)
         var events: [TimedGuidanceEvent] = []
         if let navigator {

@@ -163,8 +163,11 @@ public struct LocalizationEstimate: Sendable {
     public var hypothesisCount: Int
     /// Current number of particles.
     public var particleCount: Int
-    /// The pose hypotheses behind the estimate, heaviest first (clusters holding >= 1 % of the weight, at
-    /// most 16; the first is the dominant one the estimate describes). Empty for fakes.
+    /// The pose hypotheses behind the estimate (clusters holding >= 1 % of the weight, at most 16): first the
+    /// dominant one the estimate describes (the heaviest, or while localized the locked one against a refuted
+    /// heavier rival, LocalizerCore pf/locked_hypothesis; on frames between two clusterings its weight is
+    /// refreshed and the others keep the last clustering's, so it may read a little lighter than the second),
+    /// then the others heaviest first. Empty for fakes.
     public var hypotheses: [PoseHypothesis] = []
     /// Sightings of the last hold period (about a second) that the dominant hypothesis explains only as false
     /// positives: the sum of -log(false-positive probability) of their sightings, nats (0 = it explains them all).

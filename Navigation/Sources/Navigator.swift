@@ -319,6 +319,7 @@ public final class Navigator {
             // start would come first and speak for a turn the departure instruction covers).
             policy.supersede(upTo: .information, t: t)
         }
+        let relocked = unlocalizedSince != nil
         unlocalizedSince = nil
         currentAdvice = nil
         lastSpokenAdviceKey = nil
@@ -339,7 +340,15 @@ public final class Navigator {
             }
         } else {
             trackProgress(p, floorId: input.floorId)
-            checkDeviation(input: input, snap: snap)
+            if relocked && distanceFromRouteMeters > options.offRouteDistanceMeters {
+                // Localized again after a spell unsure, away from the route: the estimate moved, not the traveler
+                // (who followed the advice given while unsure). The route is taken again from here without "Off
+                // route, recalculating": that correction, spoken at safety rank, would hold back a turn cue due
+                // a second later, and it blames the traveler for the localizer's change of mind.
+                adoptRoute(from: snap, input: input)
+            } else {
+                checkDeviation(input: input, snap: snap)
+            }
         }
         guard currentRoute != nil else { return emit(t) }
         if checkArrival(input: input) { return emit(t) }

@@ -244,6 +244,34 @@ final class NavigatorTests: XCTestCase {
         XCTAssertEqual(w.spoken.last, "Turn right, then go 8 meters.")
     }
 
+    func testRelockAwayFromTheRouteTakesTheRouteAgainWithoutOffRoute() throws {
+        // Localized in the upper corridor, then unsure for 5 s (the lock broke); localized again in the lower
+        // corridor 8 m away: the estimate moved, not the traveler. The route is taken again silently and its
+        // first instruction is said, with no "Off route, recalculating." (safety rank, it would hold back a
+        // turn cue due a moment later).
+        let b = FloorPlanFixture(gridMeters: 2).floor("1", map: """
+            a-------b
+                    |
+                    |
+                    |
+                    |
+            c-------d
+            """).build()
+        let nav = try Navigator(building: b, destinationId: "d")
+        var w = Walker(start: b.nodePosition("a"), floorId: "1", headingRad: 0)
+        w.run(nav, [.walk(to: Point2(x: 4, y: 10))])
+        XCTAssertEqual(nav.routeCount, 1)
+        w.unlocalized(nav, seconds: 5)
+        w.run(nav, [.appear(at: Point2(x: 4, y: 0), floorId: "1"), .face(headingRad: 0), .wait(seconds: 3)])
+        XCTAssertEqual(nav.routeCount, 2)
+        XCTAssertFalse(w.spoken.contains("Off route, recalculating."), "\(w.spoken)")
+        XCTAssertFalse(w.haptics.contains(.offRoute))
+        XCTAssertEqual(w.spoken.last, "Go straight ahead, 10 meters.")
+        // Walking off the new route afterwards is still a correction.
+        w.run(nav, [.walk(to: Point2(x: 8, y: 0)), .walk(to: Point2(x: 8, y: -3.5))])
+        XCTAssertTrue(w.spoken.contains("Off route, recalculating."))
+    }
+
     func testSideCorridorReroutesSilently() throws {
         let b = FloorPlanFixture(gridMeters: 2).floor("1", map: """
             a-------b-------c

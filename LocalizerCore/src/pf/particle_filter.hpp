@@ -74,7 +74,8 @@ public:
     /// flag's hysteresis advances on these reads, with the time of the last input: read it once per frame.
     const wf_localizer_estimate &estimate();
 
-    /// Hypotheses of the last estimate (clusters holding >= 1 % of the weight, heaviest first, at most 16).
+    /// Hypotheses of the last estimate (clusters holding >= 1 % of the weight, at most 16): the dominant one
+    /// first, then the others heaviest first.
     const std::vector<wf_localizer_hypothesis> &hypotheses() const { return hypotheses_; }
 
     bool initialized() const { return initialized_; }

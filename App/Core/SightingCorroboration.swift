@@ -1,0 +1,95 @@
+import Foundation
+import Localizer
+import SessionFormat
+
+/// Track confirmation of sign sightings in the odometry frame: a sighting counts in full only when an earlier
+/// detector frame saw a sign of the same kind at about the same place of the VIO plane.
+///
+/// Why: a real sign stays where it is while the traveler walks, so the detector sees it again and again at one
+/// point of the VIO floor plane (ARKit's drift over a second is centimetres). A false positive of a detector whose
+/// score does not tell it apart (a poster or a red light taken for an Exit sign in one frame, issue 16) lands at a
+/// fresh place each time. The localizer scores each frame on its own, so a run of such one-frame sightings can
+/// happen to fit a look-alike corridor's sign and lock the filter there (docs/benchmarks.md, "Twenty-third stop":
+/// conv-4-06 behind the real-photo cascade with uninformative scores). This is the two-detection confirmation of
+/// radar track initiation (an M-of-N rule; Blackman, "Multiple-Target Tracking with Radar Applications", 1986),
+/// applied before the map is consulted: it needs no hypothesis, only the VIO poses.
+///
+/// An uncorroborated sighting is not dropped: its score is multiplied by `uncorroboratedScoreFactor`, so the
+/// localizer weighs it more like clutter (sensors/sign_measurement_model: clutter share 1 - 0.9 score). A false
+/// positive that repeats at one place (a poster seen for seconds) is corroborated like a sign, as before.
+/// Written by hand: no library does this for a stream of range-bearing sightings.
+public struct SightingCorroboration: Sendable {
+    /// The rule's settings.
+    public struct Parameters: Sendable, Equatable {
+        /// How far back an earlier sighting can corroborate, seconds (10 detector frames at the phone's 10 Hz).
+        public var windowSeconds = 1.0
+        /// Gate between the two sightings' sign positions on the VIO plane: `gateBaseMeters` plus
+        /// `gateRangeFraction` of the larger range, meters (two frames' independent range errors differ by about
+        /// 0.15 of the range at the real detectors' 0.08-0.11 log-normal spread; bearing errors add little).
+        public var gateBaseMeters = 0.5
+        /// See `gateBaseMeters`.
+        public var gateRangeFraction = 0.3
+        /// Factor on the score of a sighting no earlier frame corroborates (0...1; 1 = the rule is off).
+        public var uncorroboratedScoreFactor = 0.25
+        /// The defaults.
+        public init() {}
+    }
+
+    /// One earlier sighting: its time, kind and where it put the sign on the VIO plane.
+    private struct Placed: Sendable {
+        var t: Double
+        var key: String
+        var east: Double
+        var north: Double
+        var rangeMeters: Double
+    }
+
+    /// The settings.
+    public let parameters: Parameters
+    /// The sightings of the last `windowSeconds`, oldest first.
+    private var recent: [Placed] = []
+
+    /// A rule with `parameters`.
+    public init(parameters: Parameters = Parameters()) {
+        self.parameters = parameters
+    }
+
+    /// Forgets every earlier sighting (the VIO frame was reset or tracking lost: old positions are in another frame).
+    public mutating func reset() {
+        recent.removeAll()
+    }
+
+    /// The sightings of the detector frame at `t` taken from the camera at `pose`, each uncorroborated one with its
+    /// score scaled down; remembers them for the frames to come. Sightings of the same frame do not corroborate
+    /// each other. A non-finite pose or sighting is passed through unchanged and not remembered.
+    public mutating func corroborate(_ sightings: [SignSighting], t: Double, pose: CameraPose,
+                                     weigh: Bool = true) -> [SignSighting] {
+        recent.removeAll { !(t - $0.t <= parameters.windowSeconds) || $0.t > t }
+        guard parameters.uncorroboratedScoreFactor < 1 else { return sightings }
+        let factor = weigh ? parameters.uncorroboratedScoreFactor : 1
+        let camera = pose.positionInVIOPlane
+        let yaw = pose.yawInVIOPlaneRad
+        var placedNow: [Placed] = []
+        var out = sightings
+        for i in out.indices {
+            let s = out[i]
+            // Bearing is positive to the left, i.e. counter-clockwise like the VIO yaw.
+            let east = camera.east + s.rangeMeters * cos(yaw + s.bearingRad)
+            let north = camera.north + s.rangeMeters * sin(yaw + s.bearingRad)
+            guard east.isFinite, north.isFinite, s.rangeMeters.isFinite else { continue }
+            // By kind alone: a placard whose legend was read on one frame and not on the next is one sign.
+            let key = s.kind
+            let corroborated = recent.contains { earlier in
+                guard earlier.key == key else { return false }
+                let gate = parameters.gateBaseMeters + parameters.gateRangeFraction * max(earlier.rangeMeters, s.rangeMeters)
+                return hypot(earlier.east - east, earlier.north - north) <= gate
+            }
+            // A legend read on the sign (a room number) is a second, independent check of its own: a poster or a
+            // light is not taken for a placard whose number the map has.
+            if !corroborated && s.text == nil { out[i].score = s.score * factor }
+            placedNow.append(Placed(t: t, key: key, east: east, north: north, rangeMeters: s.rangeMeters))
+        }
+        recent.append(contentsOf: placedNow)
+        return out
+    }
+}

@@ -1,0 +1,99 @@
+import XCTest
+import Localizer
+import SessionFormat
+@testable import WayfinderCore
+
+/// Track confirmation of sightings on the VIO plane (`SightingCorroboration`): a sign that stays put is confirmed
+/// from its second frame on; one-frame sightings at fresh places are not.
+final class SightingCorroborationTests: XCTestCase {
+    /// A camera at (east, north) on the VIO plane looking along `yawRad` (CCW from VIO east).
+    private func pose(east: Double, north: Double, yawRad: Double) -> CameraPose {
+        CameraPose(positionInWorld: (east, 1.4, -north), yawRad: yawRad, pitchRad: 0, rollRad: -Double.pi / 2)
+    }
+
+    /// The sighting of a sign at (signEast, signNorth) from a camera at (east, north) looking along `yawRad`.
+    private func sighting(of signEast: Double, _ signNorth: Double, from east: Double, _ north: Double, yawRad: Double,
+                          kind: String = "exit", score: Double = 1, text: String? = nil) -> SignSighting {
+        let dx = signEast - east, dy = signNorth - north
+        return SignSighting(kind: kind, rangeMeters: hypot(dx, dy), bearingRad: atan2(dy, dx) - yawRad, score: score, text: text)
+    }
+
+    func testASignThatStaysPutIsConfirmedFromItsSecondFrameWhileTheCameraWalksAndTurns() {
+        var rule = SightingCorroboration()
+        let factor = rule.parameters.uncorroboratedScoreFactor
+        XCTAssertLessThan(factor, 1)
+        // Walking east at 1.2 m/s past a sign at (10, 1.5), the camera swinging +-0.3 rad; 10 Hz.
+        for i in 0..<10 {
+            let t = 0.1 * Double(i), east = 1.2 * t, yaw = 0.3 * sin(Double(i))
+            let out = rule.corroborate([sighting(of: 10, 1.5, from: east, 0, yawRad: yaw, score: 0.9)],
+                                       t: t, pose: pose(east: east, north: 0, yawRad: yaw))
+            XCTAssertEqual(out[0].score, i == 0 ? 0.9 * factor : 0.9, accuracy: 1e-12, "frame \(i)")
+        }
+    }
+
+    func testOneFrameSightingsAtFreshPlacesAreNeverConfirmed() {
+        var rule = SightingCorroboration()
+        // A standing camera; each frame a "sign" 4 m further round a circle of radius 6 m (24 degrees apart).
+        for i in 0..<10 {
+            let a = 0.4 * Double(i) - 1.8
+            let out = rule.corroborate([sighting(of: 6 * cos(a), 6 * sin(a), from: 0, 0, yawRad: 0)],
+                                       t: 0.1 * Double(i), pose: pose(east: 0, north: 0, yawRad: 0))
+            XCTAssertEqual(out[0].score, rule.parameters.uncorroboratedScoreFactor, accuracy: 1e-12, "frame \(i)")
+        }
+    }
+
+    func testTheGateGrowsWithRange() {
+        // Two frames 1.2 m apart in position measure a sign at 10 m: 2.4 m apart passes the gate at 10 m
+        // (0.5 + 0.3 x 10 = 3.5 m), 4 m apart does not.
+        for (offset, confirmed) in [(2.4, true), (4.0, false)] {
+            var rule = SightingCorroboration()
+            let p = pose(east: 0, north: 0, yawRad: 0)
+            _ = rule.corroborate([sighting(of: 10, 0, from: 0, 0, yawRad: 0)], t: 0, pose: p)
+            let out = rule.corroborate([sighting(of: 10, offset, from: 0, 0, yawRad: 0)], t: 0.1, pose: p)
+            XCTAssertEqual(out[0].score == 1, confirmed, "offset \(offset) m")
+        }
+    }
+
+    func testOnlyAnEarlierFrameOfTheSameKindWithinTheWindowConfirms() {
+        let p = pose(east: 0, north: 0, yawRad: 0)
+        let exit = sighting(of: 5, 0, from: 0, 0, yawRad: 0)
+        let restroom = sighting(of: 5, 0, from: 0, 0, yawRad: 0, kind: "restroom")
+        var rule = SightingCorroboration()
+        // Two sightings of one frame do not confirm each other.
+        XCTAssertEqual(rule.corroborate([exit, exit], t: 0, pose: p).map(\.score), [0.25, 0.25])
+        // Another kind at the same place does not confirm.
+        XCTAssertEqual(rule.corroborate([restroom], t: 0.1, pose: p)[0].score, 0.25, accuracy: 1e-12)
+        // The window: 1 s after the last exit sighting still confirms, 1.5 s after does not.
+        XCTAssertEqual(rule.corroborate([exit], t: 1.0, pose: p)[0].score, 1, accuracy: 1e-12)
+        XCTAssertEqual(rule.corroborate([exit], t: 2.5, pose: p)[0].score, 0.25, accuracy: 1e-12)
+    }
+
+    func testAReadLegendKeepsItsScoreAndResetForgets() {
+        let p = pose(east: 0, north: 0, yawRad: 0)
+        var rule = SightingCorroboration()
+        let placard = sighting(of: 2, 1, from: 0, 0, yawRad: 0, kind: "placard", score: 0.8, text: "402")
+        XCTAssertEqual(rule.corroborate([placard], t: 0, pose: p)[0].score, 0.8, accuracy: 1e-12)
+        _ = rule.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0)], t: 0.1, pose: p)
+        rule.reset()
+        XCTAssertEqual(rule.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0)], t: 0.2, pose: p)[0].score, 0.25,
+                       accuracy: 1e-12)
+    }
+
+    func testFactorOneLeavesEverySightingAsMeasured() {
+        var parameters = SightingCorroboration.Parameters()
+        parameters.uncorroboratedScoreFactor = 1
+        var rule = SightingCorroboration(parameters: parameters)
+        let s = [sighting(of: 5, 2, from: 0, 0, yawRad: 0.2, score: 0.7)]
+        let out = rule.corroborate(s, t: 0, pose: pose(east: 0, north: 0, yawRad: 0.2))
+        XCTAssertEqual(out[0].score, 0.7)
+    }
+
+    func testANonFiniteSightingPassesThroughAndIsNotRemembered() {
+        var rule = SightingCorroboration()
+        let p = pose(east: 0, north: 0, yawRad: 0)
+        let bad = SignSighting(kind: "exit", rangeMeters: .nan, bearingRad: 0, score: 1)
+        XCTAssertTrue(rule.corroborate([bad], t: 0, pose: p)[0].rangeMeters.isNaN)
+        XCTAssertEqual(rule.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0)], t: 0.1, pose: p)[0].score, 0.25,
+                       accuracy: 1e-12)
+    }
+}
