@@ -16,7 +16,12 @@ import SessionFormat
 ///
 /// An uncorroborated sighting is not dropped: its score is multiplied by `uncorroboratedScoreFactor`, so the
 /// localizer weighs it more like clutter (sensors/sign_measurement_model: clutter share 1 - 0.9 score). A false
-/// positive that repeats at one place (a poster seen for seconds) is corroborated like a sign, as before.
+/// positive that repeats at one place (a poster seen for seconds) is corroborated like a sign, as before. A
+/// sighting whose legend was read (a room number) keeps its score: the reading is an independent check of its own.
+/// The pipeline weighs only while the localizer is not localized (`weigh`): that is when one-frame sightings can
+/// build a wrong lock, while a lock is guarded by its hysteresis, and a sighting that refutes a wrong lock must
+/// count at once (behind the cascade's -25 % range bias, halving the refuting sightings held skeri-2's wrong lock
+/// 0.5 m longer). The default factor and window are the measured ones (docs/benchmarks.md, "Twenty-fourth stop").
 /// Written by hand: no library does this for a stream of range-bearing sightings.
 public struct SightingCorroboration: Sendable {
     /// The rule's settings.
@@ -60,8 +65,9 @@ public struct SightingCorroboration: Sendable {
     }
 
     /// The sightings of the detector frame at `t` taken from the camera at `pose`, each uncorroborated one with its
-    /// score scaled down; remembers them for the frames to come. Sightings of the same frame do not corroborate
-    /// each other. A non-finite pose or sighting is passed through unchanged and not remembered.
+    /// score scaled down when `weigh` (else all as measured); remembers them for the frames to come either way.
+    /// Sightings of the same frame do not corroborate each other. A non-finite pose or sighting is passed through
+    /// unchanged and not remembered.
     public mutating func corroborate(_ sightings: [SignSighting], t: Double, pose: CameraPose,
                                      weigh: Bool = true) -> [SignSighting] {
         recent.removeAll { !(t - $0.t <= parameters.windowSeconds) || $0.t > t }

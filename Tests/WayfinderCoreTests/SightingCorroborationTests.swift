@@ -79,6 +79,18 @@ final class SightingCorroborationTests: XCTestCase {
                        accuracy: 1e-12)
     }
 
+    func testUnweighedFramesPassScoresThroughButStillConfirmTheNext() {
+        // While localized the pipeline does not weigh: the scores pass as measured, and the positions are kept.
+        var rule = SightingCorroboration()
+        let p = pose(east: 0, north: 0, yawRad: 0)
+        XCTAssertEqual(rule.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0, score: 0.9)], t: 0, pose: p,
+                                        weigh: false)[0].score, 0.9)
+        XCTAssertEqual(rule.corroborate([sighting(of: 5, 0.3, from: 0, 0, yawRad: 0, score: 0.9)], t: 0.1, pose: p)[0].score,
+                       0.9, "confirmed by the unweighed frame")
+        XCTAssertEqual(rule.corroborate([sighting(of: -5, 0, from: 0, 0, yawRad: 0, score: 0.9)], t: 0.2, pose: p)[0].score,
+                       0.9 * 0.25, accuracy: 1e-12, "a fresh place")
+    }
+
     func testFactorOneLeavesEverySightingAsMeasured() {
         var parameters = SightingCorroboration.Parameters()
         parameters.uncorroboratedScoreFactor = 1
