@@ -10,6 +10,9 @@ public struct ObservationTruth: Sendable, Codable, Equatable {
     public var trueRangeMeters: Double?
     /// True bearing, radians, positive left (nil for a false positive).
     public var trueBearingRad: Double?
+    /// The look-alike seen, for a false positive that is one (`DetectorParameters.lookAlikesPerMeterOfWall`);
+    /// nil for a sign and for a one-frame false positive.
+    public var lookAlikeId: String? = nil
 }
 
 /// A sign that was truly visible on a processed frame, detected or missed (diagnostics for detection rates).
@@ -50,6 +53,44 @@ struct SignObservationModel {
     /// the dangerous case and are kept in so the localizer's clutter share is exercised.
     static let textReadProbability = 0.8
     static let textMisreadProbability = 0.03
+    /// Look-alikes by floor id (`DetectorParameters.lookAlikesPerMeterOfWall`; `placeLookAlikes`): pseudo-signs of
+    /// the floor's false-positive kind. Empty by default.
+    var lookAlikes: [String: [Sign]] = [:]
+
+    /// Places the look-alikes of every floor (`DetectorParameters.lookAlikesPerMeterOfWall`): on each floor
+    /// round(density x total wall length) of them, each on a wall drawn with probability proportional to its
+    /// length, at a uniform point along it, on a side drawn at random, 5 cm off the wall and facing away from it.
+    /// Deterministic for `rng`; floors in id order.
+    static func placeLookAlikes(floors: [String: Floor], geometry: [String: FloorGeometry], parameters: DetectorParameters,
+                                kind: (String) -> String, rng: inout SeededRandom) -> [String: [Sign]] {
+        guard parameters.lookAlikesPerMeterOfWall > 0 else { return [:] }
+        var out: [String: [Sign]] = [:]
+        for floorId in floors.keys.sorted() {
+            guard let walls = geometry[floorId]?.walls, !walls.isEmpty else { continue }
+            let lengths = walls.map { hypot($0.to.x - $0.from.x, $0.to.y - $0.from.y) }
+            let total = lengths.reduce(0, +)
+            let count = Int((parameters.lookAlikesPerMeterOfWall * total).rounded())
+            guard total > 0, count > 0 else { continue }
+            var cumulative: [Double] = []
+            var sum = 0.0
+            for l in lengths { sum += l; cumulative.append(sum) }
+            var placed: [Sign] = []
+            for i in 0..<count {
+                let pick = rng.uniform() * total, along = rng.uniform(), side = rng.uniform() < 0.5 ? -1.0 : 1.0
+                let w = min(cumulative.firstIndex { $0 >= pick } ?? walls.count - 1, walls.count - 1)
+                let wall = walls[w], length = lengths[w]
+                guard length > 1e-6 else { continue }
+                let ux = (wall.to.x - wall.from.x) / length, uy = (wall.to.y - wall.from.y) / length
+                let nx = -uy * side, ny = ux * side
+                let x = wall.from.x + along * (wall.to.x - wall.from.x) + 0.05 * nx
+                let y = wall.from.y + along * (wall.to.y - wall.from.y) + 0.05 * ny
+                placed.append(Sign(id: "look-alike-\(floorId)-\(i)", kind: kind(floorId), position: Point2(x, y),
+                                   facing: Point2(nx, ny), widthMeters: 0.3, heightMeters: 0.15))
+            }
+            out[floorId] = placed
+        }
+        return out
+    }
 
     /// Recognition range of `sign`, meters: its kind's own (`SignKindSpec.maxRangeMeters`) capped by the
     /// detector's.
@@ -83,12 +124,17 @@ struct SignObservationModel {
 
     /// Signs truly visible from `s`: (sign, range, bearing).
     func visibleSigns(from s: TrueCameraState) -> [(sign: Sign, rangeMeters: Double, bearingRad: Double)] {
-        guard let floor = floors[s.floorId], let geo = geometry[s.floorId] else { return [] }
+        visible(floors[s.floorId]?.signs ?? [], from: s)
+    }
+
+    /// Which of `signs` (on the floor of `s`) are truly visible from `s`: (sign, range, bearing).
+    func visible(_ signs: [Sign], from s: TrueCameraState) -> [(sign: Sign, rangeMeters: Double, bearingRad: Double)] {
+        guard !signs.isEmpty, let geo = geometry[s.floorId] else { return [] }
         let pose = Self.mapPose(s)
         let k = intrinsics
         let mu = parameters.imageMargin * Double(k.width) / 2, mv = parameters.imageMargin * Double(k.height) / 2
         var out: [(Sign, Double, Double)] = []
-        for sign in floor.signs {
+        for sign in signs {
             let dx = sign.position.x - s.position.x, dy = sign.position.y - s.position.y
             let r = hypot(dx, dy)
             guard r >= parameters.minRangeMeters, r <= maxRangeMeters(of: sign) else { continue }
@@ -116,7 +162,10 @@ struct SignObservationModel {
     }
 
     /// Observations of one processed frame.
+    /// `lookAlikeRng` draws the look-alikes' detections (untouched when the floor has none, so walks without
+    /// look-alikes are the same as before them).
     func observe(frameIndex: Int, state s: TrueCameraState, rng: inout SeededRandom, fpRng: inout SeededRandom,
+                 lookAlikeRng: inout SeededRandom,
                  visibleLog: inout [VisibleSign]) -> [(ObservationRecord, ObservationTruth)] {
         let p = parameters
         var out: [(ObservationRecord, ObservationTruth)] = []
@@ -146,6 +195,16 @@ struct SignObservationModel {
             out.append((ObservationRecord(t: s.t, kind: sign.kind, rangeMeters: range, bearingRad: bearing, score: score,
                                           source: "simulated", text: text),
                         ObservationTruth(signId: sign.id, trueRangeMeters: r, trueBearingRad: b)))
+        }
+        // Look-alikes in view: detected like an Exit sign at their range, times the look-alike share.
+        for (alike, r, b) in visible(lookAlikes[s.floorId] ?? [], from: s) {
+            let pd = p.detectionProbability(rangeMeters: r) * blur * p.lookAlikeDetectionShare
+            let u = lookAlikeRng.uniform(), zr = lookAlikeRng.normal(), zb = lookAlikeRng.normal(), zs = lookAlikeRng.uniform(0.3, 0.7)
+            guard u < pd else { continue }
+            out.append((ObservationRecord(t: s.t, kind: alike.kind, rangeMeters: r * (1 + p.rangeBias) * exp(p.rangeLogSigma * zr),
+                                          bearingRad: wrapAngle(b + radians(p.bearingSigmaDeg) * zb),
+                                          score: p.scoresTellFalsePositives ? zs : p.constantScore, source: "simulated"),
+                        ObservationTruth(signId: nil, trueRangeMeters: nil, trueBearingRad: nil, lookAlikeId: alike.id)))
         }
         let fpDraw = fpRng.uniform(), fr = fpRng.uniform(1, p.maxRangeMeters), fb = fpRng.uniform(-1, 1), fs = fpRng.uniform(0.3, 0.7)
         if fpDraw < p.falsePositivesPerFrame {

@@ -198,6 +198,17 @@ public struct DetectorParameters: Codable, Sendable, Equatable {
     public var scoresTellFalsePositives = true
     /// Every observation's score when `scoresTellFalsePositives` is false (0...1).
     public var constantScore = 1.0
+    /// Look-alikes per meter of wall (0 = none, the default): fixed objects the detector takes for an Exit sign
+    /// frame after frame, a poster, a red light or a fiducial marker (the cascade's false positives on the real
+    /// photos, issue 16). Unlike `falsePositivesPerFrame`, which lands anywhere each time, a look-alike stays put,
+    /// so a sighting of it is confirmed by the next frame's (App/Core/SightingCorroboration) and fits a wrong pose
+    /// as well as a sign does. Placed once per walk on both faces of randomly chosen walls (length-weighted), at
+    /// an Exit sign's height and size, facing away from its wall; one on a face nobody walks past is never seen.
+    public var lookAlikesPerMeterOfWall = 0.0
+    /// Share of the frames a look-alike in view is reported in, against an Exit sign at the same range (0...1): it
+    /// is seen like a sign (range, face angle, image margin, walls), reported as the floor's false-positive kind
+    /// with the signs' range and bearing noise and the false positives' score.
+    public var lookAlikeDetectionShare = 0.5
     /// Largest angle between the sign's face normal and the line to the camera at which it is still detected,
     /// degrees: seen more obliquely, a sign's face is foreshortened to a sliver (cos 75 degrees = 0.26 of its
     /// width) that no detector finds. Double-sided signs are measured against the nearer face.
@@ -377,6 +388,10 @@ extension SimulationParameters {
         guard detector.rangeBias.isFinite, detector.rangeBias > -1 else { throw bad("detector rangeBias must be finite and > -1") }
         guard (0...1).contains(detector.falsePositivesPerFrame) else { throw bad("detector falsePositivesPerFrame must be in 0...1") }
         guard (0...1).contains(detector.constantScore) else { throw bad("detector constantScore must be in 0...1") }
+        guard detector.lookAlikesPerMeterOfWall.isFinite, detector.lookAlikesPerMeterOfWall >= 0, detector.lookAlikesPerMeterOfWall <= 10 else {
+            throw bad("detector lookAlikesPerMeterOfWall must be in 0...10")
+        }
+        guard (0...1).contains(detector.lookAlikeDetectionShare) else { throw bad("detector lookAlikeDetectionShare must be in 0...1") }
         guard barometer.updateRateHz > 0 else { throw bad("barometer updateRateHz must be positive") }
         guard vio.darkSpellsPerSecond >= 0, vio.relocalizationsPerSecond >= 0 else { throw bad("VIO event rates must be non-negative") }
         try compass.validate()

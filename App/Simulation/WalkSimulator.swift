@@ -240,17 +240,23 @@ public enum WalkSimulator {
         }
 
         // Observations on processed frames.
-        let obsModel = SignObservationModel(parameters: parameters.detector, floors: floorsById, geometry: geometry,
+        var obsModel = SignObservationModel(parameters: parameters.detector, floors: floorsById, geometry: geometry,
                                             intrinsics: intrinsics, catalogue: building.signCatalogue)
+        var placeRng = SeededRandom(seed: scenario.seed, stream: RandomStream.lookAlikes.rawValue)
+        obsModel.lookAlikes = SignObservationModel.placeLookAlikes(
+            floors: floorsById, geometry: geometry, parameters: parameters.detector,
+            kind: { [obsModel] in obsModel.falsePositiveKind(onFloor: $0) }, rng: &placeRng)
         var detRng = SeededRandom(seed: scenario.seed, stream: RandomStream.detector.rawValue)
         var fpRng = SeededRandom(seed: scenario.seed, stream: RandomStream.falsePositives.rawValue)
+        var lookAlikeRng = SeededRandom(seed: scenario.seed, stream: RandomStream.lookAlikeDetections.rawValue)
         var observations: [ObservationRecord] = [], obsTruth: [ObservationTruth] = [], visible: [VisibleSign] = []
         var processed: [Int] = []
         for k in stride(from: 0, to: states.count, by: detectorStride) {
             processed.append(k)
             // The detector runs on images; none while tracking is unavailable (no pose to range with).
             if vio[k].tracking == .notAvailable { continue }
-            for (o, tr) in obsModel.observe(frameIndex: k, state: states[k], rng: &detRng, fpRng: &fpRng, visibleLog: &visible) {
+            for (o, tr) in obsModel.observe(frameIndex: k, state: states[k], rng: &detRng, fpRng: &fpRng,
+                                                 lookAlikeRng: &lookAlikeRng, visibleLog: &visible) {
                 observations.append(o); obsTruth.append(tr)
             }
         }

@@ -174,6 +174,61 @@ final class ObservationModelTests: XCTestCase {
         XCTAssertEqual(Double(fpDefault) / Double(processedDefault), 1.0 / 300, accuracy: 4 * (1.0 / 300 / Double(processedDefault)).squareRoot())
     }
 
+    func testLookAlikesStayPutAndLeaveEverythingElseAsItWas() throws {
+        // 0.1 look-alikes per meter of wall, reported in every frame a sign there would be: the walk's frames
+        // and its sign sightings are those of the walk without them (their draws have streams of their own);
+        // what is added are Exit sightings of fixed objects, each seen again and again.
+        var p = SimulationParameters.standard
+        p.detector.lookAlikesPerMeterOfWall = 0.1
+        p.detector.lookAlikeDetectionShare = 1
+        var perLookAlike: [String: Int] = [:]
+        for (i, r) in Self.routes.enumerated() {
+            let scenario = SimulationScenario(name: "alike", from: r.0, to: r.1, seed: 40 + UInt64(i))
+            let plain = try Fixtures.walk(scenario), alike = try Fixtures.walk(scenario, parameters: p)
+            XCTAssertEqual(plain.frames, alike.frames)
+            let signs = zip(alike.observations, alike.diagnostics.observationTruth).filter { $0.1.lookAlikeId == nil }
+            XCTAssertEqual(signs.map(\.0), plain.observations)
+            for (o, truth) in zip(alike.observations, alike.diagnostics.observationTruth) {
+                guard let id = truth.lookAlikeId else { continue }
+                XCTAssertEqual(o.kind, "exit")
+                XCTAssertNil(truth.signId)
+                perLookAlike[id, default: 0] += 1
+            }
+        }
+        XCTAssertGreaterThan(perLookAlike.count, 5, "look-alikes were seen")
+        let sightings = perLookAlike.values.reduce(0, +)
+        XCTAssertGreaterThan(Double(sightings) / Double(perLookAlike.count), 3, "each seen on several frames")
+        XCTAssertTrue(perLookAlike.keys.allSatisfy { $0.hasPrefix("look-alike-") })
+    }
+
+    func testLookAlikesArePlacedByWallLengthDeterministically() throws {
+        var d = DetectorParameters()
+        d.lookAlikesPerMeterOfWall = 0.05
+        let floors = Dictionary(uniqueKeysWithValues: Fixtures.office.floors.map { ($0.id, $0) })
+        let geometry = floors.mapValues { FloorGeometry(walls: $0.walls) }
+        var a = SeededRandom(seed: 5, stream: RandomStream.lookAlikes.rawValue), b = a
+        let placed = SignObservationModel.placeLookAlikes(floors: floors, geometry: geometry, parameters: d,
+                                                          kind: { _ in "exit" }, rng: &a)
+        let again = SignObservationModel.placeLookAlikes(floors: floors, geometry: geometry, parameters: d,
+                                                         kind: { _ in "exit" }, rng: &b)
+        for (id, floor) in floors {
+            let wallMeters = floor.walls.map { hypot($0.to.x - $0.from.x, $0.to.y - $0.from.y) }.reduce(0, +)
+            let signs = try XCTUnwrap(placed[id])
+            XCTAssertEqual(signs.count, Int((0.05 * wallMeters).rounded()), "floor \(id)")
+            XCTAssertEqual(signs.map(\.position), try XCTUnwrap(again[id]).map(\.position))
+            for s in signs {
+                // 5 cm off its wall (another wall may come nearer at a corner), facing away from it.
+                let distances = floor.walls.map { FloorGeometry.distance(s.position, $0.from, $0.to) }
+                XCTAssertTrue(distances.contains { abs($0 - 0.05) < 1e-6 }, "\(s.id)")
+                XCTAssertLessThanOrEqual(distances.min() ?? .infinity, 0.05 + 1e-6)
+                XCTAssertEqual(hypot(s.facing.x, s.facing.y), 1, accuracy: 1e-9)
+            }
+        }
+        d.lookAlikesPerMeterOfWall = 0
+        XCTAssertTrue(SignObservationModel.placeLookAlikes(floors: floors, geometry: geometry, parameters: d,
+                                                           kind: { _ in "exit" }, rng: &a).isEmpty)
+    }
+
     func testObservationsOnlyOnProcessedFramesAtTheDetectorRate() throws {
         let w = try Fixtures.walk(SimulationScenario(name: "rate", from: "room-101", to: "room-109", seed: 1))
         XCTAssertEqual(w.diagnostics.processedFrameIndices.prefix(4), [0, 3, 6, 9])

@@ -50,14 +50,14 @@ final class PlacardSurveyTests: XCTestCase {
     /// frames: (share of frames with a sighting of placard 101, share of those that read "101", read "102").
     private func reads(x: Double, y: Double, yawRad: Double, frames: Int = 3000) -> (seen: Double, right: Double, wrong: Double) {
         let model = corridorModel()
-        var rng = SeededRandom(seed: 3, stream: 1), fp = SeededRandom(seed: 3, stream: 2)
+        var rng = SeededRandom(seed: 3, stream: 1), fp = SeededRandom(seed: 3, stream: 2), alike = SeededRandom(seed: 3, stream: 3)
         var log: [VisibleSign] = []
         var seen = 0, right = 0, wrong = 0
         for k in 0..<frames {
             let s = TrueCameraState(t: Double(k) * 0.1, floorId: "1", position: Point2Value(x: x, y: y), altitudeMeters: 1.4,
                                     heightAboveFloorMeters: 1.4, yawRad: yawRad, pitchRad: 0, rollRad: -.pi / 2,
                                     yawRateRadPerSecond: 0)
-            for (o, t) in model.observe(frameIndex: k, state: s, rng: &rng, fpRng: &fp, visibleLog: &log) where t.signId == "p101" {
+            for (o, t) in model.observe(frameIndex: k, state: s, rng: &rng, fpRng: &fp, lookAlikeRng: &alike, visibleLog: &log) where t.signId == "p101" {
                 seen += 1
                 if o.text == "101" { right += 1 } else if o.text == "102" { wrong += 1 }
             }
