@@ -25,6 +25,8 @@ enum EvidenceSwitches {
                        same place of the VIO plane (by default such a sighting counts at a quarter of its score:
                        docs/localizer.md "Corroborated sightings")
       --corroboration F  the factor on an uncorroborated sighting's score instead of 0.25 (1 = off)
+      --recount-unexplained M  while localized, an object seen again that the locked pose does not explain
+                       counts once per M meters walked instead of 1 (0 = every frame)
       --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
                        may be repeated
     """
@@ -48,6 +50,12 @@ enum EvidenceSwitches {
                 throw CLIError.usage("--corroboration wants a factor in 0...1, got '\(f)'")
             }
             options.sightingCorroboration.uncorroboratedScoreFactor = factor
+        }
+        if let r = try arguments.option("recount-unexplained") {
+            guard let meters = Double(r), meters.isFinite, meters >= 0 else {
+                throw CLIError.usage("--recount-unexplained wants meters >= 0, got '\(r)'")
+            }
+            options.sightingCorroboration.unexplainedObjectRecountMeters = meters
         }
         if let m = try arguments.option("wall-kinds") {
             guard let mode = WallKindScheduler.Mode(rawValue: m) else {

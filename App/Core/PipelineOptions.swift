@@ -66,9 +66,11 @@ public struct PipelineOptions: Sendable {
     /// explain it. On the end-to-end study that bias locked 4 of 6 walks on a mirror pose (docs/benchmarks.md,
     /// "End to end with the detectors").
     public var maximumSightingRangeMeters: Double = 12
-    /// Track confirmation of sightings on the VIO plane (`SightingCorroboration`): a sighting no earlier detector
-    /// frame saw at about the same place counts more like clutter. `uncorroboratedScoreFactor = 1` turns it off
-    /// (CLI `--no-corroboration`).
+    /// Sightings tracked on the VIO plane (`SightingCorroboration`): while not localized, a sighting no earlier
+    /// detector frame saw at about the same place counts more like clutter (`uncorroboratedScoreFactor = 1` turns
+    /// it off, CLI `--no-corroboration`); while localized, an object seen again that the locked pose does not
+    /// explain counts once per `unexplainedObjectRecountMeters` walked (0 turns it off, CLI
+    /// `--recount-unexplained 0`).
     public var sightingCorroboration = SightingCorroboration.Parameters()
     /// Farthest range at which the localizer predicts a sign visible: `maximumSightingRangeMeters` plus 3
     /// range sigmas of the localizer's range noise there, meters.

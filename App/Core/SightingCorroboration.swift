@@ -1,5 +1,6 @@
 import Foundation
 import Localizer
+import Maps
 import SessionFormat
 
 /// Track confirmation of sign sightings in the odometry frame: a sighting counts in full only when an earlier
@@ -18,10 +19,15 @@ import SessionFormat
 /// localizer weighs it more like clutter (sensors/sign_measurement_model: clutter share 1 - 0.9 score). A false
 /// positive that repeats at one place (a poster seen for seconds) is corroborated like a sign, as before. A
 /// sighting whose legend was read (a room number) keeps its score: the reading is an independent check of its own.
-/// The pipeline weighs only while the localizer is not localized (`weigh`): that is when one-frame sightings can
-/// build a wrong lock, while a lock is guarded by its hysteresis, and a sighting that refutes a wrong lock must
-/// count at once (behind the cascade's -25 % range bias, halving the refuting sightings held skeri-2's wrong lock
-/// 0.5 m longer). The default factor and window are the measured ones (docs/benchmarks.md, "Twenty-fourth stop").
+/// The pipeline weighs uncorroborated sightings only while the localizer is not localized (`weigh`): that is when
+/// one-frame sightings can build a wrong lock, while a lock is guarded by its hysteresis, and the first sighting of
+/// a sign that refutes a wrong lock must count at once (behind the cascade's -25 % range bias, quartering the
+/// refuting sightings held skeri-2's wrong lock 0.5 m longer). While localized, the other half: an object seen
+/// again (a corroborated sighting) that the locked pose does not explain counts once per
+/// `unexplainedObjectRecountMeters` walked, not on every frame, with score 0 in between: one object's frames are not
+/// independent evidence, and a look-alike that stays put (a poster seen for a second and a half) otherwise outweighs
+/// the whole lock. A sign that refutes a wrong lock still counts on its first frame and once per meter after it.
+/// The defaults are the measured ones (docs/benchmarks.md, "Twenty-fourth stop").
 /// Written by hand: no library does this for a stream of range-bearing sightings.
 public struct SightingCorroboration: Sendable {
     /// The rule's settings.
@@ -36,6 +42,13 @@ public struct SightingCorroboration: Sendable {
         public var gateRangeFraction = 0.3
         /// Factor on the score of a sighting no earlier frame corroborates (0...1; 1 = the rule is off).
         public var uncorroboratedScoreFactor = 0.25
+        /// While localized: a corroborated sighting that the locked pose does not explain (no map sign of its kind
+        /// within 1 m + 0.3 x range of where it puts it) counts again only once the camera moved this far on the VIO
+        /// plane since its object last counted, meters; in between it passes with score 0 (it still matches its
+        /// kind for the localizer's negative information). One object's frames are not independent evidence: eight
+        /// sightings of one look-alike in 1.4 s broke a right lock (docs/benchmarks.md, "Twenty-fourth stop").
+        /// 0 = off.
+        public var unexplainedObjectRecountMeters = 1.0
         /// The defaults.
         public init() {}
     }
@@ -47,6 +60,31 @@ public struct SightingCorroboration: Sendable {
         var east: Double
         var north: Double
         var rangeMeters: Double
+        /// Camera position on the VIO plane from which this object's sightings last counted.
+        var countedFromEast: Double
+        var countedFromNorth: Double
+    }
+
+    /// The locked pose a frame's sightings are checked against (`corroborate`).
+    public struct Lock: Sendable {
+        /// Camera position in the map frame, meters.
+        public var positionInMap: Point2
+        /// Camera heading in the map frame, radians CCW from map x.
+        public var headingRad: Double
+        /// The signs of the locked floor.
+        public var signs: [Sign]
+        /// Creates a lock context.
+        public init(positionInMap: Point2, headingRad: Double, signs: [Sign]) {
+            self.positionInMap = positionInMap; self.headingRad = headingRad; self.signs = signs
+        }
+
+        /// Whether a map sign of `s`'s kind stands where `s` puts it from this pose.
+        func explains(_ s: SignSighting) -> Bool {
+            let x = positionInMap.x + s.rangeMeters * cos(headingRad + s.bearingRad)
+            let y = positionInMap.y + s.rangeMeters * sin(headingRad + s.bearingRad)
+            let gate = 1.0 + 0.3 * s.rangeMeters
+            return signs.contains { $0.kind == s.kind && hypot($0.position.x - x, $0.position.y - y) <= gate }
+        }
     }
 
     /// The settings.
@@ -69,10 +107,10 @@ public struct SightingCorroboration: Sendable {
     /// Sightings of the same frame do not corroborate each other. A non-finite pose or sighting is passed through
     /// unchanged and not remembered.
     public mutating func corroborate(_ sightings: [SignSighting], t: Double, pose: CameraPose,
-                                     weigh: Bool = true) -> [SignSighting] {
+                                     weigh: Bool = true, lock: Lock? = nil) -> [SignSighting] {
         recent.removeAll { !(t - $0.t <= parameters.windowSeconds) || $0.t > t }
-        guard parameters.uncorroboratedScoreFactor < 1 else { return sightings }
-        let factor = weigh ? parameters.uncorroboratedScoreFactor : 1
+        guard parameters.uncorroboratedScoreFactor < 1 || parameters.unexplainedObjectRecountMeters > 0 else { return sightings }
+        let factor = weigh && lock == nil ? parameters.uncorroboratedScoreFactor : 1
         let camera = pose.positionInVIOPlane
         let yaw = pose.yawInVIOPlaneRad
         var placedNow: [Placed] = []
@@ -85,15 +123,25 @@ public struct SightingCorroboration: Sendable {
             guard east.isFinite, north.isFinite, s.rangeMeters.isFinite else { continue }
             // By kind alone: a placard whose legend was read on one frame and not on the next is one sign.
             let key = s.kind
-            let corroborated = recent.contains { earlier in
+            let match = recent.last { earlier in
                 guard earlier.key == key else { return false }
                 let gate = parameters.gateBaseMeters + parameters.gateRangeFraction * max(earlier.rangeMeters, s.rangeMeters)
                 return hypot(earlier.east - east, earlier.north - north) <= gate
             }
+            let corroborated = match != nil
+            var fromEast = camera.east, fromNorth = camera.north
+            if let m = match, let lock, parameters.unexplainedObjectRecountMeters > 0,
+               hypot(camera.east - m.countedFromEast, camera.north - m.countedFromNorth) < parameters.unexplainedObjectRecountMeters,
+               !lock.explains(s) {
+                fromEast = m.countedFromEast
+                fromNorth = m.countedFromNorth
+                out[i].score = 0
+            }
             // A legend read on the sign (a room number) is a second, independent check of its own: a poster or a
             // light is not taken for a placard whose number the map has.
             if !corroborated && s.text == nil { out[i].score = s.score * factor }
-            placedNow.append(Placed(t: t, key: key, east: east, north: north, rangeMeters: s.rangeMeters))
+            placedNow.append(Placed(t: t, key: key, east: east, north: north, rangeMeters: s.rangeMeters,
+                                    countedFromEast: fromEast, countedFromNorth: fromNorth))
         }
         recent.append(contentsOf: placedNow)
         return out

@@ -41,6 +41,8 @@ public final class WayfinderPipeline {
     private var lastHypotheses: [PoseHypothesis] = []
     /// Whether the last frame's estimate was localized (sightings are then weighed as measured, see `corroboration`).
     private var lastLocalized = false
+    /// The last frame's estimate when localized (sightings the lock does not explain, see `corroboration`).
+    private var lastLockedEstimate: LocalizationEstimate?
     private var navigator: Navigator?
     private var lastDetectionT = -Double.infinity
     /// Confirms sightings against the earlier detector frames' (options.sightingCorroboration).
@@ -124,7 +126,7 @@ public final class WayfinderPipeline {
                 if let found = result {
                     sightings = corroboration.corroborate(
                         found.sightings.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }, t: frame.t, pose: pose,
-                        weigh: !lastLocalized)
+                        weigh: !lastLocalized, lock: lockContext())
                     detectorRan = true
                     lastDetectionT = frame.t
                     localizer.update(sightings: sightings, unsearchedKinds: found.unsearchedKinds, t: frame.t)
@@ -138,6 +140,7 @@ public final class WayfinderPipeline {
         let estimate = localizer.estimate
         lastHypotheses = estimate.hypotheses
         lastLocalized = estimate.isLocalized
+        lastLockedEstimate = estimate.isLocalized ? estimate : nil
         checkNorth(frame, estimate, &warnings)
         var events: [TimedGuidanceEvent] = []
         if let navigator {
@@ -168,6 +171,12 @@ public final class WayfinderPipeline {
             if let spoken = navigator.lastSpokenAdvice, spoken.t == frame.t { update.spokenAdvice = spoken.advice }
         }
         return update
+    }
+
+    /// The last frame's locked pose with its floor's signs, for `SightingCorroboration`; nil when not localized.
+    private func lockContext() -> SightingCorroboration.Lock? {
+        guard let e = lastLockedEstimate, let floor = building.floor(id: e.floorId) else { return nil }
+        return SightingCorroboration.Lock(positionInMap: e.positionInMap, headingRad: e.headingRad, signs: floor.signs)
     }
 
     /// The wall kinds the detector frame about to run looks for (advances the schedule): with `.expected`, the kinds

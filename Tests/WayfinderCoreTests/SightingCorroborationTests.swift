@@ -1,5 +1,6 @@
 import XCTest
 import Localizer
+import Maps
 import SessionFormat
 @testable import WayfinderCore
 
@@ -89,6 +90,27 @@ final class SightingCorroborationTests: XCTestCase {
                        0.9, "confirmed by the unweighed frame")
         XCTAssertEqual(rule.corroborate([sighting(of: -5, 0, from: 0, 0, yawRad: 0, score: 0.9)], t: 0.2, pose: p)[0].score,
                        0.9 * 0.25, accuracy: 1e-12, "a fresh place")
+    }
+
+    func testWhileLockedAnObjectTheLockDoesNotExplainCountsOncePerMeterWalked() {
+        // Locked, walking east at 0.12 m per frame past a look-alike at (6, 2) where the map has no sign: it counts
+        // on its first frame, then again only once the camera has moved 1 m since it last counted (score 0 in
+        // between). With a map sign there (the lock explains it), every frame counts.
+        for (signs, everyFrame) in [([Sign](), false),
+                                    ([Sign(id: "e", kind: "exit", position: Point2(6, 2.3), facing: Point2(-1, 0),
+                                           widthMeters: 0.3, heightMeters: 0.15)], true)] {
+            var rule = SightingCorroboration()
+            var counted: [Int] = []
+            for i in 0..<20 {
+                let east = 0.12 * Double(i)
+                // The map frame is the VIO frame here (a lock that is right).
+                let lock = SightingCorroboration.Lock(positionInMap: Point2(east, 0), headingRad: 0, signs: signs)
+                let out = rule.corroborate([sighting(of: 6, 2, from: east, 0, yawRad: 0)], t: 0.1 * Double(i),
+                                           pose: pose(east: east, north: 0, yawRad: 0), weigh: false, lock: lock)
+                if out[0].score == 1 { counted.append(i) } else { XCTAssertEqual(out[0].score, 0) }
+            }
+            XCTAssertEqual(counted, everyFrame ? Array(0..<20) : [0, 9, 18], "signs \(signs.count)")
+        }
     }
 
     func testFactorOneLeavesEverySightingAsMeasured() {
