@@ -39,9 +39,8 @@ public final class WayfinderPipeline {
     private var wallKindScheduler: WallKindScheduler
     /// The hypotheses of the last frame's estimate (what the next detector frame expects to see).
     private var lastHypotheses: [PoseHypothesis] = []
-    /// Whether the last frame's estimate was localized (sightings are then weighed as measured, see `corroboration`).
-    private var lastLocalized = false
-    /// The last frame's estimate when localized (sightings the lock does not explain, see `corroboration`).
+    /// The last frame's estimate when localized, nil when not: uncorroborated sightings are weighed only while not
+    /// localized, and while localized an object the lock does not explain counts once per meter (`corroboration`).
     private var lastLockedEstimate: LocalizationEstimate?
     private var navigator: Navigator?
     private var lastDetectionT = -Double.infinity
@@ -126,7 +125,7 @@ public final class WayfinderPipeline {
                 if let found = result {
                     sightings = corroboration.corroborate(
                         found.sightings.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }, t: frame.t, pose: pose,
-                        weigh: !lastLocalized, lock: lockContext())
+                        weigh: lastLockedEstimate == nil, lock: lockContext())
                     detectorRan = true
                     lastDetectionT = frame.t
                     localizer.update(sightings: sightings, unsearchedKinds: found.unsearchedKinds, t: frame.t)
@@ -139,7 +138,6 @@ public final class WayfinderPipeline {
 
         let estimate = localizer.estimate
         lastHypotheses = estimate.hypotheses
-        lastLocalized = estimate.isLocalized
         lastLockedEstimate = estimate.isLocalized ? estimate : nil
         checkNorth(frame, estimate, &warnings)
         var events: [TimedGuidanceEvent] = []
