@@ -103,9 +103,11 @@ public struct SightingCorroboration: Sendable {
     }
 
     /// The sightings of the detector frame at `t` taken from the camera at `pose`, each uncorroborated one with its
-    /// score scaled down when `weigh` (else all as measured); remembers them for the frames to come either way.
-    /// Sightings of the same frame do not corroborate each other. A non-finite pose or sighting is passed through
-    /// unchanged and not remembered.
+    /// score scaled down when `weigh` and no `lock` is given (else as measured); with `lock` (the localizer is
+    /// localized there), a corroborated one the lock does not explain with score 0 unless its object is due a recount
+    /// (`unexplainedObjectRecountMeters`). Remembers them for the frames to come either way. Sightings of the same
+    /// frame do not corroborate each other. A non-finite pose or sighting is passed through unchanged and not
+    /// remembered.
     public mutating func corroborate(_ sightings: [SignSighting], t: Double, pose: CameraPose,
                                      weigh: Bool = true, lock: Lock? = nil) -> [SignSighting] {
         recent.removeAll { !(t - $0.t <= parameters.windowSeconds) || $0.t > t }
