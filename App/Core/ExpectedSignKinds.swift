@@ -39,7 +39,7 @@ public enum ExpectedSignKinds {
         guard r >= 0.5, r <= min(maxRangeMeters, spec?.maxRangeMeters ?? .infinity) else { return false }
         guard abs(remainder(atan2(dy, dx) - headingRad, 2 * Double.pi)) <= halfFieldOfViewRad else { return false }
         guard sign.faceIsTurned(towardsViewerAtOffset: dx, dy, distanceMeters: r,
-                                maxViewAngleDeg: spec?.maxViewAngleDeg ?? 75) else { return false }
+                                maxViewAngleDeg: spec?.maxViewAngleDeg ?? SignKindSpec.detectorMaxViewAngleDeg) else { return false }
         return !floor.crossesWall(from: p, to: sign.lineOfSightEnd(viewerOffset: dx, dy, distanceMeters: r))
     }
 }

@@ -1,4 +1,5 @@
 import Foundation
+import Maps
 
 /// Every noise model's parameters. Defaults are the values documented in docs/simulator.md (table "Noise
 /// models"); tests in Tests/SimulationTests measure generated data against them.
@@ -210,9 +211,9 @@ public struct DetectorParameters: Codable, Sendable, Equatable {
     /// with the signs' range and bearing noise and the false positives' score.
     public var lookAlikeDetectionShare = 0.5
     /// Largest angle between the sign's face normal and the line to the camera at which it is still detected,
-    /// degrees: seen more obliquely, a sign's face is foreshortened to a sliver (cos 75 degrees = 0.26 of its
-    /// width) that no detector finds. Double-sided signs are measured against the nearer face.
-    public var maxViewAngleFromNormalDeg = 75.0
+    /// degrees (`SignKindSpec.detectorMaxViewAngleDeg`, 75: seen more obliquely, a face is a sliver no detector
+    /// finds). Double-sided signs are measured against the nearer face.
+    public var maxViewAngleFromNormalDeg = SignKindSpec.detectorMaxViewAngleDeg
     /// Fraction of the image's half-width kept as a margin: a sign whose centre projects closer to the image
     /// border than this is not detected (it is cut off).
     public var imageMargin = 0.03

@@ -23,8 +23,15 @@ public struct SignKindSpec: Codable, Hashable, Sendable {
     /// text recognition needs, so such a kind states about 2.5 m.
     public var maxRangeMeters: Double?
     /// Largest angle between the face normal and the line of sight at which the kind is recognised, degrees;
-    /// nil = the localizer's default (80). Text is read only fairly square on (about 50).
+    /// nil = the default of whoever asks: the localizer's looser 80 (LocalizerCore `max_view_angle_from_normal_rad`),
+    /// the detector's `SignKindSpec.detectorMaxViewAngleDeg` where the detector is modelled. Text is read only fairly
+    /// square on (about 50).
     public var maxViewAngleDeg: Double?
+    /// Largest angle from a face's normal at which the sign detectors find a sign of a kind that states no
+    /// `maxViewAngleDeg`, degrees: seen more obliquely, a face is foreshortened to a sliver (cos 75 degrees = 0.26
+    /// of its width) that no detector finds. The simulator's detector model (`DetectorParameters`) and the pipeline's
+    /// prediction of the kinds in view (`ExpectedSignKinds`) both start from it.
+    public static let detectorMaxViewAngleDeg = 75.0
     /// Typical height of the face's bottom edge above the floor, meters; nil = not stated (Exit signs: the
     /// detector's own placement prior). The cascade of a kind that is not Exit-like searches the rows where a face
     /// at this height can appear (docs/sign-detection.md "More sign kinds"): ADA 703.4.1 puts tactile signs
