@@ -19,7 +19,7 @@ import SessionFormat
 /// localizer weighs it more like clutter (sensors/sign_measurement_model: clutter share 1 - 0.9 score). A false
 /// positive that repeats at one place (a poster seen for seconds) is corroborated like a sign, as before. A
 /// sighting whose legend was read (a room number) keeps its score: the reading is an independent check of its own.
-/// The pipeline weighs uncorroborated sightings only while the localizer is not localized (`weigh`): that is when
+/// Uncorroborated sightings are weighed only while the localizer is not localized (no `lock` given): that is when
 /// one-frame sightings can build a wrong lock, while a lock is guarded by its hysteresis, and the first sighting of
 /// a sign that refutes a wrong lock must count at once (behind the cascade's -25 % range bias, quartering the
 /// refuting sightings held skeri-2's wrong lock 0.5 m longer). While localized, the other half: an object seen
@@ -56,7 +56,7 @@ public struct SightingCorroboration: Sendable {
     /// One earlier sighting: its time, kind and where it put the sign on the VIO plane.
     private struct Placed: Sendable {
         var t: Double
-        var key: String
+        var kind: String
         var east: Double
         var north: Double
         var rangeMeters: Double
@@ -102,17 +102,17 @@ public struct SightingCorroboration: Sendable {
         recent.removeAll()
     }
 
-    /// The sightings of the detector frame at `t` taken from the camera at `pose`, each uncorroborated one with its
-    /// score scaled down when `weigh` and no `lock` is given (else as measured); with `lock` (the localizer is
-    /// localized there), a corroborated one the lock does not explain with score 0 unless its object is due a recount
-    /// (`unexplainedObjectRecountMeters`). Remembers them for the frames to come either way. Sightings of the same
+    /// The sightings of the detector frame at `t` taken from the camera at `pose`: with no `lock` (the localizer is
+    /// not localized), each uncorroborated one with its score scaled down; with `lock` (it is localized there), each
+    /// uncorroborated one as measured and a corroborated one the lock does not explain with score 0 unless its
+    /// object is due a recount (`unexplainedObjectRecountMeters`). Remembers them for the frames to come either way. Sightings of the same
     /// frame do not corroborate each other. A non-finite pose or sighting is passed through unchanged and not
     /// remembered.
     public mutating func corroborate(_ sightings: [SignSighting], t: Double, pose: CameraPose,
-                                     weigh: Bool = true, lock: Lock? = nil) -> [SignSighting] {
+                                     lock: Lock? = nil) -> [SignSighting] {
         recent.removeAll { !(t - $0.t <= parameters.windowSeconds) || $0.t > t }
         guard parameters.uncorroboratedScoreFactor < 1 || parameters.unexplainedObjectRecountMeters > 0 else { return sightings }
-        let factor = weigh && lock == nil ? parameters.uncorroboratedScoreFactor : 1
+        let factor = lock == nil ? parameters.uncorroboratedScoreFactor : 1
         let camera = pose.positionInVIOPlane
         let yaw = pose.yawInVIOPlaneRad
         var placedNow: [Placed] = []
@@ -124,9 +124,8 @@ public struct SightingCorroboration: Sendable {
             let north = camera.north + s.rangeMeters * sin(yaw + s.bearingRad)
             guard east.isFinite, north.isFinite, s.rangeMeters.isFinite else { continue }
             // By kind alone: a placard whose legend was read on one frame and not on the next is one sign.
-            let key = s.kind
             let match = recent.last { earlier in
-                guard earlier.key == key else { return false }
+                guard earlier.kind == s.kind else { return false }
                 let gate = parameters.gateBaseMeters + parameters.gateRangeFraction * max(earlier.rangeMeters, s.rangeMeters)
                 return hypot(earlier.east - east, earlier.north - north) <= gate
             }
@@ -142,7 +141,7 @@ public struct SightingCorroboration: Sendable {
             // A legend read on the sign (a room number) is a second, independent check of its own: a poster or a
             // light is not taken for a placard whose number the map has.
             if !corroborated && s.text == nil { out[i].score = s.score * factor }
-            placedNow.append(Placed(t: t, key: key, east: east, north: north, rangeMeters: s.rangeMeters,
+            placedNow.append(Placed(t: t, kind: s.kind, east: east, north: north, rangeMeters: s.rangeMeters,
                                     countedFromEast: fromEast, countedFromNorth: fromNorth))
         }
         recent.append(contentsOf: placedNow)

@@ -125,7 +125,7 @@ public final class WayfinderPipeline {
                 if let found = result {
                     sightings = corroboration.corroborate(
                         found.sightings.filter { $0.rangeMeters <= options.maximumSightingRangeMeters }, t: frame.t, pose: pose,
-                        weigh: lastLockedEstimate == nil, lock: lockContext())
+                        lock: lockContext())
                     detectorRan = true
                     lastDetectionT = frame.t
                     localizer.update(sightings: sightings, unsearchedKinds: found.unsearchedKinds, t: frame.t)

@@ -81,11 +81,15 @@ final class SightingCorroborationTests: XCTestCase {
     }
 
     func testUnweighedFramesPassScoresThroughButStillConfirmTheNext() {
-        // While localized the pipeline does not weigh: the scores pass as measured, and the positions are kept.
+        // While localized (a lock given, here one that explains the sighting) an uncorroborated sighting is not
+        // weighed: the score passes as measured, and the position is kept.
         var rule = SightingCorroboration()
         let p = pose(east: 0, north: 0, yawRad: 0)
+        let lock = SightingCorroboration.Lock(positionInMap: Point2(0, 0), headingRad: 0,
+                                              signs: [Sign(id: "e", kind: "exit", position: Point2(5, 0), facing: Point2(-1, 0),
+                                                           widthMeters: 0.3, heightMeters: 0.15)])
         XCTAssertEqual(rule.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0, score: 0.9)], t: 0, pose: p,
-                                        weigh: false)[0].score, 0.9)
+                                        lock: lock)[0].score, 0.9)
         XCTAssertEqual(rule.corroborate([sighting(of: 5, 0.3, from: 0, 0, yawRad: 0, score: 0.9)], t: 0.1, pose: p)[0].score,
                        0.9, "confirmed by the unweighed frame")
         XCTAssertEqual(rule.corroborate([sighting(of: -5, 0, from: 0, 0, yawRad: 0, score: 0.9)], t: 0.2, pose: p)[0].score,
@@ -106,7 +110,7 @@ final class SightingCorroborationTests: XCTestCase {
                 // The map frame is the VIO frame here (a lock that is right).
                 let lock = SightingCorroboration.Lock(positionInMap: Point2(east, 0), headingRad: 0, signs: signs)
                 let out = rule.corroborate([sighting(of: 6, 2, from: east, 0, yawRad: 0)], t: 0.1 * Double(i),
-                                           pose: pose(east: east, north: 0, yawRad: 0), weigh: false, lock: lock)
+                                           pose: pose(east: east, north: 0, yawRad: 0), lock: lock)
                 if out[0].score == 1 { counted.append(i) } else { XCTAssertEqual(out[0].score, 0) }
             }
             XCTAssertEqual(counted, everyFrame ? Array(0..<20) : [0, 9, 18], "signs \(signs.count)")
