@@ -57,12 +57,11 @@ struct SignObservationModel {
     /// the floor's false-positive kind. Empty by default.
     var lookAlikes: [String: [Sign]] = [:]
 
-    /// Places the look-alikes of every floor (`DetectorParameters.lookAlikesPerMeterOfWall`): on each floor
-    /// round(density x total wall length) of them, each on a wall drawn with probability proportional to its
-    /// length, at a uniform point along it, on a side drawn at random, 5 cm off the wall and facing away from it.
-    /// Deterministic for `rng`; floors in id order.
-    static func placeLookAlikes(floors: [String: Floor], geometry: [String: FloorGeometry], parameters: DetectorParameters,
-                                kind: (String) -> String, rng: inout SeededRandom) -> [String: [Sign]] {
+    /// Places the look-alikes of every floor (`DetectorParameters.lookAlikesPerMeterOfWall`), of the floor's
+    /// `falsePositiveKind`: on each floor round(density x total wall length) of them, each on a wall drawn with
+    /// probability proportional to its length, at a uniform point along it, on a side drawn at random, 5 cm off the
+    /// wall and facing away from it. Deterministic for `rng`; floors in id order.
+    func placeLookAlikes(rng: inout SeededRandom) -> [String: [Sign]] {
         guard parameters.lookAlikesPerMeterOfWall > 0 else { return [:] }
         var out: [String: [Sign]] = [:]
         for floorId in floors.keys.sorted() {
@@ -84,7 +83,7 @@ struct SignObservationModel {
                 let nx = -uy * side, ny = ux * side
                 let x = wall.from.x + along * (wall.to.x - wall.from.x) + 0.05 * nx
                 let y = wall.from.y + along * (wall.to.y - wall.from.y) + 0.05 * ny
-                placed.append(Sign(id: "look-alike-\(floorId)-\(i)", kind: kind(floorId), position: Point2(x, y),
+                placed.append(Sign(id: "look-alike-\(floorId)-\(i)", kind: falsePositiveKind(onFloor: floorId), position: Point2(x, y),
                                    facing: Point2(nx, ny), widthMeters: 0.3, heightMeters: 0.15))
             }
             out[floorId] = placed
@@ -161,6 +160,20 @@ struct SignObservationModel {
         return signs.first?.kind ?? "exit"
     }
 
+    /// A detection's measured range and bearing: the true ones with the detector's range bias, log-normal range
+    /// noise (`zRange` a standard normal draw) and normal bearing noise (`zBearing`).
+    private func measured(rangeMeters r: Double, bearingRad b: Double, zRange: Double, zBearing: Double)
+        -> (rangeMeters: Double, bearingRad: Double) {
+        (r * (1 + parameters.rangeBias) * exp(parameters.rangeLogSigma * zRange),
+         wrapAngle(b + radians(parameters.bearingSigmaDeg) * zBearing))
+    }
+
+    /// A false positive's score: `drawn` (uniform 0.3-0.7) when the scores tell false positives apart, else the
+    /// constant score every observation gets.
+    private func falsePositiveScore(drawn: Double) -> Double {
+        parameters.scoresTellFalsePositives ? drawn : parameters.constantScore
+    }
+
     /// Observations of one processed frame.
     /// `lookAlikeRng` draws the look-alikes' detections (untouched when the floor has none, so walks without
     /// look-alikes are the same as before them).
@@ -178,8 +191,7 @@ struct SignObservationModel {
             let detected = u < pd
             visibleLog.append(VisibleSign(frameIndex: frameIndex, signId: sign.id, rangeMeters: r, detected: detected, blurred: blur < 1))
             guard detected else { continue }
-            let range = r * (1 + p.rangeBias) * exp(p.rangeLogSigma * zr)
-            let bearing = wrapAngle(b + radians(p.bearingSigmaDeg) * zb)
+            let (range, bearing) = measured(rangeMeters: r, bearingRad: b, zRange: zr, zBearing: zb)
             let score = p.scoresTellFalsePositives ? max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs)) : p.constantScore
             // Text recognition, only for identifying legends (so the streams of maps without any are unchanged).
             var text: String? = nil
@@ -201,9 +213,9 @@ struct SignObservationModel {
             let pd = p.detectionProbability(rangeMeters: r) * blur * p.lookAlikeDetectionShare
             let u = lookAlikeRng.uniform(), zr = lookAlikeRng.normal(), zb = lookAlikeRng.normal(), zs = lookAlikeRng.uniform(0.3, 0.7)
             guard u < pd else { continue }
-            out.append((ObservationRecord(t: s.t, kind: alike.kind, rangeMeters: r * (1 + p.rangeBias) * exp(p.rangeLogSigma * zr),
-                                          bearingRad: wrapAngle(b + radians(p.bearingSigmaDeg) * zb),
-                                          score: p.scoresTellFalsePositives ? zs : p.constantScore, source: "simulated"),
+            let (range, bearing) = measured(rangeMeters: r, bearingRad: b, zRange: zr, zBearing: zb)
+            out.append((ObservationRecord(t: s.t, kind: alike.kind, rangeMeters: range, bearingRad: bearing,
+                                          score: falsePositiveScore(drawn: zs), source: "simulated"),
                         ObservationTruth(signId: nil, trueRangeMeters: nil, trueBearingRad: nil, lookAlikeId: alike.id)))
         }
         let fpDraw = fpRng.uniform(), fr = fpRng.uniform(1, p.maxRangeMeters), fb = fpRng.uniform(-1, 1), fs = fpRng.uniform(0.3, 0.7)
@@ -213,7 +225,7 @@ struct SignObservationModel {
             let fx = portrait ? intrinsics.fy : intrinsics.fx
             let halfFov = atan(halfPixels / fx)
             out.append((ObservationRecord(t: s.t, kind: falsePositiveKind(onFloor: s.floorId), rangeMeters: fr,
-                                          bearingRad: fb * halfFov, score: p.scoresTellFalsePositives ? fs : p.constantScore, source: "simulated"),
+                                          bearingRad: fb * halfFov, score: falsePositiveScore(drawn: fs), source: "simulated"),
                         ObservationTruth(signId: nil, trueRangeMeters: nil, trueBearingRad: nil)))
         }
         return out

@@ -243,9 +243,7 @@ public enum WalkSimulator {
         var obsModel = SignObservationModel(parameters: parameters.detector, floors: floorsById, geometry: geometry,
                                             intrinsics: intrinsics, catalogue: building.signCatalogue)
         var placeRng = SeededRandom(seed: scenario.seed, stream: RandomStream.lookAlikes.rawValue)
-        obsModel.lookAlikes = SignObservationModel.placeLookAlikes(
-            floors: floorsById, geometry: geometry, parameters: parameters.detector,
-            kind: { [obsModel] in obsModel.falsePositiveKind(onFloor: $0) }, rng: &placeRng)
+        obsModel.lookAlikes = obsModel.placeLookAlikes(rng: &placeRng)
         var detRng = SeededRandom(seed: scenario.seed, stream: RandomStream.detector.rawValue)
         var fpRng = SeededRandom(seed: scenario.seed, stream: RandomStream.falsePositives.rawValue)
         var lookAlikeRng = SeededRandom(seed: scenario.seed, stream: RandomStream.lookAlikeDetections.rawValue)

@@ -206,11 +206,14 @@ final class ObservationModelTests: XCTestCase {
         d.lookAlikesPerMeterOfWall = 0.05
         let floors = Dictionary(uniqueKeysWithValues: Fixtures.office.floors.map { ($0.id, $0) })
         let geometry = floors.mapValues { FloorGeometry(walls: $0.walls) }
+        func model(_ d: DetectorParameters) -> SignObservationModel {
+            SignObservationModel(parameters: d, floors: floors, geometry: geometry,
+                                 intrinsics: CameraIntrinsics(fx: 1602, fy: 1602, cx: 960, cy: 720, width: 1920, height: 1440),
+                                 catalogue: Fixtures.office.signCatalogue)
+        }
         var a = SeededRandom(seed: 5, stream: RandomStream.lookAlikes.rawValue), b = a
-        let placed = SignObservationModel.placeLookAlikes(floors: floors, geometry: geometry, parameters: d,
-                                                          kind: { _ in "exit" }, rng: &a)
-        let again = SignObservationModel.placeLookAlikes(floors: floors, geometry: geometry, parameters: d,
-                                                         kind: { _ in "exit" }, rng: &b)
+        let placed = model(d).placeLookAlikes(rng: &a)
+        let again = model(d).placeLookAlikes(rng: &b)
         for (id, floor) in floors {
             let wallMeters = floor.walls.map { hypot($0.to.x - $0.from.x, $0.to.y - $0.from.y) }.reduce(0, +)
             let signs = try XCTUnwrap(placed[id])
@@ -221,12 +224,12 @@ final class ObservationModelTests: XCTestCase {
                 let distances = floor.walls.map { FloorGeometry.distance(s.position, $0.from, $0.to) }
                 XCTAssertTrue(distances.contains { abs($0 - 0.05) < 1e-6 }, "\(s.id)")
                 XCTAssertLessThanOrEqual(distances.min() ?? .infinity, 0.05 + 1e-6)
+                XCTAssertEqual(s.kind, "exit", "the floor's false-positive kind")
                 XCTAssertEqual(hypot(s.facing.x, s.facing.y), 1, accuracy: 1e-9)
             }
         }
         d.lookAlikesPerMeterOfWall = 0
-        XCTAssertTrue(SignObservationModel.placeLookAlikes(floors: floors, geometry: geometry, parameters: d,
-                                                           kind: { _ in "exit" }, rng: &a).isEmpty)
+        XCTAssertTrue(model(d).placeLookAlikes(rng: &a).isEmpty)
     }
 
     func testObservationsOnlyOnProcessedFramesAtTheDetectorRate() throws {
