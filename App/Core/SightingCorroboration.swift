@@ -49,6 +49,12 @@ public struct SightingCorroboration: Sendable {
         /// sightings of one look-alike in 1.4 s broke a right lock (docs/benchmarks.md, "Twenty-fourth stop").
         /// 0 = off.
         public var unexplainedObjectRecountMeters = 1.0
+        /// How long an object is remembered for its track id, seconds: a sighting within the gate of an earlier one of
+        /// its kind from the last `trackMemorySeconds` sees the same object and carries its `SignSighting.trackId`, so
+        /// the localizer counts the object's sightings as one object's (pf/track_evidence: what a look-alike watched for
+        /// seconds can say against a pose is bounded). 3 s, the localizer's "track.forget_s": a sign passed out of view
+        /// for longer is taken as a new object. 0 = no track ids (every sighting counts on its own).
+        public var trackMemorySeconds = 3.0
         /// The defaults.
         public init() {}
     }
@@ -63,6 +69,8 @@ public struct SightingCorroboration: Sendable {
         /// Camera position on the VIO plane from which this object's sightings last counted.
         var countedFromEast: Double
         var countedFromNorth: Double
+        /// The object's track id.
+        var trackId: UInt32
     }
 
     /// The locked pose a frame's sightings are checked against (`corroborate`).
@@ -89,8 +97,10 @@ public struct SightingCorroboration: Sendable {
 
     /// The settings.
     public let parameters: Parameters
-    /// The sightings of the last `windowSeconds`, oldest first.
+    /// The sightings of the last `windowSeconds` (or `trackMemorySeconds`, the longer), oldest first.
     private var recent: [Placed] = []
+    /// The last track id given (ids are never reused: the localizer may still hold an old one).
+    private var lastTrackId: UInt32 = 0
 
     /// A rule with `parameters`.
     public init(parameters: Parameters = Parameters()) {
@@ -110,8 +120,10 @@ public struct SightingCorroboration: Sendable {
     /// remembered.
     public mutating func corroborate(_ sightings: [SignSighting], t: Double, pose: CameraPose,
                                      lock: Lock? = nil) -> [SignSighting] {
-        recent.removeAll { !(t - $0.t <= parameters.windowSeconds) || $0.t > t }
-        guard parameters.uncorroboratedScoreFactor < 1 || parameters.unexplainedObjectRecountMeters > 0 else { return sightings }
+        let memory = max(parameters.windowSeconds, parameters.trackMemorySeconds)
+        recent.removeAll { !(t - $0.t <= memory) || $0.t > t }
+        guard parameters.uncorroboratedScoreFactor < 1 || parameters.unexplainedObjectRecountMeters > 0
+            || parameters.trackMemorySeconds > 0 else { return sightings }
         let factor = lock == nil ? parameters.uncorroboratedScoreFactor : 1
         let camera = pose.positionInVIOPlane
         let yaw = pose.yawInVIOPlaneRad
@@ -124,12 +136,28 @@ public struct SightingCorroboration: Sendable {
             let north = camera.north + s.rangeMeters * sin(yaw + s.bearingRad)
             guard east.isFinite, north.isFinite, s.rangeMeters.isFinite else { continue }
             // By kind alone: a placard whose legend was read on one frame and not on the next is one sign.
-            let match = recent.last { earlier in
+            func sameObject(_ earlier: Placed) -> Bool {
                 guard earlier.kind == s.kind else { return false }
                 let gate = parameters.gateBaseMeters + parameters.gateRangeFraction * max(earlier.rangeMeters, s.rangeMeters)
                 return hypot(earlier.east - east, earlier.north - north) <= gate
             }
+            let match = recent.last { t - $0.t <= parameters.windowSeconds && sameObject($0) }
             let corroborated = match != nil
+            var track: SightingTrack
+            if let earlier = recent.last(where: { t - $0.t <= parameters.trackMemorySeconds && sameObject($0) }) {
+                // Where the object's earlier sightings put it (their mean on the VIO plane), seen from here.
+                let mine = recent.filter { $0.trackId == earlier.trackId }
+                let e = mine.map(\.east).reduce(0, +) / Double(mine.count)
+                let n = mine.map(\.north).reduce(0, +) / Double(mine.count)
+                track = SightingTrack(id: earlier.trackId, earlierRangeMeters: hypot(e - camera.east, n - camera.north),
+                                      earlierBearingRad: remainder(atan2(n - camera.north, e - camera.east) - yaw, 2 * .pi))
+            } else {
+                lastTrackId &+= 1
+                if lastTrackId == 0 { lastTrackId = 1 }
+                track = SightingTrack(id: lastTrackId)
+            }
+            // A read legend (a room number) identifies its sign: its sightings are not a look-alike's.
+            if parameters.trackMemorySeconds > 0 && s.text == nil { out[i].track = track }
             var fromEast = camera.east, fromNorth = camera.north
             if let m = match, let lock, parameters.unexplainedObjectRecountMeters > 0,
                hypot(camera.east - m.countedFromEast, camera.north - m.countedFromNorth) < parameters.unexplainedObjectRecountMeters,
@@ -142,7 +170,7 @@ public struct SightingCorroboration: Sendable {
             // light is not taken for a placard whose number the map has.
             if !corroborated && s.text == nil { out[i].score = s.score * factor }
             placedNow.append(Placed(t: t, kind: s.kind, east: east, north: north, rangeMeters: s.rangeMeters,
-                                    countedFromEast: fromEast, countedFromNorth: fromNorth))
+                                    countedFromEast: fromEast, countedFromNorth: fromNorth, trackId: track.id))
         }
         recent.append(contentsOf: placedNow)
         return out

@@ -45,7 +45,9 @@ enum LocalizerBridge {
             // Kinds the map does not have get id -1, which the core ignores.
             let obs = sightings.map {
                 wf_sign_observation(kind: kindIds[$0.identityKey] ?? -1, range_m: $0.rangeMeters, bearing_rad: $0.bearingRad,
-                                    score: $0.score)
+                                    score: $0.score, track_id: $0.track?.id ?? 0,
+                                    track_range_m: $0.track?.earlierRangeMeters ?? .nan,
+                                    track_bearing_rad: $0.track?.earlierBearingRad ?? .nan)
             }
             let status = obs.withUnsafeBufferPointer { o in
                 unsearchedKindIds.withUnsafeBufferPointer { u in

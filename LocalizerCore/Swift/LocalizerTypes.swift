@@ -19,14 +19,35 @@ public struct SignSighting: Sendable {
     /// it); nil when not read or not identifying. A read legend is matched only to the map's sign of this kind
     /// with this `Sign.text`; an unread placard only to placards without a surveyed text (else it is ignored).
     public var text: String?
+    /// The object this sighting sees, as tracked on the VIO plane from frame to frame
+    /// (App/Core/SightingCorroboration); nil when not tracked. One object's sightings are not independent evidence:
+    /// the localizer bounds what they can say against a pose with no sign there (wf_sign_observation.track_id).
+    public var track: SightingTrack?
     /// Creates a sighting.
-    public init(kind: String, rangeMeters: Double, bearingRad: Double, score: Double, text: String? = nil) {
+    public init(kind: String, rangeMeters: Double, bearingRad: Double, score: Double, text: String? = nil,
+                track: SightingTrack? = nil) {
         self.kind = kind; self.rangeMeters = rangeMeters; self.bearingRad = bearingRad; self.score = score
         self.text = text
+        self.track = track
     }
 
     /// The key the localizer matches this sighting by (`SignIdentity`).
     var identityKey: String { SignIdentity.key(kind: kind, text: text) }
+}
+
+/// The tracked object a sighting sees (wf_sign_observation's track fields).
+public struct SightingTrack: Sendable, Equatable {
+    /// The object's id (> 0), the same for every sighting of it.
+    public var id: UInt32
+    /// Where the object's earlier sightings put it, seen from this sighting's camera: horizontal range, meters, and
+    /// bearing, radians positive to the left; nil on its first sighting.
+    public var earlierRangeMeters: Double?
+    /// See `earlierRangeMeters`.
+    public var earlierBearingRad: Double?
+    /// Creates a track reference.
+    public init(id: UInt32, earlierRangeMeters: Double? = nil, earlierBearingRad: Double? = nil) {
+        self.id = id; self.earlierRangeMeters = earlierRangeMeters; self.earlierBearingRad = earlierBearingRad
+    }
 }
 
 /// How sightings are matched to map signs: by kind, and by the legend where it identifies the sign. Each

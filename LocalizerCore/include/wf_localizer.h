@@ -315,6 +315,16 @@ typedef struct wf_sign_observation {
     double bearing_rad;
     /** Detector score in [0, 1]; scales the sighting's trust (clutter probability grows as score drops). */
     double score;
+    /** The object this sighting sees, as the caller tracks it from frame to frame (the same poster or sign seen
+     * again at one place of the VIO plane carries the same id); 0 = not tracked. Sightings of one tracked object
+     * are not independent evidence of a sign: the filter bounds what one object can say against a pose that
+     * has no sign there (a look-alike that stays put) while keeping each sighting's geometry for the poses that
+     * do (docs/localizer.md "Tracked objects"). Zero-initialised callers keep the per-frame model. */
+    uint32_t track_id;
+    /** Where the tracked object's earlier sightings put it, seen from this frame's camera: horizontal range
+     * (meters, > 0) and bearing (radians, positive to the left), e.g. the mean of their positions on the VIO plane.
+     * It is where a look-alike would be seen again. A range <= 0 or a non-finite value: unknown. */
+    double track_range_m, track_bearing_rad;
 } wf_sign_observation;
 
 /** One vertical plane reported by ARKit plane detection (an ARPlaneAnchor with alignment vertical), projected

@@ -134,4 +134,45 @@ final class SightingCorroborationTests: XCTestCase {
         XCTAssertEqual(rule.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0)], t: 0.1, pose: p)[0].score, 0.25,
                        accuracy: 1e-12)
     }
+
+    func testAnObjectSeenAgainKeepsItsTrackIdAndWhereItsEarlierSightingsPutIt() {
+        var rule = SightingCorroboration()
+        // A sign at (10, 1.5) seen while walking east, then nothing for 2 s (out of view), then again.
+        var ids: [UInt32] = []
+        for i in 0..<5 {
+            let t = 0.1 * Double(i), east = 1.2 * t
+            let out = rule.corroborate([sighting(of: 10, 1.5, from: east, 0, yawRad: 0.1)], t: t,
+                                       pose: pose(east: east, north: 0, yawRad: 0.1))
+            let track = try! XCTUnwrap(out[0].track)
+            ids.append(track.id)
+            if i == 0 {
+                XCTAssertNil(track.earlierRangeMeters)
+            } else {
+                // The earlier sightings put it exactly at the sign: seen from here, the sign's own range and bearing.
+                XCTAssertEqual(try! XCTUnwrap(track.earlierRangeMeters), hypot(10 - east, 1.5), accuracy: 1e-9)
+                XCTAssertEqual(try! XCTUnwrap(track.earlierBearingRad), atan2(1.5, 10 - east) - 0.1, accuracy: 1e-9)
+            }
+        }
+        XCTAssertEqual(Set(ids).count, 1)
+        let later = rule.corroborate([sighting(of: 10, 1.5, from: 3, 0, yawRad: 0)], t: 2.4, pose: pose(east: 3, north: 0, yawRad: 0))
+        XCTAssertEqual(later[0].track?.id, ids[0], "seen again within trackMemorySeconds: the same object")
+        // Another sign 5 m away, and the first one after more than trackMemorySeconds: new objects.
+        let other = rule.corroborate([sighting(of: 15, 1.5, from: 3, 0, yawRad: 0)], t: 2.5, pose: pose(east: 3, north: 0, yawRad: 0))
+        XCTAssertNotEqual(other[0].track?.id, ids[0])
+        let muchLater = rule.corroborate([sighting(of: 10, 1.5, from: 4, 0, yawRad: 0)], t: 6.0, pose: pose(east: 4, north: 0, yawRad: 0))
+        XCTAssertNotEqual(muchLater[0].track?.id, ids[0])
+        XCTAssertNotEqual(muchLater[0].track?.id, other[0].track?.id)
+    }
+
+    func testAReadLegendAndAZeroMemoryCarryNoTrack() {
+        var rule = SightingCorroboration()
+        let read = rule.corroborate([sighting(of: 5, 1, from: 0, 0, yawRad: 0, kind: "placard", text: "102")], t: 0,
+                                    pose: pose(east: 0, north: 0, yawRad: 0))
+        XCTAssertNil(read[0].track, "a read room number identifies its sign")
+        var parameters = SightingCorroboration.Parameters()
+        parameters.trackMemorySeconds = 0
+        var untracked = SightingCorroboration(parameters: parameters)
+        let out = untracked.corroborate([sighting(of: 5, 1, from: 0, 0, yawRad: 0)], t: 0, pose: pose(east: 0, north: 0, yawRad: 0))
+        XCTAssertNil(out[0].track)
+    }
 }

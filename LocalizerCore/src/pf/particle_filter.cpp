@@ -207,6 +207,7 @@ void ParticleFilter::reset_filter_state() {
     motion_acc_.clear();
     hysteresis_.reset();
     twin_.reset();
+    tracks_.reset();
     compass_.reset();
     arm_corroboration(false);
     was_localized_ = false;
@@ -258,6 +259,7 @@ void ParticleFilter::init_particle(size_t i, float x, float y, int16_t floor, fl
     p_.bias_s1[i] = 0;
     p_.bias_s0[i] = 0;
     p_.clear_twins(i);
+    p_.clear_tracks(i);
 }
 
 int ParticleFilter::init_floor_only(int32_t floor) {
@@ -518,12 +520,29 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
                                     twin_lls_[k].data(), nullptr, nullptr, unsearched_flags);
             });
         }
-        const float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
-                                                 log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data(),
-                                                 unsearched_flags);
+        // Tracked objects: each tracked sighting's own term is kept for the object-level mixture below.
+        tracks_.assign(p_, z, t, track_slot_of_, track_first_);
+        std::vector<float *> own_terms(z.size(), nullptr);
+        bool any_tracked = false;
+        for (size_t o = 0; o < z.size(); ++o) {
+            if (track_slot_of_[o] < 0) continue;
+            std::vector<float> &terms = track_terms_[static_cast<size_t>(track_slot_of_[o])];
+            terms.resize(n);
+            own_terms[o] = terms.data();
+            any_tracked = true;
+        }
+        float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
+                                           log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data(),
+                                           unsearched_flags, any_tracked ? own_terms.data() : nullptr);
+        // Whether the dominant hypothesis explains the sightings, and the twins' ratios, read each sighting's own
+        // geometry (the per-frame terms); the weights take the tracked objects' bounded evidence.
         note_unexplained_sightings(z, t);
         for (size_t k = 0; k < p_.twin_arrays; ++k) {
             if (twin_scored[k]) twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_lls_[k].data());
+        }
+        if (any_tracked) {
+            max_ll = tracks_.apply(p_, sign_model_, z, track_slot_of_, track_first_, own_terms.data(),
+                                   log_likelihood_.data());
         }
         if (!z.empty()) {
             accumulate_evidence(log_likelihood_.data(), max_ll, t);
@@ -797,6 +816,9 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
         gather3(p_.bias_s1.data(), p_.bias_s0.data(), p_.floor.data(), o.bias_s1.data(), o.bias_s0.data(),
                 o.floor.data());
         for (size_t k = 0; k < p_.twin_arrays; ++k) gather(p_.twin_llr[k], scratch_.twin_llr[k]);
+        for (size_t k = 0; k < ParticleSet::kMaxTracks; ++k) {
+            if (tracks_.active(k)) gather(p_.track_llr[k], scratch_.track_llr[k]);
+        }
         std::copy(resample_w_.begin(), resample_w_.begin() + static_cast<std::ptrdiff_t>(kept), scratch_.weight.begin());
     }
     const float inject_w = static_cast<float>((1.0 - kept_mass) / static_cast<double>(std::max<size_t>(1, n_inject)));
@@ -822,6 +844,7 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
         scratch_.bias_s1[k] = 0;  // a fresh guess has no sightings behind it
         scratch_.bias_s0[k] = 0;
         scratch_.clear_twins(k);
+        scratch_.clear_tracks(k);
     }
     p_.swap(scratch_);
     // The kept particles are unchanged copies of clustered ones: the estimate's clustering, when nothing
@@ -864,6 +887,7 @@ void ParticleFilter::apply_floor_change(double delta_m) {
         });
     }
     twin_.reset();
+    tracks_.reset();  // the objects seen so far are on the floor left behind
     normalize(sum);
     maybe_resample(false);
     estimate_dirty_ = true;
@@ -1035,6 +1059,9 @@ constexpr NamedParameter kParameters[] = {
     {"sign.negative_info_min_range_m", 0, 1e3},
     {"sign.range_bias_sigma", 0, 1},
     {"twin.enabled", 0, 1},
+    {"track.enabled", 0, 1},
+    {"track.lookalike_share", 1e-6, 0.999999},
+    {"track.forget_s", 0, 1e4},
 };
 
 }  // namespace
@@ -1096,6 +1123,12 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
         twin_.mutable_params().enabled = value != 0;
         if (value == 0) twin_.reset();
     }
+    else if (name == "track.enabled") {
+        tracks_.mutable_params().enabled = value != 0;
+        if (value == 0) tracks_.reset();
+    }
+    else if (name == "track.lookalike_share") tracks_.mutable_params().lookalike_share = value;
+    else if (name == "track.forget_s") tracks_.mutable_params().forget_s = value;
     return WF_LOC_OK;
 }
 
@@ -1126,6 +1159,9 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "sign.negative_info_min_range_m") value = sign_model_.negative_info_min_range_m;
     else if (name == "sign.range_bias_sigma") value = sign_model_.range_bias_sigma;
     else if (name == "twin.enabled") value = twin_.params().enabled ? 1 : 0;
+    else if (name == "track.enabled") value = tracks_.params().enabled ? 1 : 0;
+    else if (name == "track.lookalike_share") value = tracks_.params().lookalike_share;
+    else if (name == "track.forget_s") value = tracks_.params().forget_s;
     else return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
     return WF_LOC_OK;
 }

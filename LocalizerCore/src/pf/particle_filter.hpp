@@ -19,6 +19,7 @@
 #include "pf/clustering.hpp"
 #include "pf/particle_set.hpp"
 #include "pf/localized_hysteresis.hpp"
+#include "pf/track_evidence.hpp"
 #include "pf/twin_guard.hpp"
 #include "pf/resampling.hpp"
 #include "sensors/barometric_floor_model.hpp"
@@ -253,6 +254,11 @@ private:
     }
     std::vector<float> twin_ll_;  // twin log-likelihoods of one symmetry (planes, compass)
     std::array<std::vector<float>, ParticleSet::kMaxTwins> twin_lls_;  // twin sign log-likelihoods per symmetry
+    /// Tracked objects (pf/track_evidence), the frame's slot per sighting, and each slot's own sign terms (scratch).
+    TrackEvidence tracks_;
+    std::vector<int> track_slot_of_;
+    std::vector<uint8_t> track_first_;
+    std::array<std::vector<float>, ParticleSet::kMaxTracks> track_terms_;
     /// After a measurement update: reseeds the dominant hypothesis's twins (TwinGuard::reseed) and marks the
     /// clusters and the estimate stale when particles moved.
     void reseed_twins();

@@ -87,6 +87,7 @@ void ParticleFilter::draw_corroboration_rivals(double fraction) {
         p_.bias_s1[i] = 0;
         p_.bias_s0[i] = 0;
         p_.clear_twins(i);  // a fresh pose: no twin evidence either way
+        p_.clear_tracks(i);
         ++drawn;
     }
     double sum = 0;

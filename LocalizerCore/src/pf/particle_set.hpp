@@ -14,6 +14,9 @@
 //   twin_llr[k][i]   on a floor with rotational symmetries (map/floor_symmetry): log-likelihood of this particle's
 //                    history minus that of its twin under the floor's k-th symmetry, signs and compass (nats;
 //                    pf/twin_guard); only the first `twin_arrays` arrays are used, none on a map without symmetry;
+//   track_llr[k][i]  for the tracked object in slot k (pf/track_evidence): log-likelihood ratio of its sightings
+//                    between "a map sign, seen from this pose" and "a look-alike" (nats); only the slots in use
+//                    follow the particles through resampling;
 //   compass_ll[i]    compass log-weight this particle's history has received so far (nats, <= 0), so that the
 //                    total compass evidence against a hypothesis stays within a cap (sensors/compass_model).
 #pragma once
@@ -34,6 +37,9 @@ struct ParticleSet {
     std::array<std::vector<float>, kMaxTwins> twin_llr;
     /// Number of twin_llr arrays in use (sized with the others): 0 unless some floor is symmetric.
     size_t twin_arrays = 0;
+    /// Tracked objects carried at a time (pf/track_evidence).
+    static constexpr size_t kMaxTracks = 4;
+    std::array<std::vector<float>, kMaxTracks> track_llr;
 
     size_t size() const { return x.size(); }
     void resize(size_t n) {
@@ -43,6 +49,7 @@ struct ParticleSet {
         bias_s0.resize(n);
         floor.resize(n);
         for (size_t k = 0; k < twin_arrays; ++k) twin_llr[k].resize(n);
+        for (auto &a : track_llr) a.resize(n);
     }
     void swap(ParticleSet &o) {
         x.swap(o.x); y.swap(o.y); yaw_offset.swap(o.yaw_offset); scale.swap(o.scale); weight.swap(o.weight);
@@ -53,12 +60,17 @@ struct ParticleSet {
         floor.swap(o.floor);
         twin_llr.swap(o.twin_llr);
         std::swap(twin_arrays, o.twin_arrays);
+        track_llr.swap(o.track_llr);
+    }
+    /// Clears particle i's tracked-object ratios (a fresh particle: even odds for every object).
+    void clear_tracks(size_t i) {
+        for (auto &a : track_llr) a[i] = 0;
     }
     /// Clears particle i's twin ratios (a fresh particle: no evidence either way).
     void clear_twins(size_t i) {
         for (size_t k = 0; k < twin_arrays; ++k) twin_llr[k][i] = 0;
     }
-    /// Bytes of state per particle (one copy), without the twin ratios.
+    /// Bytes of state per particle (one copy), without the twin and track ratios.
     static constexpr size_t kBytesPerParticle = 9 * sizeof(float) + sizeof(int16_t);
 };
 

@@ -187,6 +187,7 @@ size_t TwinGuard::reseed(ParticleSet &p, const LocalizerMap &map) {
                 p.yaw_offset[i] = turn(p.yaw_offset[i], sym->angle_rad);
                 p.evidence[i] -= static_cast<float>(std::max(0.0, llr));
                 for (size_t m = 0; m < p.twin_arrays; ++m) p.twin_llr[m][i] = m == k ? static_cast<float>(-llr) : 0.0f;
+                p.clear_tracks(i);  // the twin pose has not been scored against the tracked objects: even odds
                 to_move -= p.weight[i];
                 ++moved;
             }

@@ -36,7 +36,11 @@ std::vector<PreparedSighting> prepare_sightings(const wf_sign_observation *obs, 
         if (o.kind < 0 || o.kind >= kind_count) continue;
         const float score = std::clamp(static_cast<float>(o.score), 0.0f, 1.0f);
         const float pc = std::clamp(1.0f - (1.0f - m.clutter_probability) * score, m.clutter_probability, 0.999f);
-        out.push_back({o.kind, static_cast<float>(o.range_m), static_cast<float>(wrap_angle(o.bearing_rad)), pc});
+        const bool track_known = o.track_id != 0 && std::isfinite(o.track_range_m) && std::isfinite(o.track_bearing_rad) &&
+                                 o.track_range_m > 0;
+        out.push_back({o.kind, static_cast<float>(o.range_m), static_cast<float>(wrap_angle(o.bearing_rad)), pc,
+                       o.track_id, track_known ? static_cast<float>(o.track_range_m) : 0.0f,
+                       track_known ? static_cast<float>(wrap_angle(o.track_bearing_rad)) : 0.0f});
     }
     if (non_finite) *non_finite = bad;
     return out;
@@ -55,7 +59,8 @@ float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighti
 
 WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
                           const PreparedSighting *sightings, size_t count, float *log_likelihood,
-                          float *bias_s1_out, float *bias_s0_out, const uint8_t *unsearched_kind) {
+                          float *bias_s1_out, float *bias_s0_out, const uint8_t *unsearched_kind,
+                          float *const *per_sighting_ll) {
     const size_t n = p.size();
     if (count == 0 && !m.negative_information) {
         std::fill(log_likelihood, log_likelihood + n, 0.0f);
@@ -198,6 +203,11 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
                 scored += near_b[j] != 0 ? 1 : 0;
             }
             any_no_candidate |= scored < nb;
+            if (per_sighting_ll != nullptr) {
+                for (size_t o = 0; o < count; ++o) {
+                    if (per_sighting_ll[o] != nullptr) std::fill_n(per_sighting_ll[o] + b, nb, log_clutter_only[o]);
+                }
+            }
         }
         for (size_t t = 0; t < scored; ++t) {
             const size_t j = sign_major ? seeing_b[t] : t;
@@ -260,13 +270,17 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
                         best = k;
                     }
                 }
+                float *const own = per_sighting_ll != nullptr ? per_sighting_ll[o] : nullptr;
                 if (nvis == 0) {
                     ll += log_clutter_only[o];
+                    if (own != nullptr) own[i] = log_clutter_only[o];
                     continue;
                 }
                 const float clutter_like = z.clutter_probability * u_clutter;
                 const float scale_sign = (1.0f - z.clutter_probability) * norm_b / static_cast<float>(nvis);
-                ll += std::log(clutter_like + scale_sign * mix);
+                const float term_ll = std::log(clutter_like + scale_sign * mix);
+                ll += term_ll;
+                if (own != nullptr) own[i] = term_ll;
                 // The best candidate explains the sighting better than clutter does: its log range ratio joins
                 // the statistics, with the precision of the range model at that distance.
                 if (bias_update && best >= 0 && scale_sign * best_term > clutter_like && z.range_m > 0) {

@@ -69,6 +69,10 @@ struct PreparedSighting {
     float range_m;
     float bearing_rad;
     float clutter_probability;
+    /// wf_sign_observation::track_id (0 = not tracked).
+    uint32_t track_id = 0;
+    /// wf_sign_observation::track_range_m and track_bearing_rad (range <= 0: unknown).
+    float track_range_m = 0, track_bearing_rad = 0;
 };
 
 /// Converts raw observations: skips non-finite ones (counted in *non_finite) and kinds outside the map
@@ -89,9 +93,12 @@ float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighti
 /// else map.kind_count flags, nonzero for a kind the detector did not look for on this frame, e.g. SignDetector's
 /// wall kinds searched in turn): the signs of such a kind take no negative information, their absence from the
 /// frame saying nothing, unless the frame holds a sighting of that kind (then it was searched after all).
+/// `per_sighting_ll` (nullptr = none; else `count` pointers, each nullptr or an array of p.size()) receives
+/// sighting o's own term of each particle's sum (its mixture's log, or its clutter-only value), for the
+/// tracked-object evidence (pf/track_evidence); the sums are the same either way.
 float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad, const LocalizerMap &map, const SignModelParams &m,
                           const PreparedSighting *sightings, size_t count, float *log_likelihood,
                           float *bias_s1_out = nullptr, float *bias_s0_out = nullptr,
-                          const uint8_t *unsearched_kind = nullptr);
+                          const uint8_t *unsearched_kind = nullptr, float *const *per_sighting_ll = nullptr);
 
 }  // namespace wf::loc
