@@ -28,6 +28,9 @@ import SessionFormat
 /// independent evidence, and a look-alike that stays put (a poster seen for a second and a half) otherwise outweighs
 /// the whole lock. A sign that refutes a wrong lock still counts on its first frame and once per meter after it.
 /// The defaults are the measured ones (docs/benchmarks.md, "Twenty-fourth stop").
+/// Each sighting also carries its object's track (`SignSighting.track`: the id of the object it sees again within
+/// `trackMemorySeconds`, and where that object's earlier sightings put it), for the localizer's tracked-object
+/// evidence (LocalizerCore pf/track_evidence, docs/localizer.md "Tracked objects"; off unless turned on).
 /// Written by hand: no library does this for a stream of range-bearing sightings.
 public struct SightingCorroboration: Sendable {
     /// The rule's settings.
@@ -115,7 +118,8 @@ public struct SightingCorroboration: Sendable {
     /// The sightings of the detector frame at `t` taken from the camera at `pose`: with no `lock` (the localizer is
     /// not localized), each uncorroborated one with its score scaled down; with `lock` (it is localized there), each
     /// uncorroborated one as measured and a corroborated one the lock does not explain with score 0 unless its
-    /// object is due a recount (`unexplainedObjectRecountMeters`). Remembers them for the frames to come either way. Sightings of the same
+    /// object is due a recount (`unexplainedObjectRecountMeters`). Each unread sighting gets its object's `track`
+    /// (`trackMemorySeconds` > 0). Remembers them for the frames to come either way. Sightings of the same
     /// frame do not corroborate each other. A non-finite pose or sighting is passed through unchanged and not
     /// remembered.
     public mutating func corroborate(_ sightings: [SignSighting], t: Double, pose: CameraPose,

@@ -1062,6 +1062,7 @@ constexpr NamedParameter kParameters[] = {
     {"track.enabled", 0, 1},
     {"track.lookalike_share", 1e-6, 0.999999},
     {"track.forget_s", 0, 1e4},
+    {"track.variance_factor", 1, 1e4},
 };
 
 }  // namespace
@@ -1129,6 +1130,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     }
     else if (name == "track.lookalike_share") tracks_.mutable_params().lookalike_share = value;
     else if (name == "track.forget_s") tracks_.mutable_params().forget_s = value;
+    else if (name == "track.variance_factor") tracks_.mutable_params().variance_factor = value;
     return WF_LOC_OK;
 }
 
@@ -1162,6 +1164,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "track.enabled") value = tracks_.params().enabled ? 1 : 0;
     else if (name == "track.lookalike_share") value = tracks_.params().lookalike_share;
     else if (name == "track.forget_s") value = tracks_.params().forget_s;
+    else if (name == "track.variance_factor") value = tracks_.params().variance_factor;
     else return fail(WF_LOC_ERR_INVALID_ARGUMENT, "unknown parameter '" + name + "' (known: " + parameter_names() + ")");
     return WF_LOC_OK;
 }

@@ -14,15 +14,14 @@ constexpr float kRatioClamp = 30.0f;
 
 void TrackEvidence::reset() { slots_ = {}; }
 
-float TrackEvidence::lookalike_log_density(const SignModelParams &m, const PreparedSighting &z) {
+float TrackEvidence::lookalike_log_density(const SignModelParams &m, const PreparedSighting &z, float variance_factor) {
     // The sign model's own mixture, with the object's earlier position in place of a map sign: the same detector
     // noise (whatever it really is, both explanations see it), the earlier positions' own error added
-    // (kTrackVarianceFactor), and the same clutter share.
-    constexpr float kTrackVarianceFactor = 1.5f;
+    // (variance_factor), and the same clutter share.
     constexpr float kTwoPi = 6.28318531f;
     const float u = 1.0f / (m.max_range_m * 2.0f * m.half_fov_rad);
     const float pc = z.clutter_probability;
-    const float inflate = std::sqrt(kTrackVarianceFactor);
+    const float inflate = std::sqrt(std::max(1.0f, variance_factor));
     if (!(z.track_range_m > 0)) {
         // Unknown: the expected density of a re-sighting under the model (a 2-D Gaussian's log is its peak's - 1).
         const float sr = (m.range_sigma_base_m + m.range_sigma_per_meter * z.range_m) * inflate;
@@ -100,7 +99,7 @@ float TrackEvidence::apply(ParticleSet &p, const SignModelParams &m, const std::
             for (size_t i = 0; i < n; ++i) a[i] = std::clamp(l[i] - log_u, -kRatioClamp, kRatioClamp);
             continue;
         }
-        const float log_q = lookalike_log_density(m, z[o]);
+        const float log_q = lookalike_log_density(m, z[o], static_cast<float>(p_.variance_factor));
         // Runs of equal (l, A) pairs (resampled copies sit together; particles that see no sign share l) reuse
         // the previous particle's two logarithms.
         float prev_l = NAN, prev_a = NAN, prev_new = 0, prev_delta = 0;

@@ -25,9 +25,11 @@
 //
 // The look-alike's re-sighting density q is the sign model's own mixture with the object's earlier position (the
 // mean of its earlier sightings on the VIO plane, given by the caller as track_range_m / track_bearing_rad) in place
-// of a map sign, its variance x 1.5 for that position's own error: both explanations then see the detector's real
-// noise, whatever the model assumes (with a fixed q, a real sign's A fell on every sighting behind noisier
-// detectors). The frame's likelihoods keep their level (+ log q), so the recovery averages read the same scale.
+// of a map sign, its variance x `variance_factor` (4) for that mean's own error: both explanations see the
+// detector's real noise, whatever the model assumes (with a fixed q, a real sign's A fell on every sighting behind
+// noisier detectors). The factor gives a pose whose sign matches up to log 4 nats a sighting over the track, so
+// its A does not fall behind a detector 2 x noisier than the model. The frame's likelihoods keep their level
+// (+ log q), so the recovery averages read the same scale.
 //
 // Written here: no particle-filter library bounds the evidence of a tracked object. Four objects are carried at a
 // time (ParticleSet::kMaxTracks); a fifth takes the slot of the one seen longest ago.
@@ -46,10 +48,11 @@ namespace wf::loc {
 /// Internal parameters of the tracked-object evidence (not part of the C ABI; "track.*" by name).
 struct TrackEvidenceParams {
     /// On: tracked sightings take the object-level mixture; off (the default): every sighting counts on its own and
-    /// track ids are ignored. Off by default on the measurements of docs/benchmarks.md "Twenty-fifth stop": behind
-    /// look-alikes that stay put it removes the convergence study's wrong locks, but behind detectors noisier than
-    /// the model (all-rough) a real sign's later sightings fit the look-alike's self-consistent track better than
-    /// any map pose, and convergence within 20 m falls from 40 to 23-27 %. CLI `--track-objects`. "track.enabled".
+    /// track ids are ignored. Off by default on the measurements of docs/benchmarks.md "Twenty-fifth stop": it removes
+    /// the look-alikes' wrong locks from the convergence study, but two of the fifteen gates regress by one turn
+    /// cue (behind the unrefined cascade's -25 % range bias a real sign's sightings fit the look-alike's
+    /// self-consistent track better than any map pose until the bias is learned). CLI `--track-objects`.
+    /// "track.enabled".
     bool enabled = false;
     /// Prior share c of tracked objects that are look-alikes, not map signs (0 < c < 1). The smaller, the more an
     /// object watched for long can say: a pose with no sign there pays at most log(((1 - c) p_c + c) / c) beyond
@@ -57,6 +60,12 @@ struct TrackEvidenceParams {
     double lookalike_share = 0.1;
     /// A track not seen for this long is forgotten and its slot freed, seconds. "track.forget_s".
     double forget_s = 3.0;
+    /// Variance of the look-alike's re-sighting about its track's earlier mean position, in units of the sign
+    /// model's variance (>= 1). Default 4: the track's mean has the detector's real error (range bias, noise beyond
+    /// the model's) and VIO drift between the sightings; at 1.5, behind detectors noisier than the model (all-rough)
+    /// a real sign's later sightings fit the track better than any map pose and convergence within 20 m fell from
+    /// 40 to 27 % (docs/benchmarks.md "Twenty-fifth stop"). "track.variance_factor".
+    double variance_factor = 4.0;
 };
 
 /// The slots of the tracked objects and their per-particle ratio arrays (ParticleSet::track_llr). Value type;
@@ -89,9 +98,9 @@ public:
     /// f(A) = log((1 - c) e^A + c), evaluated without overflow. For tests and docs.
     static float mixture_log(float a, float c);
     /// log q: the density of sighting `z` if its object is a look-alike, i.e. seen again where its track puts it
-    /// (z.track_range_m, z.track_bearing_rad) under the sign model's noise (variance x 1.5 for the track's own error)
+    /// (z.track_range_m, z.track_bearing_rad) under the sign model's noise (variance x variance_factor for the track's own error)
     /// and clutter share; with no track position, the model's expected value.
-    static float lookalike_log_density(const SignModelParams &m, const PreparedSighting &z);
+    static float lookalike_log_density(const SignModelParams &m, const PreparedSighting &z, float variance_factor = 4.0f);
 
 private:
     struct Slot {

@@ -1,6 +1,6 @@
 // Tests for pf/track_evidence.hpp: one tracked object's sightings say a bounded amount against a pose with no sign
 // there, while a pose whose sign matches keeps each sighting's geometry; the first sighting counts as the per-frame
-// model has it; slots are found, forgotten and reused; off by default.
+// model has it; slots are found, forgotten and reused; off, every sighting counts on its own.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -36,7 +36,7 @@ struct WatchResult {
 };
 
 /// `frames` sightings of the west-end sign as P0 sees it, all of one track.
-WatchResult watch(int frames, double lookalike_share) {
+WatchResult watch(int frames, double lookalike_share, double variance_factor = 1.5) {
     auto world = wf::test::l_world();
     const auto o = wf::test::default_options();
     const auto map = wf::test::build_map(world, o);
@@ -46,6 +46,7 @@ WatchResult watch(int frames, double lookalike_share) {
     TrackEvidenceParams tp;
     tp.enabled = true;
     tp.lookalike_share = lookalike_share;
+    tp.variance_factor = variance_factor;
     TrackEvidence te(tp);
     const float b = static_cast<float>(wf::test::wrap(kPiF - (kPiF - 0.1f)));
     PreparedSighting s{wf::test::kExit, 6.0f, b, 0.1f, 7, 6.0f, b};
@@ -157,10 +158,25 @@ TEST(TrackEvidence, SlotsAreFoundForgottenAndReused) {
     EXPECT_EQ(p.track_llr[2][1], 0.0f);
 }
 
-TEST(TrackEvidence, OffByDefaultEverySightingCountsOnItsOwn) {
+// At the default variance factor (4) the exact pose gains up to log 4 a sighting over the track: still a fraction of
+// the per-frame model's gap against a pose with no sign there, once turned on.
+TEST(TrackEvidence, AtTheDefaultsOneObjectSaysAFractionOfThePerFrameModel) {
+    const TrackEvidenceParams defaults;
+    EXPECT_FALSE(defaults.enabled);  // off unless asked for (docs/localizer.md "Tracked objects")
+    const WatchResult r = watch(40, defaults.lookalike_share, defaults.variance_factor);
+    const float first_gap = r.first_per_frame[0] - r.first_per_frame[1];
+    const float bound = static_cast<float>(std::log(((1 - defaults.lookalike_share) * 0.1 + defaults.lookalike_share) /
+                                                    defaults.lookalike_share));
+    const float tracked_gap = r.tracked[0] - r.tracked[1];
+    EXPECT_LE(tracked_gap, first_gap + bound + 39 * static_cast<float>(std::log(defaults.variance_factor)));
+    EXPECT_LT(tracked_gap, 0.3f * (r.per_frame[0] - r.per_frame[1]));
+}
+
+TEST(TrackEvidence, OffEverySightingCountsOnItsOwn) {
     ParticleSet p = three_poses();
-    TrackEvidence te;
-    EXPECT_FALSE(te.params().enabled);
+    TrackEvidenceParams tp;
+    tp.enabled = false;
+    TrackEvidence te(tp);
     std::vector<int> slot;
     std::vector<uint8_t> first;
     te.assign(p, {PreparedSighting{0, 5.0f, 0.0f, 0.1f, 3, 5.0f, 0.0f}}, 0.0, slot, first);
