@@ -117,6 +117,7 @@ ParticleFilter::ParticleFilter(LocalizerMap map, const wf_localizer_options &opt
       tracker_(opts) {
     // A ratio array per symmetry of the most symmetric floor (none on an asymmetric map: no cost there).
     p_.twin_arrays = scratch_.twin_arrays = TwinGuard::twin_arrays_for(map_);
+    p_.track_arrays = scratch_.track_arrays = tracks_.params().enabled ? ParticleSet::kMaxTracks : 0;
     floor_params_.storey_threshold_m = opts.storey_threshold_m;
     floor_params_.settle_tolerance_m = opts.altitude_settle_tolerance_m;
     floor_params_.settle_s = opts.altitude_settle_s;
@@ -1126,7 +1127,11 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     }
     else if (name == "track.enabled") {
         tracks_.mutable_params().enabled = value != 0;
-        if (value == 0) tracks_.reset();
+        tracks_.reset();
+        // The ratio arrays exist only while the evidence is on (sized now for the particles there are).
+        p_.track_arrays = scratch_.track_arrays = value != 0 ? ParticleSet::kMaxTracks : 0;
+        p_.resize(p_.size());
+        scratch_.resize(scratch_.size());
     }
     else if (name == "track.lookalike_share") tracks_.mutable_params().lookalike_share = value;
     else if (name == "track.forget_s") tracks_.mutable_params().forget_s = value;

@@ -40,6 +40,9 @@ struct ParticleSet {
     /// Tracked objects carried at a time (pf/track_evidence).
     static constexpr size_t kMaxTracks = 4;
     std::array<std::vector<float>, kMaxTracks> track_llr;
+    /// Number of track_llr arrays sized with the others: kMaxTracks while the tracked-object evidence is on, else 0
+    /// (no memory or copy cost when it is off).
+    size_t track_arrays = 0;
 
     size_t size() const { return x.size(); }
     void resize(size_t n) {
@@ -49,7 +52,7 @@ struct ParticleSet {
         bias_s0.resize(n);
         floor.resize(n);
         for (size_t k = 0; k < twin_arrays; ++k) twin_llr[k].resize(n);
-        for (auto &a : track_llr) a.resize(n);
+        for (size_t k = 0; k < track_arrays; ++k) track_llr[k].resize(n);
     }
     void swap(ParticleSet &o) {
         x.swap(o.x); y.swap(o.y); yaw_offset.swap(o.yaw_offset); scale.swap(o.scale); weight.swap(o.weight);
@@ -61,10 +64,11 @@ struct ParticleSet {
         twin_llr.swap(o.twin_llr);
         std::swap(twin_arrays, o.twin_arrays);
         track_llr.swap(o.track_llr);
+        std::swap(track_arrays, o.track_arrays);
     }
     /// Clears particle i's tracked-object ratios (a fresh particle: even odds for every object).
     void clear_tracks(size_t i) {
-        for (auto &a : track_llr) a[i] = 0;
+        for (size_t k = 0; k < track_arrays; ++k) track_llr[k][i] = 0;
     }
     /// Clears particle i's twin ratios (a fresh particle: no evidence either way).
     void clear_twins(size_t i) {

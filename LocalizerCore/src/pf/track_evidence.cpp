@@ -46,7 +46,7 @@ void TrackEvidence::assign(ParticleSet &p, const std::vector<PreparedSighting> &
                            std::vector<uint8_t> &first) {
     slot_of.assign(z.size(), -1);
     first.assign(z.size(), 0);
-    if (!p_.enabled) return;
+    if (!p_.enabled || p.track_arrays < slots_.size()) return;  // off, or a set without the ratio arrays
     for (Slot &s : slots_) {
         if (s.track_id != 0 && !(t - s.last_t <= p_.forget_s)) s = Slot{};
     }

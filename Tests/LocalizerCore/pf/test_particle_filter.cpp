@@ -1229,3 +1229,46 @@ TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExpla
         EXPECT_LE(cleared, first_true_sighting + 2) << "the sign seen where the hypothesis places it clears the report";
     }
 }
+
+// The tracked-object evidence turned on (pf/track_evidence): each sighting tagged with the map sign it sees, as the
+// pipeline's tracks would tag it; the filter still converges and tracks on the L walk with every filter seed, and
+// its ratio arrays exist only while the evidence is on.
+TEST(ParticleFilter, TrackedObjectsConvergeAndTrackOnTheLWalk) {
+    auto world = wf::test::l_world();
+    auto o = test_options();
+    auto frames = l_walk(world);
+    const auto &signs = world.floors[0].signs;
+    for (auto &f : frames) {
+        for (auto &z : f.sightings) {
+            const double sx = f.true_x + z.range_m * std::cos(f.true_heading + z.bearing_rad);
+            const double sy = f.true_y + z.range_m * std::sin(f.true_heading + z.bearing_rad);
+            size_t best = 0;
+            for (size_t j = 1; j < signs.size(); ++j) {
+                if (std::hypot(signs[j].x - sx, signs[j].y - sy) < std::hypot(signs[best].x - sx, signs[best].y - sy)) best = j;
+            }
+            z.track_id = static_cast<uint32_t>(best + 1);
+            z.track_range_m = std::hypot(signs[best].x - f.true_x, signs[best].y - f.true_y);
+            z.track_bearing_rad = wf::test::wrap(std::atan2(signs[best].y - f.true_y, signs[best].x - f.true_x) - f.true_heading);
+        }
+    }
+    for (uint64_t seed = 1; seed <= 3; ++seed) {
+        ParticleFilter pf(wf::test::build_map(world, o), o, seed);
+        EXPECT_EQ(pf.particles().track_arrays, 0u);  // off by default: no ratio arrays
+        ASSERT_EQ(pf.set_parameter("track.enabled", 1), WF_LOC_OK);
+        double on = 0;
+        ASSERT_EQ(pf.get_parameter("track.enabled", on), WF_LOC_OK);
+        EXPECT_EQ(on, 1.0);
+        ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
+        EXPECT_EQ(pf.particles().track_arrays, ParticleSet::kMaxTracks);
+        EXPECT_EQ(pf.particles().track_llr[0].size(), pf.particles().size());
+        const RunStats s = run(pf, frames);
+        EXPECT_FALSE(s.any_nan);
+        ASSERT_GE(s.first_localized, 0) << "never localized, seed " << seed;
+        EXPECT_LT(s.first_localized, static_cast<int>(frames.size()) / 2);
+        EXPECT_LT(median(s.errors_when_localized), 0.5) << "seed " << seed;
+        EXPECT_TRUE(s.last.localized);
+        EXPECT_LT(position_error(s.last, frames.back()), 0.75) << "seed " << seed;
+        ASSERT_EQ(pf.set_parameter("track.enabled", 0), WF_LOC_OK);
+        EXPECT_EQ(pf.particles().track_arrays, 0u);
+    }
+}

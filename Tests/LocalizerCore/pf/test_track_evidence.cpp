@@ -20,6 +20,7 @@ constexpr float kPiF = 3.14159265f;
 /// from 0.3 m further east (P2, a near match), and facing the south wall (P1, no Exit sign in view).
 ParticleSet three_poses() {
     ParticleSet p;
+    p.track_arrays = ParticleSet::kMaxTracks;
     p.resize(3);
     const float xs[3] = {6.0f, 6.0f, 6.3f};
     const float hs[3] = {kPiF - 0.1f, -kPiF / 2, kPiF - 0.1f};
