@@ -53,7 +53,7 @@ public struct SightingCorroboration: Sendable {
         /// 0 = off.
         public var unexplainedObjectRecountMeters = 1.0
         /// How long an object is remembered for its track id, seconds: a sighting within the gate of an earlier one of
-        /// its kind from the last `trackMemorySeconds` sees the same object and carries its `SignSighting.trackId`, so
+        /// its kind from the last `trackMemorySeconds` sees the same object and carries its `SignSighting.track`, so
         /// the localizer counts the object's sightings as one object's (pf/track_evidence: what a look-alike watched for
         /// seconds can say against a pose is bounded). 3 s, the localizer's "track.forget_s": a sign passed out of view
         /// for longer is taken as a new object. 0 = no track ids (every sighting counts on its own).
@@ -147,7 +147,7 @@ public struct SightingCorroboration: Sendable {
             }
             let match = recent.last { t - $0.t <= parameters.windowSeconds && sameObject($0) }
             let corroborated = match != nil
-            var track: SightingTrack
+            let track: SightingTrack
             if let earlier = recent.last(where: { t - $0.t <= parameters.trackMemorySeconds && sameObject($0) }) {
                 // Where the object's earlier sightings put it (their mean on the VIO plane), seen from here.
                 let mine = recent.filter { $0.trackId == earlier.trackId }
