@@ -523,18 +523,18 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
         }
         // Tracked objects: each tracked sighting's own term is kept for the object-level mixture below.
         tracks_.assign(p_, z, t, track_slot_of_, track_first_);
-        std::vector<float *> own_terms(z.size(), nullptr);
+        track_own_terms_.assign(z.size(), nullptr);
         bool any_tracked = false;
         for (size_t o = 0; o < z.size(); ++o) {
             if (track_slot_of_[o] < 0) continue;
             std::vector<float> &terms = track_terms_[static_cast<size_t>(track_slot_of_[o])];
             terms.resize(n);
-            own_terms[o] = terms.data();
+            track_own_terms_[o] = terms.data();
             any_tracked = true;
         }
         float max_ll = sign_log_likelihood(p_, static_cast<float>(vio_yaw_), map_, sign_model_, z.data(), z.size(),
                                            log_likelihood_.data(), p_.bias_s1.data(), p_.bias_s0.data(),
-                                           unsearched_flags, any_tracked ? own_terms.data() : nullptr);
+                                           unsearched_flags, any_tracked ? track_own_terms_.data() : nullptr);
         // Whether the dominant hypothesis explains the sightings, and the twins' ratios, read each sighting's own
         // geometry (the per-frame terms); the weights take the tracked objects' bounded evidence.
         note_unexplained_sightings(z, t);
@@ -542,7 +542,7 @@ int ParticleFilter::update_signs(const wf_sign_observation *obs, size_t count, d
             if (twin_scored[k]) twin_.accumulate(p_, map_, k, log_likelihood_.data(), twin_lls_[k].data());
         }
         if (any_tracked) {
-            max_ll = tracks_.apply(p_, sign_model_, z, track_slot_of_, track_first_, own_terms.data(),
+            max_ll = tracks_.apply(p_, sign_model_, z, track_slot_of_, track_first_, track_own_terms_.data(),
                                    log_likelihood_.data());
         }
         if (!z.empty()) {

@@ -254,11 +254,13 @@ private:
     }
     std::vector<float> twin_ll_;  // twin log-likelihoods of one symmetry (planes, compass)
     std::array<std::vector<float>, ParticleSet::kMaxTwins> twin_lls_;  // twin sign log-likelihoods per symmetry
-    /// Tracked objects (pf/track_evidence), the frame's slot per sighting, and each slot's own sign terms (scratch).
+    /// Tracked objects (pf/track_evidence), the frame's slot per sighting, each slot's own sign terms and the
+    /// frame's pointer per sighting to them (nullptr: not tracked) (scratch, kept so a frame allocates nothing).
     TrackEvidence tracks_;
     std::vector<int> track_slot_of_;
     std::vector<uint8_t> track_first_;
     std::array<std::vector<float>, ParticleSet::kMaxTracks> track_terms_;
+    std::vector<float *> track_own_terms_;
     /// After a measurement update: reseeds the dominant hypothesis's twins (TwinGuard::reseed) and marks the
     /// clusters and the estimate stale when particles moved.
     void reseed_twins();

@@ -18,21 +18,20 @@ float TrackEvidence::lookalike_log_density(const SignModelParams &m, const Prepa
     // The sign model's own mixture, with the object's earlier position in place of a map sign: the same detector
     // noise (whatever it really is, both explanations see it), the earlier positions' own error added
     // (variance_factor), and the same clutter share.
-    constexpr float kTwoPi = 6.28318531f;
-    const float u = 1.0f / (m.max_range_m * 2.0f * m.half_fov_rad);
+    const float u = m.clutter_density();
     const float pc = z.clutter_probability;
     const float inflate = std::sqrt(std::max(1.0f, variance_factor));
     if (!(z.track_range_m > 0)) {
         // Unknown: the expected density of a re-sighting under the model (a 2-D Gaussian's log is its peak's - 1).
         const float sr = (m.range_sigma_base_m + m.range_sigma_per_meter * z.range_m) * inflate;
-        const float peak = 1.0f / (kTwoPi * m.bearing_sigma_rad * inflate * sr);
+        const float peak = 1.0f / ((2.0f * kPi) * m.bearing_sigma_rad * inflate * sr);
         return std::log((1.0f - pc) * peak * std::exp(-1.0f) + pc * u);
     }
     const float sr = (m.range_sigma_base_m + m.range_sigma_per_meter * z.track_range_m) * inflate;
     const float sb = m.bearing_sigma_rad * inflate;
     const float er = (z.range_m - z.track_range_m) / sr;
     const float eb = wrap_angle_f(z.bearing_rad - z.track_bearing_rad) / sb;
-    const float density = std::exp(-0.5f * (er * er + eb * eb)) / (kTwoPi * sb * sr);
+    const float density = std::exp(-0.5f * (er * er + eb * eb)) / ((2.0f * kPi) * sb * sr);
     return std::log((1.0f - pc) * density + pc * u);
 }
 
@@ -88,7 +87,7 @@ float TrackEvidence::apply(ParticleSet &p, const SignModelParams &m, const std::
                            float *ll) const {
     const size_t n = p.size();
     const float c = static_cast<float>(std::clamp(p_.lookalike_share, 1e-6, 1.0 - 1e-6));
-    const float u = 1.0f / (m.max_range_m * 2.0f * m.half_fov_rad);
+    const float u = m.clutter_density();
     const float log_u = std::log(u);
     for (size_t o = 0; o < z.size(); ++o) {
         if (slot_of[o] < 0 || per_ll[o] == nullptr) continue;

@@ -51,7 +51,7 @@ constexpr int kMaxCandidates = 64;
 }
 
 float clutter_only_log_likelihood(const SignModelParams &m, const PreparedSighting *sightings, size_t count) {
-    const float u_clutter = 1.0f / (m.max_range_m * 2.0f * m.half_fov_rad);
+    const float u_clutter = m.clutter_density();
     float ll = 0.0f;
     for (size_t o = 0; o < count; ++o) ll += std::log(sightings[o].clutter_probability * u_clutter);
     return ll;
@@ -95,7 +95,7 @@ WF_SIMD_CLONES float sign_log_likelihood(const ParticleSet &p, float vio_yaw_rad
     const float max_r = m.max_range_m;
     const float inv_sb = 1.0f / m.bearing_sigma_rad;
     const float norm_b = 1.0f / (2.0f * kPi * m.bearing_sigma_rad);  // 1/sqrt(2pi) of range and of bearing
-    const float u_clutter = 1.0f / (max_r * 2.0f * half_fov);
+    const float u_clutter = m.clutter_density();
     const float neg_r = m.negative_info_max_range_m, neg_r_min = m.negative_info_min_range_m;
     const float neg_b = m.negative_info_fov_fraction * half_fov;
     const float log_miss = std::log(std::max(1e-6f, m.negative_info_miss_weight));

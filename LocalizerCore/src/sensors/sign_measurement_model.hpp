@@ -60,6 +60,9 @@ struct SignModelParams {
     float range_bias_max_precision = 1000.0f;
 
     static SignModelParams from_options(const wf_localizer_options &o);
+    /// Density of a false positive over range and bearing, u = 1 / (max_range_m * field of view), per meter and
+    /// radian: where clutter puts a sighting, uniformly.
+    float clutter_density() const { return 1.0f / (max_range_m * 2.0f * half_fov_rad); }
 };
 
 /// A sighting prepared for the model: kind id known to the map, finite range/bearing, effective clutter
