@@ -475,20 +475,20 @@ public final class Navigator {
         let ahead = route.point(atDistance: progressMeters + options.lookAheadMeters, fromSegment: 0).point
         let here = route.point(atDistance: progressMeters, fromSegment: 0).point
         let dir = ahead - here
-        let relativeBearingRad: Double? = dir.length > 1e-6 ? dir.angleRad - input.headingRad : nil
-        let orientation: DepartOrientation = relativeBearingRad.map { DepartOrientation.classify(relativeBearingRad: $0) } ?? .ahead
+        var relativeBearingRad: Double? = dir.length > 1e-6 ? dir.angleRad - input.headingRad : nil
+        var orientation: DepartOrientation = relativeBearingRad.map { DepartOrientation.classify(relativeBearingRad: $0) } ?? .ahead
+        if let side = cornerSideBeingTaken(route: route, headingRad: input.headingRad),
+           (orientation == .left && side < 0) || (orientation == .right && side > 0) {
+            orientation = .ahead
+            relativeBearingRad = nil
+        }
         // Turns and doors within the look-ahead of the start are covered by the first instruction, whose
         // direction already points past them (e.g. out of a room's door into the corridor): not cued.
         // Except a turn still to be made: "Go straight ahead" to a traveler facing along the corridor a
         // meter before a corner (the look-ahead point just past the corner lies in the "ahead" sector)
         // does not tell them to turn; the turn keeps its cue.
         func stillToTurn(_ m: Maneuver) -> Bool {
-            guard orientation == .ahead, m.kind.isTurn else { return false }
-            let q = Int(m.polylinePosition.rounded(.down))
-            guard q >= 1, q + 1 < route.points.count else { return false }
-            let inDir = Vec2(route.points[q].position) - Vec2(route.points[q - 1].position)
-            let outDir = Vec2(route.points[q + 1].position) - Vec2(route.points[q].position)
-            guard inDir.length > 1e-9, outDir.length > 1e-9 else { return false }
+            guard orientation == .ahead, m.kind.isTurn, let (inDir, outDir) = Self.cornerLegs(m, route: route) else { return false }
             return abs(normalizedAngleRad(input.headingRad - inDir.angleRad)) < abs(normalizedAngleRad(input.headingRad - outDir.angleRad))
         }
         var first = 1
@@ -519,6 +519,45 @@ public final class Navigator {
             if first < route.maneuvers.count && toNext <= options.alertDistanceMeters { alertIssued[first] = true }
         }
     }
+
+    /// The side of a corner the traveler is turning now (+1 left, -1 right), or nil: a turn of the route
+    /// within the look-ahead whose incoming and outgoing legs the heading lies strictly between, turned at
+    /// least `cornerTakenMinDeg` from the incoming leg. A lock often comes while the traveler cuts a corner,
+    /// with the estimate a little behind them: the look-ahead point is then just past the corner, on the far
+    /// side of the heading, and "Turn right" would send a traveler who is turning left back against the
+    /// turn. Such a first instruction is said as "ahead" (they are already going the way the route goes);
+    /// the turn keeps its cue unless the heading is nearer the outgoing leg (`stillToTurn`).
+    private func cornerSideBeingTaken(route: Route, headingRad: Double) -> Double? {
+        for m in route.maneuvers.dropFirst() where m.kind.isTurn {
+            guard m.distanceFromStartMeters - progressMeters < options.lookAheadMeters else { break }
+            guard m.distanceFromStartMeters - progressMeters >= 0 else { continue }
+            guard let (inDir, outDir) = Self.cornerLegs(m, route: route) else { continue }
+            let turnRad = normalizedAngleRad(outDir.angleRad - inDir.angleRad)
+            let turnedRad = normalizedAngleRad(headingRad - inDir.angleRad)
+            let minRad = Self.cornerTakenMinDeg * Double.pi / 180
+            if turnRad * turnedRad > 0, abs(turnedRad) >= minRad, abs(turnedRad) < abs(turnRad) {
+                return turnRad > 0 ? 1 : -1
+            }
+            return nil
+        }
+        return nil
+    }
+
+    /// The incoming and outgoing legs (map frame, meters) of the route at turn `m`'s polyline point, or nil at
+    /// the route's ends or where a leg has no length.
+    private static func cornerLegs(_ m: Maneuver, route: Route) -> (Vec2, Vec2)? {
+        let q = Int(m.polylinePosition.rounded(.down))
+        guard q >= 1, q + 1 < route.points.count else { return nil }
+        let inDir = Vec2(route.points[q].position) - Vec2(route.points[q - 1].position)
+        let outDir = Vec2(route.points[q + 1].position) - Vec2(route.points[q].position)
+        guard inDir.length > 1e-9, outDir.length > 1e-9 else { return nil }
+        return (inDir, outDir)
+    }
+
+    /// How far (degrees) the heading must have turned from a corner's incoming leg toward its outgoing one
+    /// for the traveler to count as turning it (`cornerSideBeingTaken`): past a walker's sway and the
+    /// heading estimate's error (a few degrees), well inside any turn the route cues (> 30 degrees).
+    static let cornerTakenMinDeg = 15.0
 
     /// Remaining routing cost from the traveler's position on the current route.
     private func remainingCost() -> Double {

@@ -60,6 +60,30 @@ final class CornerCuttingTests: XCTestCase {
         XCTAssertFalse(w2.spoken.contains("Turn left now."), "\(w2.spoken)")
     }
 
+    func testLockedWhileTurningACornerIsNotToldToTurnBackAgainstIt() throws {
+        // Localized 1.2 m before a left turn (the estimate lags a traveler who cuts the corner), already turned
+        // 48 degrees left: the look-ahead point, 0.3 m past the corner, lies 34 degrees to the right of the
+        // heading. "Turn right" would send them back against the turn they are making.
+        let b = building([("a", Point2(x: 0, y: 0)), ("b", Point2(x: 10, y: 0)), ("c", Point2(x: 10, y: 8))])
+        let nav = try Navigator(building: b, destinationId: "c")
+        var w = Walker(start: Point2(x: 8.8, y: 0), floorId: "1", headingRad: 48 * Double.pi / 180)
+        w.run(nav, [.wait(seconds: 0.1), .walk(to: Point2(x: 10, y: 1.2)), .walk(to: Point2(x: 10, y: 7.5))])
+        XCTAssertFalse(w.spoken.contains { $0.contains("right") }, "\(w.spoken)")
+        XCTAssertTrue(w.spoken.first?.hasPrefix("Go straight ahead") ?? false, "\(w.spoken)")
+        // Turned 20 degrees only (nearer the incoming leg): the turn keeps its cue.
+        let nav2 = try Navigator(building: b, destinationId: "c")
+        var w2 = Walker(start: Point2(x: 8.8, y: 0), floorId: "1", headingRad: 20 * Double.pi / 180)
+        w2.run(nav2, [.wait(seconds: 0.1), .walk(to: Point2(x: 10, y: 0.4)), .walk(to: Point2(x: 10, y: 7.5))])
+        XCTAssertFalse(w2.spoken.contains { $0.contains("right") }, "\(w2.spoken)")
+        XCTAssertTrue(w2.spoken.contains { $0.hasPrefix("Turn left") }, "\(w2.spoken)")
+        // Facing back along the incoming leg (not turning the corner): the first instruction still says which
+        // way the route goes.
+        let nav3 = try Navigator(building: b, destinationId: "c")
+        var w3 = Walker(start: Point2(x: 8.8, y: 0), floorId: "1", headingRad: -100 * Double.pi / 180)
+        w3.run(nav3, [.wait(seconds: 0.1)])
+        XCTAssertTrue(w3.spoken.first?.hasPrefix("Turn left") ?? false, "\(w3.spoken)")
+    }
+
     func testSlightBendJustBeforeAnOppositeTurnIsOneTurn() throws {
         // A 25-degree bend right at b, 1 m before a 90-degree left at c: one left turn of 65 degrees.
         let c = Point2(x: 10 + cos(-25 * Double.pi / 180), y: sin(-25 * Double.pi / 180))
