@@ -59,7 +59,7 @@ public struct FloorGeometry: Sendable {
     /// True when the segment from `a` to `b` crosses or touches a wall.
     public func segmentCrossesWall(_ a: Point2, _ b: Point2) -> Bool {
         for i in candidates(minX: min(a.x, b.x), minY: min(a.y, b.y), maxX: max(a.x, b.x), maxY: max(a.y, b.y)) {
-            if Self.segmentsIntersect(a, b, walls[i].from, walls[i].to) { return true }
+            if Geometry.segmentsIntersect(a, b, walls[i].from, walls[i].to) { return true }
         }
         return false
     }
@@ -120,26 +120,8 @@ public struct FloorGeometry: Sendable {
         return (s >= 0 && s <= 1) ? t : nil
     }
 
-    private static func orient(_ a: Point2, _ b: Point2, _ c: Point2) -> Double {
-        (b.x - a.x) * (c.y - a.y) - (b.y - a.y) * (c.x - a.x)
-    }
-
-    private static func onSegment(_ a: Point2, _ b: Point2, _ p: Point2) -> Bool {
-        min(a.x, b.x) - 1e-12 <= p.x && p.x <= max(a.x, b.x) + 1e-12 && min(a.y, b.y) - 1e-12 <= p.y && p.y <= max(a.y, b.y) + 1e-12
-    }
-
-    /// Exact segment intersection test (touching counts).
-    static func segmentsIntersect(_ p1: Point2, _ p2: Point2, _ q1: Point2, _ q2: Point2) -> Bool {
-        let d1 = orient(q1, q2, p1), d2 = orient(q1, q2, p2), d3 = orient(p1, p2, q1), d4 = orient(p1, p2, q2)
-        if ((d1 > 0 && d2 < 0) || (d1 < 0 && d2 > 0)) && ((d3 > 0 && d4 < 0) || (d3 < 0 && d4 > 0)) { return true }
-        if d1 == 0 && onSegment(q1, q2, p1) { return true }
-        if d2 == 0 && onSegment(q1, q2, p2) { return true }
-        if d3 == 0 && onSegment(p1, p2, q1) { return true }
-        if d4 == 0 && onSegment(p1, p2, q2) { return true }
-        return false
-    }
-
-    /// Distance from point p to segment [a, b].
+    /// Distance from point p to segment [a, b], meters. `Geometry.distance(from:toSegmentFrom:to:)` with `hypot`
+    /// (kept: the simulator's committed walks depend on these exact values).
     static func distance(_ p: Point2, _ a: Point2, _ b: Point2) -> Double {
         let ex = b.x - a.x, ey = b.y - a.y
         let l2 = ex * ex + ey * ey

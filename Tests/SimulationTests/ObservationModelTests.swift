@@ -117,7 +117,7 @@ final class ObservationModelTests: XCTestCase {
                 XCTAssertLessThanOrEqual(r, 12); XCTAssertEqual(r, t.trueRangeMeters!, accuracy: 1e-9)
                 if !sign.doubleSided { XCTAssertLessThan(sign.facing.x * dx + sign.facing.y * dy, 0, "sign \(id) seen from behind") }
                 let end = Point2(sign.position.x - 0.05 * dx / r, sign.position.y - 0.05 * dy / r)
-                XCTAssertFalse(floor.walls.contains { FloorGeometry.segmentsIntersect(cam, end, $0.from, $0.to) }, "sign \(id) seen through a wall")
+                XCTAssertFalse(floor.crossesWall(from: cam, to: end), "sign \(id) seen through a wall")
                 XCTAssertLessThan(abs(t.trueBearingRad!) * 180 / .pi, 24.2 + 6)
                 XCTAssertEqual(wrapAngle(atan2(dy, dx) - tr.headingRad), t.trueBearingRad!, accuracy: 1e-9, "bearing positive left")
             }

@@ -7,7 +7,7 @@ import SessionFormat
 final class WalkerTests: XCTestCase {
     /// Independent brute-force wall check (no grid).
     private func crossesAnyWall(_ a: Point2, _ b: Point2, floor: Floor) -> Bool {
-        floor.walls.contains { FloorGeometry.segmentsIntersect(a, b, $0.from, $0.to) }
+        floor.crossesWall(from: a, to: b)
     }
 
     private let wallScenarios: [SimulationScenario] = [
@@ -48,10 +48,9 @@ final class WalkerTests: XCTestCase {
     }
 
     func testSegmentIntersectionPrimitive() {
-        XCTAssertTrue(FloorGeometry.segmentsIntersect(Point2(0, 0), Point2(2, 2), Point2(0, 2), Point2(2, 0)))
-        XCTAssertFalse(FloorGeometry.segmentsIntersect(Point2(0, 0), Point2(1, 1), Point2(0, 2), Point2(2, 3)))
-        XCTAssertTrue(FloorGeometry.segmentsIntersect(Point2(0, 0), Point2(1, 0), Point2(1, 0), Point2(1, 1)), "touching counts")
+        // The crossing rule is the map's (Geometry.segmentsIntersect, tested in MapsTests); the grid finds the walls.
         let g = FloorGeometry(walls: [Wall(from: Point2(5, -10), to: Point2(5, 10))])
+        XCTAssertTrue(g.segmentCrossesWall(Point2(5, 10), Point2(6, 11)), "touching an end counts")
         XCTAssertTrue(g.segmentCrossesWall(Point2(0, 0), Point2(10, 1)))
         XCTAssertFalse(g.segmentCrossesWall(Point2(0, 0), Point2(4.9, 1)))
         XCTAssertEqual(g.clearance(at: Point2(4, 0)), 1, accuracy: 1e-12)
