@@ -27,9 +27,10 @@ enum EvidenceSwitches {
       --corroboration F  the factor on an uncorroborated sighting's score instead of 0.25 (1 = off)
       --recount-unexplained M  while localized, an object seen again that the locked pose does not explain
                        counts once per M meters walked instead of 1 (0 = every frame)
-      --track-objects  count the sightings of one object tracked on the VIO plane as one object's: what a
-                       look-alike watched for seconds can say against a pose is bounded (off by default;
-                       docs/localizer.md "Tracked objects"; the same as --param track.enabled=1)
+      --no-track-objects  count every sighting on its own, even the sightings of one object tracked on the VIO
+                       plane (by default they count as one object's: what a look-alike watched for seconds can
+                       say against a pose is bounded; docs/localizer.md "Tracked objects"; the same as
+                       --param track.enabled=0). --track-objects asks for the default explicitly
       --param NAME=V   set an internal localizer parameter (e.g. compass.kappa=8; see docs/localizer.md);
                        may be repeated
     """
@@ -68,6 +69,7 @@ enum EvidenceSwitches {
             options.scheduleRecordedSightings = true
         }
         if arguments.flag("track-objects") { options.localizerParameters["track.enabled"] = 1 }
+        if arguments.flag("no-track-objects") { options.localizerParameters["track.enabled"] = 0 }
         while let assignment = try arguments.option("param") {
             let parts = assignment.split(separator: "=", maxSplits: 1).map(String.init)
             guard parts.count == 2, !parts[0].isEmpty, let value = Double(parts[1]), value.isFinite else {

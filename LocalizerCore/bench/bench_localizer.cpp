@@ -244,11 +244,28 @@ std::unique_ptr<ParticleFilter> full_step_prototype(size_t n, bool twins = true)
 // with resampling), update_planes (4 planes, resampling when due) and the estimate read (clustering).
 // BM_FilterFullStep: the shipped filter on this (symmetric) floor, twins scored; BM_FilterFullStepWithoutTwins:
 // the same with `twin.enabled` 0, what a floor without symmetry costs.
-void full_step(benchmark::State &state, bool twins) {
+/// Which frame the timed step is: the first after a floor-only start, or a frame after one with the same two
+/// sightings (the cloud resampled once), untracked or of tracked objects.
+enum class StepFrame { kFirst, kSecond, kSecondTracked };
+
+void full_step(benchmark::State &state, bool twins, StepFrame frame = StepFrame::kFirst) {
     const size_t n = static_cast<size_t>(state.range(0));
     const auto proto = full_step_prototype(n, twins);
+    wf_sign_observation z[2] = {{0, 6.0, 0.1, 0.9}, {0, 9.5, -0.2, 0.9}};
+    if (frame == StepFrame::kSecondTracked) {
+        // Both sightings are of tracked objects (the pipeline's tracks) seen in the prototype's frame, so the timed
+        // step takes the object-level update and gathers two ratio arrays.
+        for (uint32_t k = 0; k < 2; ++k) {
+            z[k].track_id = k + 1;
+            z[k].track_range_m = z[k].range_m + 0.04;
+            z[k].track_bearing_rad = z[k].bearing_rad;
+        }
+    }
+    if (frame != StepFrame::kFirst) {
+        proto->predict({1.0 / 30, 0.04, 0, 0.31, WF_VIO_TRACKING_NORMAL});
+        proto->update_signs(z, 2, 1.0 / 30);
+    }
     auto pf = std::make_unique<ParticleFilter>(*proto);
-    const wf_sign_observation z[2] = {{0, 6.0, 0.1, 0.9}, {0, 9.5, -0.2, 0.9}};
     const auto planes = full_step_planes(100);
     size_t resamplings = 0, iterations = 0;
     for (auto _ : state) {
@@ -267,6 +284,12 @@ void full_step(benchmark::State &state, bool twins) {
 }
 void BM_FilterFullStep(benchmark::State &state) { full_step(state, true); }
 void BM_FilterFullStepWithoutTwins(benchmark::State &state) { full_step(state, false); }
+// The frame after one with the same sightings (the cloud resampled once), untracked and of tracked objects
+// (pf/track_evidence, on by default): what tracking costs once the pipeline has seen the objects before.
+void BM_FilterFullStepSecondFrameWithoutTwins(benchmark::State &state) { full_step(state, false, StepFrame::kSecond); }
+void BM_FilterFullStepSecondFrameTrackedWithoutTwins(benchmark::State &state) {
+    full_step(state, false, StepFrame::kSecondTracked);
+}
 
 // ---------------------------------------------------------------------------------------------- baseline
 
@@ -576,6 +599,8 @@ BENCHMARK(BM_FilterUpdateSigns)->Arg(1000)->Arg(10000)->Arg(100000)->Unit(benchm
 BENCHMARK(BM_ClusterSpread)->Args({100000, 1})->Args({100000, 0})->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_FilterFullStep)->Arg(100000)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_FilterFullStepWithoutTwins)->Arg(100000)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_FilterFullStepSecondFrameWithoutTwins)->Arg(100000)->Unit(benchmark::kMillisecond)->MinTime(1.0);
+BENCHMARK(BM_FilterFullStepSecondFrameTrackedWithoutTwins)->Arg(100000)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 BENCHMARK(BM_BaselineFullStep)->Arg(100000)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 BENCHMARK_MAIN();

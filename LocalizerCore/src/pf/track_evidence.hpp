@@ -47,13 +47,14 @@ namespace wf::loc {
 
 /// Internal parameters of the tracked-object evidence (not part of the C ABI; "track.*" by name).
 struct TrackEvidenceParams {
-    /// On: tracked sightings take the object-level mixture; off (the default): every sighting counts on its own and
-    /// track ids are ignored. Off by default on the measurements of docs/benchmarks.md "Twenty-fifth stop": it removes
-    /// the look-alikes' wrong locks from the convergence study, but two of the fifteen gates regress by one turn
-    /// cue (behind the unrefined cascade's -25 % range bias a real sign's sightings fit the look-alike's
-    /// self-consistent track better than any map pose until the bias is learned). CLI `--track-objects`.
-    /// "track.enabled".
-    bool enabled = false;
+    /// On (the default): tracked sightings take the object-level mixture; off: every sighting counts on its own and
+    /// track ids are ignored. On by default since the twenty-sixth stop (docs/benchmarks.md "Twenty-sixth stop"):
+    /// behind look-alikes that stay put it removes every wrong lock measured (6 in filter seeds 1-6 of the
+    /// convergence study, each held 25-31 m, to 0) and the missing turn cues; its cost is behind the unrefined
+    /// cascade's -25 % range bias, where a real sign's sightings fit the look-alike's self-consistent track better
+    /// than any map pose until the bias is learned (wrong locks in filter seeds 1-8 of the scenario suite 1 -> 3,
+    /// held 0-7.3 m; within 20 m 67 -> 61 %). CLI `--no-track-objects`. "track.enabled".
+    bool enabled = true;
     /// Prior share c of tracked objects that are look-alikes, not map signs (0 < c < 1). The smaller, the more an
     /// object watched for long can say: a pose with no sign there pays at most log(((1 - c) p_c + c) / c) beyond
     /// its first sighting. Default 0.1, the detectors' clutter share. "track.lookalike_share".

@@ -1253,7 +1253,9 @@ TEST(ParticleFilter, TrackedObjectsConvergeAndTrackOnTheLWalk) {
     }
     for (uint64_t seed = 1; seed <= 3; ++seed) {
         ParticleFilter pf(wf::test::build_map(world, o), o, seed);
-        EXPECT_EQ(pf.particles().track_arrays, 0u);  // off by default: no ratio arrays
+        EXPECT_EQ(pf.particles().track_arrays, ParticleSet::kMaxTracks);  // on by default
+        ASSERT_EQ(pf.set_parameter("track.enabled", 0), WF_LOC_OK);
+        EXPECT_EQ(pf.particles().track_arrays, 0u);  // off: no ratio arrays
         ASSERT_EQ(pf.set_parameter("track.enabled", 1), WF_LOC_OK);
         double on = 0;
         ASSERT_EQ(pf.get_parameter("track.enabled", on), WF_LOC_OK);

@@ -163,7 +163,7 @@ TEST(TrackEvidence, SlotsAreFoundForgottenAndReused) {
 // the per-frame model's gap against a pose with no sign there, once turned on.
 TEST(TrackEvidence, AtTheDefaultsOneObjectSaysAFractionOfThePerFrameModel) {
     const TrackEvidenceParams defaults;
-    EXPECT_FALSE(defaults.enabled);  // off unless asked for (docs/localizer.md "Tracked objects")
+    EXPECT_TRUE(defaults.enabled);  // on unless switched off (docs/localizer.md "Tracked objects")
     const WatchResult r = watch(40, defaults.lookalike_share, defaults.variance_factor);
     const float first_gap = r.first_per_frame[0] - r.first_per_frame[1];
     const float bound = static_cast<float>(std::log(((1 - defaults.lookalike_share) * 0.1 + defaults.lookalike_share) /
