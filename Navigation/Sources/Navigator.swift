@@ -477,8 +477,8 @@ public final class Navigator {
         let dir = ahead - here
         var relativeBearingRad: Double? = dir.length > 1e-6 ? dir.angleRad - input.headingRad : nil
         var orientation: DepartOrientation = relativeBearingRad.map { DepartOrientation.classify(relativeBearingRad: $0) } ?? .ahead
-        if let side = cornerSideBeingTaken(route: route, headingRad: input.headingRad),
-           (orientation == .left && side < 0) || (orientation == .right && side > 0) {
+        if let turning = cornerBeingTurned(route: route, headingRad: input.headingRad),
+           orientation == .left || orientation == .right, orientation != turning {
             orientation = .ahead
             relativeBearingRad = nil
         }
@@ -520,14 +520,14 @@ public final class Navigator {
         }
     }
 
-    /// The side of a corner the traveler is turning now (+1 left, -1 right), or nil: a turn of the route
+    /// The way (`.left` or `.right`) the traveler is turning a corner now, or nil: a turn of the route
     /// within the look-ahead whose incoming and outgoing legs the heading lies strictly between, turned at
     /// least `cornerTakenMinDeg` from the incoming leg. A lock often comes while the traveler cuts a corner,
     /// with the estimate a little behind them: the look-ahead point is then just past the corner, on the far
     /// side of the heading, and "Turn right" would send a traveler who is turning left back against the
     /// turn. Such a first instruction is said as "ahead" (they are already going the way the route goes);
     /// the turn keeps its cue unless the heading is nearer the outgoing leg (`stillToTurn`).
-    private func cornerSideBeingTaken(route: Route, headingRad: Double) -> Double? {
+    private func cornerBeingTurned(route: Route, headingRad: Double) -> DepartOrientation? {
         for m in route.maneuvers.dropFirst() where m.kind.isTurn {
             guard m.distanceFromStartMeters - progressMeters < options.lookAheadMeters else { break }
             guard m.distanceFromStartMeters - progressMeters >= 0 else { continue }
@@ -536,7 +536,7 @@ public final class Navigator {
             let turnedRad = normalizedAngleRad(headingRad - inDir.angleRad)
             let minRad = Self.cornerTakenMinDeg * Double.pi / 180
             if turnRad * turnedRad > 0, abs(turnedRad) >= minRad, abs(turnedRad) < abs(turnRad) {
-                return turnRad > 0 ? 1 : -1
+                return turnRad > 0 ? .left : .right
             }
             return nil
         }
@@ -555,7 +555,7 @@ public final class Navigator {
     }
 
     /// How far (degrees) the heading must have turned from a corner's incoming leg toward its outgoing one
-    /// for the traveler to count as turning it (`cornerSideBeingTaken`): past a walker's sway and the
+    /// for the traveler to count as turning it (`cornerBeingTurned`): past a walker's sway and the
     /// heading estimate's error (a few degrees), well inside any turn the route cues (> 30 degrees).
     static let cornerTakenMinDeg = 15.0
 
