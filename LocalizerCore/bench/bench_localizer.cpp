@@ -240,14 +240,14 @@ std::unique_ptr<ParticleFilter> full_step_prototype(size_t n, bool twins = true)
     return pf;
 }
 
-// One full frame of the filter on the spread-out cloud: predict (4 cm, 0.6 deg), update_signs (2 sightings,
-// with resampling), update_planes (4 planes, resampling when due) and the estimate read (clustering).
-// BM_FilterFullStep: the shipped filter on this (symmetric) floor, twins scored; BM_FilterFullStepWithoutTwins:
-// the same with `twin.enabled` 0, what a floor without symmetry costs.
 /// Which frame the timed step is: the first after a floor-only start, or a frame after one with the same two
 /// sightings (the cloud resampled once), untracked or of tracked objects.
 enum class StepFrame { kFirst, kSecond, kSecondTracked };
 
+// One full frame of the filter on the spread-out cloud: predict (4 cm, 0.6 deg), update_signs (2 sightings,
+// with resampling), update_planes (4 planes, resampling when due) and the estimate read (clustering).
+// BM_FilterFullStep: the shipped filter on this (symmetric) floor, twins scored; BM_FilterFullStepWithoutTwins:
+// the same with `twin.enabled` 0, what a floor without symmetry costs.
 void full_step(benchmark::State &state, bool twins, StepFrame frame = StepFrame::kFirst) {
     const size_t n = static_cast<size_t>(state.range(0));
     const auto proto = full_step_prototype(n, twins);

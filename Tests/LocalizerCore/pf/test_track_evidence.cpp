@@ -160,7 +160,7 @@ TEST(TrackEvidence, SlotsAreFoundForgottenAndReused) {
 }
 
 // At the default variance factor (4) the exact pose gains up to log 4 a sighting over the track: still a fraction of
-// the per-frame model's gap against a pose with no sign there, once turned on.
+// the per-frame model's gap against a pose with no sign there.
 TEST(TrackEvidence, AtTheDefaultsOneObjectSaysAFractionOfThePerFrameModel) {
     const TrackEvidenceParams defaults;
     EXPECT_TRUE(defaults.enabled);  // on unless switched off (docs/localizer.md "Tracked objects")
