@@ -30,7 +30,7 @@ import SessionFormat
 /// The defaults are the measured ones (docs/benchmarks.md, "Twenty-fourth stop").
 /// Each sighting also carries its object's track (`SignSighting.track`: the id of the object it sees again within
 /// `trackMemorySeconds`, and where that object's earlier sightings put it), for the localizer's tracked-object
-/// evidence (LocalizerCore pf/track_evidence, docs/localizer.md "Tracked objects"; off unless turned on).
+/// evidence (LocalizerCore pf/track_evidence, docs/localizer.md "Tracked objects"; on unless switched off).
 /// Written by hand: no library does this for a stream of range-bearing sightings.
 public struct SightingCorroboration: Sendable {
     /// The rule's settings.

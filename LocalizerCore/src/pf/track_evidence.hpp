@@ -101,7 +101,7 @@ public:
     /// log q: the density of sighting `z` if its object is a look-alike, i.e. seen again where its track puts it
     /// (z.track_range_m, z.track_bearing_rad) under the sign model's noise (variance x variance_factor for the track's own error)
     /// and clutter share; with no track position, the model's expected value.
-    static float lookalike_log_density(const SignModelParams &m, const PreparedSighting &z, float variance_factor = 4.0f);
+    static float lookalike_log_density(const SignModelParams &m, const PreparedSighting &z, float variance_factor);
 
 private:
     struct Slot {
