@@ -58,6 +58,12 @@ struct PlaneSimulator {
     let parameters: PlaneParameters
     let floors: [String: Floor]
     let geometry: [String: FloorGeometry]
+    /// Where the walls truly stand against the map (`SurveyParameters.wallOffsetSigmaMeters`): each wall face is
+    /// shifted along its normal by a draw of this many meters, from `surveyRng` (the planes' own stream is left
+    /// untouched, so walks without survey errors are those of before). 0: the map's walls are the truth.
+    var wallOffsetSigmaMeters = 0.0
+    /// The survey's random stream for the wall offsets (drawn per floor in id order, per face in order).
+    var surveyRng = SeededRandom(seed: 0, stream: RandomStream.survey.rawValue)
 
     /// One wall face (collinear segments merged), map frame.
     struct Face {
@@ -68,6 +74,9 @@ struct PlaneSimulator {
         var lag: Double
         var isFalse: Bool
         var classification: String?
+        /// The survey's error: the true wall stands this far along the face's left normal (-uy, ux) from the
+        /// map's, m (0 for the map's own walls and for false planes).
+        var surveyOffsetMeters = 0.0
     }
 
     /// Per-face detection state.
@@ -169,7 +178,14 @@ struct PlaneSimulator {
         guard parameters.enabled, states.count >= 2, parameters.evaluationRateHz > 0 else { return [] }
         let p = parameters
         var facesByFloor: [String: [Face]] = [:]
-        for id in floors.keys.sorted() { facesByFloor[id] = faces(floorId: id, rng: &rng) }
+        var surveyRng = self.surveyRng
+        for id in floors.keys.sorted() {
+            var fl = faces(floorId: id, rng: &rng)
+            if wallOffsetSigmaMeters > 0 {
+                for i in fl.indices where !fl[i].isFalse { fl[i].surveyOffsetMeters = wallOffsetSigmaMeters * surveyRng.normal() }
+            }
+            facesByFloor[id] = fl
+        }
         var tracks: [String: [Track]] = [:]
         func newTrack(_ t: Double) -> Track {
             Track(normalError: OrnsteinUhlenbeck(sigma: p.normalOffsetSigmaMeters, tauSeconds: p.reestimationTauSeconds, rng: &rng),
@@ -325,7 +341,7 @@ struct PlaneSimulator {
         var nx = -uy, ny = ux
         let cx0 = f.a.x + mid * ux, cy0 = f.a.y + mid * uy
         if (s.position.x - cx0) * nx + (s.position.y - cy0) * ny < 0 { nx = -nx; ny = -ny }
-        let cMap = (x: cx0 + normalError * nx, y: cy0 + normalError * ny)
+        let cMap = (x: cx0 + normalError * nx - f.surveyOffsetMeters * uy, y: cy0 + normalError * ny + f.surveyOffsetMeters * ux)
         let normalMapYaw = atan2(ny, nx) + angleError
         // Map -> VIO at this frame: p_vio = v + s R(theta) (p - c).
         let m = vio.cameraToWorld

@@ -97,7 +97,7 @@ struct OrnsteinUhlenbeck: Sendable {
 
 /// Stream ids of the simulator's noise sources (see `SeededRandom(seed:stream:)`).
 enum RandomStream: UInt64 {
-    case walker = 1, phone, vio, detector, falsePositives, barometer, compass, route, tracking, lookAlikes, lookAlikeDetections
+    case walker = 1, phone, vio, detector, falsePositives, barometer, compass, route, tracking, lookAlikes, lookAlikeDetections, survey
 }
 
 /// Wraps an angle to (-pi, pi].

@@ -56,6 +56,9 @@ struct SignObservationModel {
     /// Look-alikes by floor id (`DetectorParameters.lookAlikesPerMeterOfWall`; `placeLookAlikes`): pseudo-signs of
     /// the floor's false-positive kind. Empty by default.
     var lookAlikes: [String: [Sign]] = [:]
+    /// The survey's errors (`SurveyErrors`): `floors` are its true floors, and each sign's ranges read with its
+    /// size factor. Nil: the map is the truth.
+    var survey: SurveyErrors? = nil
 
     /// Places the look-alikes of every floor (`DetectorParameters.lookAlikesPerMeterOfWall`), of the floor's
     /// `falsePositiveKind`: on each floor round(density x total wall length) of them, each on a wall drawn with
@@ -191,7 +194,9 @@ struct SignObservationModel {
             let detected = u < pd
             visibleLog.append(VisibleSign(frameIndex: frameIndex, signId: sign.id, rangeMeters: r, detected: detected, blurred: blur < 1))
             guard detected else { continue }
-            let (range, bearing) = measured(rangeMeters: r, bearingRad: b, zRange: zr, zBearing: zb)
+            let (measuredRange, bearing) = measured(rangeMeters: r, bearingRad: b, zRange: zr, zBearing: zb)
+            // A face larger than the catalogue's reads nearer (the range comes from its apparent height).
+            let range = measuredRange * (survey?.rangeFactor(floorId: s.floorId, signId: sign.id) ?? 1)
             let score = p.scoresTellFalsePositives ? max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs)) : p.constantScore
             // Text recognition, only for identifying legends (so the streams of maps without any are unchanged).
             var text: String? = nil

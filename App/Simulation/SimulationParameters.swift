@@ -18,6 +18,9 @@ public struct SimulationParameters: Codable, Sendable, Equatable {
     public var compass = CompassParameters()
     /// ARKit vertical plane detection (PlaneSimulator.swift).
     public var planes = PlaneParameters()
+    /// Where the building's signs truly hang, and how large they truly are, against the map the localizer reads
+    /// (SurveyErrors.swift). None by default: the map is the truth.
+    public var survey = SurveyParameters()
     /// The defaults.
     public init() {}
     /// The defaults.
@@ -266,6 +269,26 @@ public struct DetectorParameters: Codable, Sendable, Equatable {
     }
 }
 
+/// A survey's errors: the map the localizer is given against the building the simulated detector sees
+/// (SurveyErrors.swift). A real map's signs were placed by someone with a tape, a floor plan or a phone, and a
+/// building mixes sign models of different sizes; the simulator's map is otherwise the truth. Drawn once per walk
+/// and sign, from their own random stream (so walks with every setting at zero are those of before).
+public struct SurveyParameters: Codable, Sendable, Equatable {
+    /// Standard deviation of each sign's true position along its wall from the map's, meters (normal, drawn per
+    /// sign). The sign stays on its wall's line (it slides perpendicular to its facing), so no wall comes between.
+    public var signAlongWallSigmaMeters = 0.0
+    /// Log-normal spread of each sign's true face size against the map's and the catalogue's: a face k times as
+    /// large as the catalogue says reads every range 1 / k as long (the detector ranges from the face's apparent
+    /// height with the catalogue's height). Per sign, so it is not one common range bias the localizer can learn.
+    public var signSizeLogSigma = 0.0
+    /// Standard deviation of each wall face's true position along its normal from the map's, meters (normal,
+    /// drawn per face of collinear wall segments; ARKit's planes see the true walls, PlaneSimulator.swift). The
+    /// walker and the signs' visibility keep the map's walls (a few centimetres).
+    public var wallOffsetSigmaMeters = 0.0
+    /// The defaults: no survey error.
+    public init() {}
+}
+
 /// The barometer's relative altitude.
 public struct BarometerParameters: Codable, Sendable, Equatable {
     /// White noise of each reading, m.
@@ -396,5 +419,14 @@ extension SimulationParameters {
         guard barometer.updateRateHz > 0 else { throw bad("barometer updateRateHz must be positive") }
         guard vio.darkSpellsPerSecond >= 0, vio.relocalizationsPerSecond >= 0 else { throw bad("VIO event rates must be non-negative") }
         try compass.validate()
+        guard survey.signAlongWallSigmaMeters.isFinite, survey.signAlongWallSigmaMeters >= 0, survey.signAlongWallSigmaMeters <= 5 else {
+            throw bad("survey signAlongWallSigmaMeters must be in 0...5")
+        }
+        guard survey.wallOffsetSigmaMeters.isFinite, survey.wallOffsetSigmaMeters >= 0, survey.wallOffsetSigmaMeters <= 2 else {
+            throw bad("survey wallOffsetSigmaMeters must be in 0...2")
+        }
+        guard survey.signSizeLogSigma.isFinite, survey.signSizeLogSigma >= 0, survey.signSizeLogSigma <= 1 else {
+            throw bad("survey signSizeLogSigma must be in 0...1")
+        }
     }
 }

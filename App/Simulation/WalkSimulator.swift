@@ -239,9 +239,14 @@ public enum WalkSimulator {
             truth.append(TruthRecord(t: s.t, x: s.position.x, y: s.position.y, floorId: s.floorId, headingRad: s.yawRad))
         }
 
+        // The building as it truly is against the map (the survey's errors; the map itself when there are none).
+        var surveyRng = SeededRandom(seed: scenario.seed, stream: RandomStream.survey.rawValue)
+        let world = SurveyErrors(floors: floorsById, parameters: parameters.survey, rng: &surveyRng)
+
         // Observations on processed frames.
-        var obsModel = SignObservationModel(parameters: parameters.detector, floors: floorsById, geometry: geometry,
+        var obsModel = SignObservationModel(parameters: parameters.detector, floors: world.floors, geometry: geometry,
                                             intrinsics: intrinsics, catalogue: building.signCatalogue)
+        obsModel.survey = world
         var placeRng = SeededRandom(seed: scenario.seed, stream: RandomStream.lookAlikes.rawValue)
         obsModel.lookAlikes = obsModel.placeLookAlikes(rng: &placeRng)
         var detRng = SeededRandom(seed: scenario.seed, stream: RandomStream.detector.rawValue)
@@ -285,13 +290,16 @@ public enum WalkSimulator {
             processedFrameIndices: processed, barometerDriftMetersPerSecond: baroDrift, mapNorthOffsetDeg: northOffset,
             compassDisturbanceDeg: disturbances, compassInHotspot: inHotspot,
             compassHeadingAccuracyDeg: headingAccuracies, altitudesMeters: states.map(\.altitudeMeters))
-        let renderer = imageMode ? SceneRenderer(floors: floorsById, geometry: geometry, states: states, intrinsics: intrinsics,
+        let renderer = imageMode ? SceneRenderer(floors: world.floors, geometry: geometry, states: states, intrinsics: intrinsics,
                                                  seed: scenario.seed) : nil
         var walk = SimulatedWalk(scenario: scenario, info: info, frames: frames, observations: observations, truth: truth,
                                  expected: [], diagnostics: diagnostics, renderer: renderer, imageFrameIndices: imageIndices)
         // ARKit vertical planes (own random stream: switching planes off changes nothing else).
         var planeRng = SeededRandom(seed: scenario.seed, stream: PlaneSimulator.randomStream)
-        walk.planes = PlaneSimulator(parameters: parameters.planes, floors: floorsById, geometry: geometry)
+        var planeSimulator = PlaneSimulator(parameters: parameters.planes, floors: floorsById, geometry: geometry)
+        planeSimulator.wallOffsetSigmaMeters = parameters.survey.wallOffsetSigmaMeters
+        planeSimulator.surveyRng = surveyRng  // after the signs' draws
+        walk.planes = planeSimulator
             .run(states: states, vio: vio, mapToVIOYaw: thetas, scale: events.scale, resetTime: events.resetTime, rng: &planeRng)
         return walk
     }
