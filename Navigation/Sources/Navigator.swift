@@ -184,6 +184,9 @@ public final class Navigator {
     public private(set) var currentRoute: Route?
     /// The route's first instruction is still to be said (composed when the channel is free, see `adopt`).
     private var departurePending = false
+    /// Since when the first instruction has been held back because the arrival would come before it ended
+    /// (`announceDepartureWhenChannelFree`), s; nil when it is not held.
+    private var departureHeldSince: Double?
     /// True once arrival was announced; later updates produce nothing.
     public private(set) var hasArrived = false
     /// Maneuvers of the current route (empty before there is one).
@@ -460,6 +463,7 @@ public final class Navigator {
         // be playing the exploratory advice for 3-4 s), never queued with a distance that is stale by then
         // ("Go straight ahead, 8 meters." said 3.4 s late, 4 m before the turn).
         departurePending = true
+        departureHeldSince = nil
         announceDepartureWhenChannelFree(input: input)
     }
 
@@ -508,6 +512,19 @@ public final class Navigator {
         // would cut it off.
         let text = narrative.depart(orientation, distanceMeters: toNext, relativeBearingRad: relativeBearingRad)
         let departWalkMeters = schedulingSpeed() * policy.estimatedDurationSeconds(text)
+        // A lock a step or two from the destination, the traveler walking: the arrival ("Arrived. Room 107 is
+        // ahead, behind a door.") would come before "Turn right, then go 1 meter." ended, and the two would
+        // disagree (the route's look-ahead against the destination's side). The first instruction is held while
+        // the arrival may come first, at most `departureHoldSeconds` (the walking speed is not known yet at a
+        // lock: a traveler standing there hears it that much later).
+        if next.kind == .arrive, toNext > options.arrivalRadiusMeters,
+           toNext - departWalkMeters <= options.arrivalRadiusMeters,
+           input.t - (departureHeldSince ?? input.t) < Self.departureHoldSeconds {
+            if departureHeldSince == nil { departureHeldSince = input.t }
+            departurePending = true
+            return
+        }
+        departureHeldSince = nil
         let cueDueAtOnce = orientation == .ahead && next.kind.isTurn && first < route.maneuvers.count
             && toNext <= cueLeadMeters(narrative.cue(next, floorName: floorName(next.floorId)), priority: .cue, t: input.t)
                 + departWalkMeters
@@ -553,6 +570,10 @@ public final class Navigator {
         guard inDir.length > 1e-9, outDir.length > 1e-9 else { return nil }
         return (inDir, outDir)
     }
+
+    /// Longest hold of a first instruction for an arrival that may come first, s: about two steps' time (a
+    /// traveler who stands, turns away or dawdles within the arrival's reach hears the instruction after it).
+    public static let departureHoldSeconds = 2.0
 
     /// How far (degrees) the heading must have turned from a corner's incoming leg toward its outgoing one
     /// for the traveler to count as turning it (`cornerBeingTurned`): past a walker's sway and the

@@ -84,6 +84,31 @@ final class CornerCuttingTests: XCTestCase {
         XCTAssertTrue(w3.spoken.first?.hasPrefix("Turn left") ?? false, "\(w3.spoken)")
     }
 
+    func testLockedAStepFromTheDestinationTheArrivalIsNotPrecededByAContraryInstruction() throws {
+        // Localized 1.5 m before the destination c, walking toward it: "Go straight ahead, 2 meters." would still
+        // be playing when the arrival comes 0.5 m later (found behind survey-rough: "Turn right, then go 1 meter."
+        // then 0.17 s later "Arrived. Room 107 is ahead"). The arrival is the first and only instruction.
+        let b = building([("a", Point2(x: 0, y: 0)), ("b", Point2(x: 10, y: 0)), ("c", Point2(x: 10, y: 8))])
+        let nav = try Navigator(building: b, destinationId: "c")
+        var w = Walker(start: Point2(x: 10, y: 6.5), floorId: "1", headingRad: Double.pi / 2)
+        w.run(nav, [.walk(to: Point2(x: 10, y: 7.6))])
+        XCTAssertEqual(w.spoken.count, 1, "\(w.spoken)")
+        XCTAssertTrue(w.spoken.first?.hasPrefix("Arrived") ?? false, "\(w.spoken)")
+        // Standing there, the first instruction comes after the hold (2 s), and nothing else.
+        let nav2 = try Navigator(building: b, destinationId: "c")
+        var w2 = Walker(start: Point2(x: 10, y: 6.5), floorId: "1", headingRad: Double.pi / 2)
+        w2.run(nav2, [.wait(seconds: 4)])
+        XCTAssertEqual(w2.spoken.count, 1, "\(w2.spoken)")
+        XCTAssertTrue(w2.spoken.first?.hasPrefix("Go straight ahead") ?? false, "\(w2.spoken)")
+        let said = try XCTUnwrap(w2.records.first { !$0.events.filter { $0.spokenText != nil }.isEmpty })
+        XCTAssertEqual(said.input.t - w2.startT, Navigator.departureHoldSeconds, accuracy: 0.15)
+        // Farther away (5 m: the instruction ends before the arrival), it is said at once as before.
+        let nav3 = try Navigator(building: b, destinationId: "c")
+        var w3 = Walker(start: Point2(x: 10, y: 3), floorId: "1", headingRad: Double.pi / 2)
+        w3.run(nav3, [.wait(seconds: 0.1)])
+        XCTAssertTrue(w3.spoken.first?.hasPrefix("Go straight ahead") ?? false, "\(w3.spoken)")
+    }
+
     func testSlightBendJustBeforeAnOppositeTurnIsOneTurn() throws {
         // A 25-degree bend right at b, 1 m before a 90-degree left at c: one left turn of 65 degrees.
         let c = Point2(x: 10 + cos(-25 * Double.pi / 180), y: sin(-25 * Double.pi / 180))
