@@ -25,6 +25,9 @@ enum EvidenceSwitches {
                        same place of the VIO plane (by default such a sighting counts at a quarter of its score:
                        docs/localizer.md "Corroborated sightings")
       --corroboration F  the factor on an uncorroborated sighting's score instead of 0.25 (1 = off)
+      --repeat-factor F  while not localized, the factor on the score of an object's sighting repeated from where
+                       the camera stood (under 5 cm from its last full-weight one, within 1 s) instead of 0.25
+                       (1 = off; docs/localizer.md "Corroborated sightings")
       --recount-unexplained M  while localized, an object seen again that the locked pose does not explain
                        counts once per M meters walked instead of 1 (0 = every frame)
       --no-track-objects  count every sighting on its own, even the sightings of one object tracked on the VIO
@@ -54,6 +57,12 @@ enum EvidenceSwitches {
                 throw CLIError.usage("--corroboration wants a factor in 0...1, got '\(f)'")
             }
             options.sightingCorroboration.uncorroboratedScoreFactor = factor
+        }
+        if let f = try arguments.option("repeat-factor") {
+            guard let factor = Double(f), (0...1).contains(factor) else {
+                throw CLIError.usage("--repeat-factor wants a factor in 0...1, got '\(f)'")
+            }
+            options.sightingCorroboration.stationaryRepeatScoreFactor = factor
         }
         if let r = try arguments.option("recount-unexplained") {
             guard let meters = Double(r), meters.isFinite, meters >= 0 else {

@@ -58,6 +58,20 @@ public struct SightingCorroboration: Sendable {
         /// seconds can say against a pose is bounded). 3 s, the localizer's "track.forget_s": a sign passed out of view
         /// for longer is taken as a new object. 0 = no track ids (every sighting counts on its own).
         public var trackMemorySeconds = 3.0
+        /// While not localized: a corroborated sighting of an object whose last full-weight sighting was taken less
+        /// than `stationaryRepeatMeters` away on the VIO plane and less than `stationaryRepeatSeconds` ago passes
+        /// with its score times `stationaryRepeatScoreFactor`. A camera that stands still sees one object with the
+        /// same errors frame after frame (the map's misplaced sign, the detector's reading of that one face), so its
+        /// repeats are not independent evidence: at 10 Hz a traveler who paused 3 s counted 30 sightings of one
+        /// misplaced sign and the filter locked on the mirror corridor whose sign fitted them a little better
+        /// (docs/benchmarks.md "Twenty-seventh stop", conv-3-05 behind survey-rough). Walking at 0.5 m/s or more the
+        /// camera moves 5 cm between the phone's 10 Hz detector frames and every sighting counts in full; standing,
+        /// one a second per object. 1 = off (`--repeat-factor 1`).
+        public var stationaryRepeatScoreFactor = 0.25
+        /// See `stationaryRepeatScoreFactor`, meters.
+        public var stationaryRepeatMeters = 0.05
+        /// See `stationaryRepeatScoreFactor`, seconds.
+        public var stationaryRepeatSeconds = 1.0
         /// The defaults.
         public init() {}
     }
@@ -74,6 +88,11 @@ public struct SightingCorroboration: Sendable {
         var countedFromNorth: Double
         /// The object's track id.
         var trackId: UInt32
+        /// Camera position on the VIO plane and time of this object's last full-weight sighting (the stationary
+        /// repeat rule).
+        var weighedFromEast: Double
+        var weighedFromNorth: Double
+        var weighedAt: Double
     }
 
     /// The locked pose a frame's sightings are checked against (`corroborate`).
@@ -127,7 +146,7 @@ public struct SightingCorroboration: Sendable {
         let memory = max(parameters.windowSeconds, parameters.trackMemorySeconds)
         recent.removeAll { !(t - $0.t <= memory) || $0.t > t }
         guard parameters.uncorroboratedScoreFactor < 1 || parameters.unexplainedObjectRecountMeters > 0
-            || parameters.trackMemorySeconds > 0 else { return sightings }
+            || parameters.trackMemorySeconds > 0 || parameters.stationaryRepeatScoreFactor < 1 else { return sightings }
         let factor = lock == nil ? parameters.uncorroboratedScoreFactor : 1
         let camera = pose.positionInVIOPlane
         let yaw = pose.yawInVIOPlaneRad
@@ -173,8 +192,17 @@ public struct SightingCorroboration: Sendable {
             // A legend read on the sign (a room number) is a second, independent check of its own: a poster or a
             // light is not taken for a placard whose number the map has.
             if !corroborated && s.text == nil { out[i].score = s.score * factor }
+            // The same object from where the camera stood a moment ago: a repeat, not new evidence.
+            var weighed = (east: camera.east, north: camera.north, t: t)
+            if let m = match, lock == nil, s.text == nil, parameters.stationaryRepeatScoreFactor < 1,
+               hypot(camera.east - m.weighedFromEast, camera.north - m.weighedFromNorth) < parameters.stationaryRepeatMeters,
+               t - m.weighedAt < parameters.stationaryRepeatSeconds {
+                weighed = (m.weighedFromEast, m.weighedFromNorth, m.weighedAt)
+                out[i].score = s.score * parameters.stationaryRepeatScoreFactor
+            }
             placedNow.append(Placed(t: t, kind: s.kind, east: east, north: north, rangeMeters: s.rangeMeters,
-                                    countedFromEast: fromEast, countedFromNorth: fromNorth, trackId: track.id))
+                                    countedFromEast: fromEast, countedFromNorth: fromNorth, trackId: track.id,
+                                    weighedFromEast: weighed.east, weighedFromNorth: weighed.north, weighedAt: weighed.t))
         }
         recent.append(contentsOf: placedNow)
         return out

@@ -48,9 +48,10 @@ final class SightingCorroborationTests: XCTestCase {
         // (0.5 + 0.3 x 10 = 3.5 m), 4 m apart does not.
         for (offset, confirmed) in [(2.4, true), (4.0, false)] {
             var rule = SightingCorroboration()
-            let p = pose(east: 0, north: 0, yawRad: 0)
-            _ = rule.corroborate([sighting(of: 10, 0, from: 0, 0, yawRad: 0)], t: 0, pose: p)
-            let out = rule.corroborate([sighting(of: 10, offset, from: 0, 0, yawRad: 0)], t: 0.1, pose: p)
+            // Walking: 0.12 m between the frames (a standing camera's repeats are weighed down, below).
+            _ = rule.corroborate([sighting(of: 10, 0, from: 0, 0, yawRad: 0)], t: 0, pose: pose(east: 0, north: 0, yawRad: 0))
+            let out = rule.corroborate([sighting(of: 10, offset, from: 0.12, 0, yawRad: 0)], t: 0.1,
+                                       pose: pose(east: 0.12, north: 0, yawRad: 0))
             XCTAssertEqual(out[0].score == 1, confirmed, "offset \(offset) m")
         }
     }
@@ -90,10 +91,58 @@ final class SightingCorroborationTests: XCTestCase {
                                                            widthMeters: 0.3, heightMeters: 0.15)])
         XCTAssertEqual(rule.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0, score: 0.9)], t: 0, pose: p,
                                         lock: lock)[0].score, 0.9)
-        XCTAssertEqual(rule.corroborate([sighting(of: 5, 0.3, from: 0, 0, yawRad: 0, score: 0.9)], t: 0.1, pose: p)[0].score,
+        XCTAssertEqual(rule.corroborate([sighting(of: 5, 0.3, from: 0.1, 0, yawRad: 0, score: 0.9)], t: 0.1,
+                                        pose: pose(east: 0.1, north: 0, yawRad: 0))[0].score,
                        0.9, "confirmed by the unweighed frame")
         XCTAssertEqual(rule.corroborate([sighting(of: -5, 0, from: 0, 0, yawRad: 0, score: 0.9)], t: 0.2, pose: p)[0].score,
                        0.9 * 0.25, accuracy: 1e-12, "a fresh place")
+    }
+
+    /// A standing camera sees one sign with the same errors frame after frame: while not localized its repeats
+    /// count at `stationaryRepeatScoreFactor` of their score, one a second in full; walking at 0.6 m/s (6 cm a
+    /// frame) every corroborated sighting counts in full; localized, the rule is off; factor 1 turns it off.
+    func testAStandingCameraCountsOneObjectOnceASecond() {
+        var rule = SightingCorroboration()
+        let repeatFactor = rule.parameters.stationaryRepeatScoreFactor, first = rule.parameters.uncorroboratedScoreFactor
+        XCTAssertLessThan(repeatFactor, 1)
+        var full: [Int] = []
+        for i in 0..<25 {
+            // Standing at the origin, swaying 2 cm; the sign 5 m ahead.
+            let east = 0.02 * sin(Double(i)), t = 0.1 * Double(i)
+            let out = rule.corroborate([sighting(of: 5, 0, from: east, 0, yawRad: 0, score: 0.8)], t: t,
+                                       pose: pose(east: east, north: 0, yawRad: 0))
+            if i == 0 { XCTAssertEqual(out[0].score, 0.8 * first, accuracy: 1e-12) }
+            else if abs(out[0].score - 0.8) < 1e-12 { full.append(i) }
+            else { XCTAssertEqual(out[0].score, 0.8 * repeatFactor, accuracy: 1e-12, "frame \(i)") }
+        }
+        XCTAssertEqual(full, [10, 20])
+        // Walking at 0.6 m/s past the sign: every corroborated frame in full.
+        var walking = SightingCorroboration()
+        for i in 0..<10 {
+            let east = 0.06 * Double(i), t = 0.1 * Double(i)
+            let out = walking.corroborate([sighting(of: 5, 1, from: east, 0, yawRad: 0, score: 0.8)], t: t,
+                                          pose: pose(east: east, north: 0, yawRad: 0))
+            XCTAssertEqual(out[0].score, i == 0 ? 0.8 * first : 0.8, accuracy: 1e-12, "frame \(i)")
+        }
+        // Localized: as measured.
+        var locked = SightingCorroboration()
+        let lock = SightingCorroboration.Lock(positionInMap: Point2(0, 0), headingRad: 0,
+                                              signs: [Sign(id: "e", kind: "exit", position: Point2(5, 0), facing: Point2(-1, 0),
+                                                           widthMeters: 0.3, heightMeters: 0.15)])
+        for i in 0..<5 {
+            let out = locked.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0, score: 0.8)], t: 0.1 * Double(i),
+                                         pose: pose(east: 0, north: 0, yawRad: 0), lock: lock)
+            XCTAssertEqual(out[0].score, 0.8, accuracy: 1e-12)
+        }
+        // Factor 1: off.
+        var parameters = SightingCorroboration.Parameters()
+        parameters.stationaryRepeatScoreFactor = 1
+        var off = SightingCorroboration(parameters: parameters)
+        for i in 0..<5 {
+            let out = off.corroborate([sighting(of: 5, 0, from: 0, 0, yawRad: 0, score: 0.8)], t: 0.1 * Double(i),
+                                      pose: pose(east: 0, north: 0, yawRad: 0))
+            XCTAssertEqual(out[0].score, i == 0 ? 0.8 * first : 0.8, accuracy: 1e-12)
+        }
     }
 
     func testWhileLockedAnObjectTheLockDoesNotExplainCountsOncePerMeterWalked() {
