@@ -512,8 +512,8 @@ public final class Navigator {
         // would cut it off.
         let text = narrative.depart(orientation, distanceMeters: toNext, relativeBearingRad: relativeBearingRad)
         let departWalkMeters = schedulingSpeed() * policy.estimatedDurationSeconds(text)
-        // A lock a step or two from the destination, the traveler walking: the arrival ("Arrived. Room 107 is
-        // ahead, behind a door.") would come before "Turn right, then go 1 meter." ended, and the two would
+        // A lock a step or two from the destination: walking on, the traveler would hear the arrival ("Arrived.
+        // Room 107 is ahead, behind a door.") before "Turn right, then go 1 meter." ended, and the two would
         // disagree (the route's look-ahead against the destination's side). The first instruction is held while
         // the arrival may come first, at most `departureHoldSeconds` (the walking speed is not known yet at a
         // lock: a traveler standing there hears it that much later).
