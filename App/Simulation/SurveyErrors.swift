@@ -17,10 +17,13 @@ public struct SurveyErrors: Sendable, Equatable {
     public var rangeFactors: [String: [String: Double]]
 
     /// Draws the survey's errors for `floors` (the map's floors by id) from `rng`: per floor in id order and per
-    /// sign in map order, a standard normal for the slide along the wall (times
-    /// `signAlongWallSigmaMeters`, perpendicular to the sign's facing) and one for the log of the size factor
-    /// (times `signSizeLogSigma`). Both are drawn for every sign whatever the settings, so one setting's draws do
-    /// not depend on the other. With both settings zero the floors are returned unchanged.
+    /// physical sign (map signs at one position, e.g. the two faces of a sign hung across a corridor, are one sign
+    /// and move together) in map order, a standard normal for the slide (times `signAlongWallSigmaMeters`) and one
+    /// for the log of the size factor (times `signSizeLogSigma`). A sign flat on a wall slides along that wall,
+    /// perpendicular to its facing; a projecting one (flag-mounted, ceiling-hung) along the corridor it hangs
+    /// across, i.e. along its facing, so neither passes into a wall. Both numbers are drawn for every sign whatever
+    /// the settings, so one setting's draws do not depend on the other. With both settings zero the floors are
+    /// returned unchanged.
     public init(floors: [String: Floor], parameters p: SurveyParameters, rng: inout SeededRandom) {
         self.floors = floors
         self.rangeFactors = [:]
@@ -28,19 +31,30 @@ public struct SurveyErrors: Sendable, Equatable {
         for floorId in floors.keys.sorted() {
             guard var floor = floors[floorId] else { continue }
             var factors: [String: Double] = [:]
+            // One draw per physical sign, keyed by its surveyed position to the millimetre.
+            var drawn: [String: (slide: Double, k: Double)] = [:]
             for i in floor.signs.indices {
-                let slide = p.signAlongWallSigmaMeters * rng.normal()
-                let k = exp(p.signSizeLogSigma * rng.normal())
                 var sign = floor.signs[i]
+                let key = String(format: "%.3f,%.3f", sign.position.x, sign.position.y)
+                let draw: (slide: Double, k: Double)
+                if let d = drawn[key] {
+                    draw = d
+                } else {
+                    draw = (p.signAlongWallSigmaMeters * rng.normal(), exp(p.signSizeLogSigma * rng.normal()))
+                    drawn[key] = draw
+                }
                 let n = hypot(sign.facing.x, sign.facing.y)
                 if n > 1e-9 {
-                    // Along the wall: the facing turned a quarter.
-                    let tx = -sign.facing.y / n, ty = sign.facing.x / n
-                    sign.position = Point2(sign.position.x + slide * tx, sign.position.y + slide * ty)
+                    let fx = sign.facing.x / n, fy = sign.facing.y / n
+                    // Along the wall: the facing turned a quarter; a projecting sign along its facing.
+                    let (tx, ty) = sign.placement == .projecting ? (fx, fy) : (-fy, fx)
+                    // The two faces of one projecting sign face opposite ways: one direction for both.
+                    let flip = sign.placement == .projecting && (tx < 0 || (tx == 0 && ty < 0)) ? -1.0 : 1.0
+                    sign.position = Point2(sign.position.x + flip * draw.slide * tx, sign.position.y + flip * draw.slide * ty)
                 }
-                sign.widthMeters *= k
-                sign.heightMeters *= k
-                factors[sign.id] = 1 / k
+                sign.widthMeters *= draw.k
+                sign.heightMeters *= draw.k
+                factors[sign.id] = 1 / draw.k
                 floor.signs[i] = sign
             }
             self.floors[floorId] = floor

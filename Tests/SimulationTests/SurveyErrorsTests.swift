@@ -37,8 +37,15 @@ final class SurveyErrorsTests: XCTestCase {
                     XCTAssertEqual(a.facing, b.facing)
                     let dx = b.position.x - a.position.x, dy = b.position.y - a.position.y
                     let n = hypot(a.facing.x, a.facing.y)
-                    XCTAssertEqual((dx * a.facing.x + dy * a.facing.y) / n, 0, accuracy: 1e-9, "off its wall's line")
-                    slides.append((dx * -a.facing.y + dy * a.facing.x) / n)
+                    let along = (dx * a.facing.x + dy * a.facing.y) / n, across = (dx * -a.facing.y + dy * a.facing.x) / n
+                    if a.placement == .projecting {
+                        // Along the corridor it hangs across: along its facing.
+                        XCTAssertEqual(across, 0, accuracy: 1e-9, "a projecting sign moved sideways")
+                        slides.append(along)
+                    } else {
+                        XCTAssertEqual(along, 0, accuracy: 1e-9, "off its wall's line")
+                        slides.append(across)
+                    }
                     let k = b.heightMeters / a.heightMeters
                     XCTAssertEqual(b.widthMeters / a.widthMeters, k, accuracy: 1e-9)
                     XCTAssertEqual(world.rangeFactor(floorId: floorId, signId: a.id), 1 / k, accuracy: 1e-12)
@@ -51,6 +58,29 @@ final class SurveyErrorsTests: XCTestCase {
         XCTAssertEqual(sd(slides), 0.3, accuracy: 0.03)
         XCTAssertEqual(sd(logSizes), 0.1, accuracy: 0.01)
         XCTAssertEqual(slides.reduce(0, +) / Double(slides.count), 0, accuracy: 0.05)
+    }
+
+    /// The two faces of a sign hung across a corridor (two map signs at one position, facing opposite ways,
+    /// `.projecting`) are one sign: they move together along the corridor and keep one size.
+    func testTheFacesOfOneProjectingSignMoveTogether() {
+        var east = Sign(id: "e", kind: "exit", position: Point2(5, 2), facing: Point2(1, 0), widthMeters: 0.3, heightMeters: 0.2)
+        east.placement = .projecting
+        var west = east
+        west.id = "w"
+        west.facing = Point2(-1, 0)
+        let wall = Sign(id: "n", kind: "exit", position: Point2(9, 0), facing: Point2(0, 1), widthMeters: 0.3, heightMeters: 0.2)
+        let floor = Floor(id: "1", name: "F1", elevationMeters: 0, walls: [], signs: [east, west, wall])
+        var p = SurveyParameters()
+        p.signAlongWallSigmaMeters = 0.5
+        p.signSizeLogSigma = 0.2
+        for seed: UInt64 in 1...10 {
+            var rng = SeededRandom(seed: seed, stream: RandomStream.survey.rawValue)
+            let moved = SurveyErrors(floors: ["1": floor], parameters: p, rng: &rng).floors["1"]!.signs
+            XCTAssertEqual(moved[0].position, moved[1].position)
+            XCTAssertEqual(moved[0].position.y, 2, accuracy: 1e-12, "along the corridor (x) only")
+            XCTAssertEqual(moved[0].heightMeters, moved[1].heightMeters)
+            XCTAssertEqual(moved[2].position.y, 0, accuracy: 1e-12, "the wall sign stays on its wall")
+        }
     }
 
     /// In walks, the detector sees each sign where it truly hangs and reads its range with its size factor: over
