@@ -27,7 +27,9 @@ import SessionFormat
 /// `unexplainedObjectRecountMeters` walked, not on every frame, with score 0 in between: one object's frames are not
 /// independent evidence, and a look-alike that stays put (a poster seen for a second and a half) otherwise outweighs
 /// the whole lock. A sign that refutes a wrong lock still counts on its first frame and once per meter after it.
-/// The defaults are the measured ones (docs/benchmarks.md, "Twenty-fourth stop").
+/// The defaults are the measured ones (docs/benchmarks.md, "Twenty-fourth stop"). And while not localized, an
+/// object's sightings repeated from where the camera stood count at `stationaryRepeatScoreFactor` (a standing
+/// camera repeats the same errors; "Twenty-seventh stop").
 /// Each sighting also carries its object's track (`SignSighting.track`: the id of the object it sees again within
 /// `trackMemorySeconds`, and where that object's earlier sightings put it), for the localizer's tracked-object
 /// evidence (LocalizerCore pf/track_evidence, docs/localizer.md "Tracked objects"; on unless switched off).
@@ -64,9 +66,9 @@ public struct SightingCorroboration: Sendable {
         /// same errors frame after frame (the map's misplaced sign, the detector's reading of that one face), so its
         /// repeats are not independent evidence: at 10 Hz a traveler who paused 3 s counted 30 sightings of one
         /// misplaced sign and the filter locked on the mirror corridor whose sign fitted them a little better
-        /// (docs/benchmarks.md "Twenty-seventh stop", conv-3-05 behind survey-rough). Walking at 0.5 m/s or more the
-        /// camera moves 5 cm between the phone's 10 Hz detector frames and every sighting counts in full; standing,
-        /// one a second per object. 1 = off (`--repeat-factor 1`).
+        /// (docs/benchmarks.md "Twenty-seventh stop", conv-3-05 behind survey-rough's first form). Walking at
+        /// 0.5 m/s or more the camera moves 5 cm between the phone's 10 Hz detector frames and every sighting counts
+        /// in full; standing, one a second per object. 1 = off (`--repeat-factor 1`).
         public var stationaryRepeatScoreFactor = 0.25
         /// See `stationaryRepeatScoreFactor`, meters.
         public var stationaryRepeatMeters = 0.05
