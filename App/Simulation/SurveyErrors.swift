@@ -3,7 +3,8 @@ import Maps
 
 /// The building as it truly is, against the map the localizer reads: each sign slid along its wall and its face
 /// scaled by the survey's errors (`SurveyParameters`). The simulated detector sees these signs (and the renderer
-/// draws them); the recorded bundle names the map, so a replay localizes against the map as surveyed.
+/// draws them); the recorded bundle names the map, so a replay localizes against the map as surveyed. The walls'
+/// offsets (`SurveyParameters.wallOffsetSigmaMeters`) are drawn by PlaneSimulator from the same stream, after these.
 ///
 /// Why: every other noise model of the simulator takes the map for the truth. A real map's Exit signs were placed
 /// from a floor plan or by hand (the SKERI maps' positions are snapped to the nearest wall by the importer, up to
