@@ -275,7 +275,9 @@ public struct DetectorParameters: Codable, Sendable, Equatable {
 /// and sign, from their own random stream (so walks with every setting at zero are those of before).
 public struct SurveyParameters: Codable, Sendable, Equatable {
     /// Standard deviation of each sign's true position along its wall from the map's, meters (normal, drawn per
-    /// sign). The sign stays on its wall's line (it slides perpendicular to its facing), so no wall comes between.
+    /// sign). A sign flat on a wall stays on its wall's line (it slides perpendicular to its facing); a projecting
+    /// one slides along the corridor it hangs across (along its facing), its faces together; so no wall comes
+    /// between.
     public var signAlongWallSigmaMeters = 0.0
     /// Log-normal spread of each sign's true face size against the map's and the catalogue's: a face k times as
     /// large as the catalogue says reads every range 1 / k as long (the detector ranges from the face's apparent

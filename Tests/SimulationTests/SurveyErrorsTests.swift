@@ -17,9 +17,10 @@ final class SurveyErrorsTests: XCTestCase {
         XCTAssertEqual(world.rangeFactor(floorId: "1", signId: "anything"), 1)
     }
 
-    /// Each sign slides perpendicular to its facing (along its wall) with the given spread, keeps its facing, kind
-    /// and id, and is resized by its range factor's inverse. Over 40 draws of the office's signs the slide's
-    /// standard deviation is 0.3 m within 10 % and the log size's 0.1 within 10 % (several hundred draws each).
+    /// Each sign slides along its wall (perpendicular to its facing; a projecting one along its facing) with the
+    /// given spread, keeps its facing, kind and id, and is resized by its range factor's inverse. Over 40 draws of
+    /// the office's signs the slide's standard deviation is 0.3 m within 10 % and the log size's 0.1 within 10 %
+    /// (several hundred draws each).
     func testSignsSlideAlongTheirWallsAndResizeWithTheGivenSpreads() {
         var p = SurveyParameters()
         p.signAlongWallSigmaMeters = 0.3
