@@ -78,6 +78,19 @@ public struct SightingCorroboration: Sendable {
         public init() {}
     }
 
+    /// Where the camera stood on the VIO plane (meters) and when (seconds): the vantage from which an object's
+    /// sightings last counted.
+    private struct Vantage: Sendable {
+        var east: Double
+        var north: Double
+        var t: Double
+
+        /// Horizontal distance from this vantage to `camera`, meters.
+        func distanceMeters(to camera: (east: Double, north: Double)) -> Double {
+            hypot(camera.east - east, camera.north - north)
+        }
+    }
+
     /// One earlier sighting: its time, kind and where it put the sign on the VIO plane.
     private struct Placed: Sendable {
         var t: Double
@@ -85,16 +98,13 @@ public struct SightingCorroboration: Sendable {
         var east: Double
         var north: Double
         var rangeMeters: Double
-        /// Camera position on the VIO plane from which this object's sightings last counted.
-        var countedFromEast: Double
-        var countedFromNorth: Double
         /// The object's track id.
         var trackId: UInt32
-        /// Camera position on the VIO plane and time of this object's last full-weight sighting (the stationary
-        /// repeat rule).
-        var weighedFromEast: Double
-        var weighedFromNorth: Double
-        var weighedAt: Double
+        /// Where the camera stood when this object's sightings last counted (the recount rule while localized).
+        var counted: Vantage
+        /// Where the camera stood, and when, for this object's last full-weight sighting (the stationary repeat
+        /// rule while not localized).
+        var weighed: Vantage
     }
 
     /// The locked pose a frame's sightings are checked against (`corroborate`).
@@ -183,28 +193,26 @@ public struct SightingCorroboration: Sendable {
             }
             // A read legend (a room number) identifies its sign: its sightings are not a look-alike's.
             if parameters.trackMemorySeconds > 0 && s.text == nil { out[i].track = track }
-            var fromEast = camera.east, fromNorth = camera.north
+            let here = Vantage(east: camera.east, north: camera.north, t: t)
+            var counted = here
             if let m = match, let lock, parameters.unexplainedObjectRecountMeters > 0,
-               hypot(camera.east - m.countedFromEast, camera.north - m.countedFromNorth) < parameters.unexplainedObjectRecountMeters,
-               !lock.explains(s) {
-                fromEast = m.countedFromEast
-                fromNorth = m.countedFromNorth
+               m.counted.distanceMeters(to: camera) < parameters.unexplainedObjectRecountMeters, !lock.explains(s) {
+                counted = m.counted
                 out[i].score = 0
             }
             // A legend read on the sign (a room number) is a second, independent check of its own: a poster or a
             // light is not taken for a placard whose number the map has.
             if !corroborated && s.text == nil { out[i].score = s.score * factor }
             // The same object from where the camera stood a moment ago: a repeat, not new evidence.
-            var weighed = (east: camera.east, north: camera.north, t: t)
+            var weighed = here
             if let m = match, lock == nil, s.text == nil, parameters.stationaryRepeatScoreFactor < 1,
-               hypot(camera.east - m.weighedFromEast, camera.north - m.weighedFromNorth) < parameters.stationaryRepeatMeters,
-               t - m.weighedAt < parameters.stationaryRepeatSeconds {
-                weighed = (m.weighedFromEast, m.weighedFromNorth, m.weighedAt)
+               m.weighed.distanceMeters(to: camera) < parameters.stationaryRepeatMeters,
+               t - m.weighed.t < parameters.stationaryRepeatSeconds {
+                weighed = m.weighed
                 out[i].score = s.score * parameters.stationaryRepeatScoreFactor
             }
             placedNow.append(Placed(t: t, kind: s.kind, east: east, north: north, rangeMeters: s.rangeMeters,
-                                    countedFromEast: fromEast, countedFromNorth: fromNorth, trackId: track.id,
-                                    weighedFromEast: weighed.east, weighedFromNorth: weighed.north, weighedAt: weighed.t))
+                                    trackId: track.id, counted: counted, weighed: weighed))
         }
         recent.append(contentsOf: placedNow)
         return out

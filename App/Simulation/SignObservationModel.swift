@@ -56,9 +56,9 @@ struct SignObservationModel {
     /// Look-alikes by floor id (`DetectorParameters.lookAlikesPerMeterOfWall`; `placeLookAlikes`): pseudo-signs of
     /// the floor's false-positive kind. Empty by default.
     var lookAlikes: [String: [Sign]] = [:]
-    /// The survey's errors (`SurveyErrors`): `floors` are its true floors, and each sign's ranges read with its
-    /// size factor. Nil: the map is the truth.
-    var survey: SurveyErrors? = nil
+    /// The survey's size errors (`SurveyErrors.rangeFactors`, by floor id then sign id): each sign's ranges read
+    /// with its factor (`floors` are then the survey's true floors). Empty: the map's sizes are the truth.
+    var surveyRangeFactors: [String: [String: Double]] = [:]
 
     /// Places the look-alikes of every floor (`DetectorParameters.lookAlikesPerMeterOfWall`), of the floor's
     /// `falsePositiveKind`: on each floor round(density x total wall length) of them, each on a wall drawn with
@@ -196,7 +196,7 @@ struct SignObservationModel {
             guard detected else { continue }
             let (measuredRange, bearing) = measured(rangeMeters: r, bearingRad: b, zRange: zr, zBearing: zb)
             // A face larger than the catalogue's reads nearer (the range comes from its apparent height).
-            let range = measuredRange * (survey?.rangeFactor(floorId: s.floorId, signId: sign.id) ?? 1)
+            let range = measuredRange * (surveyRangeFactors[s.floorId]?[sign.id] ?? 1)
             let score = p.scoresTellFalsePositives ? max(0.3, min(0.99, 0.92 - 0.03 * r + 0.04 * zs)) : p.constantScore
             // Text recognition, only for identifying legends (so the streams of maps without any are unchanged).
             var text: String? = nil

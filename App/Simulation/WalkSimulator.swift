@@ -246,7 +246,7 @@ public enum WalkSimulator {
         // Observations on processed frames.
         var obsModel = SignObservationModel(parameters: parameters.detector, floors: world.floors, geometry: geometry,
                                             intrinsics: intrinsics, catalogue: building.signCatalogue)
-        obsModel.survey = world
+        obsModel.surveyRangeFactors = world.rangeFactors
         var placeRng = SeededRandom(seed: scenario.seed, stream: RandomStream.lookAlikes.rawValue)
         obsModel.lookAlikes = obsModel.placeLookAlikes(rng: &placeRng)
         var detRng = SeededRandom(seed: scenario.seed, stream: RandomStream.detector.rawValue)

@@ -119,6 +119,10 @@ public:
     double last_north() const { return last_.north_m; }
     /// Time tracking was lost (the last usable sample's time), seconds; negative while tracking is available.
     double lost_since() const { return lost_since_; }
+    /// True while ARKit reports limited tracking (the last usable sample's state; false while tracking is lost).
+    bool tracking_limited() const {
+        return has_last_ && lost_since_ < 0 && last_.tracking == WF_VIO_TRACKING_LIMITED;
+    }
     void reset() {
         has_last_ = false;
         lost_since_ = -1;

@@ -56,7 +56,10 @@ void LocalizedHysteresis::advance(const HysteresisInput &in) {
     // some pose outside the cloud explains them, a rival no particle represents.
     const bool unexplained = p_.explain_sightings && in.unexplained_sighting_nats >= p_.rival_refute_nats;
     const bool ambiguous = in.unrefuted_rival_weight > 0 || in.twin_log_ratio < p_.rival_refute_nats || unexplained;
-    if (in.dominant_weight > p_.localize_weight && in.std_m < p_.localize_std_m && !ambiguous && !jumped) {
+    // Limited tracking: the displacement the hypotheses were weighed over is the least trustworthy; no lock is
+    // earned on it.
+    const bool limited = p_.no_lock_while_limited && in.tracking_limited;
+    if (in.dominant_weight > p_.localize_weight && in.std_m < p_.localize_std_m && !ambiguous && !jumped && !limited) {
         if (!has_candidate_) {
             has_candidate_ = true;
             candidate_since_t_ = in.t;

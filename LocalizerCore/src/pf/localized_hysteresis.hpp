@@ -30,6 +30,7 @@
 // were made by some sign, so some pose the cloud does not hold explains them (a rival no particle
 // represents); a lock meanwhile is a lock on the best of the wrong places (docs/localizer.md "Thirteenth
 // stop").
+// Becoming localized also needs ARKit's tracking to be normal for the whole hold period (no_lock_while_limited).
 #pragma once
 
 #include <cstdint>
@@ -76,6 +77,13 @@ struct LocalizedHysteresisParams {
     /// compute_estimate): weight is not evidence, and such a rival breaks no lock while it is second either. 0
     /// turns the rule off (for studies). "lock.follow_locked".
     bool follow_locked_hypothesis = true;
+    /// Nonzero: no lock is earned while ARKit reports limited tracking (HysteresisInput::tracking_limited): the
+    /// hold period restarts, and starts again once tracking is normal. In a dark spell, a featureless corridor
+    /// or fast motion, the VIO displacement the hypotheses were weighed over is the least trustworthy, and the
+    /// sightings of such a spell are the fewest (docs/benchmarks.md, "Twenty-eighth stop"). A lock held is kept
+    /// (limited tracking is not evidence against it). 0 turns the rule off (for studies).
+    /// "lock.none_while_limited".
+    bool no_lock_while_limited = true;
 };
 
 /// What the flag looks at, from one clustering of the particles.
@@ -112,6 +120,8 @@ struct HysteresisInput {
     /// Seconds VIO tracking has been lost (0 while it is available). Once lost_walk_speed_mps times this exceeds
     /// unlocalize_std_m, the flag is off, whatever else holds.
     double tracking_lost_s = 0;
+    /// True while ARKit reports limited tracking (VioDeltaTracker::tracking_limited).
+    bool tracking_limited = false;
 };
 
 /// The flag's state machine. Value type; reset() on every init of the filter.

@@ -238,3 +238,32 @@ TEST(LocalizedHysteresis, TrackingLostLongerThanTwoMetersOfWalkingVoidsTheLock) 
     in.tracking_lost_s = 60;
     EXPECT_TRUE(off.update(in));
 }
+
+TEST(LocalizedHysteresis, NoLockIsEarnedWhileTrackingIsLimitedAndAHeldLockIsKept) {
+    // Limited tracking for 3 s: however sure the estimate looks, the flag stays off.
+    LocalizedHysteresis h;
+    for (int k = 0; k <= 30; ++k) {
+        HysteresisInput in = sure(0.1 * k);
+        in.tracking_limited = true;
+        EXPECT_FALSE(h.update(in)) << "t=" << in.t;
+    }
+    // Tracking normal again: the hold period starts then, and the lock comes localize_hold_s later, not at once.
+    EXPECT_FALSE(h.update(sure(3.1)));
+    EXPECT_FALSE(h.update(sure(3.6)));
+    EXPECT_TRUE(h.update(sure(4.15)));
+    // A lock held when tracking turns limited is kept (limited tracking is not evidence against it).
+    for (int k = 0; k <= 30; ++k) {
+        HysteresisInput in = sure(4.25 + 0.1 * k);
+        in.tracking_limited = true;
+        EXPECT_TRUE(h.update(in));
+    }
+    // With the rule off, a limited spell earns a lock as a normal one does.
+    wf::loc::LocalizedHysteresisParams p;
+    p.no_lock_while_limited = false;
+    LocalizedHysteresis off(p);
+    HysteresisInput in = sure(0.0);
+    in.tracking_limited = true;
+    EXPECT_FALSE(off.update(in));
+    in.t = 1.0;
+    EXPECT_TRUE(off.update(in));
+}
