@@ -53,6 +53,9 @@ public final class WayfinderPipeline {
     private var compassOffByNorthCheck = false
     private var planeTable = PlaneAnchorTable()
     private var lastPlaneUpdateT = -Double.infinity
+    /// Whether the last frame was tracked and not initializing (an initializing frame after it is then a restart of
+    /// world tracking: `isTrackingRestart`).
+    private var trackedBefore = false
 
     /// Creates the pipeline and initializes the localizer from the start prior (floor only, or a chosen
     /// start place). Throws when the floor, start or destination is unknown, or a detector model is missing.
@@ -100,6 +103,12 @@ public final class WayfinderPipeline {
     public func process(_ frame: PipelineFrame) -> PipelineUpdate {
         var warnings: [String] = []
         if frame.tracking == .notAvailable || frame.cameraPose == nil { corroboration.reset() }
+        if isTrackingRestart(frame) {
+            // A new VIO origin: no motion update spans the seam, and the sightings' VIO places are in the old frame.
+            corroboration.reset()
+            localizer.noteVIOReset()
+            warnings.append("t=\(frame.t): world tracking restarted (initializing again); the VIO frame is new")
+        }
         if let pose = frame.cameraPose {
             localizer.predict(VIOConversion.sample(t: frame.t, pose: pose, tracking: frame.tracking))
             noteInputError("motion update", &warnings)
@@ -169,6 +178,21 @@ public final class WayfinderPipeline {
             if let spoken = navigator.lastSpokenAdvice, spoken.t == frame.t { update.spokenAdvice = spoken.advice }
         }
         return update
+    }
+
+    /// Whether `frame` starts a restart of world tracking: ARKit initializing again after it tracked (the phone's
+    /// `HealthCommand.restartTracking`, or a reset ARKit made), directly or after notAvailable frames (a frame
+    /// that was lost does not clear the record: after a restart ARKit may report notAvailable first). Advances the
+    /// record of what was tracked before.
+    private func isTrackingRestart(_ frame: PipelineFrame) -> Bool {
+        let initializing = frame.tracking == .limited && frame.trackingReason == .initializing
+        let restart = initializing && trackedBefore
+        if initializing {
+            trackedBefore = false
+        } else if frame.tracking != .notAvailable && frame.cameraPose != nil {
+            trackedBefore = true
+        }
+        return restart
     }
 
     /// The last frame's locked pose with its floor's signs, for `SightingCorroboration`; nil when not localized.

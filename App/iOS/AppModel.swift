@@ -149,6 +149,7 @@ final class AppModel: ObservableObject {
             case .speak(let text, let interrupt): speech.speak(text, interrupt: interrupt, requested: true)
             case .status(let text): healthStatus = text
             case .offerSettings(let offer): offerSettingsLink = offer
+            case .restartTracking: sensors.restartTracking()
             }
         }
     }

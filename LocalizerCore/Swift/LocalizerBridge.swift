@@ -40,6 +40,10 @@ enum LocalizerBridge {
             try check(wf_localizer_predict(raw, &c))
         }
 
+        func noteVIOReset() throws {
+            try check(wf_localizer_note_vio_reset(raw))
+        }
+
         func updateSigns(_ sightings: [SignSighting], kindIds: [String: Int32], unsearchedKindIds: [Int32],
                          t: Double) throws {
             // Kinds the map does not have get id -1, which the core ignores.

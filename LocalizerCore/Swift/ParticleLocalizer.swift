@@ -68,6 +68,12 @@ public final class ParticleLocalizer {
         record { try handle.predict(sample) }
     }
 
+    /// The VIO origin was reset (world tracking restarted): the next sample starts a new VIO frame, whose delta
+    /// is skipped with the traveler's map heading kept (`wf_localizer_note_vio_reset`).
+    public func noteVIOReset() {
+        record { try handle.noteVIOReset() }
+    }
+
     /// Measurement update with the sightings of one frame at time `t` (seconds). An empty array is a frame
     /// without detections (negative information). Before a reset this does nothing (`lastInputError`).
     public func update(sightings: [SignSighting], t: Double) {

@@ -463,6 +463,13 @@ int wf_localizer_set_compass_prior(wf_localizer *loc, double heading_in_map_rad,
  *  merged into the next (the motion noise is calibrated at 30 Hz; docs/localizer.md "Motion model"). */
 int wf_localizer_predict(wf_localizer *loc, const wf_vio_sample *sample);
 
+/** The VIO origin was reset (world tracking restarted: ARKit initializing again, ARSession.run with
+ *  .resetTracking): the next usable sample starts a new VIO frame. Its delta from the last sample is skipped and
+ *  the camera's map heading is kept (each particle's yaw offset absorbs the new frame's yaw), with the jump noise,
+ *  as for a relocalization snap; unlike a return from a tracking loss, no particle takes the yaw change as a turn
+ *  or the displacement as walked (the old frame is gone). Works before init too. */
+int wf_localizer_note_vio_reset(wf_localizer *loc);
+
 /** Measurement update with the `count` sightings of one frame at time t (count 0 = a frame with no
  *  detection: negative information only). Non-finite observations are skipped (status
  *  WF_LOC_ERR_NON_FINITE_INPUT after applying the finite ones). */

@@ -163,6 +163,44 @@ final class PhoneShellTests: XCTestCase {
         XCTAssertEqual(h.handle(.thermal(.critical)), [])
     }
 
+    /// Relocalizing that lasts restarts world tracking once per spell (ARKit may otherwise relocalize forever);
+    /// a brief relocalization does not, and the restart is not spoken (the stuck-tracking prompt covers it).
+    func testLongRelocalizingRestartsTrackingOncePerSpell() {
+        var h = SessionHealth(phrases: phrases)
+        _ = h.handle(.startRequested(.authorized))
+        _ = h.handle(.frame(t: 0, tracking: .normal, reason: nil))
+        func restarts(from t0: Double, seconds: Double) -> [Double] {
+            var at: [Double] = []
+            for i in 0..<Int(seconds * 10) {
+                let t = t0 + Double(i) / 10
+                if h.handle(.frame(t: t, tracking: .limited, reason: .relocalizing)).contains(.restartTracking) { at.append(t) }
+            }
+            return at
+        }
+        let first = restarts(from: 1, seconds: 20)
+        XCTAssertEqual(first.count, 1)
+        XCTAssertEqual(first.first ?? -1, 7, accuracy: 0.05)
+        // Tracking back (the restart's initializing, then normal): the next long spell restarts again.
+        _ = h.handle(.frame(t: 21, tracking: .limited, reason: .initializing))
+        _ = h.handle(.frame(t: 22, tracking: .normal, reason: nil))
+        XCTAssertEqual(restarts(from: 30, seconds: 5.5), [])
+        _ = h.handle(.frame(t: 36, tracking: .normal, reason: nil))
+        XCTAssertEqual(restarts(from: 40, seconds: 7).count, 1)
+        // Excessive motion or too few features are not relocalizing: no restart however long.
+        _ = h.handle(.frame(t: 48, tracking: .normal, reason: nil))
+        for i in 0..<200 {
+            XCTAssertFalse(h.handle(.frame(t: 50 + Double(i) / 10, tracking: .limited, reason: .insufficientFeatures))
+                .contains(.restartTracking))
+        }
+        // Off.
+        var off = SessionHealth(phrases: phrases)
+        off.relocalizationTimeoutSeconds = 0
+        _ = off.handle(.startRequested(.authorized))
+        for i in 0..<200 {
+            XCTAssertFalse(off.handle(.frame(t: Double(i) / 10, tracking: .limited, reason: .relocalizing)).contains(.restartTracking))
+        }
+    }
+
     // MARK: speech queue
 
     private func queue(voiceOver: Bool) -> SpeechQueue {

@@ -61,6 +61,11 @@ public enum HealthCommand: Sendable, Equatable {
     case status(String?)
     /// Offer a button that opens the app's page in Settings (UIApplication.openSettingsURLString).
     case offerSettings(Bool)
+    /// Restart world tracking from scratch (ARSession.run with .resetTracking and .removeExistingAnchors): ARKit
+    /// has been relocalizing for `SessionHealth.relocalizationTimeoutSeconds`, and a relocalization that has not
+    /// succeeded by then may never succeed (the traveler walked on during the interruption, away from the place
+    /// ARKit mapped). The localizer takes the reset as a tracking loss and keeps its particles.
+    case restartTracking
 }
 
 /// The camera session's health: tells the traveler what happened and what to do whenever the camera cannot
@@ -72,7 +77,10 @@ public enum HealthCommand: Sendable, Equatable {
 /// `frameTimeoutSeconds` while running is a stall (spoken, resumed on the next frame); tracking stuck in
 /// initializing, relocalizing or not-available for `stuckTrackingSeconds` is spoken and repeated every
 /// `stuckRepeatSeconds` while it lasts (TrackingPromptPolicy stays silent for those reasons, as it must
-/// for brief ones).
+/// for brief ones); relocalizing for `relocalizationTimeoutSeconds` restarts world tracking once per spell
+/// (`HealthCommand.restartTracking`): after an interruption ARKit relocalizes only where it mapped before, and
+/// otherwise stays relocalizing indefinitely (Apple, "Managing Session Life Cycle and Tracking Quality": offer a
+/// reset), which a traveler who cannot see the screen could not resolve.
 public struct SessionHealth: Sendable {
     /// Where the session stands.
     public enum State: String, Sendable, Equatable {
@@ -100,12 +108,20 @@ public struct SessionHealth: Sendable {
     public var stuckTrackingSeconds = 8.0
     /// Repeat interval of the stuck-tracking prompt, seconds.
     public var stuckRepeatSeconds = 15.0
+    /// Seconds of continuous relocalizing after which world tracking is restarted (`HealthCommand.restartTracking`).
+    /// A relocalization that works takes a second or two once the camera sees the mapped place again; 6 s is past
+    /// that and before the stuck-tracking prompt (8 s), so the prompt, when it comes, is about the restart's
+    /// initializing. 0 or less: never restart.
+    public var relocalizationTimeoutSeconds = 6.0
     /// Carry mode (chooses the stuck-tracking wording).
     public var carry: PhoneCarry
 
     private let phrases: PhonePhrases
     private var lastFrameT: Double?
     private var stuckSince: Double?
+    /// Start of the current relocalizing spell, and whether it has been answered with a restart.
+    private var relocalizingSince: Double?
+    private var restartedThisSpell = false
     private var lastStuckSpokenT: Double?
     private var thermalAnnounced = false
     private var stallAnnounced = false
@@ -184,6 +200,8 @@ public struct SessionHealth: Sendable {
         lastFrameT = nil
         stuckSince = nil
         lastStuckSpokenT = nil
+        relocalizingSince = nil
+        restartedThisSpell = false
         thermalAnnounced = false
         stallAnnounced = false
     }
@@ -204,6 +222,20 @@ public struct SessionHealth: Sendable {
         return [.status(text)]
     }
 
+    /// `.restartTracking` once a relocalizing spell has lasted `relocalizationTimeoutSeconds` (once per spell).
+    private mutating func restartIfRelocalizingTooLong(t: Double, relocalizing: Bool) -> [HealthCommand] {
+        guard relocalizing else {
+            relocalizingSince = nil
+            restartedThisSpell = false
+            return []
+        }
+        let since = relocalizingSince ?? t
+        relocalizingSince = since
+        guard relocalizationTimeoutSeconds > 0, !restartedThisSpell, t - since >= relocalizationTimeoutSeconds else { return [] }
+        restartedThisSpell = true
+        return [.restartTracking]
+    }
+
     private mutating func frame(t: Double, tracking: TrackingState, reason: TrackingReason?) -> [HealthCommand] {
         guard state == .running || state == .stalled else { return [] }
         var out: [HealthCommand] = []
@@ -215,6 +247,7 @@ public struct SessionHealth: Sendable {
             out += setStatus(nil)
             out.append(.speak(phrases.text(.sessionResumed), interrupt: true))
         }
+        out += restartIfRelocalizingTooLong(t: t, relocalizing: tracking == .limited && reason == .relocalizing)
         let stuck: Bool
         switch (tracking, reason) {
         case (.notAvailable, _), (.limited, .initializing?), (.limited, .relocalizing?): stuck = true

@@ -85,6 +85,14 @@ final class SensorHub: NSObject, ARSessionDelegate, CLLocationManagerDelegate, @
         thermal.start()
     }
 
+    /// Restarts world tracking from scratch with the running configuration (SessionHealth's
+    /// `.restartTracking`: relocalization did not succeed in time). The frames then report notAvailable and
+    /// initializing, which the pipeline takes as a VIO reset; the particle filter keeps its particles.
+    func restartTracking() {
+        guard let configuration = session.configuration else { return }
+        session.run(configuration, options: [.resetTracking, .removeExistingAnchors])
+    }
+
     func stop() {
         session.pause()
         altimeter.stopRelativeAltitudeUpdates()

@@ -133,6 +133,11 @@ int wf_localizer_predict(wf_localizer *loc, const wf_vio_sample *sample) {
     return guarded(loc, [&] { return loc->filter->predict(*sample); });
 }
 
+int wf_localizer_note_vio_reset(wf_localizer *loc) {
+    if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
+    return guarded(loc, [&] { return loc->filter->note_vio_reset(); });
+}
+
 int wf_localizer_update_signs(wf_localizer *loc, const wf_sign_observation *observations, size_t count, double t) {
     if (!loc) return WF_LOC_ERR_INVALID_ARGUMENT;
     return guarded(loc, [&] { return loc->filter->update_signs(observations, count, t); });

@@ -88,6 +88,7 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
         last_ = s;
         has_last_ = true;
         lost_since_ = -1;
+        origin_reset_ = false;  // nothing to skip: this sample starts the first frame
         restart_recent(s);
         return d;
     }
@@ -97,6 +98,24 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
     d.d_east = static_cast<float>(de);
     d.d_north = static_cast<float>(dn);
     d.d_yaw = static_cast<float>(dyaw);
+    if (origin_reset_) {
+        // A new VIO frame (world tracking restarted): the delta is meaningless, the traveler's map heading is
+        // unchanged. A snap, with the time lost (if tracking was lost meanwhile) widening the position noise.
+        origin_reset_ = false;
+        const double lost_s = lost_since_ >= 0 ? std::max(0.0, s.t - lost_since_) : 0.0;
+        d.kind = DeltaKind::kJump;
+        d.jump_position_sigma = static_cast<float>(
+            std::min(kMaxLostPositionSigmaM, opts_.jump_position_sigma_m + opts_.lost_tracking_speed_mps * lost_s));
+        d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
+        if (lost_since_ >= 0) {
+            d.after_tracking_loss = true;
+            add_walk_on(d, lost_s);
+        }
+        lost_since_ = -1;
+        last_ = s;
+        restart_recent(s);
+        return d;
+    }
     if (lost_since_ >= 0) {
         // notAvailable -> normal/limited: ARKit may have reset its origin. Skip the delta; the traveler kept
         // walking meanwhile, so the position noise grows with the time tracking was lost.

@@ -127,7 +127,12 @@ public:
         has_last_ = false;
         lost_since_ = -1;
         recent_count_ = 0;
+        origin_reset_ = false;
     }
+    /// The VIO origin was reset: the next usable sample's delta is a snap (jump noise, the yaw change absorbed by
+    /// the offsets), with none of a tracking loss's shares that assume the old frame kept (WalkOnParams: the
+    /// frame-kept turn, the measured displacement); the walk-on share stays when tracking was lost meanwhile.
+    void note_origin_reset() { origin_reset_ = true; }
     /// The walk-on prior's parameters (named parameters "motion.walk_on_*").
     WalkOnParams &mutable_walk_on() { return walk_on_; }
     const WalkOnParams &walk_on() const { return walk_on_; }
@@ -154,6 +159,8 @@ private:
     bool has_last_ = false;
     /// Time tracking became unavailable (-1 while available).
     double lost_since_ = -1;
+    /// note_origin_reset() was called and no usable sample has come since.
+    bool origin_reset_ = false;
 };
 
 /// Motion noise not yet applied. The noise is a random walk, so the variances of consecutive frames add up:

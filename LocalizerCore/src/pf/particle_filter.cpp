@@ -418,6 +418,11 @@ void ParticleFilter::normalize(double sum) {
     for (size_t i = 0; i < n; ++i) w[i] *= inv;
 }
 
+int ParticleFilter::note_vio_reset() {
+    tracker_.note_origin_reset();
+    return WF_LOC_OK;
+}
+
 int ParticleFilter::predict(const wf_vio_sample &s) {
     if (!std::isfinite(s.t) || !std::isfinite(s.east_m) || !std::isfinite(s.north_m) || !std::isfinite(s.yaw_rad)) {
         return fail(WF_LOC_ERR_NON_FINITE_INPUT, "VIO sample has a non-finite value (ignored)");

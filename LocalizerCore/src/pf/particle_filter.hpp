@@ -46,6 +46,8 @@ public:
     int init_start_point(int32_t floor, double x, double y, double radius_m);
     int set_compass_prior(double heading_in_map_rad, double sigma_rad);
     int predict(const wf_vio_sample &s);
+    /// The VIO origin was reset: the next usable sample's delta is a snap (wf_localizer_note_vio_reset).
+    int note_vio_reset();
     int update_signs(const wf_sign_observation *obs, size_t count, double t);
     /// The same for a frame on which the detector did not look for the kinds `unsearched_kinds` (ids; count
     /// `unsearched_count`): no negative information for their signs (sign_log_likelihood). Ids outside the

@@ -29,6 +29,7 @@ TEST(CApi, FreeNullAndNullArguments) {
     EXPECT_EQ(loc, nullptr);  // *out cleared on failure
     EXPECT_EQ(wf_localizer_create(nullptr, nullptr, nullptr, 1), WF_LOC_ERR_INVALID_ARGUMENT);
     EXPECT_EQ(wf_localizer_predict(nullptr, nullptr), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(wf_localizer_note_vio_reset(nullptr), WF_LOC_ERR_INVALID_ARGUMENT);
     EXPECT_EQ(wf_localizer_init_floor_only(nullptr, 0), WF_LOC_ERR_INVALID_ARGUMENT);
     EXPECT_STREQ(wf_localizer_status_string(WF_LOC_ERR_NOT_INITIALIZED), "filter not initialized");
     EXPECT_STREQ(wf_localizer_status_string(-1234), "unknown status");

@@ -108,6 +108,48 @@ TEST(VioDeltaTracker, ASnapNoWalkingCameraMakesInOneFrameIsAJump) {
     EXPECT_EQ(tr.push({3 * dt + 0.5, 0.85, 2.13, 0, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
 }
 
+// World tracking restarted (ARKit initializing again: a new VIO origin and yaw): the next sample's delta is a snap
+// whatever its size, with the yaw change absorbed by every particle (no frame-kept turn, no measured walk: the old
+// frame is gone); through a tracking loss the position noise still grows with the time lost and the walk-on share
+// stays. Only the next usable sample is affected.
+TEST(VioDeltaTracker, ANewVioFrameIsASnapWithoutTheShareThatKeepsTheOldFrame) {
+    auto o = wf::test::default_options();
+    const double dt = 1.0 / 30.0;
+    VioDeltaTracker tr(o);
+    tr.push({0.0, 0, 0, 0, WF_VIO_TRACKING_NORMAL});
+    tr.note_origin_reset();
+    // 5 cm and 0.3 rad: a move without the note.
+    VioDelta d = tr.push({dt, 0.05, 0, 0.3, WF_VIO_TRACKING_LIMITED});
+    ASSERT_EQ(d.kind, DeltaKind::kJump);
+    EXPECT_FALSE(d.after_tracking_loss);
+    EXPECT_NEAR(d.d_yaw, 0.3f, 1e-6f);
+    EXPECT_EQ(d.frame_kept_share, 0.0f);
+    EXPECT_EQ(d.measured_share, 0.0f);
+    EXPECT_NEAR(d.jump_position_sigma, 0.5f, 1e-6f);
+    EXPECT_EQ(tr.push({2 * dt, 0.10, 0, 0.3, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
+
+    // Walking 1.2 m/s, lost for 2 s, then a new frame.
+    VioDeltaTracker lost(o);
+    double t = 0;
+    for (int k = 0; k <= 60; ++k, t += dt) lost.push({t, 1.2 * t, 0, 0.1, WF_VIO_TRACKING_NORMAL});
+    const double t_lost = t - dt;
+    for (; t < t_lost + 2.0; t += dt) lost.push({t, 0, 0, 0, WF_VIO_TRACKING_NOT_AVAILABLE});
+    lost.note_origin_reset();
+    d = lost.push({t_lost + 2.0, 0.2, 0.1, -2.0, WF_VIO_TRACKING_LIMITED});
+    ASSERT_EQ(d.kind, DeltaKind::kJump);
+    EXPECT_TRUE(d.after_tracking_loss);
+    EXPECT_NEAR(d.jump_position_sigma, 0.5f + 0.7f * 2.0f, 1e-4f);
+    EXPECT_FLOAT_EQ(d.walk_on_share, 0.5f);
+    EXPECT_EQ(d.frame_kept_share, 0.0f);
+    EXPECT_EQ(d.measured_share, 0.0f);
+
+    // A note before the first sample has nothing to skip.
+    VioDeltaTracker fresh(o);
+    fresh.note_origin_reset();
+    EXPECT_EQ(fresh.push({0.0, 3, 4, 1, WF_VIO_TRACKING_LIMITED}).kind, DeltaKind::kNone);
+    EXPECT_EQ(fresh.push({dt, 3.05, 4, 1, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
+}
+
 // A 60 Hz stream moves the cloud as the same walk at 30 Hz does: every other sample is merged into the next,
 // whose delta spans both (the motion noise is calibrated on 30 Hz sums of per-frame steps).
 TEST(VioDeltaTracker, SamplesFasterThanThirtyHertzAreMergedIntoTheNext) {
