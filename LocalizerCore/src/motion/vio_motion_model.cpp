@@ -78,6 +78,12 @@ void VioDeltaTracker::add_walk_on(VioDelta &d, double lost_s) const {
 
 VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
     VioDelta d;
+    // The current limited spell: from its first limited sample; a normal or lost sample ends it.
+    if (s.tracking != WF_VIO_TRACKING_LIMITED) {
+        limited_since_ = -1;
+    } else if (limited_since_ < 0) {
+        limited_since_ = s.t;
+    }
     if (s.tracking == WF_VIO_TRACKING_NOT_AVAILABLE) {
         // The pose is meaningless until tracking returns; remember when it was lost. The recent samples stay
         // as they were: on the return they give the pre-loss velocity.

@@ -119,15 +119,19 @@ public:
     double last_north() const { return last_.north_m; }
     /// Time tracking was lost (the last usable sample's time), seconds; negative while tracking is available.
     double lost_since() const { return lost_since_; }
-    /// True while ARKit reports limited tracking (the last usable sample's state; false while tracking is lost).
-    bool tracking_limited() const {
-        return has_last_ && lost_since_ < 0 && last_.tracking == WF_VIO_TRACKING_LIMITED;
+    /// Seconds ARKit has reported limited tracking without a break (from the first limited sample of the spell to
+    /// the last usable sample); negative while tracking is normal or lost.
+    double tracking_limited_s() const {
+        return has_last_ && lost_since_ < 0 && last_.tracking == WF_VIO_TRACKING_LIMITED && limited_since_ >= 0
+                   ? last_.t - limited_since_
+                   : -1;
     }
     void reset() {
         has_last_ = false;
         lost_since_ = -1;
         recent_count_ = 0;
         origin_reset_ = false;
+        limited_since_ = -1;
     }
     /// The VIO origin was reset: the next usable sample's delta is a snap (jump noise, the yaw change absorbed by
     /// the offsets), with none of a tracking loss's shares that assume the old frame kept (WalkOnParams: the
@@ -161,6 +165,8 @@ private:
     double lost_since_ = -1;
     /// note_origin_reset() was called and no usable sample has come since.
     bool origin_reset_ = false;
+    /// Time of the first sample of the current limited spell (-1 outside one).
+    double limited_since_ = -1;
 };
 
 /// Motion noise not yet applied. The noise is a random walk, so the variances of consecutive frames add up:

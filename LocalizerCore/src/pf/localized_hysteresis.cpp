@@ -57,8 +57,9 @@ void LocalizedHysteresis::advance(const HysteresisInput &in) {
     const bool unexplained = p_.explain_sightings && in.unexplained_sighting_nats >= p_.rival_refute_nats;
     const bool ambiguous = in.unrefuted_rival_weight > 0 || in.twin_log_ratio < p_.rival_refute_nats || unexplained;
     // Limited tracking: the displacement the hypotheses were weighed over is the least trustworthy; no lock is
-    // earned on it.
-    const bool limited = p_.no_lock_while_limited && in.tracking_limited;
+    // earned on it, unless the spell has lasted long enough to be the place's normal.
+    const bool limited = p_.no_lock_while_limited && in.tracking_limited_s >= 0 &&
+                         in.tracking_limited_s <= p_.limited_spell_max_s;
     if (in.dominant_weight > p_.localize_weight && in.std_m < p_.localize_std_m && !ambiguous && !jumped && !limited) {
         if (!has_candidate_) {
             has_candidate_ = true;

@@ -30,7 +30,8 @@
 // were made by some sign, so some pose the cloud does not hold explains them (a rival no particle
 // represents); a lock meanwhile is a lock on the best of the wrong places (docs/localizer.md "Thirteenth
 // stop").
-// Becoming localized also needs ARKit's tracking to be normal for the whole hold period (no_lock_while_limited).
+// Becoming localized also needs ARKit's tracking to be normal for the whole hold period (no_lock_while_limited),
+// unless a limited spell has lasted longer than limited_spell_max_s.
 #pragma once
 
 #include <cstdint>
@@ -77,13 +78,19 @@ struct LocalizedHysteresisParams {
     /// compute_estimate): weight is not evidence, and such a rival breaks no lock while it is second either. 0
     /// turns the rule off (for studies). "lock.follow_locked".
     bool follow_locked_hypothesis = true;
-    /// Nonzero: no lock is earned while ARKit reports limited tracking (HysteresisInput::tracking_limited): the
+    /// Nonzero: no lock is earned while ARKit reports limited tracking (HysteresisInput::tracking_limited_s): the
     /// hold period restarts, and starts again once tracking is normal. In a dark spell, a featureless corridor
     /// or fast motion, the VIO displacement the hypotheses were weighed over is the least trustworthy, and the
     /// sightings of such a spell are the fewest (docs/benchmarks.md, "Twenty-eighth stop"). A lock held is kept
     /// (limited tracking is not evidence against it). 0 turns the rule off (for studies).
     /// "lock.none_while_limited".
     bool no_lock_while_limited = true;
+    /// The rule above holds for spells up to this long, seconds: ARKit's passing troubles (initializing, a dark
+    /// stretch or a blank wall, a fast turn, relocalizing until the phone restarts tracking at 6 s) last seconds;
+    /// a spell longer than this is the place's normal (a dim building), where the motion model's limited-tracking
+    /// noise already widens the cloud and a lock is earned as anywhere, not withheld for good.
+    /// "lock.limited_spell_max_s".
+    double limited_spell_max_s = 10.0;
 };
 
 /// What the flag looks at, from one clustering of the particles.
@@ -120,8 +127,9 @@ struct HysteresisInput {
     /// Seconds VIO tracking has been lost (0 while it is available). Once lost_walk_speed_mps times this exceeds
     /// unlocalize_std_m, the flag is off, whatever else holds.
     double tracking_lost_s = 0;
-    /// True while ARKit reports limited tracking (VioDeltaTracker::tracking_limited).
-    bool tracking_limited = false;
+    /// Seconds ARKit has reported limited tracking without a break (VioDeltaTracker::tracking_limited_s); negative
+    /// while tracking is normal or lost.
+    double tracking_limited_s = -1;
 };
 
 /// The flag's state machine. Value type; reset() on every init of the filter.

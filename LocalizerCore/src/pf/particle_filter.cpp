@@ -1056,6 +1056,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.discount_unsighted", 0, 1},
     {"lock.follow_locked", 0, 1},
     {"lock.none_while_limited", 0, 1},
+    {"lock.limited_spell_max_s", 0, 1e6},
     {"kld.min_particles_unlocalized", 0, 1e7},
     {"motion.walk_on_share", 0, 1},
     {"motion.walk_on_max_lost_s", 0, 1e4},
@@ -1119,6 +1120,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
     else if (name == "lock.follow_locked") h.follow_locked_hypothesis = value != 0;
     else if (name == "lock.none_while_limited") h.no_lock_while_limited = value != 0;
+    else if (name == "lock.limited_spell_max_s") h.limited_spell_max_s = value;
     else if (name == "kld.min_particles_unlocalized") min_particles_unlocalized_ = static_cast<size_t>(value);
     else if (name == "motion.walk_on_share") tracker_.mutable_walk_on().share = value;
     else if (name == "motion.walk_on_max_lost_s") tracker_.mutable_walk_on().max_lost_s = value;
@@ -1164,6 +1166,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.discount_unsighted") value = h.discount_unsighted ? 1 : 0;
     else if (name == "lock.follow_locked") value = h.follow_locked_hypothesis ? 1 : 0;
     else if (name == "lock.none_while_limited") value = h.no_lock_while_limited ? 1 : 0;
+    else if (name == "lock.limited_spell_max_s") value = h.limited_spell_max_s;
     else if (name == "kld.min_particles_unlocalized") value = static_cast<double>(min_particles_unlocalized_);
     else if (name == "motion.walk_on_share") value = tracker_.walk_on().share;
     else if (name == "motion.walk_on_max_lost_s") value = tracker_.walk_on().max_lost_s;
@@ -1314,7 +1317,7 @@ void ParticleFilter::compute_estimate() {
     }
     e.sightings_unexplained = sightings_unexplained_ ? 1 : 0;
     hin.tracking_lost_s = tracker_.lost_since() >= 0 ? t_last_ - tracker_.lost_since() : 0;
-    hin.tracking_limited = tracker_.tracking_limited();
+    hin.tracking_limited_s = tracker_.tracking_limited_s();
     const bool localized = hysteresis_.update(hin);
     // A new lock is corroborated. A lock that sightings break (within a second of one) must be earned again
     // against fresh rivals: the cloud that was wrong may have no particle left where the traveler is. (A

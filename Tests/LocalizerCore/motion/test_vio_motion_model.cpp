@@ -150,6 +150,27 @@ TEST(VioDeltaTracker, ANewVioFrameIsASnapWithoutTheShareThatKeepsTheOldFrame) {
     EXPECT_EQ(fresh.push({dt, 3.05, 4, 1, WF_VIO_TRACKING_NORMAL}).kind, DeltaKind::kMove);
 }
 
+// How long the current limited spell has lasted (the lock rule's input): from its first limited sample; a normal
+// or lost sample ends it.
+TEST(VioDeltaTracker, MeasuresTheCurrentLimitedSpell) {
+    auto o = wf::test::default_options();
+    VioDeltaTracker tr(o);
+    EXPECT_LT(tr.tracking_limited_s(), 0.0);
+    tr.push({0.0, 0, 0, 0, WF_VIO_TRACKING_LIMITED});
+    EXPECT_DOUBLE_EQ(tr.tracking_limited_s(), 0.0);
+    tr.push({0.5, 0.1, 0, 0, WF_VIO_TRACKING_LIMITED});
+    EXPECT_DOUBLE_EQ(tr.tracking_limited_s(), 0.5);
+    tr.push({1.0, 0.2, 0, 0, WF_VIO_TRACKING_NORMAL});
+    EXPECT_LT(tr.tracking_limited_s(), 0.0);
+    tr.push({1.5, 0.3, 0, 0, WF_VIO_TRACKING_LIMITED});
+    tr.push({2.5, 0.4, 0, 0, WF_VIO_TRACKING_LIMITED});
+    EXPECT_DOUBLE_EQ(tr.tracking_limited_s(), 1.0);
+    tr.push({3.0, 0.4, 0, 0, WF_VIO_TRACKING_NOT_AVAILABLE});
+    EXPECT_LT(tr.tracking_limited_s(), 0.0);
+    tr.push({4.0, 0.5, 0, 0, WF_VIO_TRACKING_LIMITED});  // a new spell after the loss
+    EXPECT_DOUBLE_EQ(tr.tracking_limited_s(), 0.0);
+}
+
 // A 60 Hz stream moves the cloud as the same walk at 30 Hz does: every other sample is merged into the next,
 // whose delta spans both (the motion noise is calibrated on 30 Hz sums of per-frame steps).
 TEST(VioDeltaTracker, SamplesFasterThanThirtyHertzAreMergedIntoTheNext) {

@@ -240,11 +240,11 @@ TEST(LocalizedHysteresis, TrackingLostLongerThanTwoMetersOfWalkingVoidsTheLock) 
 }
 
 TEST(LocalizedHysteresis, NoLockIsEarnedWhileTrackingIsLimitedAndAHeldLockIsKept) {
-    // Limited tracking for 3 s: however sure the estimate looks, the flag stays off.
+    // A limited spell of 3 s: however sure the estimate looks, the flag stays off.
     LocalizedHysteresis h;
     for (int k = 0; k <= 30; ++k) {
         HysteresisInput in = sure(0.1 * k);
-        in.tracking_limited = true;
+        in.tracking_limited_s = 0.1 * k;
         EXPECT_FALSE(h.update(in)) << "t=" << in.t;
     }
     // Tracking normal again: the hold period starts then, and the lock comes localize_hold_s later, not at once.
@@ -254,16 +254,31 @@ TEST(LocalizedHysteresis, NoLockIsEarnedWhileTrackingIsLimitedAndAHeldLockIsKept
     // A lock held when tracking turns limited is kept (limited tracking is not evidence against it).
     for (int k = 0; k <= 30; ++k) {
         HysteresisInput in = sure(4.25 + 0.1 * k);
-        in.tracking_limited = true;
+        in.tracking_limited_s = 0.1 * k;
         EXPECT_TRUE(h.update(in));
     }
+    // A spell longer than limited_spell_max_s (10 s) is the place's normal: a lock is earned in it as anywhere.
+    LocalizedHysteresis dim;
+    for (int k = 0; k <= 100; ++k) {
+        HysteresisInput in = sure(0.1 * k);
+        in.tracking_limited_s = 0.1 * k;
+        EXPECT_FALSE(dim.update(in)) << "t=" << in.t;
+    }
+    bool locked_in_spell = false;
+    for (int k = 101; k <= 125; ++k) {
+        HysteresisInput in = sure(0.1 * k);
+        in.tracking_limited_s = 0.1 * k;
+        locked_in_spell = dim.update(in);
+    }
+    EXPECT_TRUE(locked_in_spell);
     // With the rule off, a limited spell earns a lock as a normal one does.
     wf::loc::LocalizedHysteresisParams p;
     p.no_lock_while_limited = false;
     LocalizedHysteresis off(p);
     HysteresisInput in = sure(0.0);
-    in.tracking_limited = true;
+    in.tracking_limited_s = 0.0;
     EXPECT_FALSE(off.update(in));
     in.t = 1.0;
+    in.tracking_limited_s = 1.0;
     EXPECT_TRUE(off.update(in));
 }
