@@ -64,7 +64,8 @@ public enum HealthCommand: Sendable, Equatable {
     /// Restart world tracking from scratch (ARSession.run with .resetTracking and .removeExistingAnchors): ARKit
     /// has been relocalizing for `SessionHealth.relocalizationTimeoutSeconds`, and a relocalization that has not
     /// succeeded by then may never succeed (the traveler walked on during the interruption, away from the place
-    /// ARKit mapped). The localizer takes the reset as a tracking loss and keeps its particles.
+    /// ARKit mapped). The pipeline tells the localizer the VIO frame is new (`ParticleLocalizer.noteVIOReset`);
+    /// the particles are kept.
     case restartTracking
 }
 
