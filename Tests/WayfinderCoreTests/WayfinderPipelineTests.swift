@@ -17,7 +17,7 @@ final class WayfinderPipelineTests: XCTestCase {
     /// ARKit initializing again after it tracked (world tracking restarted: a new VIO origin, possibly turned) is a
     /// seam the motion update must not span: the localizer is told the VIO frame is new, once per restart, whether
     /// notAvailable frames came between or not. The session's first initializing frames are not a restart.
-    func testInitializingAgainAfterTrackingIsTakenAsATrackingLoss() throws {
+    func testInitializingAgainAfterTrackingStartsANewVioFrame() throws {
         var o = PipelineOptions()
         o.localizer.particleCount = 2000
         o.localizer.minParticles = 1000

@@ -104,41 +104,33 @@ VioDelta VioDeltaTracker::push(const wf_vio_sample &s) {
     d.d_east = static_cast<float>(de);
     d.d_north = static_cast<float>(dn);
     d.d_yaw = static_cast<float>(dyaw);
-    if (origin_reset_) {
-        // A new VIO frame (world tracking restarted): the delta is meaningless, the traveler's map heading is
-        // unchanged. A snap, with the time lost (if tracking was lost meanwhile) widening the position noise.
-        origin_reset_ = false;
-        const double lost_s = lost_since_ >= 0 ? std::max(0.0, s.t - lost_since_) : 0.0;
+    if (origin_reset_ || lost_since_ >= 0) {
+        // A seam: tracking returns after notAvailable (ARKit may have kept its frame or reset its origin), or the
+        // caller said the VIO frame is new (note_origin_reset: world tracking restarted). Skip the delta; the
+        // traveler kept walking meanwhile, so the position noise grows with the time tracking was lost. The shares
+        // that take the yaw change as a turn or the displacement as walked assume the old frame kept: a return
+        // from a loss only, never a new frame.
+        const bool new_frame = origin_reset_;
+        const bool after_loss = lost_since_ >= 0;
+        const double lost_s = after_loss ? std::max(0.0, s.t - lost_since_) : 0.0;
         d.kind = DeltaKind::kJump;
         d.jump_position_sigma = static_cast<float>(
             std::min(kMaxLostPositionSigmaM, opts_.jump_position_sigma_m + opts_.lost_tracking_speed_mps * lost_s));
         d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
-        if (lost_since_ >= 0) {
+        if (after_loss) {
             d.after_tracking_loss = true;
             add_walk_on(d, lost_s);
         }
-        lost_since_ = -1;
-        last_ = s;
-        restart_recent(s);
-        return d;
-    }
-    if (lost_since_ >= 0) {
-        // notAvailable -> normal/limited: ARKit may have reset its origin. Skip the delta; the traveler kept
-        // walking meanwhile, so the position noise grows with the time tracking was lost.
-        const double lost_s = std::max(0.0, s.t - lost_since_);
-        d.kind = DeltaKind::kJump;
-        d.jump_position_sigma = static_cast<float>(
-            std::min(kMaxLostPositionSigmaM, opts_.jump_position_sigma_m + opts_.lost_tracking_speed_mps * lost_s));
-        d.jump_yaw_sigma = static_cast<float>(opts_.jump_yaw_sigma_rad);
-        d.after_tracking_loss = true;
-        d.frame_kept_share = static_cast<float>(walk_on_.frame_kept_share);
-        add_walk_on(d, lost_s);
-        const double moved = std::sqrt(de * de + dn * dn);
-        if (walk_on_.measured_share > 0 && moved >= walk_on_.min_measured_m &&
-            moved <= opts_.jump_position_sigma_m + walk_on_.max_speed_mps * lost_s) {
-            d.measured_share = static_cast<float>(walk_on_.measured_share);
-            d.measured_sigma_m = static_cast<float>(walk_on_.measured_sigma_m + walk_on_.measured_sigma_per_m * moved);
+        if (after_loss && !new_frame) {
+            d.frame_kept_share = static_cast<float>(walk_on_.frame_kept_share);
+            const double moved = std::sqrt(de * de + dn * dn);
+            if (walk_on_.measured_share > 0 && moved >= walk_on_.min_measured_m &&
+                moved <= opts_.jump_position_sigma_m + walk_on_.max_speed_mps * lost_s) {
+                d.measured_share = static_cast<float>(walk_on_.measured_share);
+                d.measured_sigma_m = static_cast<float>(walk_on_.measured_sigma_m + walk_on_.measured_sigma_per_m * moved);
+            }
         }
+        origin_reset_ = false;
         lost_since_ = -1;
         last_ = s;
         restart_recent(s);  // a new VIO frame may start here: no velocity across the seam
