@@ -932,7 +932,8 @@ void ParticleFilter::follow_dominant_cluster() {
     double w = 0;
     for (uint32_t i : dominant_members_) w += p_.weight[i];
     if (hysteresis_.localized()) {
-        m = cluster_core(p_, dominant_members_, hysteresis_.params().lock_core_radius_m, core_scratch_);
+        m = cluster_core(p_, pose_from_sighted_core_ ? sighted_members_ : dominant_members_,
+                         hysteresis_.params().lock_core_radius_m, core_scratch_);
     } else {
         double sx = 0, sy = 0, oc = 0, os = 0;
         for (uint32_t i : dominant_members_) {
@@ -1285,8 +1286,10 @@ void ParticleFilter::compute_estimate() {
     // While localized, the locked pose is the dominant cluster's core (pf/cluster_core): the flag's spread and
     // weight tests and the reported pose read it, so particles injected along the same corridor neither move
     // the estimate nor break the lock.
+    pose_from_sighted_core_ = false;
     if (hysteresis_.localized() && dominant_members_valid_) {
         const ClusterCore core = cluster_core(p_, dominant_members_, hp.lock_core_radius_m, core_scratch_);
+        ClusterCore pose = core;
         if (core.weight > 0) {
             hin.core_weight = core.weight;
             // The lock's sighted figures: its core among the particles whose history explains a sighting, and the
@@ -1302,12 +1305,17 @@ void ParticleFilter::compute_estimate() {
                     hin.sighted_core_weight = sighted.weight;
                     hin.sighted_core_std_m = sighted.position_std_m();
                     hin.contested_weight = std::max(0.0, sighted_total - sighted.weight);
+                    // The lock stands on the sighted core: the pose is its, not the whole core's, which unsighted
+                    // particles spread along the corridor pull off the locked pose (a relocalizing spell on a
+                    // SKERI tour: 3.3 m, docs/benchmarks.md "Twenty-ninth stop").
+                    pose = sighted;
+                    pose_from_sighted_core_ = true;
                 }
             }
             hin.core_std_m = core_std_m;
-            hin.x = core.x;
-            hin.y = core.y;
-            set_pose_from_core(e, core);
+            hin.x = pose.x;
+            hin.y = pose.y;
+            set_pose_from_core(e, pose);
         }
     }
     hin.unexplained_sighting_nats = unexplained_sighting_nats(t_last_);

@@ -8,7 +8,12 @@
 namespace wf::loc {
 
 namespace {
-/// Ratios are kept within this many nats: far beyond where f(A) saturates (e^-30 of either share).
+/// Stored ratios are kept within this many nats, so they stay finite however long an object is watched: below,
+/// far beyond where f(A) saturates at log c (e^-30 of the look-alike share); above, f(A) = A + log(1 - c) to float
+/// precision, so a pose at the clamp has no more to gain from the object's latent state. The increment of the
+/// weights is computed from the unclamped new ratio: clamped, every pose at the upper clamp scored log q alike, and
+/// a lock's core was no longer told apart from its fringe by a sign watched for more than about 25 frames
+/// (docs/benchmarks.md "Twenty-ninth stop").
 constexpr float kRatioClamp = 30.0f;
 }  // namespace
 
@@ -106,10 +111,11 @@ float TrackEvidence::apply(ParticleSet &p, const SignModelParams &m, const std::
             if (l[i] != prev_l || a[i] != prev_a) {
                 prev_l = l[i];
                 prev_a = a[i];
-                prev_new = std::clamp(a[i] + l[i] - log_q, -kRatioClamp, kRatioClamp);
+                const float a_new = a[i] + l[i] - log_q;
+                prev_new = std::clamp(a_new, -kRatioClamp, kRatioClamp);
                 // + log_q: the look-alike's density is a factor of every pose's likelihood of this sighting, so the
                 // frame's likelihoods keep their level (the recovery averages read it); as c -> 0 this is l itself.
-                prev_delta = mixture_log(prev_new, c) - mixture_log(a[i], c) + log_q - l[i];
+                prev_delta = mixture_log(a_new, c) - mixture_log(a[i], c) + log_q - l[i];
             }
             ll[i] += prev_delta;
             a[i] = prev_new;

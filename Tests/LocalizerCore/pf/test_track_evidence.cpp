@@ -118,6 +118,20 @@ TEST(TrackEvidence, PosesWhoseSignMatchesKeepEachSightingsGeometry) {
     EXPECT_NEAR(tracked_gap, per_frame_gap, 0.1f * per_frame_gap);
 }
 
+// Watched for long (a traveler walking toward a sign for 15 s), the ratios of the poses whose sign matches pass the
+// clamp that keeps them finite: the exact pose must still gain each sighting's geometry over the near match. Before
+// the twenty-ninth stop the clamped ratio also clamped the increment: past about 25 sightings at the default factor
+// every pose at the clamp scored log q alike, the locked cluster stopped being told apart from its fringe, and the
+// lock thinned out on long tours (docs/benchmarks.md "Twenty-ninth stop").
+TEST(TrackEvidence, PosesWhoseSignMatchesKeepEachSightingsGeometryPastTheRatioClamp) {
+    const TrackEvidenceParams defaults;
+    const WatchResult r = watch(150, defaults.lookalike_share, defaults.variance_factor);
+    const float per_frame_gap = r.per_frame[0] - r.per_frame[2];
+    const float tracked_gap = r.tracked[0] - r.tracked[2];
+    EXPECT_GT(per_frame_gap, 150 * 0.04f);
+    EXPECT_NEAR(tracked_gap, per_frame_gap, 0.05f * per_frame_gap);
+}
+
 // A look-alike share near 0 is the per-frame model for poses whose ratio stays above log c.
 TEST(TrackEvidence, ALookAlikeShareNearZeroIsThePerFrameModelForMatchedPoses) {
     const WatchResult r = watch(10, 1e-6);
