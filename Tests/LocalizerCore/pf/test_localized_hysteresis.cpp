@@ -19,6 +19,13 @@ HysteresisInput sure(double t, double x = 10, double y = 5) {
     return in;
 }
 
+/// `sure(t)` in a limited-tracking spell that has lasted `limited_s` seconds.
+HysteresisInput sure_limited(double t, double limited_s) {
+    HysteresisInput in = sure(t);
+    in.tracking_limited_s = limited_s;
+    return in;
+}
+
 LocalizedHysteresis locked() {
     LocalizedHysteresis h;
     for (int k = 0; k <= 12; ++k) h.update(sure(0.1 * k));
@@ -242,43 +249,23 @@ TEST(LocalizedHysteresis, TrackingLostLongerThanTwoMetersOfWalkingVoidsTheLock) 
 TEST(LocalizedHysteresis, NoLockIsEarnedWhileTrackingIsLimitedAndAHeldLockIsKept) {
     // A limited spell of 3 s: however sure the estimate looks, the flag stays off.
     LocalizedHysteresis h;
-    for (int k = 0; k <= 30; ++k) {
-        HysteresisInput in = sure(0.1 * k);
-        in.tracking_limited_s = 0.1 * k;
-        EXPECT_FALSE(h.update(in)) << "t=" << in.t;
-    }
+    for (int k = 0; k <= 30; ++k) EXPECT_FALSE(h.update(sure_limited(0.1 * k, 0.1 * k))) << "k=" << k;
     // Tracking normal again: the hold period starts then, and the lock comes localize_hold_s later, not at once.
     EXPECT_FALSE(h.update(sure(3.1)));
     EXPECT_FALSE(h.update(sure(3.6)));
     EXPECT_TRUE(h.update(sure(4.15)));
     // A lock held when tracking turns limited is kept (limited tracking is not evidence against it).
-    for (int k = 0; k <= 30; ++k) {
-        HysteresisInput in = sure(4.25 + 0.1 * k);
-        in.tracking_limited_s = 0.1 * k;
-        EXPECT_TRUE(h.update(in));
-    }
+    for (int k = 0; k <= 30; ++k) EXPECT_TRUE(h.update(sure_limited(4.25 + 0.1 * k, 0.1 * k))) << "k=" << k;
     // A spell longer than limited_spell_max_s (10 s) is the place's normal: a lock is earned in it as anywhere.
     LocalizedHysteresis dim;
-    for (int k = 0; k <= 100; ++k) {
-        HysteresisInput in = sure(0.1 * k);
-        in.tracking_limited_s = 0.1 * k;
-        EXPECT_FALSE(dim.update(in)) << "t=" << in.t;
-    }
+    for (int k = 0; k <= 100; ++k) EXPECT_FALSE(dim.update(sure_limited(0.1 * k, 0.1 * k))) << "k=" << k;
     bool locked_in_spell = false;
-    for (int k = 101; k <= 125; ++k) {
-        HysteresisInput in = sure(0.1 * k);
-        in.tracking_limited_s = 0.1 * k;
-        locked_in_spell = dim.update(in);
-    }
+    for (int k = 101; k <= 125; ++k) locked_in_spell = dim.update(sure_limited(0.1 * k, 0.1 * k));
     EXPECT_TRUE(locked_in_spell);
     // With the rule off, a limited spell earns a lock as a normal one does.
     wf::loc::LocalizedHysteresisParams p;
     p.no_lock_while_limited = false;
     LocalizedHysteresis off(p);
-    HysteresisInput in = sure(0.0);
-    in.tracking_limited_s = 0.0;
-    EXPECT_FALSE(off.update(in));
-    in.t = 1.0;
-    in.tracking_limited_s = 1.0;
-    EXPECT_TRUE(off.update(in));
+    EXPECT_FALSE(off.update(sure_limited(0.0, 0.0)));
+    EXPECT_TRUE(off.update(sure_limited(1.0, 1.0)));
 }
