@@ -55,10 +55,19 @@ ClusterCore cluster_core(const ParticleSet &p, const std::vector<uint32_t> &memb
     }
     const double mx_med = weighted_median(px, pw, members, x0, x1, scratch);
     const double my_med = weighted_median(py, pw, members, y0, y1, scratch);
+    return cluster_core_around(p, members, mx_med, my_med, radius_m);
+}
+
+ClusterCore cluster_core_around(const ParticleSet &p, const std::vector<uint32_t> &members, double centre_x,
+                                double centre_y, double radius_m) {
+    ClusterCore c;
+    c.centre_x = centre_x;
+    c.centre_y = centre_y;
+    const float *px = p.x.data(), *py = p.y.data(), *pw = p.weight.data();
     const double r2 = radius_m * radius_m;
     double w = 0, sx = 0, sy = 0, oc = 0, os = 0;
     for (uint32_t i : members) {
-        const double dx = px[i] - mx_med, dy = py[i] - my_med;
+        const double dx = px[i] - centre_x, dy = py[i] - centre_y;
         if (dx * dx + dy * dy > r2) continue;
         const double wi = pw[i];
         float so, co;
@@ -70,14 +79,17 @@ ClusterCore cluster_core(const ParticleSet &p, const std::vector<uint32_t> &memb
         os += wi * so;
         ++c.count;
     }
-    if (!(w > 0)) return ClusterCore{};
+    if (!(w > 0)) {
+        c.count = 0;
+        return c;
+    }
     c.weight = w;
     c.x = sx / w;
     c.y = sy / w;
     c.yaw_cos_sum = oc;
     c.yaw_sin_sum = os;
     for (uint32_t i : members) {
-        const double dmx = px[i] - mx_med, dmy = py[i] - my_med;
+        const double dmx = px[i] - centre_x, dmy = py[i] - centre_y;
         if (dmx * dmx + dmy * dmy > r2) continue;
         const double wi = pw[i] / w, dx = px[i] - c.x, dy = py[i] - c.y;
         c.cov_xx += wi * dx * dx;

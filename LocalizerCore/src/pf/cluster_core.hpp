@@ -27,6 +27,9 @@ struct ClusterCore {
     double yaw_cos_sum = 0, yaw_sin_sum = 0;
     /// Particles in the core.
     size_t count = 0;
+    /// Centre of the core's disc (the members' weighted median, or the centre given to cluster_core_around), m,
+    /// map frame.
+    double centre_x = 0, centre_y = 0;
     /// Largest standard deviation of the position (square root of the covariance's largest eigenvalue), m.
     double position_std_m() const;
 };
@@ -37,6 +40,13 @@ struct ClusterCore {
 /// a core of weight 0. `scratch` is reused between calls (no allocation once grown).
 ClusterCore cluster_core(const ParticleSet &p, const std::vector<uint32_t> &members, double radius_m,
                          std::vector<double> &scratch);
+
+/// The core of `members` around a given centre (centre_x, centre_y, m, map frame) instead of their median: the
+/// particles within `radius_m` of it and their moments. Between two full estimates the lock's pose follows the
+/// particles of the disc found at the last one; a median taken again over a cluster that recovery injection has
+/// merged with particles far along the corridor can fall on the far side (docs/localizer.md "The sighted core").
+ClusterCore cluster_core_around(const ParticleSet &p, const std::vector<uint32_t> &members, double centre_x,
+                                double centre_y, double radius_m);
 
 /// The members whose history explains at least one sighting, in order, into `out`: the range-bias statistics
 /// ParticleSet::bias_s0 > 0 (the sign model adds to them only when a sighting is explained better than by

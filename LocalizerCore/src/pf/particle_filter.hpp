@@ -295,6 +295,10 @@ private:
     /// True while the lock stands on its sighted core (the whole core's spread or weight would break it): the
     /// reported pose is then the sighted core's, at the last full estimate and between full estimates.
     bool pose_from_sighted_core_ = false;
+    /// Centre of the locked pose's core disc at the last full estimate (m, map frame), valid when the core was
+    /// computed there (localized before it): between full estimates the pose follows that disc's particles.
+    bool pose_core_valid_ = false;
+    double pose_core_x_ = 0, pose_core_y_ = 0;
     double full_estimate_t_ = 0;
 };
 

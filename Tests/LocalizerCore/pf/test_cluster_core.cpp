@@ -8,6 +8,7 @@
 #include "pf/cluster_core.hpp"
 
 using wf::loc::cluster_core;
+using wf::loc::cluster_core_around;
 using wf::loc::ClusterCore;
 using wf::loc::ParticleSet;
 using wf::loc::sighted_members;
@@ -69,6 +70,32 @@ TEST(ClusterCore, AClusterThatReallySpreadsStaysWide) {
     const ClusterCore core = cluster_core(p, all_of(p), 6.0, scratch);
     EXPECT_GT(core.position_std_m(), 2.0);
     EXPECT_GT(core.weight, 0.9);
+}
+
+TEST(ClusterCore, AroundAGivenCentreTheDiscStaysOnTheLockWhenTheMedianFlips) {
+    // A lock of 0.45 of the weight at (35, 11) and a merged swath of 0.55 spread 12-30 m along the same corridor
+    // (recovery injection joined to the cluster): the members' median falls in the swath, 11 m from the lock.
+    // The disc around the last full estimate's centre keeps reading the lock (between full estimates).
+    std::mt19937 gen(7);
+    std::normal_distribution<float> n(0, 0.3f);
+    std::uniform_real_distribution<float> u(12, 30);
+    ParticleSet p;
+    for (int i = 0; i < 450; ++i) add(p, 35 + n(gen), 11 + n(gen), 0.1f, 0.001f);
+    for (int i = 0; i < 550; ++i) add(p, u(gen), 11 + n(gen), 0.0f, 0.001f);
+    std::vector<double> scratch;
+    const ClusterCore by_median = cluster_core(p, all_of(p), 6.0, scratch);
+    EXPECT_LT(by_median.centre_x, 29.0);
+    EXPECT_GT(std::fabs(by_median.x - 35), 5.0);
+    const ClusterCore around = cluster_core_around(p, all_of(p), 35.0, 11.0, 6.0);
+    EXPECT_EQ(around.centre_x, 35.0);
+    EXPECT_EQ(around.centre_y, 11.0);
+    EXPECT_NEAR(around.x, 35, 0.6);  // the lock and the swath's particles within 6 m of it (29-30 m)
+    EXPECT_NEAR(around.y, 11, 0.05);
+    EXPECT_GT(around.weight, 0.45);
+    EXPECT_LT(around.weight, 0.45 + 0.55 * 2.0 / 18.0);
+    // The median path reports the centre it used.
+    const ClusterCore tight = cluster_core(p, std::vector<uint32_t>{0, 1, 2}, 6.0, scratch);
+    EXPECT_NEAR(tight.centre_x, 35, 1.0);
 }
 
 TEST(ClusterCore, EmptyOrWeightlessMembersGiveAnEmptyCore) {

@@ -26,6 +26,18 @@ HysteresisInput sure_limited(double t, double limited_s) {
     return in;
 }
 
+/// Feeds `in` every 0.1 s from in.t, and last at `seconds` (+ 1 us) after it, as a weight loss that lasts;
+/// returns the last flag.
+bool update_for(LocalizedHysteresis &h, HysteresisInput in, double seconds) {
+    const double t0 = in.t;
+    for (int k = 0; 0.1 * k < seconds; ++k) {
+        in.t = t0 + 0.1 * k;
+        h.update(in);
+    }
+    in.t = t0 + seconds + 1e-6;
+    return h.update(in);
+}
+
 LocalizedHysteresis locked() {
     LocalizedHysteresis h;
     for (int k = 0; k <= 12; ++k) h.update(sure(0.1 * k));
@@ -58,10 +70,11 @@ TEST(LocalizedHysteresis, InjectedRivalWithPoorEvidenceDoesNotBreakTheLock) {
     in.unrefuted_rival_weight = 0.3;
     in.strongest_rival_evidence_margin = -3.0;
     EXPECT_TRUE(h.update(in));
-    // The same rival, once the sightings favour it (margin above -1 nat), breaks it.
+    // The same rival, once the sightings favour it (margin above -1 nat), breaks it (a weight loss that lasts
+    // lock_break_hold_s).
     in.t = 2.1;
     in.strongest_rival_evidence_margin = -0.5;
-    EXPECT_FALSE(h.update(in));
+    EXPECT_FALSE(update_for(h, in, h.params().lock_break_hold_s));
 }
 
 TEST(LocalizedHysteresis, WeightDiffusedOverTheFloorBreaksTheLock) {
@@ -70,13 +83,13 @@ TEST(LocalizedHysteresis, WeightDiffusedOverTheFloorBreaksTheLock) {
     LocalizedHysteresis h = locked();
     HysteresisInput in = sure(2.0);
     in.dominant_weight = 0.4;
-    EXPECT_FALSE(h.update(in));
+    EXPECT_FALSE(update_for(h, in, h.params().lock_break_hold_s));
     // Below lock_min_weight it breaks even when the only heavy rival explains the evidence poorly.
     LocalizedHysteresis g = locked();
     in.dominant_weight = 0.2;
     in.unrefuted_rival_weight = 0.3;
     in.strongest_rival_evidence_margin = -3.0;
-    EXPECT_FALSE(g.update(in));
+    EXPECT_FALSE(update_for(g, in, g.params().lock_break_hold_s));
 }
 
 TEST(LocalizedHysteresis, SpreadOrAJumpToAnotherHypothesisBreaksTheLock) {
@@ -115,7 +128,7 @@ TEST(LocalizedHysteresis, WhileLockedTheCoreDecidesSpreadAndWeight) {
     in = sure(2.0);
     in.core_std_m = 0.4;
     in.core_weight = 0.4;
-    EXPECT_FALSE(g.update(in));
+    EXPECT_FALSE(update_for(g, in, g.params().lock_break_hold_s));
     // Becoming localized reads the whole cluster: a tight core with a far tail is not a lock.
     LocalizedHysteresis f;
     for (int k = 0; k <= 20; ++k) {
@@ -146,17 +159,56 @@ TEST(LocalizedHysteresis, FreshInjectedParticlesNeitherDiluteNorSpreadASightedLo
     // Sighted weight elsewhere (particles that explain sightings the lock does not): it breaks.
     in.t = 2.1;
     in.contested_weight = 0.5;
-    EXPECT_FALSE(h.update(in));
+    EXPECT_FALSE(update_for(h, in, h.params().lock_break_hold_s));
     // The sighted particles themselves spread: it breaks.
     LocalizedHysteresis g = locked();
     in.contested_weight = 0.02;
     in.sighted_core_std_m = 2.3;
     EXPECT_FALSE(g.update(in));
-    // Below lock_min_weight the whole core decides, sighted or not.
+    // Below lock_min_weight: fresh particles hold most of the cloud's weight (the core 0.2), but the sighted
+    // core still holds 0.45 of it and nearly all of the sighted weight: the lock holds.
     LocalizedHysteresis k = locked();
     in.sighted_core_std_m = 1.0;
     in.core_weight = 0.2;
-    EXPECT_FALSE(k.update(in));
+    EXPECT_TRUE(update_for(k, in, 1.0));
+    // The sighted core itself is down to less than lock_sighted_min_weight of the cloud: it breaks.
+    in.t = 3.2;
+    in.sighted_core_weight = 0.5 * k.params().lock_sighted_min_weight;
+    in.contested_weight = 0.0;
+    EXPECT_FALSE(update_for(k, in, k.params().lock_break_hold_s));
+    // With the relaxation off (lock_sighted_min_weight 1), a core under lock_min_weight breaks it whatever the
+    // sighted particles show.
+    LocalizedHysteresis off_floor = locked();
+    off_floor.mutable_params().lock_sighted_min_weight = 1.0;
+    in.t = 2.0;
+    in.sighted_core_weight = 0.45;
+    EXPECT_FALSE(update_for(off_floor, in, off_floor.params().lock_break_hold_s));
+}
+
+TEST(LocalizedHysteresis, AWeightLossBreaksTheLockOnlyOnceItHasLasted) {
+    // A sighting frame moved the weight off the lock for 0.2 s (one misread sign; the weight returns two
+    // estimates later): the lock holds through it.
+    LocalizedHysteresis h = locked();
+    ASSERT_GE(h.params().lock_break_hold_s, 0.25);
+    HysteresisInput in = sure(2.0);
+    in.dominant_weight = 0.2;
+    EXPECT_TRUE(update_for(h, in, 0.2));
+    EXPECT_TRUE(h.update(sure(2.3)));
+    // The same loss, begun anew, breaks it once it has lasted lock_break_hold_s (the hold restarted at 2.4 s).
+    in.t = 2.4;
+    EXPECT_TRUE(update_for(h, in, 0.2));
+    in.t = 2.4 + h.params().lock_break_hold_s + 1e-6;
+    EXPECT_FALSE(h.update(in));
+    // A spread breaks it at once: the pose itself is no longer sure.
+    LocalizedHysteresis g = locked();
+    HysteresisInput wide = sure(2.0);
+    wide.std_m = 2.5;
+    EXPECT_FALSE(g.update(wide));
+    // With the hold at 0, the weight loss breaks it at once.
+    LocalizedHysteresis f = locked();
+    f.mutable_params().lock_break_hold_s = 0;
+    in.t = 2.0;
+    EXPECT_FALSE(f.update(in));
 }
 
 // On a symmetric floor (pf/twin_guard): no lock until the evidence against the dominant hypothesis's turned twin
