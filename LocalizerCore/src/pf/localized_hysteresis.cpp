@@ -45,12 +45,7 @@ void LocalizedHysteresis::advance(const HysteresisInput &in) {
         const bool only_poor_rival = heavy_rival && in.strongest_rival_evidence_margin < -p_.lock_rival_margin_nats;
         const bool weak = weight < p_.unlocalize_weight && !only_poor_rival &&
                           (!discount || sighted_share < p_.unlocalize_weight);
-        // Below lock_min_weight the lock breaks, unless the weight went to recovery injection's fresh particles
-        // (none of which has explained a sighting): the sighted core then still holds most of the sighted weight
-        // and at least lock_sighted_min_weight of the cloud (docs/localizer.md "The sighted core's floor").
-        const bool injected_away = discount && sighted_share >= p_.unlocalize_weight &&
-                                   in.sighted_core_weight >= p_.lock_sighted_min_weight;
-        const bool lost = weight < p_.lock_min_weight && !injected_away;
+        const bool lost = weight < p_.lock_min_weight;
         const bool twin_ahead = in.twin_log_ratio < -p_.lock_rival_margin_nats;
         // A weight loss breaks the lock once it has lasted lock_break_hold_s; a spread (the pose itself is no
         // longer sure), another hypothesis taking over (a jump) or the twin ahead at once.

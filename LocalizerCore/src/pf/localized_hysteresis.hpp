@@ -21,8 +21,7 @@
 //    handed to fresh particles by recovery injection that have not yet explained a sighting does not, when the
 //    lock's core has explained sightings (`discount_unsighted`: the sighted core must also fall below the share);
 //  - the spread test likewise, when the core's sighted particles stay within unlocalize_std_m;
-//  - the dominant cluster's weight fell below `lock_min_weight`, whatever the rivals, unless it went to fresh
-//    injected particles while the sighted core keeps most of the sighted weight and `lock_sighted_min_weight`;
+//  - the dominant cluster's weight fell below `lock_min_weight`, whatever the rivals;
 //  - on a symmetric floor, its twin explains the evidence better by more than `lock_rival_margin_nats`.
 // On a symmetric floor, becoming localized also needs the evidence against the dominant hypothesis's twins to
 // reach rival_refute_nats (pf/twin_guard).
@@ -48,17 +47,8 @@ struct LocalizedHysteresisParams {
     double rival_min_weight = 0.001, rival_refute_nats = 4.0;
     /// Rival weight that can break a lock, and how close its evidence must come to the dominant's, nats.
     double lock_rival_weight = 0.2, lock_rival_margin_nats = 1.0;
-    /// Below this dominant (core) weight the lock breaks, unless the weight went to fresh particles of recovery
-    /// injection (see lock_sighted_min_weight).
+    /// Below this dominant weight the lock always breaks (after lock_break_hold_s).
     double lock_min_weight = 0.25;
-    /// With discount_unsighted: while the lock's sighted core holds at least this share of the whole cloud's
-    /// weight and at least unlocalize_weight of the sighted weight, a core weight under lock_min_weight does not
-    /// break the lock. Recovery injection hands up to recovery_max_fraction of the weight to fresh particles at
-    /// each resampling; a spell of poorly explained sightings (a detector that misses and misreads) repeats it
-    /// for a second or more, and the fresh particles, which pay no misses in sign-free rooms, then hold most of
-    /// the weight: that is not evidence against the lock until one of them explains a sighting (it then contests
-    /// the lock, and the weight test breaks it). 0..1; 1 turns the relaxation off. "lock.sighted_min_weight".
-    double lock_sighted_min_weight = 0.1;
     /// The weight tests (unlocalize_weight, lock_min_weight) break the lock only once they have failed for this
     /// long without a break, seconds (0: at once); the spread, the jump and the twin break it at once. One misread
     /// sighting can move the weight off a right lock for a tenth of a second (docs/localizer.md "Localized

@@ -1060,7 +1060,6 @@ constexpr NamedParameter kParameters[] = {
     {"lock.explain_sightings", 0, 1},
     {"lock.lost_walk_speed_mps", 0, 100},
     {"lock.discount_unsighted", 0, 1},
-    {"lock.sighted_min_weight", 0, 1},
     {"lock.break_hold_s", 0, 1e3},
     {"lock.follow_locked", 0, 1},
     {"lock.none_while_limited", 0, 1},
@@ -1126,7 +1125,6 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     }
     else if (name == "lock.lost_walk_speed_mps") h.lost_walk_speed_mps = value;
     else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
-    else if (name == "lock.sighted_min_weight") h.lock_sighted_min_weight = value;
     else if (name == "lock.break_hold_s") h.lock_break_hold_s = value;
     else if (name == "lock.follow_locked") h.follow_locked_hypothesis = value != 0;
     else if (name == "lock.none_while_limited") h.no_lock_while_limited = value != 0;
@@ -1174,7 +1172,6 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
     else if (name == "lock.lost_walk_speed_mps") value = h.lost_walk_speed_mps;
     else if (name == "lock.discount_unsighted") value = h.discount_unsighted ? 1 : 0;
-    else if (name == "lock.sighted_min_weight") value = h.lock_sighted_min_weight;
     else if (name == "lock.break_hold_s") value = h.lock_break_hold_s;
     else if (name == "lock.follow_locked") value = h.follow_locked_hypothesis ? 1 : 0;
     else if (name == "lock.none_while_limited") value = h.no_lock_while_limited ? 1 : 0;
