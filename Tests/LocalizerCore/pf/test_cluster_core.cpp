@@ -34,17 +34,26 @@ std::vector<uint32_t> all_of(const ParticleSet &p) {
     return m;
 }
 
+/// A locked blob of `blob_count` particles (std `blob_std_m` in x and y around (bx, by), yaw offset `blob_yaw`)
+/// and a swath of `swath_count` particles spread evenly at random over x in [x0, x1] along y = by (with the
+/// blob's y noise when `swath_y_noise`), yaw offset 0; every weight 0.001. Drawn in that order from `seed`.
+ParticleSet blob_and_swath(unsigned seed, float bx, float by, float blob_std_m, float blob_yaw, int blob_count,
+                           float x0, float x1, int swath_count, bool swath_y_noise) {
+    std::mt19937 gen(seed);
+    std::normal_distribution<float> n(0, blob_std_m);
+    std::uniform_real_distribution<float> u(x0, x1);
+    ParticleSet p;
+    for (int i = 0; i < blob_count; ++i) add(p, bx + n(gen), by + n(gen), blob_yaw, 0.001f);
+    for (int i = 0; i < swath_count; ++i) add(p, u(gen), swath_y_noise ? by + n(gen) : by, 0.0f, 0.001f);
+    return p;
+}
+
 }  // namespace
 
 TEST(ClusterCore, ATailOfInjectedParticlesMovesNeitherTheMeanNorTheSpread) {
     // A locked blob (0.25 m std at (10, 1.2), heading offset 0.3 rad) holding 93 % of the weight, and 7 %
     // scattered 6-25 m along the same corridor (what recovery injection adds to the cluster).
-    std::mt19937 gen(3);
-    std::normal_distribution<float> n(0, 0.25f);
-    std::uniform_real_distribution<float> u(16, 35);
-    ParticleSet p;
-    for (int i = 0; i < 930; ++i) add(p, 10 + n(gen), 1.2f + n(gen), 0.3f, 0.001f);
-    for (int i = 0; i < 70; ++i) add(p, u(gen), 1.2f, 0.0f, 0.001f);
+    const ParticleSet p = blob_and_swath(3, 10, 1.2f, 0.25f, 0.3f, 930, 16, 35, 70, false);
     std::vector<double> scratch;
     const ClusterCore core = cluster_core(p, all_of(p), 6.0, scratch);
     EXPECT_EQ(core.count, 930u);
@@ -76,12 +85,7 @@ TEST(ClusterCore, AroundAGivenCentreTheDiscStaysOnTheLockWhenTheMedianFlips) {
     // A lock of 0.45 of the weight at (35, 11) and a merged swath of 0.55 spread 12-30 m along the same corridor
     // (recovery injection joined to the cluster): the members' median falls in the swath, 11 m from the lock.
     // The disc around the last full estimate's centre keeps reading the lock (between full estimates).
-    std::mt19937 gen(7);
-    std::normal_distribution<float> n(0, 0.3f);
-    std::uniform_real_distribution<float> u(12, 30);
-    ParticleSet p;
-    for (int i = 0; i < 450; ++i) add(p, 35 + n(gen), 11 + n(gen), 0.1f, 0.001f);
-    for (int i = 0; i < 550; ++i) add(p, u(gen), 11 + n(gen), 0.0f, 0.001f);
+    const ParticleSet p = blob_and_swath(7, 35, 11, 0.3f, 0.1f, 450, 12, 30, 550, true);
     std::vector<double> scratch;
     const ClusterCore by_median = cluster_core(p, all_of(p), 6.0, scratch);
     EXPECT_LT(by_median.centre_x, 29.0);
