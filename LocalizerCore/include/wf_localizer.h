@@ -513,7 +513,7 @@ int wf_localizer_update_compass(wf_localizer *loc, double heading_in_map_rad, do
 /** Sets an internal model parameter by name (tuning knobs that are not part of the options struct, so that
  *  adding one is no ABI change): "compass.enabled" (0/1), "compass.kappa", "compass.outlier_share",
  *  "compass.min_distance_m", "compass.max_nats", "compass.max_total_nats", "lock.rival_weight", "lock.rival_margin_nats",
- *  "lock.jump_m", "lock.explain_sightings" (0/1), "lock.lost_walk_speed_mps", "lock.discount_unsighted" (0/1), "lock.follow_locked" (0/1), "lock.none_while_limited" (0/1), "lock.limited_spell_max_s",
+ *  "lock.jump_m", "lock.explain_sightings" (0/1), "lock.lost_walk_speed_mps", "lock.discount_unsighted" (0/1), "lock.follow_locked" (0/1), "lock.none_while_limited" (0/1), "lock.limited_spell_max_s", "lock.break_hold_s",
  *  "kld.min_particles_unlocalized", "motion.walk_on_share", "motion.walk_on_max_lost_s",
  *  "motion.loss_frame_kept_share", "motion.loss_measured_share", "sign.negative_info_min_range_m"
  *  (docs/localizer.md "Internal parameters by name" lists them all). Unknown names and values out of range: WF_LOC_ERR_INVALID_ARGUMENT with
