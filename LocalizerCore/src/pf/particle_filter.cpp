@@ -668,11 +668,13 @@ void ParticleFilter::resample(double inject_fraction, double weight_sum) {
                                        static_cast<float>(opts_.kld_bin_yaw_rad), kld_bins_, kld_dense_, kld_seen_);
         };
         const size_t max_n = static_cast<size_t>(opts_.max_particles);
-        // While not localized the cloud keeps at least min_particles_unlocalized_ (within max_particles): the KLD
-        // bound counts occupied bins, but a hypothesis that shares its bins with a look-alike needs particles
-        // of its own to survive (docs/localizer.md "Thirteenth stop").
-        const size_t min_n = std::min(max_n, std::max(static_cast<size_t>(opts_.min_particles),
-                                                      was_localized_ ? size_t{0} : min_particles_unlocalized_));
+        // While not localized the cloud keeps at least min_particles_unlocalized_, never more than an init starts
+        // with (particle_count) nor max_particles: the KLD bound counts occupied bins, but a hypothesis that shares
+        // its bins with a look-alike needs particles of its own to survive (docs/localizer.md "More particles
+        // while not localized").
+        const size_t unlocalized_floor =
+            was_localized_ ? size_t{0} : std::min(min_particles_unlocalized_, initial_particle_count());
+        const size_t min_n = std::min(max_n, std::max(static_cast<size_t>(opts_.min_particles), unlocalized_floor));
         const size_t k_enough = kld_bins_reaching(max_n, opts_.kld_epsilon, opts_.kld_z);
         bool at_max = false;
         if (k_enough != SIZE_MAX && 4 * k_enough < n) {

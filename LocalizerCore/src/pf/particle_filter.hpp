@@ -165,8 +165,9 @@ private:
     MotionNoise motion_;
     SignModelParams sign_model_;
     /// Named parameter kld.min_particles_unlocalized: the fewest particles a resampling keeps while the filter is
-    /// not localized (capped at max_particles; 0 = opts_.min_particles only). Default 20,000, the default
-    /// particle_count of an init: until the first lock the cloud is not thinned below the size it started with.
+    /// not localized (before the first lock and after a lock breaks), capped at the init's particle_count and at
+    /// max_particles (0 = opts_.min_particles only). Default 20,000: while unsure the cloud is not thinned below
+    /// that (the pipeline starts with 100,000), nor below a smaller init's size.
     /// KLD-sampling counts occupied bins, and a hypothesis that shares its bins with a look-alike (the same place
     /// turned 20-50 degrees about the sign it watches) needs particles of its own to survive: with the 2,000 floor
     /// the right heading died between sightings and a quarter-turned pose locked (docs/benchmarks.md "Thirtieth
