@@ -215,8 +215,8 @@ TEST(ParticleFilter, KeepsMoreParticlesWhileNotLocalized) {
     o.particle_count = 20000;  // the floor-only start
     const auto frames = l_walk(world);
     ParticleFilter pf(wf::test::build_map(world, o), o, 1);
-    // The default keeps an init's default particle count until the first lock (docs/localizer.md "More particles
-    // while not localized").
+    // The default floor is 20,000 particles while not localized, within the init's count (docs/localizer.md
+    // "More particles while not localized").
     double fallback = 0;
     ASSERT_EQ(pf.get_parameter("kld.min_particles_unlocalized", fallback), WF_LOC_OK);
     EXPECT_DOUBLE_EQ(fallback, 20000);
