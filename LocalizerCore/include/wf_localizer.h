@@ -250,7 +250,9 @@ typedef struct wf_localizer_options {
      *  evidence_time_constant_s) is at least rival_refute_nats below the dominant cluster's. In a
      *  symmetric building the mirror hypothesis explains every sighting as well as the true one, so it is
      *  never refuted, however its weight drifts (particle-filter Monte Carlo noise). A localized filter
-     *  drops the flag when an unrefuted rival reaches 0.2. Defaults 0.001, 4 nats, 5 s. */
+     *  drops the flag when an unrefuted rival reaches 0.2. Defaults 0.001, 4 nats, 5 s. Lighter rivals, down to
+     *  the internal parameter "lock.thin_rival_weight" (1e-4), also block it while their evidence is less than
+     *  "lock.thin_rival_refute_nats" (3) below the dominant's (wf_localizer_set_parameter). */
     double rival_min_weight;
     double rival_refute_nats;
     double evidence_time_constant_s;

@@ -3,7 +3,9 @@
 //
 // Becoming localized (unchanged since options version 1): the dominant cluster holds > localize_weight, its
 // position std is < localize_std_m, and no rival holding >= rival_min_weight is unrefuted (its recent evidence,
-// nats, is less than rival_refute_nats below the dominant's), all for localize_hold_s.
+// nats, is less than rival_refute_nats below the dominant's), all for localize_hold_s. A thin rival (from
+// thin_rival_min_weight up to rival_min_weight) counts too while its evidence is less than thin_rival_refute_nats
+// below the dominant's (rival_unrefuted; thirty-first stop).
 //
 // Staying localized ("a steady lock"): once on, the flag drops only when the evidence refutes the estimate,
 // not when Monte Carlo noise or recovery injection shuffles the weights. The tests below read the dominant
@@ -45,6 +47,15 @@ struct LocalizedHysteresisParams {
     double localize_weight = 0.8, localize_std_m = 1.0, localize_hold_s = 1.0;
     double unlocalize_weight = 0.5, unlocalize_std_m = 2.0;
     double rival_min_weight = 0.001, rival_refute_nats = 4.0;
+    /// A rival lighter than rival_min_weight but holding at least this much keeps the flag off while its evidence
+    /// is less than thin_rival_refute_nats below the dominant's. Weight is not evidence: a hypothesis that recovery
+    /// injection re-created a moment ago, or that KLD-sampling thinned to a few hundred particles, holds little
+    /// weight however well it explains the sightings (behind the unrefined cascade's -25 % range bias the true pose
+    /// came back at 0.01-0.3 % of the weight with its evidence 0.8-2.7 nats short of the dominant's and was ignored,
+    /// a parallel corridor 13 m off locked for 4.2 m walked: docs/benchmarks.md "Thirty-first stop"). Its margin is
+    /// smaller than rival_refute_nats because its weight already counts against it. 0 (or >= rival_min_weight)
+    /// turns the rule off. "lock.thin_rival_weight", "lock.thin_rival_refute_nats".
+    double thin_rival_min_weight = 1e-4, thin_rival_refute_nats = 3.0;
     /// Rival weight that can break a lock, and how close its evidence must come to the dominant's, nats.
     double lock_rival_weight = 0.2, lock_rival_margin_nats = 1.0;
     /// Below this dominant weight the lock always breaks (after lock_break_hold_s).
@@ -99,6 +110,17 @@ struct LocalizedHysteresisParams {
     double limited_spell_max_s = 10.0;
 };
 
+/// Whether a rival cluster holding `rival_weight` (0..1) whose recent evidence is `evidence_gap_nats` below the
+/// dominant cluster's keeps the flag from turning on: from rival_min_weight up, while the gap is less than
+/// rival_refute_nats; from thin_rival_min_weight up to rival_min_weight, while it is less than
+/// thin_rival_refute_nats; never below both. (The dominant's own symmetric twins are judged by the twin ratio
+/// instead, pf/twin_guard.)
+bool rival_unrefuted(const LocalizedHysteresisParams &p, double rival_weight, double evidence_gap_nats);
+
+/// The lightest rival weight rival_unrefuted can count (the lower of rival_min_weight and an active
+/// thin_rival_min_weight): clusters lighter than this need no summary.
+double lightest_counted_rival_weight(const LocalizedHysteresisParams &p);
+
 /// What the flag looks at, from one clustering of the particles.
 struct HysteresisInput {
     /// Time of the estimate, seconds.
@@ -106,8 +128,7 @@ struct HysteresisInput {
     /// Dominant cluster: weight (0..1), position std (m), mean position (m, map frame), floor index.
     double dominant_weight = 0, std_m = 0, x = 0, y = 0;
     int32_t floor = -1;
-    /// Heaviest rival (>= rival_min_weight) whose evidence is less than rival_refute_nats below the dominant's
-    /// (0 when none).
+    /// Heaviest rival that rival_unrefuted counts (0 when none).
     double unrefuted_rival_weight = 0;
     /// Largest (rival evidence - dominant evidence), nats, over rivals holding >= lock_rival_weight
     /// (-infinity when there is none).

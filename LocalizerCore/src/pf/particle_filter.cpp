@@ -1057,6 +1057,8 @@ constexpr NamedParameter kParameters[] = {
     {"compass.max_total_nats", 0, 1e3},
     {"lock.rival_weight", 0, 1},
     {"lock.rival_margin_nats", 0, 1e3},
+    {"lock.thin_rival_weight", 0, 1},
+    {"lock.thin_rival_refute_nats", 0, 1e3},
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
     {"lock.explain_sightings", 0, 1},
@@ -1116,6 +1118,8 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "compass.max_total_nats") c.max_total_nats = value;
     else if (name == "lock.rival_weight") h.lock_rival_weight = value;
     else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
+    else if (name == "lock.thin_rival_weight") h.thin_rival_min_weight = value;
+    else if (name == "lock.thin_rival_refute_nats") h.thin_rival_refute_nats = value;
     else if (name == "lock.jump_m") h.lock_jump_m = value;
     else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
     else if (name == "lock.explain_sightings") {
@@ -1169,6 +1173,8 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "compass.max_total_nats") value = c.max_total_nats;
     else if (name == "lock.rival_weight") value = h.lock_rival_weight;
     else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
+    else if (name == "lock.thin_rival_weight") value = h.thin_rival_min_weight;
+    else if (name == "lock.thin_rival_refute_nats") value = h.thin_rival_refute_nats;
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
@@ -1211,10 +1217,11 @@ void ParticleFilter::compute_estimate() {
     ClusterParams cp;
     cp.cell_m = static_cast<float>(opts_.cluster_cell_m);
     cp.yaw_bin_rad = static_cast<float>(opts_.cluster_yaw_bin_rad);
-    // Only the dominant cluster and those holding >= rival_min_weight are read below (rivals, hypotheses;
+    // Only the dominant cluster and the rivals the lock's guard can count are read below (rivals, hypotheses;
     // lighter ones count by weight only): the others are not summarised (half the threshold, so that a
     // cluster whose particle sum reaches it is summarised whatever the summation order).
-    cp.summary_min_weight = 0.5 * opts_.rival_min_weight;
+    const double lightest_rival = lightest_counted_rival_weight(hysteresis_.params());
+    cp.summary_min_weight = 0.5 * lightest_rival;
     // Right after a resampling with nothing moved since (the usual order in a frame: signs, planes, then this
     // read), the clusters are those the resampling grouped by, weighed and summarised with the current weights.
     cp.reuse_carried_partition = true;
@@ -1279,11 +1286,11 @@ void ParticleFilter::compute_estimate() {
     for (size_t k = 0; k < clusters.size(); ++k) {
         if (k == dom) continue;
         const ClusterSummary &r = clusters[k];
-        if (r.weight < opts_.rival_min_weight) break;  // sorted by weight
+        if (r.weight < lightest_rival) break;  // sorted by weight
         // The dominant's own twin is judged by the twin ratio (the whole history, pf/twin_guard), not by the
         // recent evidence that fades: a twin the guard keeps alive is refuted when the ratio says so.
         if (twin_.is_twin_of_dominant(map_, r.floor, r.x, r.y, r.yaw_offset)) continue;
-        if (d.evidence - r.evidence < opts_.rival_refute_nats) {
+        if (rival_unrefuted(hp, r.weight, d.evidence - r.evidence)) {
             hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, r.weight);
         }
         if (r.weight >= hp.lock_rival_weight) {
@@ -1357,11 +1364,11 @@ void ParticleFilter::compute_estimate() {
     // The dominant hypothesis first, then the others by weight.
     for (size_t k = 0; k < clusters.size(); ++k) {
         const ClusterSummary &c = clusters[k == 0 ? dom : (k <= dom ? k - 1 : k)];
-        if (hypotheses_.size() >= 16 || c.weight < opts_.rival_min_weight) break;
+        if (hypotheses_.size() >= 16 || c.weight < lightest_rival) break;
         const bool live_rival = &c != &d &&
                                 (twin_.is_twin_of_dominant(map_, c.floor, c.x, c.y, c.yaw_offset)
-                                     ? hin.twin_log_ratio < opts_.rival_refute_nats
-                                     : d.evidence - c.evidence < opts_.rival_refute_nats);
+                                     ? c.weight >= opts_.rival_min_weight && hin.twin_log_ratio < opts_.rival_refute_nats
+                                     : rival_unrefuted(hp, c.weight, d.evidence - c.evidence));
         if (c.weight < 0.01 && !live_rival) continue;
         Eigen::Matrix2d cc;
         cc << c.cov_xx, c.cov_xy, c.cov_xy, c.cov_yy;

@@ -5,6 +5,9 @@
 
 using wf::loc::HysteresisInput;
 using wf::loc::LocalizedHysteresis;
+using wf::loc::LocalizedHysteresisParams;
+using wf::loc::lightest_counted_rival_weight;
+using wf::loc::rival_unrefuted;
 
 namespace {
 
@@ -59,6 +62,33 @@ TEST(LocalizedHysteresis, TurnsOnAfterTheHoldTimeWithoutRivals) {
         in.unrefuted_rival_weight = 0.01;
         EXPECT_FALSE(g.update(in));
     }
+}
+
+// Which rivals keep the flag off (thirty-first stop): from rival_min_weight (0.1 %) up while their evidence is less
+// than rival_refute_nats (4) below the dominant's; thin ones, from thin_rival_min_weight (0.01 %) up, while it is
+// less than thin_rival_refute_nats (3); lighter ones never. Weight alone refutes nothing down to 0.01 %.
+TEST(LocalizedHysteresis, ThinRivalsCountUntilTheirEvidenceIsThreeNatsShort) {
+    const LocalizedHysteresisParams p;
+    EXPECT_DOUBLE_EQ(p.thin_rival_min_weight, 1e-4);
+    EXPECT_DOUBLE_EQ(p.thin_rival_refute_nats, 3.0);
+    // Heavy rivals: the full margin.
+    EXPECT_TRUE(rival_unrefuted(p, 0.01, 3.9));
+    EXPECT_FALSE(rival_unrefuted(p, 0.01, 4.0));
+    EXPECT_TRUE(rival_unrefuted(p, 0.001, 3.5));
+    // Thin rivals: the smaller margin (the true pose re-created by injection, 0.8-2.7 nats short, counts).
+    EXPECT_TRUE(rival_unrefuted(p, 5e-4, 0.8));
+    EXPECT_TRUE(rival_unrefuted(p, 1e-4, 2.9));
+    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 3.0));
+    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 3.5));
+    // Below the thin floor nothing counts, whatever the evidence.
+    EXPECT_FALSE(rival_unrefuted(p, 9e-5, -5.0));
+    EXPECT_DOUBLE_EQ(lightest_counted_rival_weight(p), 1e-4);
+    // Off (0, the rule before): the thin ones do not count and the lightest counted rival is rival_min_weight's.
+    LocalizedHysteresisParams off = p;
+    off.thin_rival_min_weight = 0;
+    EXPECT_FALSE(rival_unrefuted(off, 5e-4, 0.0));
+    EXPECT_TRUE(rival_unrefuted(off, 0.002, 0.0));
+    EXPECT_DOUBLE_EQ(lightest_counted_rival_weight(off), 1e-3);
 }
 
 TEST(LocalizedHysteresis, InjectedRivalWithPoorEvidenceDoesNotBreakTheLock) {

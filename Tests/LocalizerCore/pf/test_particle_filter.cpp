@@ -502,6 +502,10 @@ TEST(ParticleFilter, NamedParametersAreRangeCheckedAndReadBack) {
     EXPECT_EQ(pf.set_parameter("compass.nonsense", 1.0), WF_LOC_ERR_INVALID_ARGUMENT);
     EXPECT_NE(pf.error().find("compass.min_distance_m"), std::string::npos);  // lists the known names
     EXPECT_EQ(pf.set_parameter("lock.jump_m", std::nan("")), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(pf.set_parameter("lock.thin_rival_weight", 0.0), WF_LOC_OK);  // 0 = the thin-rival rule off
+    EXPECT_EQ(pf.get_parameter("lock.thin_rival_refute_nats", v), WF_LOC_OK);
+    EXPECT_DOUBLE_EQ(v, 3.0);
+    EXPECT_EQ(pf.set_parameter("lock.thin_rival_weight", 1.5), WF_LOC_ERR_INVALID_ARGUMENT);
     // Compass input checks.
     EXPECT_EQ(pf.update_compass(1.0, 0.0, 0.0), WF_LOC_ERR_NOT_INITIALIZED);
     ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
