@@ -528,8 +528,9 @@ int wf_localizer_get_parameter(wf_localizer *loc, const char *name, double *valu
 /** Fills *out with the current estimate (valid fields also before init: particle_count 0, floor -1). */
 int wf_localizer_get_estimate(wf_localizer *loc, wf_localizer_estimate *out);
 
-/** Copies up to `capacity` hypotheses of the last estimate (clusters holding >= 1 % of the weight, at most 16)
- *  into `out`: the dominant one the estimate describes first (the heaviest, or while localized the locked one
+/** Copies up to `capacity` hypotheses of the last estimate (clusters holding >= 1 % of the weight, and every
+ *  lighter rival that keeps the localized flag off, down to 0.01 % ("lock.thin_rival_weight"); at most 16) into
+ *  `out`: the dominant one the estimate describes first (the heaviest, or while localized the locked one
  *  against a refuted heavier rival; between two clusterings only its weight is refreshed, so it may read a little
  *  lighter than the second), then the others heaviest first; *count receives the number written. Read after
  *  wf_localizer_get_estimate. */

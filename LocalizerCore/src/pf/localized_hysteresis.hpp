@@ -51,8 +51,9 @@ struct LocalizedHysteresisParams {
     /// is less than thin_rival_refute_nats below the dominant's. Weight is not evidence: a hypothesis that recovery
     /// injection re-created a moment ago, or that KLD-sampling thinned to a few hundred particles, holds little
     /// weight however well it explains the sightings (behind the unrefined cascade's -25 % range bias the true pose
-    /// came back at 0.01-0.3 % of the weight with its evidence 0.8-2.7 nats short of the dominant's and was ignored,
-    /// a parallel corridor 13 m off locked for 4.2 m walked: docs/benchmarks.md "Thirty-first stop"). Its margin is
+    /// came back at 0.1-0.3 % of the weight with its evidence 0.8-2.7 nats short of the dominant's, fell below 0.1 %
+    /// and was ignored; a parallel corridor 13 m off locked for 4.2 m walked: docs/benchmarks.md "Thirty-first
+    /// stop"). Its margin is
     /// smaller than rival_refute_nats because its weight already counts against it. 0 (or >= rival_min_weight)
     /// turns the rule off. "lock.thin_rival_weight", "lock.thin_rival_refute_nats".
     double thin_rival_min_weight = 1e-4, thin_rival_refute_nats = 3.0;

@@ -77,7 +77,8 @@ public:
     /// flag's hysteresis advances on these reads, with the time of the last input: read it once per frame.
     const wf_localizer_estimate &estimate();
 
-    /// Hypotheses of the last estimate (clusters holding >= 1 % of the weight, at most 16): the dominant one
+    /// Hypotheses of the last estimate (clusters holding >= 1 % of the weight, and every lighter rival that keeps
+    /// the flag off, down to LocalizedHysteresisParams::thin_rival_min_weight; at most 16): the dominant one
     /// first, then the others heaviest first.
     const std::vector<wf_localizer_hypothesis> &hypotheses() const { return hypotheses_; }
 
