@@ -110,4 +110,15 @@ double sighted_members(const ParticleSet &p, const std::vector<uint32_t> &member
     return total;
 }
 
+void sighted_weight_per_cluster(const ParticleSet &p, const std::vector<int32_t> &cluster_of, size_t cluster_count,
+                                std::vector<double> &out) {
+    out.assign(cluster_count, 0.0);
+    const float *ps0 = p.bias_s0.data(), *pw = p.weight.data();
+    const size_t n = std::min(p.size(), cluster_of.size());
+    for (size_t i = 0; i < n; ++i) {
+        const int32_t c = cluster_of[i];
+        if (c >= 0 && static_cast<size_t>(c) < cluster_count && ps0[i] > 0.0f) out[static_cast<size_t>(c)] += pw[i];
+    }
+}
+
 }  // namespace wf::loc

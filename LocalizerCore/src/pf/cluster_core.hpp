@@ -54,4 +54,10 @@ ClusterCore cluster_core_around(const ParticleSet &p, const std::vector<uint32_t
 /// such particle of `p`, members or not.
 double sighted_members(const ParticleSet &p, const std::vector<uint32_t> &members, std::vector<uint32_t> &out);
 
+/// Per cluster of a clustering (`cluster_of`: each particle's index into its `cluster_count` clusters, or -1), the
+/// weight of its particles whose history explains at least one sighting (bias_s0 > 0, as sighted_members), into
+/// `out` (resized to cluster_count). One pass over the particles.
+void sighted_weight_per_cluster(const ParticleSet &p, const std::vector<int32_t> &cluster_of, size_t cluster_count,
+                                std::vector<double> &out);
+
 }  // namespace wf::loc

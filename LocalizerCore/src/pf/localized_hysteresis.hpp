@@ -57,6 +57,12 @@ struct LocalizedHysteresisParams {
     /// smaller than rival_refute_nats because its weight already counts against it. 0 (or >= rival_min_weight)
     /// turns the rule off. "lock.thin_rival_weight", "lock.thin_rival_refute_nats".
     double thin_rival_min_weight = 1e-4, thin_rival_refute_nats = 3.0;
+    /// ... and only while at least this share of its weight is on particles whose history explains a sighting
+    /// (pf/cluster_core, sighted_weight_per_cluster; checked by the filter): particles that recovery injection
+    /// has just placed carry the worst evidence present, which can be less than thin_rival_refute_nats below the
+    /// dominant's when the recent sightings refute little, and scattered over the floor they made dozens of thin
+    /// "rivals" that explain nothing (a study walk behind detector-rough: the lock 7 m later).
+    double thin_rival_min_sighted_share = 0.5;
     /// Rival weight that can break a lock, and how close its evidence must come to the dominant's, nats.
     double lock_rival_weight = 0.2, lock_rival_margin_nats = 1.0;
     /// Below this dominant weight the lock always breaks (after lock_break_hold_s).
@@ -114,8 +120,9 @@ struct LocalizedHysteresisParams {
 /// Whether a rival cluster holding `rival_weight` (0..1) whose recent evidence is `evidence_gap_nats` below the
 /// dominant cluster's keeps the flag from turning on: from rival_min_weight up, while the gap is less than
 /// rival_refute_nats; from thin_rival_min_weight up to rival_min_weight, while it is less than
-/// thin_rival_refute_nats; never below both. (The dominant's own symmetric twins are judged by the twin ratio
-/// instead, pf/twin_guard.)
+/// thin_rival_refute_nats; never below both. The filter counts a thin rival only when its sighted share also
+/// reaches thin_rival_min_sighted_share (ParticleFilter; this function sees weights and evidence only). (The
+/// dominant's own symmetric twins are judged by the twin ratio instead, pf/twin_guard.)
 bool rival_unrefuted(const LocalizedHysteresisParams &p, double rival_weight, double evidence_gap_nats);
 
 /// The lightest rival weight rival_unrefuted can count (the lower of rival_min_weight and an active

@@ -1059,6 +1059,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.rival_margin_nats", 0, 1e3},
     {"lock.thin_rival_weight", 0, 1},
     {"lock.thin_rival_refute_nats", 0, 1e3},
+    {"lock.thin_rival_sighted_share", 0, 1},
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
     {"lock.explain_sightings", 0, 1},
@@ -1120,6 +1121,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
     else if (name == "lock.rival_margin_nats") h.lock_rival_margin_nats = value;
     else if (name == "lock.thin_rival_weight") h.thin_rival_min_weight = value;
     else if (name == "lock.thin_rival_refute_nats") h.thin_rival_refute_nats = value;
+    else if (name == "lock.thin_rival_sighted_share") h.thin_rival_min_sighted_share = value;
     else if (name == "lock.jump_m") h.lock_jump_m = value;
     else if (name == "lock.core_radius_m") h.lock_core_radius_m = value;
     else if (name == "lock.explain_sightings") {
@@ -1175,6 +1177,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.rival_margin_nats") value = h.lock_rival_margin_nats;
     else if (name == "lock.thin_rival_weight") value = h.thin_rival_min_weight;
     else if (name == "lock.thin_rival_refute_nats") value = h.thin_rival_refute_nats;
+    else if (name == "lock.thin_rival_sighted_share") value = h.thin_rival_min_sighted_share;
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
@@ -1283,6 +1286,20 @@ void ParticleFilter::compute_estimate() {
     hin.x = d.x;
     hin.y = d.y;
     hin.floor = d.floor;
+    // A rival the guard counts (rival_unrefuted). A thin one also needs most of its weight on particles that have
+    // explained a sighting: fresh injections carry the worst evidence present, not evidence of their own.
+    bool sighted_ready = false;
+    const auto counted_rival = [&](size_t k) {
+        const ClusterSummary &r = clusters[k];
+        if (!rival_unrefuted(hp, r.weight, d.evidence - r.evidence)) return false;
+        if (r.weight >= opts_.rival_min_weight) return true;
+        if (sign_model_.range_bias_sigma <= 0) return false;  // no sighting statistics: the rule before
+        if (!sighted_ready) {
+            sighted_weight_per_cluster(p_, clusterer_.particle_clusters(), clusters.size(), cluster_sighted_weight_);
+            sighted_ready = true;
+        }
+        return cluster_sighted_weight_[k] >= hp.thin_rival_min_sighted_share * r.weight;
+    };
     for (size_t k = 0; k < clusters.size(); ++k) {
         if (k == dom) continue;
         const ClusterSummary &r = clusters[k];
@@ -1290,7 +1307,7 @@ void ParticleFilter::compute_estimate() {
         // The dominant's own twin is judged by the twin ratio (the whole history, pf/twin_guard), not by the
         // recent evidence that fades: a twin the guard keeps alive is refuted when the ratio says so.
         if (twin_.is_twin_of_dominant(map_, r.floor, r.x, r.y, r.yaw_offset)) continue;
-        if (rival_unrefuted(hp, r.weight, d.evidence - r.evidence)) {
+        if (counted_rival(k)) {
             hin.unrefuted_rival_weight = std::max(hin.unrefuted_rival_weight, r.weight);
         }
         if (r.weight >= hp.lock_rival_weight) {
@@ -1363,12 +1380,13 @@ void ParticleFilter::compute_estimate() {
     // unrefuted rival): guidance while unsure must be safe under each live hypothesis, however light.
     // The dominant hypothesis first, then the others by weight.
     for (size_t k = 0; k < clusters.size(); ++k) {
-        const ClusterSummary &c = clusters[k == 0 ? dom : (k <= dom ? k - 1 : k)];
+        const size_t ck = k == 0 ? dom : (k <= dom ? k - 1 : k);
+        const ClusterSummary &c = clusters[ck];
         if (hypotheses_.size() >= 16 || c.weight < lightest_rival) break;
         const bool live_rival = &c != &d &&
                                 (twin_.is_twin_of_dominant(map_, c.floor, c.x, c.y, c.yaw_offset)
                                      ? c.weight >= opts_.rival_min_weight && hin.twin_log_ratio < opts_.rival_refute_nats
-                                     : rival_unrefuted(hp, c.weight, d.evidence - c.evidence));
+                                     : counted_rival(ck));
         if (c.weight < 0.01 && !live_rival) continue;
         Eigen::Matrix2d cc;
         cc << c.cov_xx, c.cov_xy, c.cov_xy, c.cov_yy;

@@ -299,6 +299,8 @@ private:
     std::vector<double> core_scratch_;
     /// The dominant cluster's members whose history explains a sighting (the lock's sighted core).
     std::vector<uint32_t> sighted_members_;
+    /// Per cluster of the last estimate, the weight of its sighted particles (thin rivals' test), reused.
+    std::vector<double> cluster_sighted_weight_;
     /// True while the lock stands on its sighted core (the whole core's spread or weight would break it): the
     /// reported pose is then the sighted core's, at the last full estimate and between full estimates.
     bool pose_from_sighted_core_ = false;

@@ -12,6 +12,7 @@ using wf::loc::cluster_core_around;
 using wf::loc::ClusterCore;
 using wf::loc::ParticleSet;
 using wf::loc::sighted_members;
+using wf::loc::sighted_weight_per_cluster;
 
 namespace {
 
@@ -131,4 +132,21 @@ TEST(ClusterCore, SightedMembersAreThoseWhoseHistoryExplainsASighting) {
     EXPECT_EQ(c.count, 2u);
     EXPECT_NEAR(c.weight, 0.5, 1e-6);
     EXPECT_NEAR(c.x, (0.2 * 1 + 0.3 * 2) / 0.5, 1e-6);
+}
+
+TEST(ClusterCore, SightedWeightPerClusterSumsOnlyTheParticlesThatExplainedASighting) {
+    // Cluster 0: particles 0 (fresh) and 1 (sighted); cluster 1: particle 2 (sighted); particle 3 in no cluster
+    // (a light bin) though sighted; cluster 2: particle 4, fresh from an injection.
+    ParticleSet p;
+    add(p, 1, 1, 0, 0.1f, 0.0f);
+    add(p, 1, 2, 0, 0.2f, 3.5f);
+    add(p, 9, 9, 0, 0.3f, 0.7f);
+    add(p, 5, 5, 0, 0.15f, 1.0f);
+    add(p, 7, 7, 0, 0.25f, 0.0f);
+    std::vector<double> out{42.0};
+    sighted_weight_per_cluster(p, {0, 0, 1, -1, 2}, 3, out);
+    ASSERT_EQ(out.size(), 3u);
+    EXPECT_NEAR(out[0], 0.2, 1e-7);
+    EXPECT_NEAR(out[1], 0.3, 1e-7);
+    EXPECT_DOUBLE_EQ(out[2], 0.0);  // the injected cluster has no sighting behind it
 }

@@ -71,6 +71,7 @@ TEST(LocalizedHysteresis, ThinRivalsCountUntilTheirEvidenceIsThreeNatsShort) {
     const LocalizedHysteresisParams p;
     EXPECT_DOUBLE_EQ(p.thin_rival_min_weight, 1e-4);
     EXPECT_DOUBLE_EQ(p.thin_rival_refute_nats, 3.0);
+    EXPECT_DOUBLE_EQ(p.thin_rival_min_sighted_share, 0.5);  // checked by the filter (sighted_weight_per_cluster)
     // Heavy rivals: the full margin.
     EXPECT_TRUE(rival_unrefuted(p, 0.01, 3.9));
     EXPECT_FALSE(rival_unrefuted(p, 0.01, 4.0));

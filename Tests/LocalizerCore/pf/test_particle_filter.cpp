@@ -506,6 +506,9 @@ TEST(ParticleFilter, NamedParametersAreRangeCheckedAndReadBack) {
     EXPECT_EQ(pf.get_parameter("lock.thin_rival_refute_nats", v), WF_LOC_OK);
     EXPECT_DOUBLE_EQ(v, 3.0);
     EXPECT_EQ(pf.set_parameter("lock.thin_rival_weight", 1.5), WF_LOC_ERR_INVALID_ARGUMENT);
+    EXPECT_EQ(pf.get_parameter("lock.thin_rival_sighted_share", v), WF_LOC_OK);
+    EXPECT_DOUBLE_EQ(v, 0.5);
+    EXPECT_EQ(pf.set_parameter("lock.thin_rival_sighted_share", -0.1), WF_LOC_ERR_INVALID_ARGUMENT);
     // Compass input checks.
     EXPECT_EQ(pf.update_compass(1.0, 0.0, 0.0), WF_LOC_ERR_NOT_INITIALIZED);
     ASSERT_EQ(pf.init_floor_only(0), WF_LOC_OK);
