@@ -53,15 +53,15 @@ struct LocalizedHysteresisParams {
     /// weight however well it explains the sightings (behind the unrefined cascade's -25 % range bias the true pose
     /// came back at 0.1-0.3 % of the weight with its evidence 0.8-2.7 nats short of the dominant's, fell below 0.1 %
     /// and was ignored; a parallel corridor 13 m off locked for 4.2 m walked: docs/benchmarks.md "Thirty-first
-    /// stop"). Its margin is
-    /// smaller than rival_refute_nats because its weight already counts against it. 0 (or >= rival_min_weight)
-    /// turns the rule off. "lock.thin_rival_weight", "lock.thin_rival_refute_nats".
+    /// stop"). Its margin is smaller than rival_refute_nats because its weight already counts against it. 0 (or
+    /// >= rival_min_weight) turns the rule off. "lock.thin_rival_weight", "lock.thin_rival_refute_nats".
     double thin_rival_min_weight = 1e-4, thin_rival_refute_nats = 3.0;
     /// ... and only while at least this share of its weight is on particles whose history explains a sighting
     /// (pf/cluster_core, sighted_weight_per_cluster; checked by the filter): particles that recovery injection
     /// has just placed carry the worst evidence present, which can be less than thin_rival_refute_nats below the
     /// dominant's when the recent sightings refute little, and scattered over the floor they made dozens of thin
     /// "rivals" that explain nothing (a study walk behind detector-rough: the lock 7 m later).
+    /// "lock.thin_rival_sighted_share".
     double thin_rival_min_sighted_share = 0.5;
     /// Rival weight that can break a lock, and how close its evidence must come to the dominant's, nats.
     double lock_rival_weight = 0.2, lock_rival_margin_nats = 1.0;
