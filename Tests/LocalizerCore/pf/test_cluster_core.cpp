@@ -113,15 +113,25 @@ TEST(ClusterCore, EmptyOrWeightlessMembersGiveAnEmptyCore) {
     EXPECT_EQ(c.count, 0u);
 }
 
-TEST(ClusterCore, SightedMembersAreThoseWhoseHistoryExplainsASighting) {
-    // Members 0-2 of a cluster, 1 and 2 with range-bias statistics (they explained sightings); particle 3 is
-    // not a member but is sighted too; particle 4 is a fresh injected one.
+namespace {
+
+// Five particles: 1, 2 and 3 with range-bias statistics (they explained sightings), 0 and 4 without (4 a fresh
+// injected one).
+ParticleSet sighted_and_fresh() {
     ParticleSet p;
     add(p, 1, 1, 0, 0.1f, 0.0f);
     add(p, 1, 2, 0, 0.2f, 3.5f);
     add(p, 2, 1, 0, 0.3f, 0.7f);
     add(p, 9, 9, 0, 0.15f, 1.0f);
     add(p, 5, 5, 0, 0.25f, 0.0f);
+    return p;
+}
+
+}  // namespace
+
+TEST(ClusterCore, SightedMembersAreThoseWhoseHistoryExplainsASighting) {
+    // Members 0-2 of a cluster; particle 3 is not a member but is sighted too.
+    const ParticleSet p = sighted_and_fresh();
     std::vector<uint32_t> out{7};
     const double total = sighted_members(p, {0, 1, 2}, out);
     EXPECT_EQ(out, (std::vector<uint32_t>{1, 2}));
@@ -135,14 +145,9 @@ TEST(ClusterCore, SightedMembersAreThoseWhoseHistoryExplainsASighting) {
 }
 
 TEST(ClusterCore, SightedWeightPerClusterSumsOnlyTheParticlesThatExplainedASighting) {
-    // Cluster 0: particles 0 (fresh) and 1 (sighted); cluster 1: particle 2 (sighted); particle 3 in no cluster
-    // (a light bin) though sighted; cluster 2: particle 4, fresh from an injection.
-    ParticleSet p;
-    add(p, 1, 1, 0, 0.1f, 0.0f);
-    add(p, 1, 2, 0, 0.2f, 3.5f);
-    add(p, 9, 9, 0, 0.3f, 0.7f);
-    add(p, 5, 5, 0, 0.15f, 1.0f);
-    add(p, 7, 7, 0, 0.25f, 0.0f);
+    // Cluster 0: particles 0 (not sighted) and 1 (sighted); cluster 1: particle 2 (sighted); particle 3 in no
+    // cluster (a light bin) though sighted; cluster 2: particle 4, fresh from an injection.
+    const ParticleSet p = sighted_and_fresh();
     std::vector<double> out{42.0};
     sighted_weight_per_cluster(p, {0, 0, 1, -1, 2}, 3, out);
     ASSERT_EQ(out.size(), 3u);
