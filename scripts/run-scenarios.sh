@@ -11,8 +11,9 @@
 # the convergence study behind the U-Net's (gate convergence-study-real-unet.json) and the scenario suite behind
 # the unrefined cascade's (gate scenarios-real-cascade.json: its -25 % range bias caused wrong locks until the
 # thirty-first stop's thin-rival rule removed the last, and the gate now holds them at 0); and the scenario suite
-# behind that cascade's recall and false positives with a -15 % range bias (`--sim-range-bias -0.15`, gate scenarios-cascade-bias-15.json: the
-# bias the localizer's range-bias term holds with no wrong lock, docs/benchmarks.md "Seventh stop"). And the
+# behind that cascade's recall and false positives with a -15 % range bias (`--sim-range-bias -0.15`, gate
+# scenarios-cascade-bias-15.json: the bias the localizer's range-bias term holds with no wrong lock,
+# docs/benchmarks.md "Seventh stop"). And the
 # scenario suite and the convergence study with the compass ignored (`--no-compass`, gates
 # scenarios-no-compass.json and convergence-study-no-compass.json): issue 15 asks for no confidently-wrong lock
 # with the compass absent too (older recordings, a phone without a usable compass). Only the SKERI walks change:

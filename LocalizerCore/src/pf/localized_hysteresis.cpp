@@ -5,14 +5,6 @@
 
 namespace wf::loc {
 
-bool rival_unrefuted(const LocalizedHysteresisParams &p, double rival_weight, double evidence_gap_nats) {
-    if (rival_weight >= p.rival_min_weight) return evidence_gap_nats < p.rival_refute_nats;
-    if (p.thin_rival_min_weight > 0 && rival_weight >= p.thin_rival_min_weight) {
-        return evidence_gap_nats < p.thin_rival_refute_nats;
-    }
-    return false;
-}
-
 double lightest_counted_rival_weight(const LocalizedHysteresisParams &p) {
     return p.thin_rival_min_weight > 0 ? std::min(p.rival_min_weight, p.thin_rival_min_weight) : p.rival_min_weight;
 }

@@ -5,7 +5,7 @@
 // position std is < localize_std_m, and no rival holding >= rival_min_weight is unrefuted (its recent evidence,
 // nats, is less than rival_refute_nats below the dominant's), all for localize_hold_s. A thin rival (from
 // thin_rival_min_weight up to rival_min_weight) counts too while its evidence is less than thin_rival_refute_nats
-// below the dominant's (rival_unrefuted; thirty-first stop).
+// below the dominant's and most of its weight has explained a sighting (rival_unrefuted; thirty-first stop).
 //
 // Staying localized ("a steady lock"): once on, the flag drops only when the evidence refutes the estimate,
 // not when Monte Carlo noise or recovery injection shuffles the weights. The tests below read the dominant
@@ -57,7 +57,7 @@ struct LocalizedHysteresisParams {
     /// >= rival_min_weight) turns the rule off. "lock.thin_rival_weight", "lock.thin_rival_refute_nats".
     double thin_rival_min_weight = 1e-4, thin_rival_refute_nats = 3.0;
     /// ... and only while at least this share of its weight is on particles whose history explains a sighting
-    /// (pf/cluster_core, sighted_weight_per_cluster; checked by the filter): particles that recovery injection
+    /// (pf/cluster_core, sighted_weight_per_cluster; rival_unrefuted): particles that recovery injection
     /// has just placed carry the worst evidence present, which can be less than thin_rival_refute_nats below the
     /// dominant's when the recent sightings refute little, and scattered over the floor they made dozens of thin
     /// "rivals" that explain nothing (a study walk behind detector-rough: the lock 7 m later).
@@ -120,10 +120,21 @@ struct LocalizedHysteresisParams {
 /// Whether a rival cluster holding `rival_weight` (0..1) whose recent evidence is `evidence_gap_nats` below the
 /// dominant cluster's keeps the flag from turning on: from rival_min_weight up, while the gap is less than
 /// rival_refute_nats; from thin_rival_min_weight up to rival_min_weight, while it is less than
-/// thin_rival_refute_nats; never below both. The filter counts a thin rival only when its sighted share also
-/// reaches thin_rival_min_sighted_share (ParticleFilter; this function sees weights and evidence only). (The
-/// dominant's own symmetric twins are judged by the twin ratio instead, pf/twin_guard.)
-bool rival_unrefuted(const LocalizedHysteresisParams &p, double rival_weight, double evidence_gap_nats);
+/// thin_rival_refute_nats and the weight of its particles whose history explains a sighting,
+/// `sighted_weight()` (same units as rival_weight; called at most once, only then, since it costs a pass over
+/// the particles: pf/cluster_core, sighted_weight_per_cluster), is at least thin_rival_min_sighted_share of
+/// rival_weight; never below both. (The dominant's own symmetric twins are judged by the twin ratio instead,
+/// pf/twin_guard.)
+template <class SightedWeight>
+bool rival_unrefuted(const LocalizedHysteresisParams &p, double rival_weight, double evidence_gap_nats,
+                     SightedWeight &&sighted_weight) {
+    if (rival_weight >= p.rival_min_weight) return evidence_gap_nats < p.rival_refute_nats;
+    if (p.thin_rival_min_weight > 0 && rival_weight >= p.thin_rival_min_weight &&
+        evidence_gap_nats < p.thin_rival_refute_nats) {
+        return sighted_weight() >= p.thin_rival_min_sighted_share * rival_weight;
+    }
+    return false;
+}
 
 /// The lightest rival weight rival_unrefuted can count (the lower of rival_min_weight and an active
 /// thin_rival_min_weight): clusters lighter than this need no summary.

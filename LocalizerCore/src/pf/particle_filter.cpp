@@ -1287,18 +1287,19 @@ void ParticleFilter::compute_estimate() {
     hin.y = d.y;
     hin.floor = d.floor;
     // A rival the guard counts (rival_unrefuted). A thin one also needs most of its weight on particles that have
-    // explained a sighting: fresh injections carry the worst evidence present, not evidence of their own.
+    // explained a sighting (fresh injections carry the worst evidence present, not evidence of their own): the
+    // clusters' sighted weights take one pass over the particles, made for the first thin rival that asks.
     bool sighted_ready = false;
     const auto counted_rival = [&](size_t k) {
         const ClusterSummary &r = clusters[k];
-        if (!rival_unrefuted(hp, r.weight, d.evidence - r.evidence)) return false;
-        if (r.weight >= opts_.rival_min_weight) return true;
-        if (sign_model_.range_bias_sigma <= 0) return false;  // no sighting statistics: the rule before
-        if (!sighted_ready) {
-            sighted_weight_per_cluster(p_, clusterer_.particle_clusters(), clusters.size(), cluster_sighted_weight_);
-            sighted_ready = true;
-        }
-        return cluster_sighted_weight_[k] >= hp.thin_rival_min_sighted_share * r.weight;
+        return rival_unrefuted(hp, r.weight, d.evidence - r.evidence, [&] {
+            if (sign_model_.range_bias_sigma <= 0) return 0.0;  // no sighting statistics: no particle is sighted
+            if (!sighted_ready) {
+                sighted_weight_per_cluster(p_, clusterer_.particle_clusters(), clusters.size(), cluster_sighted_weight_);
+                sighted_ready = true;
+            }
+            return cluster_sighted_weight_[k];
+        });
     };
     for (size_t k = 0; k < clusters.size(); ++k) {
         if (k == dom) continue;

@@ -66,30 +66,40 @@ TEST(LocalizedHysteresis, TurnsOnAfterTheHoldTimeWithoutRivals) {
 
 // Which rivals keep the flag off (thirty-first stop): from rival_min_weight (0.1 %) up while their evidence is less
 // than rival_refute_nats (4) below the dominant's; thin ones, from thin_rival_min_weight (0.01 %) up, while it is
-// less than thin_rival_refute_nats (3); lighter ones never. Weight alone refutes nothing down to 0.01 %.
+// less than thin_rival_refute_nats (3) and at least half of their weight has explained a sighting; lighter ones
+// never. Weight alone refutes nothing down to 0.01 %.
 TEST(LocalizedHysteresis, ThinRivalsCountUntilTheirEvidenceIsThreeNatsShort) {
     const LocalizedHysteresisParams p;
     EXPECT_DOUBLE_EQ(p.thin_rival_min_weight, 1e-4);
     EXPECT_DOUBLE_EQ(p.thin_rival_refute_nats, 3.0);
-    EXPECT_DOUBLE_EQ(p.thin_rival_min_sighted_share, 0.5);  // checked by the filter (sighted_weight_per_cluster)
-    // Heavy rivals: the full margin.
-    EXPECT_TRUE(rival_unrefuted(p, 0.01, 3.9));
-    EXPECT_FALSE(rival_unrefuted(p, 0.01, 4.0));
-    EXPECT_TRUE(rival_unrefuted(p, 0.001, 3.5));
+    EXPECT_DOUBLE_EQ(p.thin_rival_min_sighted_share, 0.5);
+    // The sighted weight of a rival whose every particle has explained a sighting; and one that must not be asked.
+    const auto all_sighted = [](double w) { return [w] { return w; }; };
+    int asked = 0;
+    const auto never_asked = [&asked] { ++asked; return 0.0; };
+    // Heavy rivals: the full margin, whatever their sighted weight.
+    EXPECT_TRUE(rival_unrefuted(p, 0.01, 3.9, never_asked));
+    EXPECT_FALSE(rival_unrefuted(p, 0.01, 4.0, never_asked));
+    EXPECT_TRUE(rival_unrefuted(p, 0.001, 3.5, never_asked));
     // Thin rivals: the smaller margin (the true pose re-created by injection, 0.8-2.7 nats short, counts).
-    EXPECT_TRUE(rival_unrefuted(p, 5e-4, 0.8));
-    EXPECT_TRUE(rival_unrefuted(p, 1e-4, 2.9));
-    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 3.0));
-    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 3.5));
+    EXPECT_TRUE(rival_unrefuted(p, 5e-4, 0.8, all_sighted(5e-4)));
+    EXPECT_TRUE(rival_unrefuted(p, 1e-4, 2.9, all_sighted(1e-4)));
+    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 3.0, never_asked));
+    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 3.5, never_asked));
+    // ... and only when at least half of their weight has explained a sighting (a fresh injection has none).
+    EXPECT_TRUE(rival_unrefuted(p, 5e-4, 0.8, all_sighted(2.5e-4)));
+    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 0.8, all_sighted(2.4e-4)));
+    EXPECT_FALSE(rival_unrefuted(p, 5e-4, 0.8, all_sighted(0.0)));
     // Below the thin floor nothing counts, whatever the evidence.
-    EXPECT_FALSE(rival_unrefuted(p, 9e-5, -5.0));
+    EXPECT_FALSE(rival_unrefuted(p, 9e-5, -5.0, never_asked));
     EXPECT_DOUBLE_EQ(lightest_counted_rival_weight(p), 1e-4);
     // Off (0, the rule before): the thin ones do not count and the lightest counted rival is rival_min_weight's.
     LocalizedHysteresisParams off = p;
     off.thin_rival_min_weight = 0;
-    EXPECT_FALSE(rival_unrefuted(off, 5e-4, 0.0));
-    EXPECT_TRUE(rival_unrefuted(off, 0.002, 0.0));
+    EXPECT_FALSE(rival_unrefuted(off, 5e-4, 0.0, never_asked));
+    EXPECT_TRUE(rival_unrefuted(off, 0.002, 0.0, never_asked));
     EXPECT_DOUBLE_EQ(lightest_counted_rival_weight(off), 1e-3);
+    EXPECT_EQ(asked, 0);  // the pass over the particles is made only for a thin rival within the margin
 }
 
 TEST(LocalizedHysteresis, InjectedRivalWithPoorEvidenceDoesNotBreakTheLock) {
