@@ -19,7 +19,12 @@ modelled from its physical cause rather than as a free image filter:
   * sensor saturation with highlight spill: a channel above full scale is clipped and a fraction of
     its excess spills into the other channels (the sensor's and ISP's highlight handling), so an
     over-exposed red LED letter turns pink-white in the core with a red fringe, as in phone photos;
-  * gain-dependent noise (higher analog gain in dim scenes) and JPEG compression (video frames).
+  * gain-dependent noise (higher analog gain in dim scenes) and JPEG compression (video frames);
+  * the tone curve: a phone writes display-encoded values, not light. The ISP encodes the linear
+    sensor values with the sRGB transfer function (IEC 61966-2-1) before quantising and compressing,
+    and its auto exposure places the metered mean at a display value, so the scene's mean sits near
+    18 % of full-scale light and highlights keep about 2.5 stops of headroom. `tone_curve="linear"`
+    writes light itself (the renders before 2026-12-07).
 
 Camera motion is a rotation only (walking translation over 8-33 ms moves the camera 1-5 cm; ignored).
 Conventions as render_signs (arkit-frames.md): a pixel (u, v) is the camera-frame ray
@@ -59,6 +64,8 @@ class PhoneCamera:
     noise_sigma: read/shot noise scale at unit gain; jpeg_quality: 0 = none.
     led_gain_scale: multiplier on the LED faces' radiance (1 = as drawn).
     gloss: floor reflectance (0 = matte floor), gloss_blur_px: blur of the reflection (raw pixels).
+    tone_curve: "srgb" (display-encoded output, what a phone writes) or "linear" (output proportional to
+      light); the AE target is a display value either way.
     """
     omega_world_rad_s: np.ndarray
     exposure_s: float
@@ -82,6 +89,7 @@ class PhoneCamera:
     led_gain_scale: float = 1.0
     gloss: float = 0.0
     gloss_blur_px: float = 6.0
+    tone_curve: str = "srgb"
 
 
 def sample_phone_camera(rng: np.random.Generator, sensor_R: np.ndarray, sensor_intr: dict, readout_axis: str = "v",
@@ -277,8 +285,31 @@ def auto_exposure(phone: PhoneCamera, radiance: np.ndarray) -> float:
     yy, xx = np.mgrid[0:h, 0:w]
     wgt = np.exp(-(((xx - (w - 1) / 2) / (0.35 * w)) ** 2 + ((yy - (h - 1) / 2) / (0.35 * h)) ** 2))
     meter = float((luminance(small) * wgt).sum() / wgt.sum())
-    e = phone.ae_target * (2.0 ** phone.ev_bias) / max(meter, 1e-4)
+    target = float(srgb_decode(np.float32(phone.ae_target))) if phone.tone_curve == "srgb" else phone.ae_target
+    e = target * (2.0 ** phone.ev_bias) / max(meter, 1e-4)
     return float(min(max(e, phone.exposure_min), phone.exposure_max))
+
+
+def srgb_encode(light: np.ndarray) -> np.ndarray:
+    """sRGB transfer function (IEC 61966-2-1): linear light in [0, 1] -> display value in [0, 1]."""
+    x = np.clip(light, 0.0, 1.0)
+    return np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1.0 / 2.4) - 0.055).astype(np.float32)
+
+
+def srgb_decode(value: np.ndarray) -> np.ndarray:
+    """Inverse of srgb_encode: display value in [0, 1] -> linear light in [0, 1]."""
+    c = np.clip(value, 0.0, 1.0)
+    return np.where(c <= 0.04045, c / 12.92, np.power((c + 0.055) / 1.055, 2.4)).astype(np.float32)
+
+
+def tone_map(phone: PhoneCamera, img: np.ndarray) -> np.ndarray:
+    """The ISP's output encoding of the clipped, noisy linear image: sRGB (phone.tone_curve "srgb") or light
+    itself ("linear")."""
+    if phone.tone_curve == "linear":
+        return img
+    if phone.tone_curve != "srgb":
+        raise ValueError(f"tone_curve must be 'srgb' or 'linear', not {phone.tone_curve!r}")
+    return srgb_encode(img)
 
 
 def glare(phone: PhoneCamera, img: np.ndarray, scale: float) -> np.ndarray:

@@ -1387,7 +1387,8 @@ def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec]
             cv2.rectangle(img, p0, p1, tuple(float(c) for c in rng.uniform(0.05, 0.8, 3) * illum), -1)
             cv2.rectangle(mask, p0, p1, 0, -1)
             lab["occluded"] = True
-    # image formation: AE on the radiance, rolling shutter + walking blur, glare, vignetting, clipping, noise
+    # image formation: AE on the radiance, rolling shutter + walking blur, glare, vignetting, clipping, noise,
+    # the tone curve
     e = pc.auto_exposure(phone, img)
     img, mask = pc.apply_motion(phone, R, intr, img, mask)
     for lab in labels:
@@ -1400,6 +1401,7 @@ def _render_frame_phone(T: np.ndarray, intr: dict, signs_cam: Sequence[SignSpec]
     img = img * rng.uniform(0.93, 1.07, 3).astype(np.float32)  # white-balance error
     img = pc.saturate(phone, img.astype(np.float32))
     img = pc.sensor_noise(phone, rng, img, e / max(illum, 1e-3) * 0.5, sensor_scale)
+    img = pc.tone_map(phone, img)
     out = (np.clip(img, 0, 1) * 255.0 + 0.5).astype(np.uint8)
     if phone.jpeg_quality > 0 and sensor_scale > 0.7:
         out = pc.jpeg_roundtrip(out, phone.jpeg_quality)
@@ -1618,7 +1620,7 @@ def frame_intrinsics(resolution: str, index: int) -> Tuple[dict, bool]:
 
 def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40, n_empty: int = 200,
                    n_train: int = 0, resolution: str = "raw", jpeg: bool = True, verbose: bool = True,
-                   style: str = "classic", kinds: Optional[Sequence[str]] = None) -> int:
+                   style: str = "classic", kinds: Optional[Sequence[str]] = None, tone_curve: str = "srgb") -> int:
     """Render a split into `out_dir` (images, masks, labels.jsonl). Returns the number of frames.
 
     split "test" / "test_phone": for each distance 2..9 m, `n_per_distance` frames with one sign,
@@ -1633,6 +1635,8 @@ def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40
     sometimes a second wall sign of another kind and an Exit sign too), then `n_empty` sign-free frames.
     Train/val: sign frame j has kind kinds[j % len(kinds)] (default exit only: the frames are then unchanged).
     Wall kinds are rendered in the classic style only.
+    tone_curve: the phone style's output encoding (phone_camera.PhoneCamera.tone_curve): "srgb" (what a phone
+    writes; default since 2026-12-07) or "linear" (the phone-style renders before).
     """
     import phone_camera as pc
     os.makedirs(out_dir, exist_ok=True)
@@ -1675,6 +1679,7 @@ def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40
             phone = None
             if ph:
                 phone = pc.sample_phone_camera(rng, T[:3, :3], intr, readout_axis="u" if upright else "v")
+                phone.tone_curve = tone_curve
                 quality = phone.jpeg_quality
                 phone.jpeg_quality = 0  # compressed once, when written
             img, mask, labels = render_frame(T, intr, signs, rng, occlusion_prob=0.0 if test else 0.15, phone=phone)
@@ -1692,7 +1697,8 @@ def render_dataset(out_dir: str, split: str, seed: int, n_per_distance: int = 40
             if ph:
                 rec["phone"] = dict(exposureSeconds=phone.exposure_s, readoutSeconds=phone.readout_s * phone.readout_sign,
                                     readoutAxis=phone.readout_axis, omegaWorldRadPerSecond=[float(x) for x in phone.omega_world_rad_s],
-                                    illuminance=phone.illuminance, gloss=phone.gloss, jpegQuality=int(quality))
+                                    illuminance=phone.illuminance, gloss=phone.gloss, jpegQuality=int(quality),
+                                    toneCurve=phone.tone_curve)
             f.write(json.dumps(rec) + "\n")
             if verbose and (i + 1) % 50 == 0:
                 print("rendered %d/%d" % (i + 1, len(jobs)), file=sys.stderr, flush=True)
@@ -1719,6 +1725,9 @@ def main(argv=None) -> int:
                          "default raw, mixed for test_phone")
     ap.add_argument("--style", choices=["classic", "phone"], default="classic", help="image formation (test_phone: phone)")
     ap.add_argument("--png", action="store_true", help="write PNG images instead of JPEG")
+    ap.add_argument("--tone-curve", choices=["srgb", "linear"], default="srgb",
+                    help="phone style: display-encoded output (srgb, what a phone writes) or light itself (linear, "
+                         "the phone-style renders before 2026-12-07)")
     a = ap.parse_args(argv)
     if a.split in ("test", "test_kinds") and a.seed != 1234:
         print("warning: the fixed test sets are --split test / test_kinds --seed 1234", file=sys.stderr)
@@ -1729,7 +1738,7 @@ def main(argv=None) -> int:
         a.n_empty = {"test_phone": 60, "test_kinds": 40}.get(a.split, 200)
     kinds = [k.strip() for k in a.kinds.split(",") if k.strip()] if a.kinds else None
     n = render_dataset(a.out, a.split, a.seed, a.n_per_distance, a.n_empty, a.n, res, jpeg=not a.png, style=a.style,
-                       kinds=kinds)
+                       kinds=kinds, tone_curve=a.tone_curve)
     print("wrote %d frames to %s" % (n, a.out))
     return 0
 

@@ -77,7 +77,7 @@ def test_dense_shutter_map_matches_exact_map():
     assert np.abs(fu - mu).max() < 0.02 and np.abs(fv - mv).max() < 0.02
 
 
-def _render_phone_sign(seed, off_axis_rad, distance_m, intr, omega_cam, illuminance=1.0, lit=None):
+def _render_phone_sign(seed, off_axis_rad, distance_m, intr, omega_cam, illuminance=1.0, lit=None, tone_curve="srgb"):
     rng = np.random.default_rng(seed)
     yaw, pitch, roll = 0.4, 0.2, -math.pi / 2 + 0.05
     R = rs.camera_rotation(yaw, pitch, roll)
@@ -93,6 +93,7 @@ def _render_phone_sign(seed, off_axis_rad, distance_m, intr, omega_cam, illumina
         style["lit"] = lit
     spec = rs.SignSpec(center_cam=R.T @ (center - t), normal_cam=R.T @ normal, width_m=0.30, height_m=0.21, style=style)
     p = _still_phone(R, intr, omega_world_rad_s=R @ np.asarray(omega_cam, float), readout_s=0.03, illuminance=illuminance)
+    p.tone_curve = tone_curve
     img, mask, labels = rs.render_frame(T, intr, [spec], rng, n_distractors=0, occlusion_prob=0.0, background="corridor", phone=p)
     return T, p, img, mask, labels
 
@@ -125,17 +126,42 @@ def test_labels_exact_under_oblique_views_and_rolling_shutter():
 
 def test_auto_exposure_saturates_lit_face_in_dim_corridor():
     intr = rs.scaled_intrinsics(640, 480)
-    sat = {}
-    for illum in (0.25, 1.4):
-        _, p, img, mask, _ = _render_phone_sign(3, 0.2, 2.5, intr, [0, 0, 0], illuminance=illum, lit=True)
-        red = img[..., 0][mask == 1]
-        sat[illum] = float((red >= 250).mean())
-    # the LED's radiance does not scale with the corridor light, the exposure does (inversely)
-    assert sat[0.25] > sat[1.4] + 0.05 and sat[0.25] > 0.1, sat
-    dim = pc.PhoneCamera(np.zeros(3), 0.01, 0.0, np.eye(3), intr, ev_bias=0.0)
+    for tone, margin in (("linear", 0.05), ("srgb", 0.03)):
+        sat = {}
+        for illum in (0.25, 1.4):
+            _, p, img, mask, _ = _render_phone_sign(3, 0.2, 2.5, intr, [0, 0, 0], illuminance=illum, lit=True,
+                                                    tone_curve=tone)
+            red = img[..., 0][mask == 1]
+            sat[illum] = float((red >= 250).mean())
+        # the LED's radiance does not scale with the corridor light, the exposure does (inversely); the tone
+        # curve leaves about 2.5 stops of headroom above the metered mean (1.3 without it), so fewer pixels clip
+        assert sat[0.25] > sat[1.4] + margin and sat[0.25] > 0.1, (tone, sat)
+    dim = pc.PhoneCamera(np.zeros(3), 0.01, 0.0, np.eye(3), intr, ev_bias=0.0, tone_curve="linear")
     scene = np.full((48, 64, 3), 0.2, np.float32)
     assert abs(pc.auto_exposure(dim, scene) - dim.ae_target / 0.2) < 1e-3
     assert pc.auto_exposure(dim, scene * 0.001) == dim.exposure_max
+    # With the tone curve (the default) the AE target is a display value: the metered mean comes out at it.
+    srgb = pc.PhoneCamera(np.zeros(3), 0.01, 0.0, np.eye(3), intr, ev_bias=0.0)
+    assert srgb.tone_curve == "srgb"
+    shown = pc.tone_map(srgb, scene * pc.auto_exposure(srgb, scene))
+    assert np.allclose(shown, srgb.ae_target, atol=1e-4)
+
+
+def test_tone_curve_is_the_srgb_transfer_function():
+    light = np.array([0.0, 0.0031308, 0.18, 0.5, 1.0, 1.7], np.float32)
+    shown = pc.srgb_encode(light)
+    # IEC 61966-2-1: the linear toe meets the power segment at 0.0031308 -> 0.04045; 18 % grey shows at 0.461.
+    assert np.allclose(shown, [0.0, 0.04045, 0.4614, 0.7354, 1.0, 1.0], atol=2e-4), shown
+    assert np.allclose(pc.srgb_decode(shown[:5]), light[:5], atol=1e-5)
+    assert np.all(np.diff(pc.srgb_encode(np.linspace(0, 1, 1001, dtype=np.float32))) > 0)  # monotonic
+    p = pc.PhoneCamera(np.zeros(3), 0.01, 0.0, np.eye(3), rs.RAW_INTRINSICS, tone_curve="linear")
+    assert np.array_equal(pc.tone_map(p, light), light)
+    p.tone_curve = "gamma"
+    try:
+        pc.tone_map(p, light)
+        raise AssertionError("an unknown tone curve must be refused")
+    except ValueError as e:
+        assert "tone_curve" in str(e)
 
 
 def test_glare_conserves_energy_and_halo_decays():
