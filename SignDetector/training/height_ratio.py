@@ -74,9 +74,9 @@ def style_key(sign: dict) -> str:
     return f"US {lit}, {st.get('plate')} plate, {st.get('letter')} letters"
 
 
-def ratios(labels: List[dict], dump_rows: Iterable[Dict[str, str]], label_width: Dict[int, int]) -> Dict[str, list]:
+def ratios(labels: List[dict], dump_rows: Iterable[Dict[str, str]]) -> Dict[str, list]:
     """Per dump row id: (frame, true range m, style key, measured / labelled height) of every matched observation
-    of a frame with one labelled sign. `label_width`: frame index -> the test frame's width in pixels."""
+    of a frame with one labelled sign (the test frame's width from its label's intrinsics)."""
     out: Dict[str, list] = collections.defaultdict(list)
     for r in dump_rows:
         if r.get("matched") != "1":
@@ -85,7 +85,7 @@ def ratios(labels: List[dict], dump_rows: Iterable[Dict[str, str]], label_width:
         signs = labels[frame].get("signs") or []
         if len(signs) != 1:
             continue
-        scale = row_frame_width(r["row"]) / float(label_width[frame])
+        scale = row_frame_width(r["row"]) / float(labels[frame]["intrinsics"]["width"])
         corners = np.asarray(signs[0]["cornersRaw"], float) * scale
         affine = [float(r[k]) for k in ("a00", "a01", "a02", "a10", "a11", "a12")]
         h = labelled_height_at_column(corners, affine, float(r["center_px"]))
@@ -126,9 +126,8 @@ def main(argv=None) -> int:
     except (OSError, ValueError) as e:
         print(f"height_ratio: {e}", file=sys.stderr)
         return 1
-    widths = {i: int(l["intrinsics"]["width"]) for i, l in enumerate(labels)}
     try:
-        print(report(ratios(labels, rows, widths)))
+        print(report(ratios(labels, rows)))
     except (KeyError, IndexError, ValueError) as e:
         print(f"height_ratio: {a.dump} does not match {a.testset}: {e}", file=sys.stderr)
         return 1

@@ -67,7 +67,7 @@ def test_ratios_scale_vga_labels_to_the_rows_frame_and_group_by_style():
             dict(base, row="unet", frame=1, matched="0", height_px=10),      # a false positive: ignored
             dict(base, row="unet", frame=2, matched="1", height_px=10)]      # no labelled sign: ignored
     rows = [{k: str(v) for k, v in r.items()} for r in rows]
-    out = hr.ratios(labels, rows, {0: 640, 1: 640, 2: 640})
+    out = hr.ratios(labels, rows)
     assert sorted(out) == ["cascade-vga", "unet"]
     unet = {frame: (key, ratio) for frame, _, key, ratio in out["unet"]}
     assert unet[0] == ("US lit, dark plate, red letters", pytest.approx(0.8))
