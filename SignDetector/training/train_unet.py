@@ -189,9 +189,12 @@ def render_samples(n: int, seed: int, split_code: int, log, phone_frac: float = 
 
 def load_or_render(cache_dir: str, n: int, seed: int, split_code: int, log, phone_frac: float = 0.0, workers: int = 1,
                    kinds_frac: float = 0.0):
-    """render_samples' set, cached in cache_dir (one .npz per seed, split, n and fractions)."""
+    """render_samples' set, cached in cache_dir (one .npz per seed, split, n, fractions and, with phone-style
+    samples, the phone style's tone curve: a cache rendered before the sRGB tone curve (2026-12-07) is not reused)."""
+    from phone_camera import PhoneCamera
     os.makedirs(cache_dir, exist_ok=True)
-    tag = "" if phone_frac <= 0 else "_phone%02d" % int(round(100 * phone_frac))
+    tone = PhoneCamera.tone_curve
+    tag = "" if phone_frac <= 0 else "_phone%02d%s" % (int(round(100 * phone_frac)), "" if tone == "linear" else "_" + tone)
     tag += "" if kinds_frac <= 0 else "_kinds%02d" % int(round(100 * kinds_frac))
     path = os.path.join(cache_dir, "unet_samples_seed%d_split%d_n%d%s.npz" % (seed, split_code, n, tag))
     if os.path.exists(path):

@@ -148,3 +148,27 @@ def test_phone_cascade_samples_are_seeded_sized_and_independent_of_workers():
     assert not np.array_equal(a[0], a[1])
     g = crops.negative_frame_phone(np.random.default_rng([7, 17, 0]))
     assert g.ndim == 2 and max(g.shape) == 640
+
+
+def test_sample_cache_names_the_phone_styles_tone_curve(tmp_path, monkeypatch):
+    """Phone-style samples are cached under their tone curve: samples rendered linear (before 2026-12-07) under the
+    old name are not reused for a recipe that now renders sRGB."""
+    pytest.importorskip("torch")
+    import numpy as np
+    import train_unet as tu
+    calls = []
+
+    def fake_render(n, seed, split_code, log, phone_frac, workers, kinds_frac):
+        calls.append(n)
+        return np.full((n, 2, 2, 3), len(calls), np.uint8), np.zeros((n, 2, 2), np.uint8), np.zeros(n, np.int64)
+
+    monkeypatch.setattr(tu, "render_samples", fake_render)
+    stale = tmp_path / "unet_samples_seed11_split1_n3_phone50.npz"
+    np.savez(stale, X=np.zeros((3, 2, 2, 3), np.uint8), Y=np.zeros((3, 2, 2), np.uint8), kinds=np.zeros(3, np.int64))
+    X, _, _ = tu.load_or_render(str(tmp_path), 3, 11, 1, print, phone_frac=0.5)
+    assert calls == [3] and X[0, 0, 0, 0] == 1, "the linear-era cache must not be reused"
+    assert (tmp_path / "unet_samples_seed11_split1_n3_phone50_srgb.npz").exists()
+    X, _, _ = tu.load_or_render(str(tmp_path), 3, 11, 1, print, phone_frac=0.5)
+    assert calls == [3] and X[0, 0, 0, 0] == 1, "the sRGB cache is reused"
+    tu.load_or_render(str(tmp_path), 3, 11, 1, print, phone_frac=0.0)
+    assert calls == [3, 3] and (tmp_path / "unet_samples_seed11_split1_n3.npz").exists(), "classic samples: no tag"
