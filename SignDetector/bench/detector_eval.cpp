@@ -8,6 +8,7 @@
 //   cascade-hr-native   the same frames searched at their own size (cascade_search_max_long_side_px = -1)
 //   cascade-vga-full, cascade-hr-full   the same without the colour gate (whole-frame search)
 //   unet         U-Net multi-scale (models/sign_unet.onnx) on 1920 x 1440 frames
+//   unet-native  the same on each frame at its own size (e.g. 360 x 640 portrait frames, as the phone gives them)
 //   unet-deconv  the same with OpenCV's own Deconvolution layer for the upsampling (the sub-pixel layer's baseline)
 //   any row + "-rough": without face-edge refinement; + "-srgb": the refiner reads pixels as sRGB
 //   reference    the reference app's cascade (../shared/.../exit_sign_cascade.xml) on 640 x 480, its settings
@@ -137,7 +138,8 @@ void usage() {
                  "                        [--every K] [--rows cascade-vga,cascade-hr,unet,unet-deconv,reference,cascade-vga-full,cascade-hr-full,cascade-vga-v3,cascade-hr-v3,\n"
                  "                        cascade-vga-v4,cascade-hr-v4] [--threads N]\n"
                  "  rows take a suffix: -rough = without face-edge refinement (the box's or mask's own edges),\n"
-                 "  -native (cascade rows) = search the frame at its own size, not shrunk to VGA,\n"
+                 "  -native = cascade rows search the frame at its own size, not shrunk to VGA; unet-native is given the\n"
+                 "               frame at its own size, not resized to 1920 x 1440 (e.g. 360 x 640 portrait frames),\n"
                  "               -srgb = the refiner reads pixels as sRGB-encoded (e.g. cascade-vga-rough, unet-srgb)\n"
                  "  --every K   use every K-th frame (keeps the per-distance balance of a rendered test set)\n"
                  "  --limit N   use the first N frames (after --every)\n"
@@ -224,7 +226,8 @@ int main(int argc, char** argv) {
                 faceEdgeTitle = title;
             }
         }
-        // Suffix -native (cascade rows): search the frame at its own size, not shrunk to VGA.
+        // Suffix -native: cascade rows search the frame at its own size, not shrunk to VGA; the U-Net row is given the
+        // frame at its own size, not resized to 1920 x 1440 (a 360 x 640 portrait frame as the phone gives it).
         bool native = false;
         if (id.size() > 7 && id.compare(id.size() - 7, 7, "-native") == 0) {
             id.resize(id.size() - 7);
@@ -257,8 +260,9 @@ int main(int argc, char** argv) {
             // unet-deconv: OpenCV's own Deconvolution layer for the upsampling (the baseline of the sub-pixel layer).
             const bool deconv = id == "unet-deconv";
             model = models + "/sign_unet.onnx";
-            r.size = cv::Size(1920, 1440);
-            r.title = deconv ? "U-Net multi-scale, 1920x1440, OpenCV's Deconvolution" : "U-Net multi-scale, 1920x1440";
+            r.size = native ? cv::Size() : cv::Size(1920, 1440);
+            r.title = std::string("U-Net multi-scale, ") + (native ? "frame at its own size" : "1920x1440") +
+                      (deconv ? ", OpenCV's Deconvolution" : "");
             // The bundled office's sign kinds, as the product passes the map's (a class of the model for a kind
             // other than the Exit sign is verified with its face's limits and lifts the coarse elevation cut).
             if (officeCatalogue.empty() && !readMapCatalogue(officeMapPath(), &officeCatalogue, &catalogueError)) {
@@ -310,7 +314,7 @@ int main(int argc, char** argv) {
         }
         for (Row& r : rows) {
             if (!r.skipped.empty()) continue;
-            const auto prepared = prepareFrame(bgr, labels, r.size, shiftPx);
+            const auto prepared = prepareFrame(bgr, labels, r.size.empty() ? bgr.size() : r.size, shiftPx);
             const auto t0 = std::chrono::steady_clock::now();
             const int status = detect(*r.detector, *prepared, &observations);
             const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

@@ -27,16 +27,17 @@ import csv
 import json
 import os
 import sys
-from typing import Dict, Iterable, List, Sequence
+from typing import Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
 
-#: Width in pixels of the frame each wf_detector_eval row runs on (its prefix decides).
-ROW_FRAME_WIDTH = {"unet": 1920, "cascade-hr": 1920, "cascade-vga": 640}
+#: Width in pixels of the frame each wf_detector_eval row runs on (its prefix decides; None: the test frame's own).
+ROW_FRAME_WIDTH = {"unet": 1920, "unet-native": None, "cascade-hr": 1920, "cascade-vga": 640}
 
 
-def row_frame_width(row: str) -> int:
-    """Frame width of a wf_detector_eval row id (suffixes such as -rough, -srgb, -native allowed)."""
+def row_frame_width(row: str) -> Optional[int]:
+    """Frame width of a wf_detector_eval row id (suffixes such as -rough, -srgb, -native allowed); None when the row
+    runs on the test frame at its own size (unet-native)."""
     for prefix in sorted(ROW_FRAME_WIDTH, key=len, reverse=True):
         if row.startswith(prefix):
             return ROW_FRAME_WIDTH[prefix]
@@ -85,7 +86,8 @@ def ratios(labels: List[dict], dump_rows: Iterable[Dict[str, str]]) -> Dict[str,
         signs = labels[frame].get("signs") or []
         if len(signs) != 1:
             continue
-        scale = row_frame_width(r["row"]) / float(labels[frame]["intrinsics"]["width"])
+        width = row_frame_width(r["row"])
+        scale = 1.0 if width is None else width / float(labels[frame]["intrinsics"]["width"])
         corners = np.asarray(signs[0]["cornersRaw"], float) * scale
         affine = [float(r[k]) for k in ("a00", "a01", "a02", "a10", "a11", "a12")]
         h = labelled_height_at_column(corners, affine, float(r["center_px"]))

@@ -46,6 +46,8 @@ def test_row_frame_widths_and_an_unknown_row():
     assert hr.row_frame_width("unet-rough") == 1920
     assert hr.row_frame_width("cascade-vga-srgb") == 640
     assert hr.row_frame_width("cascade-hr-native") == 1920
+    assert hr.row_frame_width("unet-native") is None  # the test frame at its own size
+    assert hr.row_frame_width("unet-native-rough") is None
     with pytest.raises(ValueError, match="unknown row"):
         hr.row_frame_width("reference")
 
