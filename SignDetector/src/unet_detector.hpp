@@ -104,8 +104,9 @@ struct UnetParams {
     /// Minimum mean class probability over the sign's mask component. Set for the committed model
     /// (2026-12-07, trained on classic and phone-style renders): on four held-out rendered sets (classic, two
     /// phone-style, the real photos' 360 x 640) its true signs' 5th percentile is 0.95-0.97 and its accepted
-    /// false alarms (green or red word and arrow signs, a mirrored EXIT) score 0.925-0.97; 0.94 keeps them at
-    /// 0.009 per frame (19 -> 11 of 1,220 frames) for 10 of 793 signs (docs/benchmarks.md "Thirty-third stop").
+    /// false alarms (green or red word and arrow signs, a mirrored EXIT) score 0.925-0.97; 0.94 keeps them under
+    /// 0.01 per frame (9-11 of 1,220 frames, 19 at 0.92) for about 10 of 793 signs (docs/benchmarks.md
+    /// "Thirty-third stop").
     /// The model before it used 0.92 (its true signs >= 0.94, false alarms 0.5-0.9 on the classic set).
     double minMeanProbability = 0.94;
     /// The Exit sign's plausibility limits (aspect, face height, colour).
