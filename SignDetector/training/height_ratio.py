@@ -24,12 +24,14 @@ from __future__ import annotations
 import argparse
 import collections
 import csv
-import json
 import os
 import sys
 from typing import Dict, Iterable, List, Optional, Sequence
 
 import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+from eval_detectors import load_labels  # noqa: E402  (the test set's labels.jsonl reader)
 
 #: Width in pixels of the frame each wf_detector_eval row runs on (its prefix decides; None: the test frame's own).
 ROW_FRAME_WIDTH = {"unet": 1920, "unet-native": None, "cascade-hr": 1920, "cascade-vga": 640}
@@ -121,8 +123,7 @@ def main(argv=None) -> int:
     ap.add_argument("--dump", required=True, help="wf_detector_eval --dump CSV")
     a = ap.parse_args(argv)
     try:
-        with open(os.path.join(a.testset, "labels.jsonl")) as f:
-            labels = [json.loads(line) for line in f if line.strip()]
+        labels = load_labels(a.testset)
         with open(a.dump, newline="") as f:
             rows = list(csv.DictReader(f))
     except (OSError, ValueError) as e:
