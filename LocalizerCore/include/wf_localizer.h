@@ -373,8 +373,9 @@ typedef struct wf_localizer_estimate {
     int32_t hypothesis_count;
     /** Current particle count. */
     int32_t particle_count;
-    /** Sighting frames of the last localize_hold_s that the dominant cluster explains only as false positives
-     *  (the weighted mean of its particles' likelihoods below twice the clutter-only likelihood): the sum of
+    /** Sighting frames of the last 4 s (internal parameter lock.explain_window_s) that the dominant cluster
+     *  explains only as false positives (the weighted mean of its particles' likelihoods below twice the
+     *  clutter-only likelihood): the sum of
      *  -log(false-positive probability) of their sightings, nats; 0 when it explains them all. */
     double unexplained_sighting_nats;
     /** Nonzero from the estimate where unexplained_sighting_nats reaches rival_refute_nats (with the lock rule

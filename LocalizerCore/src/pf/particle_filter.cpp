@@ -474,7 +474,7 @@ void ParticleFilter::note_unexplained_sightings(const std::vector<PreparedSighti
 }
 
 double ParticleFilter::unexplained_sighting_nats(double t) {
-    const double since = t - hysteresis_.params().localize_hold_s;
+    const double since = t - hysteresis_.params().explain_window_s;
     size_t drop = 0;
     while (drop < unexplained_frames_.size() && !(unexplained_frames_[drop].first > since)) ++drop;
     unexplained_frames_.erase(unexplained_frames_.begin(), unexplained_frames_.begin() + static_cast<std::ptrdiff_t>(drop));
@@ -1063,6 +1063,7 @@ constexpr NamedParameter kParameters[] = {
     {"lock.jump_m", 0.1, 1e4},
     {"lock.core_radius_m", 0.5, 1e4},
     {"lock.explain_sightings", 0, 1},
+    {"lock.explain_window_s", 0, 1e3},
     {"lock.lost_walk_speed_mps", 0, 100},
     {"lock.discount_unsighted", 0, 1},
     {"lock.break_hold_s", 0, 1e3},
@@ -1131,6 +1132,7 @@ int ParticleFilter::set_parameter(const std::string &name, double value) {
             sightings_unexplained_ = false;
         }
     }
+    else if (name == "lock.explain_window_s") h.explain_window_s = value;
     else if (name == "lock.lost_walk_speed_mps") h.lost_walk_speed_mps = value;
     else if (name == "lock.discount_unsighted") h.discount_unsighted = value != 0;
     else if (name == "lock.break_hold_s") h.lock_break_hold_s = value;
@@ -1181,6 +1183,7 @@ int ParticleFilter::get_parameter(const std::string &name, double &value) {
     else if (name == "lock.jump_m") value = h.lock_jump_m;
     else if (name == "lock.core_radius_m") value = h.lock_core_radius_m;
     else if (name == "lock.explain_sightings") value = h.explain_sightings ? 1 : 0;
+    else if (name == "lock.explain_window_s") value = h.explain_window_s;
     else if (name == "lock.lost_walk_speed_mps") value = h.lost_walk_speed_mps;
     else if (name == "lock.discount_unsighted") value = h.discount_unsighted ? 1 : 0;
     else if (name == "lock.break_hold_s") value = h.lock_break_hold_s;

@@ -132,7 +132,8 @@ private:
     /// of -log(false-positive probability) of its sightings, for the localized flag
     /// (HysteresisInput::unexplained_sighting_nats).
     void note_unexplained_sightings(const std::vector<PreparedSighting> &z, double t);
-    /// Sum of the recorded frames of the last localize_hold_s before time t, nats; older ones are dropped.
+    /// Sum of the recorded frames of the last explain_window_s (LocalizedHysteresisParams) before time t, nats;
+    /// older ones are dropped.
     double unexplained_sighting_nats(double t);
     void compute_estimate();
     /// Replaces `fraction` of the particles with poses drawn from the current sightings (last_sightings_) on the

@@ -1131,14 +1131,14 @@ TEST(ParticleFilter, SustainedInjectionDoesNotDiluteASightedLock) {
     EXPECT_GE(broken_without, 1) << "without the rule some of these locks should break (else the test is moot)";
 }
 
-// The lock must account for the sightings of its hold period. A 30 m corridor whose only sign is an Exit at
+// The lock must account for the sightings of the last few seconds (lock.explain_window_s). A 30 m corridor whose only sign is an Exit at
 // its east end; the traveler names the start at its west end, where they are, trusted completely (no doubt
 // share) and with a good compass: the cloud is one blob at the truth, and without sightings it locks after the
 // hold time. For the first 3 s the detector reports, 10 times a second, an Exit sign 5 m ahead-right (score
 // 0.9); the only Exit is 24-28 m away, beyond the sign horizon, so every particle calls those sightings false
 // positives, the weights do not move, and the flag stays off: some pose outside the cloud explains them (the
 // quarter-turned lock of docs/localizer.md "Thirteenth stop" called 20 far Exit sightings false positives).
-// Once they have left the hold window, the flag comes on after the hold time; with the rule off it comes on
+// Once they have left the rule's window, the flag comes on after the hold time; with the rule off it comes on
 // during them.
 namespace {
 /// A 30 m x 2 m corridor whose only sign is an Exit on the far end wall (x 30, facing -x), a walk along it from
@@ -1173,10 +1173,14 @@ struct FarExitCorridor {
 TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
     const FarExitCorridor corridor;
     const auto &frames = corridor.frames;
-    auto first_localized_frame = [&](bool rule) {
+    // First localized frame with the rule on or off and the rule's window (seconds; negative = the default).
+    auto first_localized_frame = [&](bool rule, double window_s) {
         const auto filter = corridor.started_filter(rule);
         ParticleFilter &pf = *filter;
-        for (size_t k = 1; k < frames.size() && k < 80; ++k) {
+        if (window_s >= 0) {
+            EXPECT_EQ(pf.set_parameter("lock.explain_window_s", window_s), WF_LOC_OK);
+        }
+        for (size_t k = 1; k < frames.size() && k < 140; ++k) {
             EXPECT_EQ(pf.predict(frames[k].vio), WF_LOC_OK);
             std::vector<wf_sign_observation> z;
             if (k < 30) z.push_back({wf::test::kExit, 5.0, -0.3, 0.9});
@@ -1189,18 +1193,30 @@ TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
         }
         return -1;
     };
-    const int with_rule = first_localized_frame(true);
-    EXPECT_GE(with_rule, 30) << "locked while every sighting was called a false positive";
-    // The last one leaves the hold window 1 s later, and the flag needs the hold time after that.
-    EXPECT_LE(with_rule, 52) << "did not lock within 2.2 s after the unexplained sightings stopped";
-    const int without = first_localized_frame(false);
+    double window_s = 0;
+    {
+        const auto probe = corridor.started_filter(true);
+        ASSERT_EQ(probe->get_parameter("lock.explain_window_s", window_s), WF_LOC_OK);
+    }
+    ASSERT_GE(window_s, 1.0) << "the window is at least the 1 s hold period";
+    // Frames are 0.1 s apart. The last unexplained sighting (frame 29) leaves the window window_s later, and the
+    // flag then needs the 1 s hold time: with the shipped window and with a 1 s one (the rule's first form).
+    for (const double w : {-1.0, 1.0}) {
+        const double window = w < 0 ? window_s : w;
+        const int with_rule = first_localized_frame(true, w);
+        EXPECT_GE(with_rule, 29 + static_cast<int>(10 * window)) << "locked while an unexplained sighting was within "
+                                                                  << window << " s";
+        EXPECT_LE(with_rule, 29 + static_cast<int>(10 * window) + 13)
+            << "did not lock within the hold time after the unexplained sightings left the " << window << " s window";
+    }
+    const int without = first_localized_frame(false, -1);
     EXPECT_GE(without, 0);
     EXPECT_LT(without, 30) << "without the rule the blob should lock during the sightings (else the test shows nothing)";
 }
 
 // The same walk and unexplained sightings (frames 1-29), then nothing, then the Exit sign as it really appears
 // once it is within 12 m: the estimate reports the unexplained sightings (the navigator's cue to plan no walk
-// from the hypotheses) from the frame where the hold period's sum reaches the 4-nat margin until the first
+// from the hypotheses) from the frame where the window's sum (lock.explain_window_s) reaches the 4-nat margin until the first
 // sighting the dominant hypothesis explains, including the frames without sightings between (they say nothing
 // about where the traveler is); with the rule off, never.
 TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExplain) {
@@ -1209,6 +1225,16 @@ TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExpla
     for (const bool rule : {true, false}) {
         const auto filter = corridor.started_filter(rule);
         ParticleFilter &pf = *filter;
+        double window_s = 0;
+        ASSERT_EQ(pf.get_parameter("lock.explain_window_s", window_s), WF_LOC_OK);
+        // The first frame whose window no longer holds frame 29's sighting, plus three: between sightings the
+        // window's sum is taken with the full estimate, once kFullEstimateIntervalS (0.2 s) has passed since the
+        // last one, i.e. every third 0.1 s frame.
+        int left_window = 30;
+        while (left_window < static_cast<int>(frames.size()) && !(frames[left_window].vio.t - frames[29].vio.t > window_s)) {
+            ++left_window;
+        }
+        left_window += 3;
         int first_true_sighting = -1, cleared = -1;
         for (size_t k = 1; k < frames.size() && k < 200; ++k) {
             const WalkFrame &fr = frames[k];
@@ -1232,14 +1258,14 @@ TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExpla
                 EXPECT_EQ(e.sightings_unexplained, 1) << "frame " << k;
                 EXPECT_GE(e.unexplained_sighting_nats, 4.0) << "frame " << k;
             }
-            if (k >= 41 && first_true_sighting < 0) {
+            if (static_cast<int>(k) >= left_window && first_true_sighting < 0) {
                 EXPECT_EQ(e.sightings_unexplained, 1) << "frame " << k << ": no sighting since, nothing explained";
                 EXPECT_EQ(e.unexplained_sighting_nats, 0.0) << "frame " << k;
             }
             if (first_true_sighting >= 0 && cleared < 0 && e.sightings_unexplained == 0) cleared = static_cast<int>(k);
         }
         if (!rule) continue;
-        ASSERT_GT(first_true_sighting, 41) << "the walk should leave a gap without sightings";
+        ASSERT_GT(first_true_sighting, left_window) << "the walk should leave a gap without sightings";
         EXPECT_GE(cleared, first_true_sighting);
         EXPECT_LE(cleared, first_true_sighting + 2) << "the sign seen where the hypothesis places it clears the report";
     }
