@@ -1131,15 +1131,15 @@ TEST(ParticleFilter, SustainedInjectionDoesNotDiluteASightedLock) {
     EXPECT_GE(broken_without, 1) << "without the rule some of these locks should break (else the test is moot)";
 }
 
-// The lock must account for the sightings of the last few seconds (lock.explain_window_s). A 30 m corridor whose only sign is an Exit at
-// its east end; the traveler names the start at its west end, where they are, trusted completely (no doubt
-// share) and with a good compass: the cloud is one blob at the truth, and without sightings it locks after the
-// hold time. For the first 3 s the detector reports, 10 times a second, an Exit sign 5 m ahead-right (score
-// 0.9); the only Exit is 24-28 m away, beyond the sign horizon, so every particle calls those sightings false
+// The lock must account for the sightings of the last few seconds (lock.explain_window_s). A 30 m corridor whose
+// only sign is an Exit at its east end; the traveler names the start at its west end, where they are, trusted
+// completely (no doubt share) and with a good compass: the cloud is one blob at the truth, and without sightings it
+// locks after the hold time. For the first 3 s the detector reports, 10 times a second, an Exit sign 5 m ahead-right
+// (score 0.9); the only Exit is 24-28 m away, beyond the sign horizon, so every particle calls those sightings false
 // positives, the weights do not move, and the flag stays off: some pose outside the cloud explains them (the
-// quarter-turned lock of docs/localizer.md "Thirteenth stop" called 20 far Exit sightings false positives).
-// Once they have left the rule's window, the flag comes on after the hold time; with the rule off it comes on
-// during them.
+// quarter-turned lock of docs/localizer.md "Thirteenth stop" called 20 far Exit sightings false positives). Once
+// they have left the rule's window, the flag comes on after the hold time; with the rule off it comes on during
+// them.
 namespace {
 /// A 30 m x 2 m corridor whose only sign is an Exit on the far end wall (x 30, facing -x), a walk along it from
 /// x 2 to 28 (seed 3), and a filter started on the walk's first pose with a good compass (seed 9), with the
@@ -1204,21 +1204,21 @@ TEST(ParticleFilter, SightingsTheLockCallsFalsePositivesKeepTheFlagOff) {
     for (const double w : {-1.0, 1.0}) {
         const double window = w < 0 ? window_s : w;
         const int with_rule = first_localized_frame(true, w);
-        EXPECT_GE(with_rule, 29 + static_cast<int>(10 * window)) << "locked while an unexplained sighting was within "
-                                                                  << window << " s";
+        EXPECT_GE(with_rule, 29 + static_cast<int>(10 * window))
+            << "locked while the unexplained sightings of the last " << window << " s still reached the margin";
         EXPECT_LE(with_rule, 29 + static_cast<int>(10 * window) + 13)
-            << "did not lock within the hold time after the unexplained sightings left the " << window << " s window";
+            << "did not lock within the hold time after the sightings left the " << window << " s window";
     }
     const int without = first_localized_frame(false, -1);
     EXPECT_GE(without, 0);
     EXPECT_LT(without, 30) << "without the rule the blob should lock during the sightings (else the test shows nothing)";
 }
 
-// The same walk and unexplained sightings (frames 1-29), then nothing, then the Exit sign as it really appears
-// once it is within 12 m: the estimate reports the unexplained sightings (the navigator's cue to plan no walk
-// from the hypotheses) from the frame where the window's sum (lock.explain_window_s) reaches the 4-nat margin until the first
-// sighting the dominant hypothesis explains, including the frames without sightings between (they say nothing
-// about where the traveler is); with the rule off, never.
+// The same walk and unexplained sightings (frames 1-29), then nothing, then the Exit sign as it really appears once
+// it is within 12 m: the estimate reports the unexplained sightings (the navigator's cue to plan no walk from the
+// hypotheses) from the frame where the window's sum (lock.explain_window_s) reaches the 4-nat margin until the first
+// sighting the dominant hypothesis explains, including the frames without sightings between (they say nothing about
+// where the traveler is); with the rule off, never.
 TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExplain) {
     const FarExitCorridor corridor;
     const auto &frames = corridor.frames;
@@ -1231,7 +1231,8 @@ TEST(ParticleFilter, TheEstimateReportsSightingsTheDominantHypothesisCannotExpla
         // window's sum is taken with the full estimate, once kFullEstimateIntervalS (0.2 s) has passed since the
         // last one, i.e. every third 0.1 s frame.
         int left_window = 30;
-        while (left_window < static_cast<int>(frames.size()) && !(frames[left_window].vio.t - frames[29].vio.t > window_s)) {
+        while (left_window < static_cast<int>(frames.size()) &&
+               !(frames[left_window].vio.t - frames[29].vio.t > window_s)) {
             ++left_window;
         }
         left_window += 3;
