@@ -33,11 +33,17 @@ public struct RegressionBaseline: Codable, Sendable {
         try e.encode(self).write(to: url, options: .atomic)
     }
 
+    /// Rounding slack of the share comparisons: a share is a ratio of small counts, and a drop of exactly the
+    /// tolerance (10 of 30 walks against a baseline of 13 of 30, tolerance 0.1) must pass however the
+    /// subtraction rounds (13/30 - 0.1 is 5.6e-17 above 10/30 in doubles).
+    static let shareRoundingSlack = 1e-9
+
     /// The regressions of `current` against this baseline; empty when the gate passes.
     public func regressions(of current: AggregateScore) -> [String] {
         var out: [String] = []
         let b = aggregate
-        if current.convergedWithin20mShare < b.convergedWithin20mShare - convergenceShareTolerance {
+        let slack = Self.shareRoundingSlack
+        if current.convergedWithin20mShare < b.convergedWithin20mShare - convergenceShareTolerance - slack {
             out.append(String(format: "converged within 20 m: %.2f < baseline %.2f - %.2f", current.convergedWithin20mShare,
                               b.convergedWithin20mShare, convergenceShareTolerance))
         }
@@ -62,7 +68,7 @@ public struct RegressionBaseline: Codable, Sendable {
         func dropped(_ name: String, _ now: Double?, _ then: Double?) {
             guard let then else { return }
             guard let now else { out.append("\(name): no value (baseline \(then))"); return }
-            if now < then - convergenceShareTolerance {
+            if now < then - convergenceShareTolerance - slack {
                 out.append(String(format: "%@: %.2f < baseline %.2f - %.2f", name, now, then, convergenceShareTolerance))
             }
         }

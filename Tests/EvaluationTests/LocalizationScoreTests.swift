@@ -112,4 +112,18 @@ final class LocalizationScoreTests: XCTestCase {
         let found = baseline.regressions(of: AggregateScore([bad]))
         XCTAssertTrue(found.contains { $0.hasPrefix("median error") }, "\(found)")
     }
+
+    /// A drop of exactly the tolerance passes whatever the doubles round to; one walk more fails.
+    func testRegressionGateTakesADropOfExactlyTheToleranceAsPassing() {
+        var base = AggregateScore([])
+        base.walks = 30
+        base.convergedWithin20mShare = 13.0 / 30.0
+        let baseline = RegressionBaseline(aggregate: base, convergenceShareTolerance: 0.1)
+        XCTAssertLessThan(10.0 / 30.0, 13.0 / 30.0 - 0.1, "the doubles this test is about")
+        var now = base
+        now.convergedWithin20mShare = 10.0 / 30.0
+        XCTAssertTrue(baseline.regressions(of: now).isEmpty, "\(baseline.regressions(of: now))")
+        now.convergedWithin20mShare = 9.0 / 30.0
+        XCTAssertTrue(baseline.regressions(of: now).contains { $0.hasPrefix("converged within 20 m") })
+    }
 }

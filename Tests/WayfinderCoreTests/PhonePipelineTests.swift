@@ -120,6 +120,10 @@ final class PhonePipelineTests: XCTestCase {
         var base = PipelineOptions()
         base.sightingSource = .recorded
         base.localizer.particleCount = 3000
+        // A cloud this small localizes on the sample walk with most filter seeds, not all (9 of seeds 1-12 arrive,
+        // seed 1 not since the thirty-fifth stop's floor footprint): seed 2 localizes, so the comparison covers
+        // directions and haptics, not only "not sure".
+        base.seed = 2
         // Replay.
         let replay = try Replay.run(bundle: bundle, building: building,
                                     options: Replay.Options(pipeline: Replay.options(for: bundle, overriding: base)))

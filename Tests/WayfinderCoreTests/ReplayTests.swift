@@ -214,6 +214,9 @@ final class TrackingLossGuidanceTests: XCTestCase {
         let building = try TestData.office()
         var options = Replay.Options(pipeline: Replay.options(for: bundle, overriding: PipelineOptions()))
         options.pipeline.localizer.particleCount = 3000
+        // With this small cloud, filter seed 2 gives exploratory advice on the sample walk (16 frames; seed 1 none
+        // since the thirty-fifth stop's floor footprint: it localizes late or not at all).
+        options.pipeline.seed = 2
         options.snapshotParticleCount = 0
         // The sample gives exploratory advice before it localizes: lose tracking over most of that time.
         let reference = try Replay.run(bundle: bundle, building: building, options: options)

@@ -5,6 +5,8 @@
 #include <cstdio>
 #include <limits>
 
+#include "map/floor_footprint.hpp"
+
 namespace wf::loc {
 
 namespace {
@@ -20,6 +22,8 @@ constexpr int64_t kMaxGridCells = 4'000'000;
 // floats, whose rounding near 100 km is under 4 mm per coordinate: the check allows 1 cm more, so that a floor
 // the validator accepts (extent <= 100 km in doubles) is never refused here.
 constexpr double kMaxFloorExtentM = 100'000.0;
+// Margin of the floor footprint around its walls, signs and graph nodes, meters (below the grid's 2 m pad).
+constexpr float kFootprintMarginM = 1.0f;
 constexpr double kFloatRoundingSlackM = 0.01;
 
 std::string meters(double v) {
@@ -245,7 +249,15 @@ int build_localizer_map(const wf_localizer_map &map, const wf_localizer_options 
         f.grid = FloorGrid(x0, y0, x1, y1, cell);
         const float wcell = std::max(static_cast<float>(opts.wall_index_cell_m), cell);
         const FloorGrid wgrid(x0, y0, x1, y1, wcell);
-        f.walls = WallIndex(wgrid, src.walls, src.wall_count);
+        {
+            // The footprint (map/floor_footprint): the hull of the walls, signs and graph nodes, grown by
+            // kFootprintMarginM (inside the grid's 2 m pad).
+            std::vector<float> points(src.seed_points, src.seed_points + 2 * src.seed_point_count);
+            for (size_t i = 0; i < src.sign_count; ++i) points.insert(points.end(), {src.signs[i].x, src.signs[i].y});
+            const std::vector<float> boundary = floor_footprint_boundary(src.walls, src.wall_count, points.data(),
+                                                                         points.size() / 2, kFootprintMarginM);
+            f.walls = WallIndex(wgrid, src.walls, src.wall_count, boundary.data(), boundary.size() / 4);
+        }
         f.symmetries = find_floor_symmetries(f.walls);
         for (size_t i = 0; i < src.sign_count; ++i) {
             const wf_localizer_sign &s = src.signs[i];

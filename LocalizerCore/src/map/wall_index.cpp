@@ -97,16 +97,21 @@ constexpr double kMaxClearanceCells = 4.0e6;
 
 }  // namespace
 
-WallIndex::WallIndex(const FloorGrid &grid, const float *segments, size_t count) : grid_(grid) {
+WallIndex::WallIndex(const FloorGrid &grid, const float *segments, size_t wall_count, const float *boundary,
+                     size_t boundary_count)
+    : grid_(grid), wall_count_(wall_count) {
+    if (!boundary) boundary_count = 0;
+    const size_t count = wall_count + boundary_count;
     ax_.reserve(count);
     ay_.reserve(count);
     bx_.reserve(count);
     by_.reserve(count);
     for (size_t i = 0; i < count; ++i) {
-        ax_.push_back(segments[4 * i]);
-        ay_.push_back(segments[4 * i + 1]);
-        bx_.push_back(segments[4 * i + 2]);
-        by_.push_back(segments[4 * i + 3]);
+        const float *s = i < wall_count ? segments + 4 * i : boundary + 4 * (i - wall_count);
+        ax_.push_back(s[0]);
+        ay_.push_back(s[1]);
+        bx_.push_back(s[2]);
+        by_.push_back(s[3]);
     }
     const int64_t cells = grid_.cell_count();
     std::vector<std::vector<int32_t>> lists(static_cast<size_t>(cells));
@@ -270,10 +275,10 @@ bool WallIndex::crosses_slow(float x0, float y0, float x1, float y1) const {
 }
 
 bool WallIndex::segment_bounds(float &x0, float &y0, float &x1, float &y1) const {
-    if (ax_.empty()) return false;
+    if (wall_count_ == 0) return false;
     x0 = y0 = 1e30f;
     x1 = y1 = -1e30f;
-    for (size_t s = 0; s < ax_.size(); ++s) {
+    for (size_t s = 0; s < wall_count_; ++s) {
         x0 = std::min({x0, ax_[s], bx_[s]});
         y0 = std::min({y0, ay_[s], by_[s]});
         x1 = std::max({x1, ax_[s], bx_[s]});
@@ -291,7 +296,8 @@ float WallIndex::distance_to_nearest(float x, float y, float max_distance_m) con
         for (int32_t ix = ix0; ix <= ix1; ++ix) {
             const int32_t c = iy * grid_.nx + ix;
             for (int32_t k = cell_start_[c]; k < cell_start_[c + 1]; ++k) {
-                const int32_t s = cell_segments_[k];
+                const auto s = static_cast<size_t>(cell_segments_[k]);
+                if (s >= wall_count_) continue;  // a footprint boundary segment
                 best = std::min(best, point_segment_distance(x, y, ax_[s], ay_[s], bx_[s], by_[s]));
             }
         }

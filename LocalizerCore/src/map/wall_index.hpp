@@ -55,8 +55,12 @@ struct WallClearanceGrid {
 class WallIndex {
 public:
     WallIndex() = default;
-    /// Builds the index over `grid` (meters) for `count` segments given as 4 floats each (ax, ay, bx, by).
-    WallIndex(const FloorGrid &grid, const float *segments, size_t count);
+    /// Builds the index over `grid` (meters) for `count` segments given as 4 floats each (ax, ay, bx, by), and
+    /// `boundary_count` boundary segments (the floor's footprint, map/floor_footprint) in the same layout: they
+    /// block moves (`crosses`) and count in the clearance grid like walls, but `segment_count`, `segment`,
+    /// `segment_bounds` and `distance_to_nearest` see the walls only.
+    WallIndex(const FloorGrid &grid, const float *segments, size_t count, const float *boundary = nullptr,
+              size_t boundary_count = 0);
 
     /// True when the segment (x0,y0)->(x1,y1) intersects or touches a wall. A zero-length move never crosses.
     /// Inline fast paths: the move is shorter than the clearance of its start cell (one byte lookup), or both
@@ -78,10 +82,14 @@ public:
         return crosses_slow(x0, y0, x1, y1);
     }
 
-    /// Distance from (x, y) to the nearest wall if it is below `max_distance_m`, else max_distance_m.
+    /// Distance from (x, y) to the nearest wall (not boundary) if it is below `max_distance_m`, else
+    /// max_distance_m.
     float distance_to_nearest(float x, float y, float max_distance_m) const;
 
-    size_t segment_count() const { return ax_.size(); }
+    /// Number of walls (boundary segments not counted).
+    size_t segment_count() const { return wall_count_; }
+    /// Number of footprint boundary segments.
+    size_t boundary_count() const { return ax_.size() - wall_count_; }
     /// End points of segment i (meters, map frame), i < segment_count() (used by the plane model's wall field).
     void segment(size_t i, float &ax, float &ay, float &bx, float &by) const {
         ax = ax_[i]; ay = ay_[i]; bx = bx_[i]; by = by_[i];
@@ -101,7 +109,8 @@ private:
     void build_clearance();
 
     FloorGrid grid_;
-    std::vector<float> ax_, ay_, bx_, by_;
+    std::vector<float> ax_, ay_, bx_, by_;  // walls, then boundary segments
+    size_t wall_count_ = 0;
     std::vector<int32_t> cell_start_;  // size cells + 1
     std::vector<int32_t> cell_segments_;
     WallClearanceGrid clearance_;
