@@ -1,6 +1,7 @@
 // The footprint of a floor: where the traveler can be at all. Walls alone leave the outside of the building
 // open wherever the map has an entrance without a door segment, and a particle that walks out through it
-// finds no wall and no sign to refute it for as long as it stays out there (docs/localizer.md, "Footprint").
+// finds no wall and no sign to refute it for as long as it stays out there (docs/localizer.md, "Map
+// precomputation", Footprint).
 //
 // The footprint is the convex hull of the floor's walls, signs and navigation-graph nodes, grown by a
 // margin: a polygon that every indoor position lies inside (convex, so the straight line between two indoor

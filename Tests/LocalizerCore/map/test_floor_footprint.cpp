@@ -44,7 +44,7 @@ wf_localizer_options defaults() {
 }  // namespace
 
 TEST(FloorFootprint, HullOfTheWallsGrownByTheMargin) {
-    // An L of walls: the hull is the triangle's box corner cut, grown by 1 m.
+    // An L of walls (two sides of a 20 m x 10 m box): the hull is a triangle, grown by 1 m.
     const std::vector<float> walls = {0, 0, 20, 0, 0, 0, 0, 10};
     const std::vector<float> b = floor_footprint_boundary(walls.data(), 2, nullptr, 0, 1.0f);
     ASSERT_GE(b.size(), 4u * 3);
