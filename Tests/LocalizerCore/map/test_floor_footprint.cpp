@@ -8,6 +8,7 @@
 
 #include "map/floor_footprint.hpp"
 #include "map/localizer_map.hpp"
+#include "map/wall_index.hpp"
 #include "support/synthetic_world.hpp"
 
 using namespace wf::loc;
@@ -23,16 +24,10 @@ bool inside(const std::vector<float> &b, float x, float y) {
     return true;
 }
 
-/// Distance from (x, y) to the nearest boundary segment.
+/// Distance from (x, y) to the nearest boundary segment, up to 5 m: the boundary indexed as walls of a WallIndex.
 float distance_to_boundary(const std::vector<float> &b, float x, float y) {
-    float best = std::numeric_limits<float>::infinity();
-    for (size_t s = 0; s + 3 < b.size(); s += 4) {
-        const float ex = b[s + 2] - b[s], ey = b[s + 3] - b[s + 1];
-        float t = ((x - b[s]) * ex + (y - b[s + 1]) * ey) / (ex * ex + ey * ey);
-        t = std::fmax(0.0f, std::fmin(1.0f, t));
-        best = std::fmin(best, std::hypot(b[s] + t * ex - x, b[s + 1] + t * ey - y));
-    }
-    return best;
+    const WallIndex index(FloorGrid(-10, -10, 40, 30, 0.5f), b.data(), b.size() / 4);
+    return index.distance_to_nearest(x, y, 5.0f);
 }
 
 wf_localizer_options defaults() {
